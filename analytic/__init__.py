@@ -1,0 +1,33 @@
+"""Closed-form rigid-body reference for the bat-ball impact; numpy only, no engine.
+
+    from analytic import Bat, Ball, ImpactCase, Outcome, predict, sweet_spot, presets
+    case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.1, v0_mps=46.9,
+                      u0_mps=17.87, omega0_radps=32.0, e=0.5)
+    predict(case).v1_mps
+"""
+
+from . import presets
+from .cork import Hole, corked_bat, corked_bat_paper
+from .impact import (
+    PaperOblique,
+    SweetRegion,
+    batted_ball_speed,
+    center_of_percussion,
+    collision_efficiency,
+    predict,
+    predict_oblique_paper,
+    sweet_region,
+    sweet_spot,
+    sweet_zone,
+)
+from .impulse3d import Impulse3D, RigidBody3D, impulse_3d
+from .model import Ball, Bat, ImpactCase, Outcome
+from .swing import MEASURED_EXPONENT, Swing, SwingModel, swing_for
+
+__all__ = [
+    "Ball", "Bat", "Hole", "ImpactCase", "Impulse3D", "MEASURED_EXPONENT", "Outcome",
+    "PaperOblique", "RigidBody3D", "SweetRegion", "Swing", "SwingModel",
+    "batted_ball_speed", "center_of_percussion", "collision_efficiency", "corked_bat",
+    "corked_bat_paper", "impulse_3d", "predict", "predict_oblique_paper", "presets",
+    "sweet_region", "sweet_spot", "sweet_zone", "swing_for",
+]

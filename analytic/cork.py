@@ -1,0 +1,128 @@
+"""Corked bats: a cylinder drilled into the barrel end along the axis and filled.
+
+A hole of radius r and depth h, centred on the axis at x_c = L - h/2, replaces wood of density
+rho_wood by fill of density rho_fill (0 for a hollow bat). ``corked_bat`` is exact;
+``corked_bat_paper`` reproduces the paper's section 7.1 for the audit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from . import _checks
+from .model import Bat
+
+
+@dataclass(frozen=True, kw_only=True)
+class Hole:
+    """The drilled cylinder and what fills it. Units: m and kg/m^3."""
+
+    radius_m: float
+    depth_m: float
+    fill_density_kgm3: float
+    wood_density_kgm3: float
+
+    def check_fits(self, bat: Bat) -> None:
+        """Raise ValueError if the hole is not a finite, non-negative, fitting cylinder."""
+        _checks.in_range("hole_radius_m", self.radius_m, 0.0, bat.radius_m, lo_open=True)
+        _checks.in_range("hole_depth_m", self.depth_m, 0.0, bat.length_m, lo_open=True)
+        _checks.non_negative("fill_density_kgm3", self.fill_density_kgm3)
+        _checks.non_negative("wood_density_kgm3", self.wood_density_kgm3)
+
+    @property
+    def volume_m3(self) -> float:
+        """pi r^2 h (m^3)."""
+        return math.pi * self.radius_m**2 * self.depth_m
+
+    @property
+    def dmass_kg(self) -> float:
+        """dM = (rho_fill - rho_wood) pi r^2 h (kg); negative for a lighter fill."""
+        return (self.fill_density_kgm3 - self.wood_density_kgm3) * self.volume_m3
+
+
+def _hole(bat: Bat, hole_radius_m, hole_depth_m, fill_density_kgm3, wood_density_kgm3) -> Hole:
+    h = Hole(radius_m=hole_radius_m, depth_m=hole_depth_m, fill_density_kgm3=fill_density_kgm3,
+             wood_density_kgm3=wood_density_kgm3)
+    h.check_fits(bat)
+    return h
+
+
+def _check_result(bat: Bat, mass_kg: float, inertia_kgm2: float) -> None:
+    if not mass_kg > 0.0:
+        raise ValueError(f"corked mass {mass_kg!r} kg of '{bat.name}' is not positive: the hole "
+                         "removes more wood than the bat has; allowed: a smaller or denser fill")
+    if not inertia_kgm2 > 0.0:
+        raise ValueError(f"corked inertia {inertia_kgm2!r} kg m^2 of '{bat.name}' is not "
+                         "positive; allowed: a hole that leaves the bat a positive inertia")
+
+
+def _label(bat: Bat, h: Hole) -> str:
+    return (f"{bat.name} corked {2 * h.radius_m * 1e3:.1f}x{h.depth_m * 1e3:.0f} mm "
+            f"@ {h.fill_density_kgm3:g} kg/m3")
+
+
+def corked_bat(
+    bat: Bat,
+    *,
+    hole_radius_m: float = 0.0127,
+    hole_depth_m: float = 0.254,
+    fill_density_kgm3: float = 200.0,
+    wood_density_kgm3: float = 640.0,
+) -> Bat:
+    """The bat with its barrel end drilled and filled, exact.
+
+        M'    = M + dM,                 dM = (rho_fill - rho_wood) pi r^2 h
+        x'_cm = (M x_cm + dM x_c) / M', x_c = L - h/2
+        J'    = J + M (x_cm - x'_cm)^2 + dM (r^2/4 + h^2/12 + (x_c - x'_cm)^2)
+    i.e. the old bat and the (signed) cylinder, each moved to the NEW COM by parallel axes; the
+    cylinder's own transverse moment per unit mass is r^2/4 + h^2/12. Defaults: a 1 in x 10 in
+    hole filled with cork (200 kg/m^3) in wood of 640 kg/m^3 (ash/maple, roughly).
+    """
+    h = _hole(bat, hole_radius_m, hole_depth_m, fill_density_kgm3, wood_density_kgm3)
+    dM = h.dmass_kg
+    x_c = bat.length_m - h.depth_m / 2
+    M1 = bat.mass_kg + dM
+    _check_result(bat, M1, 1.0)
+    x1 = (bat.mass_kg * bat.com_from_knob_m + dM * x_c) / M1
+    own = h.radius_m**2 / 4 + h.depth_m**2 / 12
+    J1 = (bat.inertia_cm_kgm2 + bat.mass_kg * (bat.com_from_knob_m - x1) ** 2
+          + dM * (own + (x_c - x1) ** 2))
+    _check_result(bat, M1, J1)
+    axial = None
+    if bat.inertia_axial_kgm2 is not None:
+        axial = bat.inertia_axial_kgm2 + dM * h.radius_m**2 / 2
+    return replace(bat, name=_label(bat, h), mass_kg=M1, com_from_knob_m=x1, inertia_cm_kgm2=J1,
+                   inertia_axial_kgm2=axial)
+
+
+def corked_bat_paper(
+    bat: Bat,
+    *,
+    hole_radius_m: float = 0.0127,
+    hole_depth_m: float = 0.254,
+    fill_density_kgm3: float = 200.0,
+    wood_density_kgm3: float = 640.0,
+) -> Bat:
+    """The paper's corked bat (its eqs. 7.1.1-7.1.4), kept for the audit.
+
+    With L0 the COM-to-top distance and L = L0 - h the COM-to-hole-bottom distance:
+        dM  = drho pi r^2 (L0 - L)                      (exact)
+        R   = drho pi r^2 (L0^2 - L^2) / (2 (M + dM))   (exact COM shift)
+        dJ0 = drho pi r^2 (L0^3 - L^3) / 3              (thin rod: drops dM r^2/4)
+        J'  = J + (M + dM) R^2 + dJ0                    (parallel axes with the wrong sign)
+    The exact J' is J + dJ0 + dM r^2/4 - (M + dM) R^2, so the paper's J' exceeds it by
+    2 (M + dM) R^2 - dM r^2/4.
+    """
+    h = _hole(bat, hole_radius_m, hole_depth_m, fill_density_kgm3, wood_density_kgm3)
+    dM = h.dmass_kg
+    L0 = bat.length_m - bat.com_from_knob_m
+    L = L0 - h.depth_m
+    drho_area = (h.fill_density_kgm3 - h.wood_density_kgm3) * math.pi * h.radius_m**2
+    M1 = bat.mass_kg + dM
+    _check_result(bat, M1, 1.0)
+    R = drho_area * (L0**2 - L**2) / (2 * M1)
+    J1 = bat.inertia_cm_kgm2 + M1 * R**2 + drho_area * (L0**3 - L**3) / 3
+    _check_result(bat, M1, J1)
+    return replace(bat, name=_label(bat, h) + " (paper)", mass_kg=M1,
+                   com_from_knob_m=bat.com_from_knob_m + R, inertia_cm_kgm2=J1)

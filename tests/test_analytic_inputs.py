@@ -1,0 +1,111 @@
+"""Bad input is a ValueError that names the field, the value and the allowed range."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import pytest
+
+from analytic import (
+    Ball,
+    Bat,
+    ImpactCase,
+    batted_ball_speed,
+    center_of_percussion,
+    corked_bat_paper,
+    presets,
+    sweet_spot,
+)
+
+R161, BALL = presets.R161, presets.BASEBALL
+GOOD = dict(bat=R161, ball=BALL, s_m=0.1, v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5)
+BAT = dict(name="b", length_m=0.84, radius_m=0.033, mass_kg=0.871, com_from_knob_m=0.56,
+           inertia_cm_kgm2=0.039)
+
+
+def _raises(field: str, value, fn, *args, **kwargs):
+    with pytest.raises(ValueError) as err:
+        fn(*args, **kwargs)
+    msg = str(err.value)
+    assert field in msg and "allowed" in msg, msg
+    if not (isinstance(value, float) and math.isnan(value)):
+        assert repr(value) in msg or f"{value!r}".rstrip("0") in msg, msg
+
+
+@pytest.mark.parametrize("field", ["length_m", "radius_m", "mass_kg", "com_from_knob_m",
+                                   "inertia_cm_kgm2"])
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_bat_rejects_non_finite(field, value):
+    _raises(field, value, Bat, **{**BAT, field: value})
+
+
+@pytest.mark.parametrize("field", ["length_m", "radius_m", "mass_kg", "inertia_cm_kgm2"])
+@pytest.mark.parametrize("value", [0.0, -0.1])
+def test_bat_rejects_non_positive(field, value):
+    _raises(field, value, Bat, **{**BAT, field: value})
+
+
+@pytest.mark.parametrize("value", [-0.01, 0.85])
+def test_bat_rejects_com_off_the_bat(value):
+    _raises("com_from_knob_m", value, Bat, **{**BAT, "com_from_knob_m": value})
+
+
+@pytest.mark.parametrize("field,value", [("mass_kg", 0.0), ("radius_m", -1.0),
+                                         ("mass_kg", math.nan)])
+def test_ball_rejects_bad_values(field, value):
+    _raises(field, value, Ball, **{"name": "x", "mass_kg": 0.145, "radius_m": 0.0366,
+                                  field: value})
+
+
+@pytest.mark.parametrize("field,value", [
+    ("s_m", -0.57), ("s_m", 0.29), ("s_m", math.nan),
+    ("e", -0.1), ("e", 1.01), ("e", math.inf),
+    ("v0_mps", -1.0), ("u0_mps", math.nan), ("omega0_radps", math.inf),
+    ("theta_rad", math.pi / 2), ("phi_rad", -2.0), ("hands_from_knob_m", 0.9),
+])
+def test_impact_case_rejects(field, value):
+    _raises(field, value, ImpactCase, **{**GOOD, field: value})
+
+
+def test_impact_case_rejects_separating_bodies():
+    with pytest.raises(ValueError, match="closing speed"):
+        ImpactCase(**{**GOOD, "v0_mps": 0.0, "u0_mps": -1.0, "omega0_radps": 0.0})
+
+
+def test_vectorized_names_the_offending_point():
+    _raises("s_m", 0.3, batted_ball_speed, R161, BALL, [0.0, 0.3], v0_mps=40.0)
+    _raises("e", 2.0, batted_ball_speed, R161, BALL, [0.0], v0_mps=40.0, e=2.0)
+    _raises("v0_mps", -3.0, sweet_spot, R161, BALL, -3.0)
+
+
+@pytest.mark.parametrize("value", [-0.1, 0.85, math.nan])
+def test_pivot_off_the_bat(value):
+    _raises("pivot_from_knob_m", value, center_of_percussion, R161, value)
+    _raises("pivot_from_knob_m", value, R161.inertia_about, value)
+
+
+def test_pivot_at_com_has_no_cop():
+    _raises("pivot_from_knob_m", 0.56, center_of_percussion, R161, 0.56)
+
+
+@pytest.mark.parametrize("field,value", [
+    ("hole_depth_m", 0.9), ("hole_depth_m", 0.0), ("hole_radius_m", 0.04),
+    ("hole_radius_m", -0.01), ("fill_density_kgm3", -1.0), ("wood_density_kgm3", -640.0),
+    ("fill_density_kgm3", math.nan),
+])
+def test_cork_rejects(field, value):
+    _raises(field, value, R161.corked, **{field: value})
+    _raises(field, value, corked_bat_paper, R161, **{field: value})
+
+
+def test_cork_that_removes_the_whole_bat_is_rejected():
+    # An absurdly dense wood makes dM < -M: the result would have negative mass.
+    with pytest.raises(ValueError, match="corked mass"):
+        R161.corked(hole_radius_m=0.033, hole_depth_m=0.8, fill_density_kgm3=0.0,
+                    wood_density_kgm3=5000.0)
+
+
+def test_replace_revalidates():
+    # dataclasses.replace runs __post_init__ again, so a derived bad bat cannot slip through.
+    _raises("mass_kg", -1.0, replace, R161, mass_kg=-1.0)
