@@ -14,10 +14,12 @@ IN_M = 0.0254
 OZ_KG = 0.028349523125
 LB_KG = 0.45359237
 
-#: Effective capsule radius of a wood bat: half of the 2.61 in largest barrel diameter allowed in
-#: MLB (Official Baseball Rules 3.02(a)). The radius only gives the engines a surface: frictionless
-#: contact normal to the axis puts no torque arm across it, so v1 does not depend on it.
-WOOD_BARREL_RADIUS_M = 2.61 * IN_M / 2
+#: Effective capsule radius of a wood bat (m). A barrel is at most 2.61 in (66.3 mm) across (MLB
+#: Official Baseball Rules 3.02(a)) and tapers toward the handle; 60 mm is a round value for the
+#: hitting zone that keeps the capsule's cylinder out to s = 0.25 m on the R161, the end of the
+#: paper's range. The radius only gives the engines a surface: a frictionless contact normal to
+#: the axis has no torque arm across it, so v1 does not depend on it.
+WOOD_BARREL_RADIUS_M = 0.030
 
 R161 = Bat(
     name="r161",

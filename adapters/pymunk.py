@@ -1,0 +1,115 @@
+"""pymunk (Chipmunk2D) adapter: the planar scene maps one to one.
+
+The bat is a Body with SET mass and moment, its origin at the COM, carrying a Segment shape (a
+capsule) with no mass of its own; the ball a Body with a Circle. Restitution is the product of the
+two shapes' ``elasticity`` (bat 1, ball e). Chipmunk resolves penetration with separate bias
+velocities, so ``collision_slop``/``collision_bias`` do not touch the outgoing velocities; there
+are no swept collisions (Chipmunk2D #212). ``body.velocity`` is the COM's velocity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import pymunk
+
+from analytic import Ball, Bat, ImpactCase
+from analytic import _checks
+
+from .base import Engine, MassProperties, Reading, Settings
+
+CHIPMUNK_SLOP = 0.1                        # pymunk.Space() defaults, in the space's length unit
+CHIPMUNK_BIAS = (1.0 - 0.1) ** 60
+
+
+@dataclass(frozen=True, kw_only=True)
+class PymunkSettings(Settings):
+    """Chipmunk's knobs: solver ``iterations``; ``collision_slop`` (m) of allowed overlap;
+    ``collision_bias``, the fraction of overlap left after 1 s of correction."""
+
+    iterations: int = 10
+    collision_slop: float = CHIPMUNK_SLOP
+    collision_bias: float = CHIPMUNK_BIAS
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        _checks.in_range("iterations", self.iterations, 1, 10_000)
+        _checks.non_negative("collision_slop", self.collision_slop)
+        _checks.in_range("collision_bias", self.collision_bias, 0.0, 1.0)
+
+
+class PymunkEngine(Engine):
+    """pymunk behind the common contract."""
+
+    name = "pymunk"
+    settings_type = PymunkSettings
+    profiles = {
+        # Chipmunk's own solver values are already exact for one frictionless contact (a single
+        # constraint is solved in the first iteration); fidelity only needs a short step
+        # (10 us: the contact normal tilts by omega*dt while the bat turns) and aligned contact.
+        "reference": PymunkSettings(dt_s=1e-5),
+        # Out of the box: the 1/60 s step of pymunk's examples, Chipmunk's defaults, the contact
+        # instant mid-step as in any unaligned simulation.
+        "default": PymunkSettings(dt_s=1 / 60, contact_phase=0.5),
+    }
+
+    @classmethod
+    def version(cls) -> str:
+        return pymunk.version
+
+    def _build(self, bat: Bat, ball: Ball) -> None:
+        st = self.settings
+        space = pymunk.Space()
+        space.gravity = (0.0, 0.0)
+        space.damping = 1.0
+        space.iterations = st.iterations
+        space.collision_slop = st.collision_slop
+        space.collision_bias = st.collision_bias
+        self._bat = pymunk.Body(bat.mass_kg, bat.inertia_cm_kgm2)
+        self._bat_shape = pymunk.Segment(self._bat, (bat.s_min_m, 0.0), (bat.s_max_m, 0.0),
+                                         bat.radius_m)
+        self._ball = pymunk.Body(ball.mass_kg, ball.inertia_kgm2)
+        self._ball_shape = pymunk.Circle(self._ball, ball.radius_m)
+        for shape in (self._bat_shape, self._ball_shape):
+            shape.friction = 0.0
+        self._bat_shape.elasticity = 1.0
+        space.add(self._bat, self._bat_shape, self._ball, self._ball_shape)
+        self._space = space
+        self._touching = False
+
+    def _mass_properties(self) -> MassProperties:
+        knob_x = self._bat_shape.a.x - self._bat_shape.radius
+        return MassProperties(
+            bat_mass_kg=self._bat.mass,
+            bat_com_from_knob_m=self._bat.center_of_gravity.x - knob_x,
+            bat_inertia_kgm2=self._bat.moment,
+            ball_mass_kg=self._ball.mass,
+            ball_inertia_kgm2=self._ball.moment,
+        )
+
+    def _configure(self, case: ImpactCase) -> None:
+        self._ball_shape.elasticity = case.e  # arbiter e = 1.0 * e
+
+    def _set_state(self, r: Reading) -> None:
+        bat, ball = self._bat, self._ball
+        bat.position, bat.angle = (r.bat_x, r.bat_y), r.bat_angle
+        bat.velocity, bat.angular_velocity = (r.bat_vx, r.bat_vy), r.bat_w
+        ball.position, ball.angle = (r.ball_x, r.ball_y), 0.0
+        ball.velocity, ball.angular_velocity = (r.ball_vx, r.ball_vy), r.ball_w
+        self._space.reindex_shapes_for_body(bat)
+        self._space.reindex_shapes_for_body(ball)
+
+    def _step(self) -> None:
+        self._space.step(self.settings.dt_s)
+
+    def _read(self) -> Reading:
+        ball, bat = self._ball, self._bat
+        (bx, by), (bvx, bvy) = ball.position, ball.velocity
+        (cx, cy), (cvx, cvy) = bat.position, bat.velocity
+        return Reading(bx, by, bvx, bvy, ball.angular_velocity, cx, cy, bat.angle, cvx, cvy,
+                       bat.angular_velocity)
+
+    def _in_contact(self) -> bool:
+        found = []
+        self._bat.each_arbiter(found.append)
+        return any(arb.contact_point_set.points for arb in found)
