@@ -102,7 +102,7 @@ def test_cork_rejects(field, value):
 def test_cork_that_removes_the_whole_bat_is_rejected():
     # An absurdly dense wood makes dM < -M: the result would have negative mass.
     with pytest.raises(ValueError, match="corked mass"):
-        R161.corked(hole_radius_m=0.033, hole_depth_m=0.8, fill_density_kgm3=0.0,
+        R161.corked(hole_radius_m=0.03, hole_depth_m=0.8, fill_density_kgm3=0.0,
                     wood_density_kgm3=5000.0)
 
 
