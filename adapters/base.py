@@ -276,31 +276,40 @@ class Engine(abc.ABC):
         self._set_state(start)
         ke0 = kinetic_energy_j(case, start)
         max_steps = st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2
+        bat, ball = case.bat, case.ball
         first = last = -1
         peak = -math.inf
         status = None
         r = start
         step = 0
+        # State is read only while the engine reports contact and after it: before, nothing can
+        # happen to free bodies but a blow-up, which the final reading still catches.
         while step < max_steps:
             self._step()
             step += 1
-            r = self._read()
-            if not all(math.isfinite(x) for x in r):
-                status = Status.NON_FINITE
-                break
-            peak = max(peak, penetration_m(case.bat, case.ball, r))
-            touching = self._in_contact()
-            if touching:
+            if self._in_contact():
+                r = self._read()
+                if not math.isfinite(sum(r)):
+                    break
+                peak = max(peak, penetration_m(bat, ball, r))
                 if first < 0:
                     first = step
                 last = step
-            elif first >= 0 and separating(case.bat, r):
-                break
-            elif first < 0 and step > st.approach_steps + 1:
+            elif first >= 0:
+                r = self._read()
+                if not math.isfinite(sum(r)) or separating(bat, r):
+                    break
+            elif step > st.approach_steps + 1:
+                r = self._read()
                 status = Status.TUNNELLED
                 break
         else:
+            r = self._read()
             status = Status.NO_SEPARATION if first >= 0 else Status.TUNNELLED
+        if not math.isfinite(sum(r)):
+            status = Status.NON_FINITE
+        else:
+            peak = max(peak, penetration_m(bat, ball, r))
         return self._outcome(case, start, r, ke0, status, first, last, peak, step,
                              time.perf_counter() - t_wall)
 

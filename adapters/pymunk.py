@@ -110,6 +110,7 @@ class PymunkEngine(Engine):
                        bat.angular_velocity)
 
     def _in_contact(self) -> bool:
+        # Chipmunk lists only the arbiters that touched in the last step (cached ones are not).
         found = []
         self._bat.each_arbiter(found.append)
-        return any(arb.contact_point_set.points for arb in found)
+        return bool(found)
