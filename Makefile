@@ -5,11 +5,10 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: test sweep bench clean
+.PHONY: test sweep bench baselines clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
@@ -17,10 +16,14 @@ test: $(STAMP)
 	$(PY) -m pytest -q
 
 sweep: $(STAMP)
-	$(PY) -m experiments.demo
+	$(PY) -m experiments.sweep --engine mujoco
 
 bench: $(STAMP)
 	$(PY) -m experiments.bench_analytic
+	$(PY) -m experiments.bench_engines
+
+baselines: $(STAMP)
+	$(PY) -m experiments.baselines
 
 clean:
 	rm -rf $(VENV) build *.egg-info

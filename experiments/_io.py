@@ -39,6 +39,40 @@ def atomic_write_bytes(path: Path | str, data: bytes) -> Path:
     return path
 
 
+def atomic_write_many(files: dict[Path, bytes]) -> list[Path]:
+    """Write several files so that an interruption leaves all of the old ones: every temporary
+    file is complete before the first rename, and the renames follow back to back."""
+    staged = []
+    try:
+        for path, data in files.items():
+            path = Path(path)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+            with os.fdopen(fd, "wb") as f:
+                f.write(data)
+                f.flush()
+                os.fsync(f.fileno())
+            staged.append((tmp, path))
+        for tmp, path in staged:
+            os.replace(tmp, path)
+    finally:
+        for tmp, _ in staged:
+            Path(tmp).unlink(missing_ok=True)
+    return [path for _, path in staged]
+
+
+def figure_png(fig, dpi: int = 120) -> bytes:
+    """A matplotlib figure as PNG bytes without timestamp metadata (same chart, same bytes)."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
+    return buf.getvalue()
+
+
+def json_bytes(obj: Any) -> bytes:
+    """Indented, key-sorted JSON."""
+    return (json.dumps(obj, indent=2, sort_keys=True, default=str) + "\n").encode("utf-8")
+
+
 def atomic_write_text(path: Path | str, text: str) -> Path:
     """Text version of ``atomic_write_bytes`` (UTF-8, newline kept as given)."""
     return atomic_write_bytes(path, text.encode("utf-8"))
@@ -49,9 +83,7 @@ def save_figure(fig, path: Path | str, dpi: int = 120) -> Path:
 
     The PNG carries no timestamp metadata, so an unchanged chart gives an unchanged file.
     """
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
-    return atomic_write_bytes(path, buf.getvalue())
+    return atomic_write_bytes(path, figure_png(fig, dpi))
 
 
 def _git(*args: str) -> str:
@@ -84,7 +116,9 @@ def provenance(**extra: Any) -> dict[str, Any]:
     """Who made a result and how: commit (and dirty flag), versions, machine, date, command line."""
     return {
         "commit": _git("rev-parse", "HEAD") or "unknown",
-        "dirty": bool(_git("status", "--porcelain", "--untracked-files=no")),
+        # results/ is what a run rewrites; dirty means the code differs from the commit
+        "dirty": bool(_git("status", "--porcelain", "--untracked-files=no", "--", ".",
+                           ":!results")),
         "command": _command_line(),
         "date_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "machine": {"platform": platform.platform(), "processor": platform.machine(),
@@ -96,4 +130,4 @@ def provenance(**extra: Any) -> dict[str, Any]:
 
 def write_json(path: Path | str, obj: Any) -> Path:
     """Write ``obj`` as indented, key-sorted JSON, atomically."""
-    return atomic_write_text(path, json.dumps(obj, indent=2, sort_keys=True, default=str) + "\n")
+    return atomic_write_bytes(path, json_bytes(obj))

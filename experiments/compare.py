@@ -1,0 +1,72 @@
+"""What changed between two sweep tables.
+
+    python -m experiments.compare OLD.csv NEW.csv      (also: python -m experiments.sweep --compare)
+
+Rows are matched on (engine, profile, bat, s, motion); timing columns are ignored. Exit code 0
+if nothing but timing changed, 1 otherwise.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import pandas as pd
+
+from ._grid import TIMING_COLUMNS
+
+KEYS = ["engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad"]
+
+
+def compare_tables(old_path: Path, new_path: Path, out=sys.stdout) -> int:
+    """Print added/removed rows, status changes and the largest value changes per engine."""
+    old = pd.read_csv(old_path).drop(columns=list(TIMING_COLUMNS), errors="ignore")
+    new = pd.read_csv(new_path).drop(columns=list(TIMING_COLUMNS), errors="ignore")
+    both = old.merge(new, on=KEYS, how="outer", suffixes=("_old", "_new"), indicator=True)
+    changed = False
+    for side, label in (("left_only", "removed"), ("right_only", "added")):
+        rows = both[both["_merge"] == side]
+        if len(rows):
+            changed = True
+            print(f"{label}: {len(rows)} rows", file=out)
+    common = both[both["_merge"] == "both"]
+    status = common[common.status_old != common.status_new]
+    for _, r in status.iterrows():
+        changed = True
+        print(f"{r.engine} s={r.s_m:.4f}: status {r.status_old} -> {r.status_new}", file=out)
+    numeric = [c for c in old.columns if c not in KEYS and c != "status"
+               and pd.api.types.is_numeric_dtype(old[c])]
+    for engine, df in common.groupby("engine", sort=False):
+        for col in numeric:
+            diff = (df[f"{col}_new"] - df[f"{col}_old"]).abs()
+            if diff.max() > 0:
+                changed = True
+                i = diff.idxmax()
+                print(f"{engine} {col}: {int((diff > 0).sum())} rows changed, largest "
+                      f"{diff.max():.3e} at s={df.loc[i, 's_m']:.4f} "
+                      f"({df.loc[i, f'{col}_old']:.6g} -> {df.loc[i, f'{col}_new']:.6g})",
+                      file=out)
+        for which in ("old", "new"):
+            ok = df[df[f"status_{which}"] == "ok"]
+            if len(ok):
+                print(f"{engine} max |v1 err| {which}: {ok[f'v1_abs_err_mps_{which}'].max():.3e} m/s",
+                      file=out)
+    if not changed:
+        print("no change apart from timing", file=out)
+    return 1 if changed else 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m experiments.compare", description=__doc__.splitlines()[0])
+    p.add_argument("old", type=Path)
+    p.add_argument("new", type=Path)
+    args = p.parse_args(argv)
+    for path in (args.old, args.new):
+        if not path.is_file():
+            p.error(f"{path} does not exist; allowed: a sweep CSV")
+    return compare_tables(args.old, args.new)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,281 @@
+"""Fire the ball along a bat in one engine (or all) and compare every impact with theory.
+
+    python -m experiments.sweep --engine mujoco
+    python -m experiments.sweep --engine all --points 41 --u0 0 --omega0 0
+    python -m experiments.sweep --compare results/old.csv results/new.csv
+
+Writes <out>/<name>.csv (one row per impact), <name>.json (provenance and summary) and
+<name>.png (v1 along the bat per engine over the analytic curve, and the error), atomically.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+import adapters
+from analytic import Bat, batted_ball_speed, presets
+
+from . import _grid
+from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
+
+FLOAT_FORMAT = "%.12g"
+
+
+@dataclass(frozen=True, kw_only=True)
+class Sweep:
+    """One sweep: engines, profile and time step, and what to fire."""
+
+    engines: tuple[str, ...]
+    profile: str
+    dt_s: float | None
+    firing: _grid.Firing
+    name: str
+
+
+def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked: bool,
+                 still: bool) -> str:
+    """sweep_<engine|all>_<profile>[-dt<dt>]_<bat>[_corked]_<swing|still>."""
+    prof = profile if dt_s is None else f"{profile}-dt{dt_s:.0e}"
+    return "_".join(["sweep", engine, prof, bat.name.split()[0] + ("_corked" if corked else ""),
+                     "still" if still else "swing"])
+
+
+def build_parser() -> argparse.ArgumentParser:
+    swing, pitch = presets.PAPER_SWING, presets.PAPER_PITCH_MPS
+    p = argparse.ArgumentParser(
+        prog="python -m experiments.sweep",
+        description="Fire a ball along a bat in physics engines and compare with impact theory.",
+        epilog=f"engines: {', '.join(adapters.names())}; bats: {', '.join(presets.BATS)}. "
+               "Exit code 2 on bad input (results left untouched).",
+    )
+    p.add_argument("--engine", choices=[*adapters.names(), "all"], default="mujoco")
+    p.add_argument("--profile", choices=adapters.PROFILES, default="reference",
+                   help="engine settings: tuned for fidelity, or the engine's own defaults")
+    p.add_argument("--dt", type=float, default=None, metavar="S",
+                   help="override the profile's time step (s)")
+    p.add_argument("--bat", choices=list(presets.BATS), default="r161")
+    p.add_argument("--corked", action="store_true", help="drill and fill the barrel end")
+    p.add_argument("--hole-radius", type=float, default=0.0127, metavar="M")
+    p.add_argument("--hole-depth", type=float, default=0.254, metavar="M")
+    p.add_argument("--fill-density", type=float, default=200.0, metavar="KGM3",
+                   help="cork 200, rubber 1100, hollow 0")
+    p.add_argument("--wood-density", type=float, default=640.0, metavar="KGM3")
+    p.add_argument("--points", type=int, default=41, help="impact points over the hittable length")
+    p.add_argument("--s-range", type=float, nargs=2, default=None, metavar=("MIN", "MAX"),
+                   help="part of the bat to sweep, m from the COM (default: all of it)")
+    p.add_argument("--v0", type=float, default=pitch, metavar="MPS", help="pitch speed")
+    p.add_argument("--u0", type=float, default=swing.u0_mps, metavar="MPS", help="bat COM speed")
+    p.add_argument("--omega0", type=float, default=swing.omega0_radps, metavar="RADPS")
+    p.add_argument("--e", type=float, default=presets.E_WOOD, help="coefficient of restitution")
+    p.add_argument("--theta", type=float, default=0.0, metavar="RAD",
+                   help="ball's angle to the contact normal")
+    p.add_argument("--workers", type=int, default=1, help="processes to spread impacts over")
+    p.add_argument("--out", type=Path, default=ROOT / "results", help="output directory")
+    p.add_argument("--name", default=None, help="file stem (default from the options)")
+    p.add_argument("--no-locate", action="store_true",
+                   help="skip locating the sweet spot and COP from engine data")
+    p.add_argument("--compare", nargs=2, type=Path, metavar=("OLD", "NEW"),
+                   help="print what changed between two sweep tables, then exit")
+    return p
+
+
+def sweep_from_args(args: argparse.Namespace) -> Sweep:
+    """Validate every option (ValueError names the problem) and build the sweep."""
+    bat = presets.BATS[args.bat]
+    if args.corked:
+        bat = bat.corked(hole_radius_m=args.hole_radius, hole_depth_m=args.hole_depth,
+                         fill_density_kgm3=args.fill_density, wood_density_kgm3=args.wood_density)
+    if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
+        raise ValueError(f"--dt={args.dt!r} is not allowed; allowed: a time step > 0 s")
+    if not 1 <= args.workers <= 64:
+        raise ValueError(f"--workers={args.workers} is out of range; allowed: 1..64")
+    s = _grid.grid(bat, args.points, *(args.s_range or (None, None)))
+    firing = _grid.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=args.u0,
+                          omega0_radps=args.omega0, e=args.e, theta_rad=args.theta)
+    firing.cases()  # every impact validated before anything runs
+    engines = adapters.names() if args.engine == "all" else (args.engine,)
+    for name in engines:
+        adapters.settings_for(name, args.profile, **({} if args.dt is None else {"dt_s": args.dt}))
+    name = args.name or default_name(args.engine, args.profile, args.dt, presets.BATS[args.bat],
+                                     args.corked, args.u0 == 0 and args.omega0 == 0)
+    return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name)
+
+
+def run(sweep: Sweep, *, workers: int = 1, locate: bool = True) -> tuple[pd.DataFrame, dict]:
+    """Fire every engine over the grid; return the table and a per-engine summary."""
+    cases = sweep.firing.cases()
+    total = len(cases) * len(sweep.engines)
+    rows, summary = [], {}
+    marks = _grid.analytic_marks(sweep.firing)
+    with _grid.tqdm(total=total, desc="impacts", unit="impact", disable=None if total > 200
+                    else True, leave=False) as bar:
+        for name in sweep.engines:
+            settings = _grid.with_dt(adapters.settings_for(name, sweep.profile), sweep.dt_s)
+            t0 = time.perf_counter()
+            engine_rows = _grid.fire(name, settings, sweep.profile, cases, workers=workers,
+                                     progress=bar)
+            elapsed = time.perf_counter() - t0
+            rows.extend(engine_rows)
+            summary[name] = _summarize(name, settings, sweep.firing, engine_rows, marks, locate)
+            summary[name]["elapsed_s"] = elapsed
+            summary[name]["settings"] = settings.as_dict()
+            summary[name]["engine_version"] = adapters.engine_class(name).version()
+    table = pd.DataFrame(rows, columns=list(_grid.COLUMNS))
+    return table, {"analytic": marks, "engines": summary}
+
+
+def _summarize(name, settings, firing, rows, marks, locate) -> dict:
+    df = pd.DataFrame(rows)
+    ok = df[df.status == "ok"]
+    out = {
+        "impacts": len(df),
+        "status_counts": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
+        "v1_abs_err_max_mps": float(ok.v1_abs_err_mps.max()) if len(ok) else math.nan,
+        "v1_abs_err_median_mps": float(ok.v1_abs_err_mps.median()) if len(ok) else math.nan,
+        "v1_rel_err_max": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
+        "v1_rel_err_median": float(ok.v1_rel_err.median()) if len(ok) else math.nan,
+        "wall_per_impact_median_s": float(df.wall_s.median()),
+        "sweet_spot_engine_m": math.nan,
+        "cop_engine_m": math.nan,
+    }
+    if locate and len(ok) == len(df):
+        engine = adapters.engine_class(name)(settings)
+        v1 = df.v1_engine_mps.to_numpy()
+        bracket = _grid.bracket_around(df.s_m, v1, "max")
+        if bracket is not None and bracket[0] < marks["sweet_spot_m"] < bracket[1]:
+            out["sweet_spot_engine_m"] = _grid.locate_sweet_spot(engine, firing, bracket)
+        bracket = _grid.bracket_around(df.s_m, df.hand_dv_engine_mps, "root")
+        if bracket is not None:
+            out["cop_engine_m"] = _grid.locate_cop(engine, firing, bracket)
+        engine.close()
+    return out
+
+
+def plot(table: pd.DataFrame, sweep: Sweep, meta: dict):
+    """v1 along the bat: analytic curve, each engine's points, sweet spot and COP; error panel."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    f = sweep.firing
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7), sharex=True,
+                                      gridspec_kw={"height_ratios": [3, 2]})
+    s = np.linspace(f.bat.s_min_m, f.bat.s_max_m, 400)
+    top.plot(s, batted_ball_speed(f.bat, presets.BASEBALL, s, v0_mps=f.v0_mps, u0_mps=f.u0_mps,
+                                  omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
+             color="black", lw=1.5, label="analytic")
+    markers = dict(zip(adapters.names(), ("o", "s", "^")))
+    colors = dict(zip(adapters.names(), ("tab:blue", "tab:orange", "tab:green")))
+    floor = 1e-16
+    any_ok = False
+    for i, (name, df) in enumerate(table.groupby("engine", sort=False)):
+        ok = df.status == "ok"
+        any_ok |= bool(ok.any())
+        top.plot(df.s_m[ok], df.v1_engine_mps[ok], markers[name], ms=5, mfc="none",
+                 color=colors[name], label=f"{name} ({ok.sum()}/{len(df)} ok)")
+        if (~ok).any():
+            # Failed impacts carry no trustworthy v1: a rug along the bottom, one row per engine.
+            statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
+            top.plot(df.s_m[~ok], np.full((~ok).sum(), 0.03 + 0.05 * i), "x", ms=6,
+                     color=colors[name], transform=top.get_xaxis_transform(),
+                     label=f"{name} failed: {statuses}")
+        bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), markers[name],
+                        ms=5, mfc="none", color=colors[name], label=name)
+    marks = meta["analytic"]
+    for ax in (top, bottom):
+        ax.axvline(marks["sweet_spot_m"], color="tab:red", ls="--", lw=1)
+        ax.axvline(marks["cop_m"], color="tab:purple", ls=":", lw=1.2)
+    top.annotate(f"sweet spot {marks['sweet_spot_m'] * 1e3:.1f} mm", (marks["sweet_spot_m"], 0.3),
+                 xycoords=("data", "axes fraction"), rotation=90, color="tab:red", fontsize=8,
+                 ha="right")
+    top.annotate(f"COP (hands {f.hands_from_knob_m} m) {marks['cop_m'] * 1e3:.1f} mm",
+                 (marks["cop_m"], 0.3), xycoords=("data", "axes fraction"), rotation=90,
+                 color="tab:purple", fontsize=8, ha="left")
+    top.set_ylabel("batted-ball speed v1 (m/s)")
+    top.set_title(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:g} m/s, "
+                  f"omega0 = {f.omega0_radps:g} rad/s, e = {f.e:g}; profile {sweep.profile}"
+                  + (f", dt = {sweep.dt_s:g} s" if sweep.dt_s else ""), fontsize=10)
+    top.legend(fontsize=8, loc="lower center")
+    top.grid(alpha=0.3)
+    bottom.set_ylabel("|v1 engine - v1 analytic| (m/s)")
+    bottom.set_xlabel("impact point s from the COM toward the barrel (m)")
+    bottom.grid(alpha=0.3, which="both")
+    if any_ok:
+        bottom.legend(fontsize=8)
+    else:
+        bottom.text(0.5, 0.5, "no ok impacts", transform=bottom.transAxes, ha="center")
+    fig.tight_layout()
+    return fig
+
+
+def print_summary(meta: dict) -> None:
+    """Per engine: errors, statuses, sweet spot and COP from engine data vs analytic (mm)."""
+    marks = meta["analytic"]
+    print(f"{'engine':9} {'ok':>7} {'max |dv1| m/s':>14} {'median':>10} {'max rel':>9} "
+          f"{'sweet spot mm':>18} {'COP mm':>18} {'us/impact':>9}")
+    for name, s in meta["engines"].items():
+        ok = s["status_counts"].get("ok", 0)
+
+        def mm(x, ref):
+            return "n/a" if not math.isfinite(x) else f"{x * 1e3:.4f} ({(x - ref) * 1e3:+.1e})"
+
+        print(f"{name:9} {ok:>3}/{s['impacts']:<3} {s['v1_abs_err_max_mps']:>14.3e} "
+              f"{s['v1_abs_err_median_mps']:>10.2e} {s['v1_rel_err_max']:>9.2e} "
+              f"{mm(s['sweet_spot_engine_m'], marks['sweet_spot_m']):>18} "
+              f"{mm(s['cop_engine_m'], marks['cop_m']):>18} "
+              f"{s['wall_per_impact_median_s'] * 1e6:>9.1f}")
+    print(f"analytic: sweet spot {marks['sweet_spot_m'] * 1e3:.4f} mm, "
+          f"COP {marks['cop_m'] * 1e3:.4f} mm from the COM")
+
+
+def write(table: pd.DataFrame, meta: dict, sweep: Sweep, out_dir: Path) -> list[Path]:
+    """CSV, JSON sidecar and PNG: all rendered first, then renamed into place together."""
+    import matplotlib.pyplot as plt
+
+    stem = out_dir / sweep.name
+    csv = table.to_csv(index=False, float_format=FLOAT_FORMAT, lineterminator="\n")
+    fig = plot(table, sweep, meta)
+    png = figure_png(fig)
+    plt.close(fig)
+    return atomic_write_many({
+        stem.with_suffix(".csv"): csv.encode("utf-8"),
+        stem.with_suffix(".json"): json_bytes({**meta, "provenance": provenance()}),
+        stem.with_suffix(".png"): png,
+    })
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.compare:
+        from .compare import compare_tables
+
+        return compare_tables(*args.compare)
+    try:
+        sweep = sweep_from_args(args)
+    except ValueError as err:
+        parser.error(str(err))
+    t0 = time.perf_counter()
+    try:
+        table, meta = run(sweep, workers=args.workers, locate=not args.no_locate)
+        paths = write(table, meta, sweep, args.out)
+    except KeyboardInterrupt:
+        print("interrupted: previous results left intact", file=sys.stderr)
+        return 130
+    print_summary(meta)
+    print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> "
+          + ", ".join(str(p.relative_to(ROOT) if p.is_relative_to(ROOT) else p) for p in paths))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
