@@ -31,7 +31,7 @@ class Status(str, Enum):
     TUNNELLED = "tunnelled"          #: the ball passed through the bat (or no contact was seen)
     NON_FINITE = "non_finite"        #: NaN or inf in the state
     ENERGY_GAINED = "energy_gained"  #: kinetic energy after > before (beyond float noise)
-    PENETRATION = "penetration"      #: ball centre came within the bat's axis region (> r_ball + r_bat)
+    PENETRATION = "penetration"      #: ball centre crossed the bat's axis (> r_ball + r_bat deep)
     NO_SEPARATION = "no_separation"  #: still touching when the step budget ran out
 
 
@@ -162,8 +162,11 @@ def _closest(bat: Bat, r: Reading) -> tuple[float, float, float, float]:
 
 
 def penetration_m(bat: Bat, ball: Ball, r: Reading) -> float:
-    """Geometric overlap of sphere and capsule (m); negative is the gap."""
-    return bat.radius_m + ball.radius_m - _closest(bat, r)[2]
+    """Geometric overlap of sphere and capsule (m), negative for a gap, measured from the side
+    the ball came from: a ball whose centre has crossed the bat's axis is more than
+    r_ball + r_bat deep, however close to the axis it sits."""
+    dist = _closest(bat, r)[2]
+    return bat.radius_m + ball.radius_m - (dist if ball_side_m(r) > 0.0 else -dist)
 
 
 def separating(bat: Bat, r: Reading) -> bool:
@@ -282,25 +285,26 @@ class Engine(abc.ABC):
         status = None
         r = start
         step = 0
-        # State is read only while the engine reports contact and after it: before, nothing can
-        # happen to free bodies but a blow-up, which the final reading still catches.
+        # Free flight before the planned contact step cannot go wrong but by a blow-up, which
+        # the final reading still catches: the state is read from that step on.
         while step < max_steps:
             self._step()
             step += 1
-            if self._in_contact():
-                r = self._read()
-                if not math.isfinite(sum(r)):
-                    break
-                peak = max(peak, penetration_m(bat, ball, r))
+            touching = self._in_contact()
+            if not touching and first < 0 and step < st.approach_steps:
+                continue
+            r = self._read()
+            if not math.isfinite(sum(r)):
+                break
+            peak = max(peak, penetration_m(bat, ball, r))
+            if touching:
                 if first < 0:
                     first = step
                 last = step
             elif first >= 0:
-                r = self._read()
-                if not math.isfinite(sum(r)) or separating(bat, r):
+                if separating(bat, r):
                     break
             elif step > st.approach_steps + 1:
-                r = self._read()
                 status = Status.TUNNELLED
                 break
         else:

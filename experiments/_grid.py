@@ -22,8 +22,8 @@ COLUMNS = (
     "engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad",
     "v1_analytic_mps", "v1_engine_mps", "v1_abs_err_mps", "v1_rel_err",
     "u1_analytic_mps", "u1_engine_mps", "omega1_analytic_radps", "omega1_engine_radps",
-    "hand_dv_analytic_mps", "hand_dv_engine_mps", "status", "contact_duration_s",
-    "peak_penetration_m", "steps", "wall_s",
+    "hand_dv_analytic_mps", "hand_dv_engine_mps", "ke_before_j", "ke_after_j", "status",
+    "contact_duration_s", "peak_penetration_m", "steps", "wall_s",
 )
 TIMING_COLUMNS = ("wall_s",)
 
@@ -81,6 +81,7 @@ def row(case: ImpactCase, out: adapters.SimOutcome, profile: str) -> dict:
         "u1_analytic_mps": ref.u1_mps, "u1_engine_mps": out.u1_mps,
         "omega1_analytic_radps": ref.omega1_radps, "omega1_engine_radps": out.omega1_radps,
         "hand_dv_analytic_mps": ref.hand_dv_mps, "hand_dv_engine_mps": out.hand_dv_mps,
+        "ke_before_j": out.ke_before_j, "ke_after_j": out.ke_after_j,
         "status": out.status.value, "contact_duration_s": out.contact_duration_s,
         "peak_penetration_m": out.peak_penetration_m, "steps": out.steps, "wall_s": out.wall_s,
     }

@@ -1,0 +1,268 @@
+"""Speed against accuracy: every engine over its cost knobs, Pareto fronts, convergence orders.
+
+    python -m experiments.pareto [--quick] [--repeats K]
+
+Each setting fires the paper's swing (R161, v0 = 46.9 m/s, u0 = 17.87 m/s, omega0 = 32 rad/s,
+e = 0.5) at points spread over s in [-0.2, 0.25] m. Unlike the reference profile, the contact
+instant falls mid-step (contact_phase = 0.5) as in a simulation that does not align it, so the
+time step's real cost shows; the aligned reference profile is drawn apart for comparison.
+Cost per collision is the wall time to simulate the collision window: WINDOW_S of approach
+(``approach_steps`` = WINDOW_S/dt) and the contact until separation, as a simulation must step
+through it; with a fixed number of steps an impulse engine would cost the same at every dt.
+Writes results/pareto.csv, results/pareto.png and results/convergence.csv.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import sys
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+import adapters
+from analytic import presets
+
+from . import _grid
+from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
+
+STEPS_S = (1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 2e-3, 1 / 240, 1 / 60)
+QUICK_STEPS_S = (1e-5, 1e-4, 2e-3, 1 / 240, 1 / 60)
+SOFT_OMEGAS = (1000.0, 3000.0, 10000.0)
+PHASE = 0.5
+WINDOW_S = 1e-3  # simulated approach before contact: 47 mm of ball travel at 46.9 m/s
+FLOOR = 1e-16  # errors are drawn no lower than this (float64 rounding of v1 ~ 40 m/s is ~1e-14)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Config:
+    """One point of an engine's knob space: a label, the family it belongs to, the overrides."""
+
+    engine: str
+    family: str
+    overrides: tuple[tuple[str, object], ...]
+    profile: str = "reference"
+
+    @property
+    def label(self) -> str:
+        return ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
+                         for k, v in self.overrides)
+
+    def settings(self) -> adapters.Settings:
+        return _windowed(adapters.settings_for(self.engine, self.profile, **dict(self.overrides)))
+
+
+def configs(quick: bool) -> list[Config]:
+    """The knob grid: time step crossed with each engine's solver/integrator/contact choices."""
+    steps = QUICK_STEPS_S if quick else STEPS_S
+    out = []
+
+    def add(engine, family, profile="reference", **kw):
+        for dt in steps:
+            out.append(Config(engine=engine, family=family, profile=profile,
+                              overrides=(("dt_s", dt), ("contact_phase", PHASE), *kw.items())))
+
+    for iterations in ((10,) if quick else (1, 10, 100)):
+        add("pymunk", f"iterations {iterations}", iterations=iterations)
+    add("pybullet", "reference solver (ERP 0, slop 0)")
+    add("pybullet", "default solver", profile="default")
+    if not quick:
+        for iterations in (1, 10, 200):
+            add("pybullet", f"reference solver, {iterations} iterations",
+                solver_iterations=iterations)
+    for integrator in (("Euler", "RK4") if quick else ("Euler", "implicitfast", "RK4")):
+        add("mujoco", f"impulse, {integrator}", integrator=integrator)
+        for w in ((3000.0,) if quick else SOFT_OMEGAS):
+            add("mujoco", f"soft w={w:g}, {integrator}", integrator=integrator,
+                contact_model="soft", soft_omega_radps=w)
+    add("mujoco", "default (solref 0.02 s)", profile="default")
+    return out
+
+
+def _windowed(settings: adapters.Settings) -> adapters.Settings:
+    from dataclasses import replace
+
+    return replace(settings, approach_steps=max(2, round(WINDOW_S / settings.dt_s)))
+
+
+def evaluate(name: str, settings: adapters.Settings, cases, repeats: int) -> dict:
+    """Errors and statuses of one setting over the grid; median wall per collision over repeats."""
+    walls = []
+    for _ in range(repeats):
+        rows = _grid.fire(name, settings, "pareto", cases)
+        walls.extend(r["wall_s"] for r in rows)
+    df = pd.DataFrame(rows)
+    ok = df[df.status == "ok"]
+    counts = df.status.value_counts()
+    return {
+        "median_rel_err": float(ok.v1_rel_err.median()) if len(ok) else math.nan,
+        "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
+        "wall_per_collision_s": statistics.median(walls),
+        "steps_median": float(df.steps.median()),
+        "impacts": len(df),
+        **{f"n_{s.value}": int(counts.get(s.value, 0)) for s in adapters.Status},
+        "all_ok": bool(len(ok) == len(df)),
+    }
+
+
+def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
+    """Indices of non-dominated points (no other is both faster and more accurate), by time."""
+    order = np.argsort(times, kind="stable")
+    front, best = [], math.inf
+    for i in order:
+        if errors[i] < best:
+            front.append(i)
+            best = errors[i]
+    return np.array(front, dtype=int)
+
+
+def knee(times: np.ndarray, errors: np.ndarray) -> int:
+    """Index of the front point farthest from the chord joining its ends in log-log space."""
+    x, y = np.log10(times), np.log10(np.maximum(errors, FLOOR))
+    if len(x) < 3:
+        return int(np.argmin(y))
+    (x0, y0), (x1, y1) = (x[0], y[0]), (x[-1], y[-1])
+    dist = np.abs((y1 - y0) * x - (x1 - x0) * y + x1 * y0 - y1 * x0)
+    return int(np.argmax(dist))
+
+
+def convergence(table: pd.DataFrame) -> pd.DataFrame:
+    """Fit max_rel_err ~ C dt^p per engine and family over all-ok settings above the noise."""
+    rows = []
+    for (engine, family), df in table.groupby(["engine", "family"], sort=False):
+        d = df[df.all_ok & (df.max_rel_err > 1e3 * FLOOR)]
+        if len(d) < 3:
+            rows.append({"engine": engine, "family": family, "p": math.nan, "points": len(d)})
+            continue
+        x, y = np.log10(d.dt_s.to_numpy()), np.log10(d.max_rel_err.to_numpy())
+        p, c = np.polyfit(x, y, 1)
+        resid = y - (p * x + c)
+        r2 = 1 - resid.var() / y.var() if y.var() > 0 else 1.0
+        rows.append({"engine": engine, "family": family, "p": p, "r2": r2, "points": len(d),
+                     "dt_min_s": d.dt_s.min(), "dt_max_s": d.dt_s.max(),
+                     "err_at_dt_min": float(d.sort_values("dt_s").max_rel_err.iloc[0]),
+                     "err_at_dt_max": float(d.sort_values("dt_s").max_rel_err.iloc[-1])})
+    return pd.DataFrame(rows)
+
+
+def chart(table: pd.DataFrame, aligned: pd.DataFrame):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    colors = dict(zip(adapters.names(), ("tab:blue", "tab:orange", "tab:green")))
+    fig, ax = plt.subplots(figsize=(9, 6.5))
+    notes = []
+    for name in adapters.names():
+        df = table[table.engine == name]
+        good = df[df.all_ok]
+        bad = df[~df.all_ok]
+        ax.scatter(good.wall_per_collision_s * 1e6, np.maximum(good.max_rel_err, FLOOR), s=14,
+                   color=colors[name], alpha=0.45, label=f"{name}: every impact ok")
+        ax.scatter(bad.wall_per_collision_s * 1e6, _failed_y(bad.max_rel_err), s=18,
+                   color=colors[name], marker="x", alpha=0.6,
+                   label=f"{name}: some impacts failed (all failed: drawn at {FAILED_Y:g})")
+        if len(good):
+            t, e = good.wall_per_collision_s.to_numpy(), good.max_rel_err.to_numpy()
+            front = pareto_front(t, e)
+            ax.step(t[front] * 1e6, np.maximum(e[front], FLOOR), where="post", color=colors[name],
+                    lw=1.8)
+            k = front[knee(t[front], e[front])]
+            row = good.iloc[k]
+            ax.scatter([t[k] * 1e6], [max(e[k], FLOOR)], s=160, facecolor="none",
+                       edgecolor=colors[name], lw=2, zorder=6)
+            notes.append((colors[name], f"{name} knee (circled): {row.family}, dt = "
+                                        f"{row.dt_s:.0e} s: {e[k]:.1e} in {t[k] * 1e6:.0f} us"))
+        ref = aligned[aligned.engine == name]
+        ax.scatter(ref.wall_per_collision_s * 1e6, np.maximum(ref.max_rel_err, FLOOR), s=120,
+                   marker="*", color=colors[name], edgecolor="black", zorder=5,
+                   label=f"{name}: reference profile (aligned contact)")
+        family, dt = OUT_OF_THE_BOX[name]
+        for _, d in df[(df.family == family) & np.isclose(df.dt_s, dt)].iterrows():
+            verdict = (f"max error {d.max_rel_err:.1e}" if d.all_ok else
+                       ", ".join(f"{s.value} {d[f'n_{s.value}']}" for s in adapters.Status
+                                 if d[f"n_{s.value}"]))
+            notes.append((colors[name], f"{name} out of the box (dt = {dt:.3g} s): {verdict}"))
+    for i, (color, text) in enumerate(notes):
+        ax.text(0.02, 0.42 - 0.035 * i, text, transform=ax.transAxes, fontsize=7.5, color=color)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("median wall time per collision (us)")
+    ax.set_ylabel("max relative error of v1 over the grid")
+    ax.set_title("Speed vs accuracy, R161 swing (v0 46.9, u0 17.87 m/s, omega0 32 rad/s), "
+                 "contact mid-step; lines: Pareto fronts", fontsize=9)
+    ax.grid(alpha=0.3, which="both")
+    ax.set_ylim(top=10)
+    ax.legend(fontsize=7, loc="lower right", ncol=1)
+    fig.tight_layout()
+    return fig
+
+
+#: Each engine's out-of-the-box setting in the grid: (family, time step).
+OUT_OF_THE_BOX = {"pymunk": ("iterations 10", 1 / 60), "pybullet": ("default solver", 1 / 240),
+                  "mujoco": ("default (solref 0.02 s)", 0.002)}
+FAILED_Y = 3.0
+
+
+def _failed_y(errors: pd.Series) -> np.ndarray:
+    """Where a setting is drawn: its max error, or FAILED_Y if no impact came back ok."""
+    e = errors.to_numpy(dtype=float)
+    return np.where(np.isfinite(e), np.maximum(e, FLOOR), FAILED_Y)
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m experiments.pareto", description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true", help="a small grid (smoke test, < 30 s)")
+    p.add_argument("--repeats", type=int, default=None, help="timing repeats per setting")
+    p.add_argument("--out", default=str(ROOT / "results"))
+    args = p.parse_args(argv)
+    repeats = args.repeats or (1 if args.quick else 3)
+    s = np.linspace(-0.2, 0.25, 4 if args.quick else 10)
+    firing = _grid.Firing(bat=presets.R161, s_m=tuple(s), v0_mps=presets.PAPER_PITCH_MPS,
+                          u0_mps=presets.PAPER_SWING.u0_mps,
+                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+    cases = firing.cases()
+    t0 = time.perf_counter()
+    rows = []
+    todo = configs(args.quick)
+    for cfg in _grid.tqdm(todo, desc="settings", disable=None):
+        settings = cfg.settings()
+        rows.append({"engine": cfg.engine, "family": cfg.family, "profile": cfg.profile,
+                     "label": cfg.label, "dt_s": settings.dt_s,
+                     **evaluate(cfg.engine, settings, cases, repeats)})
+    table = pd.DataFrame(rows)
+    aligned = pd.DataFrame([{"engine": n, "profile": "reference", "label": "reference profile",
+                             **evaluate(n, _windowed(adapters.settings_for(n)), cases, repeats)}
+                            for n in adapters.names()])
+    conv = convergence(table)
+    elapsed = time.perf_counter() - t0
+    out = ROOT / "results" if args.out is None else type(ROOT)(args.out)
+    import matplotlib.pyplot as plt
+
+    fig = chart(table, aligned)
+    both = pd.concat([table, aligned.assign(family="reference profile (aligned)",
+                                            dt_s=[adapters.settings_for(n).dt_s
+                                                  for n in aligned.engine])], ignore_index=True)
+    atomic_write_many({
+        out / "pareto.csv": both.to_csv(index=False, float_format="%.6g",
+                                        lineterminator="\n").encode(),
+        out / "pareto.png": figure_png(fig),
+        out / "convergence.csv": conv.to_csv(index=False, float_format="%.4g",
+                                             lineterminator="\n").encode(),
+        out / "pareto.json": json_bytes({"quick": args.quick, "repeats": repeats,
+                                         "grid_s_m": list(s), "contact_phase": PHASE,
+                                         "elapsed_s": elapsed, "provenance": provenance()}),
+    })
+    plt.close(fig)
+    print(conv.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    print(f"{len(table)} settings in {elapsed:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,249 @@
+"""Where methods fail: time step x closing speed (x MuJoCo contact stiffness) -> outcome status.
+
+    python -m experiments.stability [--quick]
+
+A still R161 is hit at s = 0.1 m with e = 1 (so any spurious energy shows) by balls of 5 to
+100 m/s, at every time step from 1e-6 to 1/60 s, each with the contact instant at K phases of a
+step ((k + 1/2)/K). Theory: the contact is seen ``phase * v * dt`` deep; past R = r_ball + r_bat
+the ball's centre is beyond the bat's axis, the normal flips and the ball is pushed through. So a
+step catches every phase while v dt < R, and a fraction R/(v dt) of them above (THEORY_* below).
+MuJoCo's soft contact gets its own map: time step x stiffness w at 40 m/s, where an undamped
+spring lets the ball sink v/w deep (through the bat when w < v/R) and Euler is unstable for
+w dt > 2 (this map uses e = 0.5: at e = 1 every discretized spring gains a little energy).
+Writes results/stability.csv, stability.png, stability_energy.png, stability_mujoco_soft.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+
+import adapters
+from analytic import ImpactCase, presets
+
+from . import _grid
+from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
+
+BAT, BALL = presets.R161, presets.BASEBALL
+REACH_M = BAT.radius_m + BALL.radius_m
+S_M = 0.1
+STEPS_S = tuple(np.geomspace(1e-6, 1 / 60, 13))
+SPEEDS_MPS = (5.0, 10.0, 20.0, 40.0, 70.0, 100.0)
+PHASES = 8
+SOFT_OMEGAS = (100.0, 300.0, 1000.0, 3000.0, 10000.0, 30000.0, 100000.0)
+SOFT_SPEED_MPS = 40.0
+SOFT_E = 0.5  # at e = 1 a discretized spring gains ~w dt of energy on every contact
+QUICK = dict(steps=tuple(np.geomspace(1e-5, 1 / 60, 5)), speeds=(10.0, 40.0, 100.0), phases=4,
+             omegas=(300.0, 3000.0, 30000.0))
+LETTERS = {"tunnelled": "T", "non_finite": "N", "energy_gained": "E", "penetration": "P",
+           "no_separation": "S"}
+
+
+def phases(k: int) -> np.ndarray:
+    """Contact phases (k + 1/2)/K, k = 0..K-1: an even sample of where in a step contact falls."""
+    return (np.arange(k) + 0.5) / k
+
+
+def theory_fraction_caught(v_mps: float, dt_s: float, k: int, overlap_m: float = 1e-9) -> float:
+    """Fraction of the K phases whose first-seen overlap phase*v*dt + overlap stays below R."""
+    return float(np.mean(phases(k) * v_mps * dt_s + overlap_m < REACH_M))
+
+
+def run_map(engine: str, profile: str, steps, speeds, k: int, extra: dict | None = None,
+            e: float = 1.0) -> list[dict]:
+    """One row per impact over dt x speed x phase."""
+    rows = []
+    base = adapters.settings_for(engine, profile, **(extra or {}))
+    for dt in steps:
+        for phase in phases(k):
+            settings = replace(base, dt_s=float(dt), contact_phase=float(phase))
+            cases = [ImpactCase(bat=BAT, ball=BALL, s_m=S_M, v0_mps=v, e=e) for v in speeds]
+            for case, r in zip(cases, _grid.fire(engine, settings, profile, cases)):
+                rows.append({"map": f"{engine} {profile}", "engine": engine, "profile": profile,
+                             "dt_s": float(dt), "v0_mps": case.v0_mps, "phase": float(phase),
+                             "soft_omega_radps": (extra or {}).get("soft_omega_radps", np.nan),
+                             "status": r["status"],
+                             "peak_penetration_m": r["peak_penetration_m"],
+                             "ke_ratio": r["ke_after_j"] / r["ke_before_j"],
+                             "v1_rel_err": r["v1_rel_err"]})
+    return rows
+
+
+def summarize(rows: pd.DataFrame, x: str, y: str) -> pd.DataFrame:
+    """Per cell: fraction ok and the most common failure."""
+    def dominant(s: pd.Series) -> str:
+        bad = s[s != "ok"]
+        return "" if bad.empty else LETTERS[bad.value_counts().index[0]]
+
+    g = rows.groupby(["map", x, y], sort=False)
+    return g.agg(fraction_ok=("status", lambda s: float((s == "ok").mean())),
+                 failure=("status", dominant)).reset_index()
+
+
+def heatmap(ax, cells: pd.DataFrame, x: str, y: str, title: str):
+    xs, ys = sorted(cells[x].unique()), sorted(cells[y].unique())
+    grid = np.full((len(ys), len(xs)), np.nan)
+    for _, c in cells.iterrows():
+        grid[ys.index(c[y]), xs.index(c[x])] = c.fraction_ok
+        if c.failure:
+            ax.text(np.log10(c[x]), np.log10(c[y]), c.failure, ha="center", va="center",
+                    fontsize=6, color="white" if c.fraction_ok < 0.5 else "black")
+    lx, ly = np.log10(xs), np.log10(ys)
+    dx = (lx[1] - lx[0]) / 2 if len(lx) > 1 else 0.5
+    dy = (ly[1] - ly[0]) / 2 if len(ly) > 1 else 0.5
+    im = ax.imshow(grid, origin="lower", aspect="auto", cmap="RdYlGn", vmin=0, vmax=1,
+                   extent=(lx[0] - dx, lx[-1] + dx, ly[0] - dy, ly[-1] + dy))
+    ax.set_title(title, fontsize=9)
+    return im
+
+
+def chart_maps(cells: pd.DataFrame, steps, speeds):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    maps = list(cells["map"].unique())
+    ncol = 3
+    nrow = int(np.ceil(len(maps) / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(13, 4.4 * nrow), squeeze=False,
+                             sharex=True, sharey=True, layout="constrained")
+    dts = np.geomspace(min(steps) / 2, max(steps) * 2, 100)
+    for ax, name in zip(axes.flat, maps):
+        im = heatmap(ax, cells[cells["map"] == name], "dt_s", "v0_mps", name)
+        ax.plot(np.log10(dts), np.log10(REACH_M / dts), "k--", lw=1.2,
+                label="v dt = r_ball + r_bat")
+        ax.plot(np.log10(dts), np.log10(2 * REACH_M / dts), "k:", lw=1,
+                label="v dt = 2 (r_ball + r_bat): half the phases")
+        ax.set_xlim(np.log10(min(steps)) - 0.2, np.log10(max(steps)) + 0.2)
+        ax.set_ylim(np.log10(min(speeds)) - 0.2, np.log10(max(speeds)) + 0.2)
+    for ax in axes[-1]:
+        ax.set_xlabel("log10 time step (s)")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("log10 closing speed (m/s)")
+    for ax in list(axes.flat)[len(maps):]:
+        ax.axis("off")
+    axes.flat[0].legend(fontsize=7, loc="lower left", framealpha=0.9)
+    fig.colorbar(im, ax=axes, shrink=0.8, label="fraction of contact phases ok")
+    fig.suptitle("Outcome over time step x closing speed (still R161, s = 0.1 m, e = 1); letters: "
+                 "most common failure (T tunnelled, E energy gained, P penetration, N non-finite, "
+                 "S no separation)", fontsize=9)
+    return fig
+
+
+def chart_soft(cells: pd.DataFrame, steps, omegas):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    im = heatmap(ax, cells, "dt_s", "soft_omega_radps",
+                 f"MuJoCo soft contact at {SOFT_SPEED_MPS:g} m/s (e = {SOFT_E:g}): fraction of phases ok")
+    dts = np.geomspace(min(steps) / 2, max(steps) * 2, 100)
+    ax.plot(np.log10(dts), np.log10(2 / dts), "k--", label="w dt = 2 (Euler stability)")
+    ax.axhline(np.log10(SOFT_SPEED_MPS / REACH_M), color="k", ls=":",
+               label="w = v/(r_ball + r_bat): sinks through")
+    ax.set_xlim(np.log10(min(steps)) - 0.2, np.log10(max(steps)) + 0.2)
+    ax.set_ylim(np.log10(min(omegas)) - 0.2, np.log10(max(omegas)) + 0.2)
+    ax.set_xlabel("log10 time step (s)")
+    ax.set_ylabel("log10 contact stiffness w (rad/s)")
+    ax.legend(fontsize=7, loc="lower left")
+    fig.colorbar(im, ax=ax, label="fraction of contact phases ok")
+    fig.tight_layout()
+    return fig
+
+
+def chart_energy(rows: pd.DataFrame):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7.5), sharex=True)
+    colors = dict(zip(adapters.names(), ("tab:blue", "tab:orange", "tab:green")))
+    maps = rows[rows.soft_omega_radps.isna()]
+    for (engine, profile), df in maps.groupby(["engine", "profile"], sort=False):
+        x = df.v0_mps * df.dt_s * df.phase / REACH_M
+        filled = profile == "reference"
+        face = colors[engine] if filled else "none"
+        top.scatter(x, np.maximum(df.peak_penetration_m / REACH_M, 1e-12), s=10, alpha=0.6,
+                    color=colors[engine], facecolor=face, label=f"{engine} {profile}")
+        change = (df.ke_ratio - 1.0).to_numpy()
+        for mask, marker in ((change > 0, "^"), (change <= 0, "v")):
+            bottom.scatter(x[mask], np.maximum(np.abs(change[mask]), 1e-16), s=12, alpha=0.6,
+                           marker=marker, color=colors[engine], facecolor=face)
+    for ax in (top, bottom):
+        ax.axvline(1.0, color="k", ls="--", lw=1)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.grid(alpha=0.3, which="both")
+    top.set_ylabel("peak penetration / (r_ball + r_bat)\n(gaps drawn at 1e-12)")
+    top.legend(fontsize=7, ncol=2, title="filled: reference solver, hollow: default",
+               title_fontsize=7)
+    bottom.set_ylabel("|KE after / KE before - 1| at e = 1\n(^ gained, v lost; 0 at 1e-16)")
+    bottom.set_xlabel("first-seen overlap phase * v * dt / (r_ball + r_bat); dashed: the ball's "
+                      "centre reaches the bat's axis")
+    top.set_title("Penetration and energy change against the overlap at first contact", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m experiments.stability",
+                                description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true", help="a small grid (smoke test, < 30 s)")
+    p.add_argument("--out", default=str(ROOT / "results"))
+    args = p.parse_args(argv)
+    steps = QUICK["steps"] if args.quick else STEPS_S
+    speeds = QUICK["speeds"] if args.quick else SPEEDS_MPS
+    k = QUICK["phases"] if args.quick else PHASES
+    omegas = QUICK["omegas"] if args.quick else SOFT_OMEGAS
+    t0 = time.perf_counter()
+    rows = []
+    for profile in adapters.PROFILES:
+        for engine in _grid.tqdm(adapters.names(), desc=profile, disable=None):
+            rows += run_map(engine, profile, steps, speeds, k)
+    for w in omegas:
+        rows += [{**r, "map": "mujoco soft"} for r in
+                 run_map("mujoco", "reference", steps, (SOFT_SPEED_MPS,), k,
+                         {"contact_model": "soft", "soft_omega_radps": w}, e=SOFT_E)]
+    table = pd.DataFrame(rows)
+    table["theory_fraction_caught"] = [theory_fraction_caught(v, dt, k) for v, dt in
+                                       zip(table.v0_mps, table.dt_s)]
+    cells = summarize(table[table["map"] != "mujoco soft"], "dt_s", "v0_mps")
+    theory = table.groupby(["map", "dt_s", "v0_mps"], sort=False).theory_fraction_caught.first()
+    cells["theory_fraction_caught"] = [theory[(m, d, v)] for m, d, v in
+                                       zip(cells["map"], cells.dt_s, cells.v0_mps)]
+    soft = summarize(table[table["map"] == "mujoco soft"], "dt_s", "soft_omega_radps")
+    elapsed = time.perf_counter() - t0
+    import matplotlib.pyplot as plt
+
+    figs = {"stability.png": chart_maps(cells, steps, speeds),
+            "stability_energy.png": chart_energy(table),
+            "stability_mujoco_soft.png": chart_soft(soft, steps, omegas)}
+    out = type(ROOT)(args.out)
+    files = {out / name: figure_png(fig) for name, fig in figs.items()}
+    for fig in figs.values():
+        plt.close(fig)
+    files[out / "stability.csv"] = table.to_csv(index=False, float_format="%.6g",
+                                                lineterminator="\n").encode()
+    files[out / "stability_cells.csv"] = pd.concat([cells, soft]).to_csv(
+        index=False, float_format="%.6g", lineterminator="\n").encode()
+    files[out / "stability.json"] = json_bytes({"quick": args.quick, "phases": k,
+                                                "elapsed_s": elapsed, "provenance": provenance()})
+    atomic_write_many(files)
+    ref = cells[cells["map"].str.endswith("reference")]
+    match = (ref.fraction_ok == ref.theory_fraction_caught).mean()
+    print(f"reference maps: measured fraction ok equals theory in {match:.1%} of cells")
+    print(f"{len(table)} impacts in {elapsed:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,65 @@
+"""Smoke tests of the speed-accuracy and stability experiments in --quick mode.
+
+They check the outputs' shape and one physical fact each: the tunnelling bound. A contact first
+seen phase * v * dt deep is handled iff that is below R = r_ball + r_bat (past it the ball's
+centre is beyond the bat's axis), so with the reference solver the fraction of contact phases
+that come back ok must equal the count of phases (k + 1/2)/K with phase * v * dt < R, exactly.
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+import pytest
+
+import adapters
+from experiments import pareto, stability
+
+
+@pytest.fixture(scope="module")
+def stability_out(tmp_path_factory):
+    out = tmp_path_factory.mktemp("stability")
+    assert stability.main(["--quick", "--out", str(out)]) == 0
+    return out
+
+
+def test_stability_outputs(stability_out):
+    names = {p.name for p in stability_out.iterdir()}
+    assert {"stability.csv", "stability.png", "stability_energy.png",
+            "stability_mujoco_soft.png", "stability_cells.csv", "stability.json"} <= names
+    rows = pd.read_csv(stability_out / "stability.csv")
+    q = stability.QUICK
+    per_map = len(q["steps"]) * len(q["speeds"]) * q["phases"]
+    assert len(rows) == 2 * len(adapters.names()) * per_map \
+        + len(q["omegas"]) * len(q["steps"]) * q["phases"]
+    assert set(rows.status) <= {s.value for s in adapters.Status}
+
+
+def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
+    cells = pd.read_csv(stability_out / "stability_cells.csv")
+    ref = cells[cells["map"].str.endswith("reference")]
+    assert len(ref) == len(adapters.names()) * len(stability.QUICK["steps"]) \
+        * len(stability.QUICK["speeds"])
+    pd.testing.assert_series_equal(ref.fraction_ok, ref.theory_fraction_caught,
+                                   check_names=False)
+    # and the map is not trivially all-ok or all-failed: both sides of the bound are sampled
+    assert ref.fraction_ok.min() < 0.5 < ref.fraction_ok.max()
+
+
+def test_soft_contact_sinks_through_below_v_over_r(stability_out):
+    # An undamped-ish spring lets the ball sink v/w deep: through the bat when w < v/R.
+    rows = pd.read_csv(stability_out / "stability.csv")
+    soft = rows[(rows["map"] == "mujoco soft")]
+    weak = soft[soft.soft_omega_radps < stability.SOFT_SPEED_MPS / stability.REACH_M / 1.5]
+    assert len(weak) and (weak.status == "tunnelled").all()
+
+
+def test_pareto_outputs(tmp_path):
+    assert pareto.main(["--quick", "--out", str(tmp_path)]) == 0
+    table = pd.read_csv(tmp_path / "pareto.csv")
+    configs = pareto.configs(quick=True)
+    assert len(table) == len(configs) + len(adapters.names())
+    assert {"median_rel_err", "max_rel_err", "wall_per_collision_s", "n_ok",
+            "n_tunnelled"} <= set(table.columns)
+    assert (tmp_path / "pareto.png").stat().st_size > 0
+    conv = pd.read_csv(tmp_path / "convergence.csv")
+    assert set(conv.engine) == set(adapters.names())
