@@ -22,6 +22,7 @@ from typing import ClassVar, NamedTuple
 
 from analytic import Ball, Bat, ImpactCase, Outcome
 from analytic import _checks
+from analytic.dynamics import Drive, HingedSwing, MotionState
 
 
 class Status(str, Enum):
@@ -84,6 +85,9 @@ class SimOutcome(Outcome):
     steps: int
     wall_s: float
     settings: Settings
+    #: With a swing before the impact: the engine's bat at release (rad/s, rad); NaN without.
+    release_omega_radps: float = math.nan
+    release_angle_rad: float = math.nan
 
     @property
     def ok(self) -> bool:
@@ -149,6 +153,57 @@ def start_reading(case: ImpactCase, settings: Settings) -> tuple[Reading, float]
         bat_x=-T * u_t, bat_y=-T * u_n, bat_angle=-T * case.omega0_radps,
         bat_vx=u_t, bat_vy=u_n, bat_w=case.omega0_radps,
     ), T
+
+
+#: Where the ball waits while the bat swings: far from anything it could touch (m).
+PARKED_BALL_Y_M = 100.0
+
+
+@dataclass(frozen=True, kw_only=True)
+class SwingPlan:
+    """How to swing the bat into an impact: ``steps`` steps under ``swing.torque_nm`` about the
+    hands pinned at ``pivot_xy_m`` (world, m), from rest at ``bat_start`` (world), then release."""
+
+    swing: HingedSwing
+    steps: int
+    pivot_xy_m: tuple[float, float]
+    bat_start: Reading
+    omega_release_radps: float
+    angle_release_rad: float
+
+
+def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
+               swing: HingedSwing, settings: Settings) -> tuple[ImpactCase, SwingPlan]:
+    """The impact that a hinged swing delivers, and the plan to simulate it in one run.
+
+    The swing lasts a whole number of steps n = round(t/dt); at release (t_r = n dt, torque off,
+    hands let go) the bat turns at omega0 = tau t_r / I_p and its COM moves at u0 = omega0 d on
+    the hands' circle. ``approach_steps`` later the free bat meets the ball at s: by then it has
+    turned omega0 T, so the impact frame sees the COM velocity tilted by phi = omega0 T (its
+    straight-line motion from release). The ball waits far away during the swing.
+    """
+    dt = settings.dt_s
+    steps = max(1, round(swing.duration_s(bat) / dt))
+    t_r = steps * dt
+    w0 = swing.omega_at(bat, t_r)
+    d = swing.arm_m(bat)
+    phi = 0.0
+    for _ in range(3):  # T depends on the closing speed, which depends on phi; converges at once
+        case = ImpactCase(bat=bat, ball=ball, s_m=s_m, v0_mps=v0_mps, u0_mps=w0 * d,
+                          omega0_radps=w0, e=e, phi_rad=phi, hands_from_knob_m=swing.hands_from_knob_m)
+        release, T = start_reading(case, settings)
+        phi = w0 * T
+    case = ImpactCase(bat=bat, ball=ball, s_m=s_m, v0_mps=v0_mps, u0_mps=w0 * d, omega0_radps=w0,
+                      e=e, phi_rad=phi, hands_from_knob_m=swing.hands_from_knob_m)
+    release, _ = start_reading(case, settings)
+    px = release.bat_x - d * math.cos(release.bat_angle)
+    py = release.bat_y - d * math.sin(release.bat_angle)
+    a0 = release.bat_angle - swing.angle_swept(bat, t_r)
+    start = release._replace(bat_x=px + d * math.cos(a0), bat_y=py + d * math.sin(a0),
+                             bat_angle=a0, bat_vx=0.0, bat_vy=0.0, bat_w=0.0, ball_x=0.0,
+                             ball_y=PARKED_BALL_Y_M, ball_vx=0.0, ball_vy=0.0, ball_w=0.0)
+    return case, SwingPlan(swing=swing, steps=steps, pivot_xy_m=(px, py), bat_start=start,
+                           omega_release_radps=w0, angle_release_rad=release.bat_angle)
 
 
 def _closest(bat: Bat, r: Reading) -> tuple[float, float, float, float]:
@@ -247,6 +302,20 @@ class Engine(abc.ABC):
     def _in_contact(self) -> bool:
         """True if the engine holds an active contact between bat and ball after the last step."""
 
+    @abc.abstractmethod
+    def _set_load(self, drive: Drive | None) -> None:
+        """Apply ``drive``'s force and torque (fixed in the bat's frame) on every following step
+        until called with None. The hinge in ``drive`` is not this method's business."""
+
+    @abc.abstractmethod
+    def _pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
+        """Hinge the bat's axis point ``pivot_from_com_m`` (m from the COM) to the world point
+        ``pivot_xy_m`` with the engine's own joint or constraint, releasable by ``_unpin``."""
+
+    @abc.abstractmethod
+    def _unpin(self) -> None:
+        """Let go of the hinge set by ``_pin`` (the hands release the bat)."""
+
     def close(self) -> None:
         """Release engine resources (a no-op unless the engine holds a connection)."""
 
@@ -264,18 +333,72 @@ class Engine(abc.ABC):
                 raise SceneMismatch(f"{self.name}: {field.name} read back as {a!r}, the scene "
                                     f"has {b!r} (allowed relative difference {MASS_CHECK_REL:g})")
 
-    def simulate(self, case: ImpactCase) -> SimOutcome:
-        """Fire one impact and measure it. Never raises for a physical failure."""
+    def _ensure_scene(self, bat: Bat, ball: Ball) -> None:
+        key = (bat, ball)
+        if key != self._scene_key:
+            self.scene_bat = bat
+            self._build(bat, ball)
+            self.check_mass_properties(bat, ball)
+            self._scene_key = key
+
+    def run_motion(self, bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0,
+                   ball: Ball | None = None) -> MotionState:
+        """Drive the bat alone (the ball parked far away) from rest for round(t/dt) steps."""
+        from analytic import presets
+        from analytic.dynamics import start_state
+
+        drive.check(bat)
+        ball = ball or presets.BASEBALL
+        self._ensure_scene(bat, ball)
+        s0 = start_state(bat, drive, angle_rad)
+        self._set_state(Reading(0.0, PARKED_BALL_Y_M, 0.0, 0.0, 0.0, s0.x_m, s0.y_m, angle_rad,
+                                0.0, 0.0, 0.0))
+        if drive.pivot_from_knob_m is not None:
+            self._pin(drive.pivot_from_knob_m - bat.com_from_knob_m, (0.0, 0.0))
+        self._set_load(drive)
+        steps = round(t_s / self.settings.dt_s)
+        try:
+            for _ in range(steps):
+                self._step()
+        finally:
+            self._set_load(None)
+            if drive.pivot_from_knob_m is not None:
+                self._unpin()
+        r = self._read()
+        return MotionState(t_s=steps * self.settings.dt_s, x_m=r.bat_x, y_m=r.bat_y,
+                           angle_rad=r.bat_angle, vx_mps=r.bat_vx, vy_mps=r.bat_vy,
+                           omega_radps=r.bat_w)
+
+    def simulate(self, case: ImpactCase, swing: SwingPlan | None = None) -> SimOutcome:
+        """Fire one impact and measure it. Never raises for a physical failure.
+
+        With a ``swing`` (from ``swing_case``) the bat is first swung about the hands in the
+        engine and released; the impact then meets the bat the engine delivers.
+        """
         t_wall = time.perf_counter()
         st = self.settings
         check_hittable(case)
-        key = (case.bat, case.ball)
-        if key != self._scene_key:
-            self._build(case.bat, case.ball)
-            self.check_mass_properties(case.bat, case.ball)
-            self._scene_key = key
+        self._ensure_scene(case.bat, case.ball)
         self._configure(case)
         start, _ = start_reading(case, st)
+        release_w = release_angle = math.nan
+        swing_steps = 0
+        if swing is not None:
+            self._set_state(swing.bat_start)
+            self._pin(swing.swing.hands_from_knob_m - case.bat.com_from_knob_m, swing.pivot_xy_m)
+            self._set_load(swing.swing.drive())
+            try:
+                for _ in range(swing.steps):
+                    self._step()
+            finally:
+                self._set_load(None)
+                self._unpin()
+            bat_now = self._read()
+            release_w, release_angle = bat_now.bat_w, bat_now.bat_angle
+            swing_steps = swing.steps
+            start = start._replace(bat_x=bat_now.bat_x, bat_y=bat_now.bat_y,
+                                   bat_angle=bat_now.bat_angle, bat_vx=bat_now.bat_vx,
+                                   bat_vy=bat_now.bat_vy, bat_w=bat_now.bat_w)
         self._set_state(start)
         ke0 = kinetic_energy_j(case, start)
         max_steps = st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2
@@ -314,8 +437,12 @@ class Engine(abc.ABC):
             status = Status.NON_FINITE
         else:
             peak = max(peak, penetration_m(bat, ball, r))
-        return self._outcome(case, start, r, ke0, status, first, last, peak, step,
-                             time.perf_counter() - t_wall)
+        out = self._outcome(case, start, r, ke0, status, first, last, peak, step + swing_steps,
+                            time.perf_counter() - t_wall)
+        if swing is not None:
+            out = dataclasses.replace(out, release_omega_radps=release_w,
+                                      release_angle_rad=release_angle)
+        return out
 
     def _outcome(self, case, start, r, ke0, status, first, last, peak, steps, wall) -> SimOutcome:
         bat, ball = case.bat, case.ball

@@ -28,6 +28,7 @@ from scipy import optimize
 
 from analytic import Ball, Bat, ImpactCase
 from analytic import _checks
+from analytic.dynamics import Drive
 
 from .base import Engine, MassProperties, Reading, Settings
 
@@ -43,7 +44,9 @@ class MujocoSettings(Settings):
     CONTACT_MODELS; ``soft_omega_radps`` the soft contact's natural frequency w (rad/s);
     ``impedance`` the constant solimp d for impulse/soft; ``solref``/``solimp`` used as given by
     the native model; ``diagexact`` exact constraint diagonals; ``iterations``/``tolerance`` of
-    the Newton solver; ``speculative`` MuJoCo's speculative contacts (margin ahead of touching)."""
+    the Newton solver; ``speculative`` MuJoCo's speculative contacts (margin ahead of touching);
+    ``hinge_solref`` of the hands' releasable connect constraint (None: (2 dt, 1), the stiffest
+    MuJoCo recommends)."""
 
     integrator: str = "Euler"
     contact_model: str = "impulse"
@@ -55,6 +58,7 @@ class MujocoSettings(Settings):
     iterations: int = 100
     tolerance: float = 1e-8
     speculative: bool = False
+    hinge_solref: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -106,6 +110,7 @@ def _mjcf(bat: Bat, ball: Ball) -> str:
       <inertial pos="0 0 0" mass="{bat.mass_kg!r}"
                 diaginertia="{bat.axial_inertia_kgm2!r} {bat.inertia_cm_kgm2!r} {bat.inertia_cm_kgm2!r}"/>
       <geom name="bat" type="capsule" fromto="{a!r} 0 0 {b!r} 0 0" size="{bat.radius_m!r}"/>
+      <site name="load" pos="0 0 0"/>
     </body>
     <body name="ball" pos="0 1 0">
       <freejoint name="ball"/>
@@ -113,6 +118,12 @@ def _mjcf(bat: Bat, ball: Ball) -> str:
       <geom name="ball" type="sphere" size="{ball.radius_m!r}"/>
     </body>
   </worldbody>
+  <equality><connect name="hands" body1="bat" anchor="0 0 0" active="false"/></equality>
+  <actuator>
+    <motor name="fx" site="load" gear="1 0 0 0 0 0"/>
+    <motor name="fy" site="load" gear="0 1 0 0 0 0"/>
+    <motor name="tz" site="load" gear="0 0 0 0 0 1"/>
+  </actuator>
 </mujoco>"""
 
 
@@ -152,6 +163,9 @@ class MujocoEngine(Engine):
         self._ball_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")
         self._bat_geom = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "bat")
         self._qpos, self._qvel = self.data.qpos, self.data.qvel
+        self._site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "load")
+        m.site_sameframe[self._site] = 0  # else kinematics ignores site_pos set at run time
+        m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
 
     def _mass_properties(self) -> MassProperties:
         m = self.model
@@ -196,6 +210,24 @@ class MujocoEngine(Engine):
                          r.ball_x, r.ball_y, 0.0, 1.0, 0.0, 0.0, 0.0)
         self._qvel[:] = (r.bat_vx, r.bat_vy, 0.0, 0.0, 0.0, r.bat_w,
                          r.ball_vx, r.ball_vy, 0.0, 0.0, 0.0, r.ball_w)
+
+    def _set_load(self, drive: Drive | None) -> None:
+        # Site actuators act in the bat's frame and are evaluated at every integrator stage.
+        if drive is None:
+            self.data.ctrl[:] = 0.0
+            return
+        self.model.site_pos[self._site] = (drive.force_arm_m(self.scene_bat), 0.0, 0.0)
+        q = drive.force_angle_rad
+        self.data.ctrl[:] = (drive.force_n * math.cos(q), drive.force_n * math.sin(q),
+                             drive.torque_nm)
+
+    def _pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
+        # connect: eq_data[0:3] is the anchor in the bat's frame, [3:6] the point in the world's
+        self.model.eq_data[0][:6] = (pivot_from_com_m, 0.0, 0.0, pivot_xy_m[0], pivot_xy_m[1], 0.0)
+        self.data.eq_active[0] = 1
+
+    def _unpin(self) -> None:
+        self.data.eq_active[0] = 0
 
     def _step(self) -> None:
         mujoco.mj_step(self.model, self.data)

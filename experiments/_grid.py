@@ -15,7 +15,9 @@ from scipy import optimize
 from tqdm import tqdm
 
 import adapters
+from adapters.base import swing_case
 from analytic import Bat, ImpactCase, center_of_percussion, predict, presets, sweet_spot
+from analytic.dynamics import HingedSwing
 
 #: Columns of a sweep table, in order. Units are in the names.
 COLUMNS = (
@@ -26,6 +28,9 @@ COLUMNS = (
     "contact_duration_s", "peak_penetration_m", "steps", "wall_s",
 )
 TIMING_COLUMNS = ("wall_s",)
+#: Extra columns of a sweep whose bat is swung in the engine before each impact.
+SWING_COLUMNS = ("release_omega_engine_radps", "release_omega_analytic_radps",
+                 "release_angle_err_rad")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -40,6 +45,9 @@ class Firing:
     e: float
     theta_rad: float = 0.0
     hands_from_knob_m: float = 0.1
+    #: Swing the bat about the hands in the engine before each impact (u0, omega0 then come from
+    #: the swing; ``u0_mps`` and ``omega0_radps`` are its nominal values).
+    swing: HingedSwing | None = None
 
     def case(self, s_m: float) -> ImpactCase:
         """The impact at one grid point (validates every field)."""
@@ -87,6 +95,19 @@ def row(case: ImpactCase, out: adapters.SimOutcome, profile: str) -> dict:
     }
 
 
+def fire_one(engine: adapters.Engine, case: ImpactCase, profile: str,
+             swing: HingedSwing | None = None) -> dict:
+    """One row; with a swing, the case is re-planned for the engine's step and swung into."""
+    if swing is None:
+        return row(case, engine.simulate(case), profile)
+    case, plan = swing_case(case.bat, case.ball, s_m=case.s_m, v0_mps=case.v0_mps, e=case.e,
+                            swing=swing, settings=engine.settings)
+    out = engine.simulate(case, swing=plan)
+    return {**row(case, out, profile), "release_omega_engine_radps": out.release_omega_radps,
+            "release_omega_analytic_radps": plan.omega_release_radps,
+            "release_angle_err_rad": out.release_angle_rad - plan.angle_release_rad}
+
+
 _WORKER_ENGINE: adapters.Engine | None = None
 
 
@@ -95,19 +116,20 @@ def _init_worker(name: str, settings: adapters.Settings) -> None:
     _WORKER_ENGINE = adapters.engine_class(name)(settings)
 
 
-def _fire_chunk(args: tuple[list[ImpactCase], str]) -> list[dict]:
-    cases, profile = args
-    return [row(c, _WORKER_ENGINE.simulate(c), profile) for c in cases]
+def _fire_chunk(args: tuple[list[ImpactCase], str, HingedSwing | None]) -> list[dict]:
+    cases, profile, swing = args
+    return [fire_one(_WORKER_ENGINE, c, profile, swing) for c in cases]
 
 
 def fire(name: str, settings: adapters.Settings, profile: str, cases: list[ImpactCase], *,
-         workers: int = 1, progress: tqdm | None = None) -> list[dict]:
+         workers: int = 1, progress: tqdm | None = None,
+         swing: HingedSwing | None = None) -> list[dict]:
     """Rows for every case on one engine, in the order given; ``workers`` > 1 uses processes."""
     if workers <= 1:
         engine = adapters.engine_class(name)(settings)
         rows = []
         for c in cases:
-            rows.append(row(c, engine.simulate(c), profile))
+            rows.append(fire_one(engine, c, profile, swing))
             if progress is not None:
                 progress.update(1)
         engine.close()
@@ -117,7 +139,7 @@ def fire(name: str, settings: adapters.Settings, profile: str, cases: list[Impac
     rows = []
     with ProcessPoolExecutor(workers, initializer=_init_worker,
                              initargs=(name, settings)) as pool:
-        for part in pool.map(_fire_chunk, [(c, profile) for c in chunks]):
+        for part in pool.map(_fire_chunk, [(c, profile, swing) for c in chunks]):
             rows.extend(part)
             if progress is not None:
                 progress.update(len(part))
@@ -131,8 +153,8 @@ def locate_sweet_spot(engine: adapters.Engine, firing: Firing, bracket: tuple[fl
     Returns NaN if any simulation in the search fails.
     """
     def minus_v1(s: float) -> float:
-        out = engine.simulate(firing.case(float(s)))
-        return -out.v1_mps if out.ok else math.nan
+        r = fire_one(engine, firing.case(float(s)), "", firing.swing)
+        return -r["v1_engine_mps"] if r["status"] == "ok" else math.nan
 
     res = optimize.minimize_scalar(minus_v1, bounds=bracket, method="bounded",
                                    options={"xatol": xatol_m})
@@ -146,8 +168,8 @@ def locate_cop(engine: adapters.Engine, firing: Firing, bracket: tuple[float, fl
     Returns NaN if the bracket holds no sign change or a simulation fails.
     """
     def hand(s: float) -> float:
-        out = engine.simulate(firing.case(float(s)))
-        return out.hand_dv_mps if out.ok else math.nan
+        r = fire_one(engine, firing.case(float(s)), "", firing.swing)
+        return r["hand_dv_engine_mps"] if r["status"] == "ok" else math.nan
 
     a, b = hand(bracket[0]), hand(bracket[1])
     if not (math.isfinite(a) and math.isfinite(b)) or a * b > 0:

@@ -22,6 +22,7 @@ import pandas as pd
 
 import adapters
 from analytic import Bat, batted_ball_speed, presets
+from analytic.dynamics import HingedSwing
 
 from . import _grid
 from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
@@ -41,11 +42,12 @@ class Sweep:
 
 
 def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked: bool,
-                 still: bool) -> str:
-    """sweep_<engine|all>_<profile>[-dt<dt>]_<bat>[_corked]_<swing|still>."""
+                 still: bool, hinged: bool = False) -> str:
+    """sweep_<engine|all>_<profile>[-dt<dt>]_<bat>[_corked]_<swing|still|hinged>."""
     prof = profile if dt_s is None else f"{profile}-dt{dt_s:.0e}"
+    motion = "hinged" if hinged else "still" if still else "swing"
     return "_".join(["sweep", engine, prof, bat.name.split()[0] + ("_corked" if corked else ""),
-                     "still" if still else "swing"])
+                     motion])
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -77,6 +79,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--e", type=float, default=presets.E_WOOD, help="coefficient of restitution")
     p.add_argument("--theta", type=float, default=0.0, metavar="RAD",
                    help="ball's angle to the contact normal")
+    p.add_argument("--swing", action="store_true",
+                   help="swing the bat about the hands in the engine before each impact, with "
+                        "the constant torque that reaches --omega0 over --swing-angle; u0 is "
+                        "then omega0 times the hands-to-COM distance (--u0 is ignored)")
+    p.add_argument("--hands", type=float, default=0.1, metavar="M",
+                   help="hands (pivot) from the knob, for --swing and the COP")
+    p.add_argument("--swing-angle", type=float, default=math.pi / 2, metavar="RAD")
     p.add_argument("--workers", type=int, default=1, help="processes to spread impacts over")
     p.add_argument("--out", type=Path, default=ROOT / "results", help="output directory")
     p.add_argument("--name", default=None, help="file stem (default from the options)")
@@ -98,14 +107,22 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     if not 1 <= args.workers <= 64:
         raise ValueError(f"--workers={args.workers} is out of range; allowed: 1..64")
     s = _grid.grid(bat, args.points, *(args.s_range or (None, None)))
-    firing = _grid.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=args.u0,
-                          omega0_radps=args.omega0, e=args.e, theta_rad=args.theta)
+    swing, u0 = None, args.u0
+    if args.swing:
+        if args.theta != 0.0:
+            raise ValueError("--swing with --theta is not supported; allowed: --theta 0")
+        swing = HingedSwing.for_omega(bat, args.omega0, hands_from_knob_m=args.hands,
+                                      angle_rad=args.swing_angle)
+        u0 = args.omega0 * swing.arm_m(bat)
+    firing = _grid.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=u0, omega0_radps=args.omega0,
+                          e=args.e, theta_rad=args.theta, hands_from_knob_m=args.hands,
+                          swing=swing)
     firing.cases()  # every impact validated before anything runs
     engines = adapters.names() if args.engine == "all" else (args.engine,)
     for name in engines:
         adapters.settings_for(name, args.profile, **({} if args.dt is None else {"dt_s": args.dt}))
     name = args.name or default_name(args.engine, args.profile, args.dt, presets.BATS[args.bat],
-                                     args.corked, args.u0 == 0 and args.omega0 == 0)
+                                     args.corked, args.u0 == 0 and args.omega0 == 0, args.swing)
     return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name)
 
 
@@ -121,14 +138,15 @@ def run(sweep: Sweep, *, workers: int = 1, locate: bool = True) -> tuple[pd.Data
             settings = _grid.with_dt(adapters.settings_for(name, sweep.profile), sweep.dt_s)
             t0 = time.perf_counter()
             engine_rows = _grid.fire(name, settings, sweep.profile, cases, workers=workers,
-                                     progress=bar)
+                                     progress=bar, swing=sweep.firing.swing)
             elapsed = time.perf_counter() - t0
             rows.extend(engine_rows)
             summary[name] = _summarize(name, settings, sweep.firing, engine_rows, marks, locate)
             summary[name]["elapsed_s"] = elapsed
             summary[name]["settings"] = settings.as_dict()
             summary[name]["engine_version"] = adapters.engine_class(name).version()
-    table = pd.DataFrame(rows, columns=list(_grid.COLUMNS))
+    columns = list(_grid.COLUMNS) + (list(_grid.SWING_COLUMNS) if sweep.firing.swing else [])
+    table = pd.DataFrame(rows, columns=columns)
     return table, {"analytic": marks, "engines": summary}
 
 
@@ -201,9 +219,12 @@ def plot(table: pd.DataFrame, sweep: Sweep, meta: dict):
                  (marks["cop_m"], 0.3), xycoords=("data", "axes fraction"), rotation=90,
                  color="tab:purple", fontsize=8, ha="left")
     top.set_ylabel("batted-ball speed v1 (m/s)")
-    top.set_title(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:g} m/s, "
+    top.set_title(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:.4g} m/s, "
                   f"omega0 = {f.omega0_radps:g} rad/s, e = {f.e:g}; profile {sweep.profile}"
-                  + (f", dt = {sweep.dt_s:g} s" if sweep.dt_s else ""), fontsize=10)
+                  + (f", dt = {sweep.dt_s:g} s" if sweep.dt_s else "")
+                  + (f"\nswung in the engine about the hands ({f.hands_from_knob_m:g} m from the "
+                     f"knob) by {f.swing.torque_nm:.1f} N m over {f.swing.angle_rad:.3g} rad"
+                     if f.swing else ""), fontsize=10)
     top.legend(fontsize=8, loc="lower center")
     top.grid(alpha=0.3)
     bottom.set_ylabel("|v1 engine - v1 analytic| (m/s)")

@@ -1,0 +1,158 @@
+"""Swing dynamics: closed form against independent integrals, engines against both.
+
+Reference side (analytic.dynamics): closed forms vs solve_ivp (rtol 1e-12: compare at 1e-9
+relative) and, for the turning knob force that has no elementary closed form, the COM velocity
+vs the impulse-momentum theorem with Fresnel integrals.
+
+Engine side, each tolerance from the integrator's order and dt (T = 0.1 s, dt = 1e-4 s):
+- constant angular acceleration alpha: semi-implicit Euler makes omega exact and theta off by
+  exactly alpha T dt / 2 (theta_n = alpha dt^2 n (n +- 1)/2); RK4 integrates the quadratic exactly;
+- the turning force: first-order methods leave |dv| <= (T/2) max|v''| dt with
+  |v''| = (f/M) |omega| <= (f/M) |alpha| T; RK4's global error ~ T max|v^(5)| dt^4 / 2880 with
+  |v^(5)| <= (f/M) (|alpha| T)^4 (times 10 for the neglected terms);
+- the hinge: a pivot re-projected once per step leaves a relative error of order (omega dt)^2 in
+  omega; HINGE_K = 4 covers the constants of the three engines (0.05 to 3.7, measured).
+Rounding: ROUND = 8 EPS n max(|value|, 1) over n steps.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import special
+
+import adapters
+from analytic import predict, presets
+from analytic.dynamics import Drive, HingedSwing, motion, motion_integrated, state_array
+
+from .conftest import EPS
+
+BAT = presets.R161
+T, DT = 0.1, 1e-4
+N = round(T / DT)
+HINGE_K = 4.0
+METHODS = [("pymunk", None), ("pybullet", None), ("mujoco", "Euler"), ("mujoco", "implicitfast"),
+           ("mujoco", "RK4")]
+IDS = [m if i is None else f"{m}-{i}" for m, i in METHODS]
+
+
+def _round(value: float) -> float:
+    return 8 * EPS * N * max(abs(value), 1.0)
+
+
+def _wrap(a: float) -> float:
+    return (a + math.pi) % (2 * math.pi) - math.pi
+
+
+@pytest.mark.parametrize("drive", [
+    Drive(force_n=100.0, force_angle_rad=1.0), Drive(torque_nm=50.0),
+    Drive(force_n=100.0, force_at_from_knob_m=0.0),
+    Drive(torque_nm=72.8, pivot_from_knob_m=0.1),
+    Drive(force_n=30.0, force_at_from_knob_m=0.84, force_angle_rad=0.7, pivot_from_knob_m=0.1),
+])
+def test_closed_form_equals_integration(drive):
+    np.testing.assert_allclose(state_array(motion(BAT, drive, T)),
+                               state_array(motion_integrated(BAT, drive, T)), rtol=1e-9,
+                               atol=1e-12)
+
+
+@pytest.mark.parametrize("q", [0.3, math.pi / 4, math.pi / 2, -2.0])
+def test_turning_force_obeys_impulse_momentum(q):
+    # M v(T) = f int_0^T (cos, sin)(theta0 + q + alpha t^2/2) dt, a Fresnel integral:
+    # with U = T sqrt(|alpha|/pi), sigma = sign(alpha), phi = theta0 + q:
+    # int cos = sqrt(pi/|alpha|) (cos(phi) C(U) - sigma sin(phi) S(U)), int sin likewise.
+    drive = Drive(force_n=100.0, force_at_from_knob_m=0.0, force_angle_rad=q)
+    alpha = drive.torque_about_com_nm(BAT) / BAT.inertia_cm_kgm2
+    sig, U = math.copysign(1.0, alpha), T * math.sqrt(abs(alpha) / math.pi)
+    S, C = special.fresnel(U)
+    scale = math.sqrt(math.pi / abs(alpha)) * drive.force_n / BAT.mass_kg
+    vx = scale * (math.cos(q) * C - sig * math.sin(q) * S)
+    vy = scale * (math.sin(q) * C + sig * math.cos(q) * S)
+    got = motion(BAT, drive, T)
+    assert got.vx_mps == pytest.approx(vx, rel=1e-9, abs=1e-10)
+    assert got.vy_mps == pytest.approx(vy, rel=1e-9, abs=1e-10)
+
+
+def _engine(name, integrator):
+    return adapters.load(name, dt_s=DT, **({"integrator": integrator} if integrator else {}))
+
+
+@pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
+@pytest.mark.parametrize("drive", [Drive(torque_nm=50.0),
+                                   Drive(force_n=100.0, force_at_from_knob_m=0.0,
+                                         force_angle_rad=math.pi / 2)],
+                         ids=["torque", "knob-force-90"])
+def test_constant_alpha_scenes(name, integrator, drive):
+    eng = _engine(name, integrator)
+    got = eng.run_motion(BAT, drive, T)
+    ref = motion(BAT, drive, got.t_s)
+    alpha = drive.torque_about_com_nm(BAT) / BAT.inertia_cm_kgm2
+    # omega exact; theta off by alpha T dt/2 (Euler family) or exact (RK4)
+    assert got.omega_radps == pytest.approx(ref.omega_radps, abs=_round(ref.omega_radps))
+    theta_err = abs(_wrap(got.angle_rad - ref.angle_rad))
+    if integrator == "RK4":
+        assert theta_err <= _round(ref.angle_rad)
+    else:
+        assert theta_err == pytest.approx(0.5 * abs(alpha) * got.t_s * DT, rel=1e-6)
+    if drive.force_n:
+        dv = math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps)
+        a, w_max = drive.force_n / BAT.mass_kg, abs(alpha) * T
+        bound = (T / 2) * a * w_max * DT if integrator != "RK4" else \
+            10 * T * a * w_max**4 * DT**4 / 2880
+        assert dv <= bound + _round(a * T)
+
+
+@pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
+def test_translation_without_turning(name, integrator):
+    # Force through the COM: v = f t / M exactly for every method; the body never turns.
+    drive = Drive(force_n=100.0, force_angle_rad=1.0)
+    got = _engine(name, integrator).run_motion(BAT, drive, T)
+    ref = motion(BAT, drive, got.t_s)
+    assert math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps) <= _round(ref.vx_mps)
+    assert abs(got.omega_radps) <= _round(0.0)
+
+
+@pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
+def test_hinged_torque(name, integrator):
+    # omega(t) = tau t / I_p about the hands; first-order angle term plus the hinge's
+    # (omega dt)^2 relative error.
+    drive = Drive(torque_nm=72.8, pivot_from_knob_m=0.1)
+    got = _engine(name, integrator).run_motion(BAT, drive, T)
+    ref = motion(BAT, drive, got.t_s)
+    w, alpha = ref.omega_radps, ref.omega_radps / got.t_s
+    hinge = HINGE_K * (w * DT) ** 2
+    assert abs(got.omega_radps - w) <= hinge * w + _round(w)
+    first = 0.0 if integrator == "RK4" else 0.5 * alpha * got.t_s * DT
+    assert abs(_wrap(got.angle_rad - ref.angle_rad)) <= first * 1.01 + hinge * ref.angle_rad \
+        + _round(ref.angle_rad)
+
+
+@pytest.mark.parametrize("name", adapters.names())
+def test_swing_into_impact(name):
+    # One run: swing about the hands, release, impact. The swing leaves the bat turned by
+    # d_theta ~ alpha t_r dt/2 at release (the first-order term above), which tilts the contact
+    # normal by d_theta and moves the contact foot by ~(R + |s|) d_theta:
+    # |dv1| <= 2 (|dv1/ds| (R + |s|) + |v1|) d_theta.
+    from adapters.base import swing_case
+
+    swing = HingedSwing.for_omega(BAT, 32.0)
+    eng = adapters.load(name, dt_s=DT)
+    for s in (-0.1, 0.08, 0.2):
+        case, plan = swing_case(BAT, presets.BASEBALL, s_m=s, v0_mps=46.9, e=0.5, swing=swing,
+                                settings=eng.settings)
+        out = eng.simulate(case, swing=plan)
+        assert out.ok
+        ref = predict(case)
+        t_r = plan.steps * DT
+        d_theta = 0.5 * swing.torque_nm / BAT.inertia_about(0.1) * t_r * DT
+        h = 1e-6
+        slope = abs(predict(case.__class__(**{**case.__dict__, "s_m": s + h})).v1_mps
+                    - ref.v1_mps) / h
+        reach = BAT.radius_m + presets.BASEBALL.radius_m
+        bound = 2 * (slope * (reach + abs(s)) + abs(ref.v1_mps)) * d_theta
+        assert abs(out.v1_mps - ref.v1_mps) <= bound
+        # the engine's omega at release: the hinge's relative (omega dt)^2 error
+        w = plan.omega_release_radps
+        assert abs(out.release_omega_radps - w) <= HINGE_K * (w * DT) ** 2 * w + _round(w)
