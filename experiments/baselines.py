@@ -48,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
              "90 deg, u0 = omega0 x 0.46 m = 14.72 m/s. "
              "Errors over ok impacts; sweet spot and COP located from engine data, as offsets "
              "from theory.", "",
-             "| baseline | engine | ok | max abs err v1 (m/s) | median (m/s) | sweet spot offset "
+             "| baseline | engine | statuses | max abs err v1 (m/s) | median (m/s) | sweet spot offset "
              "(mm) | COP offset (mm) | median us/impact |",
              "|---|---|---|---|---|---|---|---|"]
     thresholds = {"rule": THRESHOLD_RULE, "factor": FACTOR, "baselines": {}}
