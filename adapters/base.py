@@ -170,6 +170,7 @@ class SwingPlan:
     bat_start: Reading
     omega_release_radps: float
     angle_release_rad: float
+    dt_s: float
 
 
 def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
@@ -203,7 +204,7 @@ def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
                              bat_angle=a0, bat_vx=0.0, bat_vy=0.0, bat_w=0.0, ball_x=0.0,
                              ball_y=PARKED_BALL_Y_M, ball_vx=0.0, ball_vy=0.0, ball_w=0.0)
     return case, SwingPlan(swing=swing, steps=steps, pivot_xy_m=(px, py), bat_start=start,
-                           omega_release_radps=w0, angle_release_rad=release.bat_angle)
+                           omega_release_radps=w0, angle_release_rad=release.bat_angle, dt_s=dt)
 
 
 def _closest(bat: Bat, r: Reading) -> tuple[float, float, float, float]:
@@ -260,7 +261,6 @@ class Engine(abc.ABC):
     """One physics engine behind the common contract: build once, fire many impacts."""
 
     name: ClassVar[str]
-    settings_type: ClassVar[type[Settings]]
     profiles: ClassVar[dict[str, Settings]]
 
     def __init__(self, settings: Settings) -> None:
@@ -384,6 +384,10 @@ class Engine(abc.ABC):
         release_w = release_angle = math.nan
         swing_steps = 0
         if swing is not None:
+            if swing.dt_s != st.dt_s:
+                raise ValueError(f"swing plan made for dt_s={swing.dt_s!r}, engine steps "
+                                 f"dt_s={st.dt_s!r}; allowed: a plan from swing_case with this "
+                                 "engine's settings")
             self._set_state(swing.bat_start)
             self._pin(swing.swing.hands_from_knob_m - case.bat.com_from_knob_m, swing.pivot_xy_m)
             self._set_load(swing.swing.drive())
@@ -435,6 +439,7 @@ class Engine(abc.ABC):
             status = Status.NO_SEPARATION if first >= 0 else Status.TUNNELLED
         if not math.isfinite(sum(r)):
             status = Status.NON_FINITE
+            peak = peak if math.isfinite(peak) else math.nan
         else:
             peak = max(peak, penetration_m(bat, ball, r))
         out = self._outcome(case, start, r, ke0, status, first, last, peak, step + swing_steps,

@@ -131,7 +131,6 @@ class MujocoEngine(Engine):
     """MuJoCo behind the common contract."""
 
     name = "mujoco"
-    settings_type = MujocoSettings
     profiles = {
         # Fidelity to the impulse model: a 10 us step (contact tilt while the bat turns stays
         # ~1e-10), Euler (the impulse mapping is exact for one explicit step), impulse contact.

@@ -73,7 +73,6 @@ class PybulletEngine(Engine):
     """PyBullet behind the common contract."""
 
     name = "pybullet"
-    settings_type = PybulletSettings
     profiles = {
         # No position feedback into contact velocities (contactERP = 0, contactSlop = 0): the
         # sequential-impulse solver then meets Newton's law exactly for one contact; the hands'

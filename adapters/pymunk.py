@@ -47,7 +47,6 @@ class PymunkEngine(Engine):
     """pymunk behind the common contract."""
 
     name = "pymunk"
-    settings_type = PymunkSettings
     profiles = {
         # Chipmunk's own solver values are already exact for one frictionless contact (a single
         # constraint is solved in the first iteration); fidelity only needs a short step
@@ -82,7 +81,6 @@ class PymunkEngine(Engine):
         self._bat_shape.elasticity = 1.0
         space.add(self._bat, self._bat_shape, self._ball, self._ball_shape)
         self._space = space
-        self._load: tuple[float, float, float] | None = None
         self._joint: pymunk.PivotJoint | None = None
 
     def _mass_properties(self) -> MassProperties:
@@ -108,8 +106,21 @@ class PymunkEngine(Engine):
         self._space.reindex_shapes_for_body(ball)
 
     def _set_load(self, drive: Drive | None) -> None:
-        self._load = None if drive is None else (
-            drive.force_n, drive.force_angle_rad, drive.torque_about_com_nm(self.scene_bat))
+        # Chipmunk moves positions before it updates velocities, so a body-frame force must be
+        # turned with the angle it has at that moment: inside the body's velocity function.
+        if drive is None:
+            self._bat.velocity_func = pymunk.Body.update_velocity
+            return
+        f, q = drive.force_n, drive.force_angle_rad
+        torque = drive.torque_about_com_nm(self.scene_bat)  # force through the COM + its torque
+
+        def driven(body, gravity, damping, dt):
+            angle = body.angle + q
+            body.force = (f * math.cos(angle), f * math.sin(angle))
+            body.torque = torque
+            pymunk.Body.update_velocity(body, gravity, damping, dt)
+
+        self._bat.velocity_func = driven
 
     def _pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
         self._joint = pymunk.PivotJoint(self._space.static_body, self._bat, pivot_xy_m,
@@ -124,11 +135,6 @@ class PymunkEngine(Engine):
             self._joint = None
 
     def _step(self) -> None:
-        if self._load is not None:
-            f, q, torque = self._load  # force through the COM + its constant torque
-            angle = self._bat.angle + q
-            self._bat.force = (f * math.cos(angle), f * math.sin(angle))
-            self._bat.torque = torque
         self._space.step(self.settings.dt_s)
 
     def _read(self) -> Reading:

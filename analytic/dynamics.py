@@ -22,8 +22,9 @@ from scipy import integrate
 from . import _checks
 from .model import Bat
 
-#: solve_ivp tolerance for the reference (relative; absolute scaled to the state's size).
+#: solve_ivp tolerances for the reference: relative, and absolute (the state is of order 1).
 REFERENCE_RTOL = 1e-12
+REFERENCE_ATOL = 1e-14
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -147,7 +148,7 @@ def motion_integrated(bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0
             return [y[1], torque / inertia]
 
         sol = integrate.solve_ivp(rhs, (0.0, t_s), [angle_rad, 0.0], method="DOP853",
-                                  rtol=REFERENCE_RTOL, atol=1e-14)
+                                  rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
         th, w = sol.y[:, -1]
         return MotionState(t_s=t_s, x_m=d * math.cos(th), y_m=d * math.sin(th), angle_rad=th,
                            vx_mps=-w * d * math.sin(th), vy_mps=w * d * math.cos(th),
@@ -158,7 +159,7 @@ def motion_integrated(bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0
         return [y[3], y[4], y[5], f * math.cos(y[2] + q) / M, f * math.sin(y[2] + q) / M, alpha]
 
     sol = integrate.solve_ivp(rhs, (0.0, t_s), [s0.x_m, s0.y_m, angle_rad, 0.0, 0.0, 0.0],
-                              method="DOP853", rtol=REFERENCE_RTOL, atol=1e-14)
+                              method="DOP853", rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
     x, y, th, vx, vy, w = sol.y[:, -1]
     return MotionState(t_s=t_s, x_m=x, y_m=y, angle_rad=th, vx_mps=vx, vy_mps=vy, omega_radps=w)
 

@@ -143,6 +143,14 @@ def sweet_spot(
     return float(s) if s.ndim == 0 else s
 
 
+def hittable_sweet_spot(bat: Bat, ball: Ball, v0_mps: float, u0_mps: float = 0.0,
+                        omega0_radps: float = 0.0) -> float:
+    """The best impact point the bat offers (m from the COM): the sweet spot, or the nearer end
+    of the capsule's cylinder when the sweet spot lies beyond it (v1 is unimodal in s)."""
+    s = sweet_spot(bat, ball, v0_mps, u0_mps, omega0_radps)
+    return min(max(s, bat.s_min_m), bat.s_max_m)
+
+
 @dataclass(frozen=True, kw_only=True)
 class SweetRegion:
     """The range of sweet spots s* (m from the COM) over ranges of pitch and swing speeds."""
@@ -191,10 +199,9 @@ def sweet_zone(
     (T/J) s^2 - c omega0 s + (T k - c A) = 0; its two roots bound the zone. Not clipped to the bat.
     """
     _checks.in_range("fraction", fraction, 0.0, 1.0, lo_open=True)
-    s_star = sweet_spot(bat, ball, v0_mps, u0_mps, omega0_radps)
-    v_max = float(batted_ball_speed(bat, ball, np.clip(s_star, -bat.com_from_knob_m,
-                                                         bat.s_barrel_end_m),
-                                    v0_mps=v0_mps, u0_mps=u0_mps, omega0_radps=omega0_radps, e=e))
+    s_best = hittable_sweet_spot(bat, ball, v0_mps, u0_mps, omega0_radps)
+    v_max = float(batted_ball_speed(bat, ball, s_best, v0_mps=v0_mps, u0_mps=u0_mps,
+                                    omega0_radps=omega0_radps, e=e))
     if not v_max > 0.0:
         raise ValueError(f"max v1 = {v_max!r} m/s; a sweet zone needs a positive batted speed")
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2

@@ -128,11 +128,13 @@ def fire(name: str, settings: adapters.Settings, profile: str, cases: list[Impac
     if workers <= 1:
         engine = adapters.engine_class(name)(settings)
         rows = []
-        for c in cases:
-            rows.append(fire_one(engine, c, profile, swing))
-            if progress is not None:
-                progress.update(1)
-        engine.close()
+        try:
+            for c in cases:
+                rows.append(fire_one(engine, c, profile, swing))
+                if progress is not None:
+                    progress.update(1)
+        finally:
+            engine.close()
         return rows
     chunks = [list(chunk) for chunk in np.array_split(np.array(cases, dtype=object), workers * 4)
               if len(chunk)]

@@ -24,7 +24,8 @@ import numpy as np
 import pandas as pd
 
 import adapters
-from analytic import (SwingModel, batted_ball_speed, presets, sweet_spot, swing_for)
+from analytic import (SwingModel, batted_ball_speed, hittable_sweet_spot, presets, sweet_spot,
+                      swing_for)
 from analytic.dynamics import Drive, motion, state_array
 
 from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
@@ -143,7 +144,7 @@ def swing_models() -> pd.DataFrame:
         for model in SwingModel:
             sw = swing_for(bat, model=model, reference_bat=ref, reference=presets.PAPER_SWING)
             s_star = sweet_spot(bat, presets.BASEBALL, pitch, sw.u0_mps, sw.omega0_radps)
-            s_hit = min(s_star, bat.s_max_m)
+            s_hit = hittable_sweet_spot(bat, presets.BASEBALL, pitch, sw.u0_mps, sw.omega0_radps)
             v1 = float(batted_ball_speed(bat, presets.BASEBALL, s_hit, v0_mps=pitch,
                                          u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps,
                                          e=presets.E_WOOD))

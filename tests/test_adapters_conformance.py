@@ -74,11 +74,15 @@ def test_mass_properties_read_back(engine):
     engine._scene_key = None
 
 
-def test_mass_mismatch_is_an_error(engine):
-    # A wrong read-back must stop the run: the check is the guard against adapter bugs.
+@pytest.mark.parametrize("field,changed", [
+    ("bat_mass_kg", dict(mass_kg=0.9)), ("bat_com_from_knob_m", dict(com_from_knob_m=0.55)),
+    ("bat_inertia_kgm2", dict(inertia_cm_kgm2=0.04))])
+def test_mass_mismatch_is_an_error(engine, field, changed):
+    # A wrong read-back must stop the run: the check is the guard against adapter bugs. The COM
+    # is read from where the engine put the capsule relative to the body's mass centre.
     engine._build(R161, BALL)
-    with pytest.raises(adapters.SceneMismatch, match="bat_mass_kg"):
-        engine.check_mass_properties(replace(R161, mass_kg=0.9), BALL)
+    with pytest.raises(adapters.SceneMismatch, match=field):
+        engine.check_mass_properties(replace(R161, **changed), BALL)
     engine._scene_key = None
 
 

@@ -43,12 +43,19 @@ def test_pymunk_restitution_is_the_product_of_elasticities():
 
 
 def test_pybullet_restitution_is_the_product_and_has_a_threshold():
-    # The adapter sets bat 1 and ball e: e_measured = e. Above the threshold speed Bullet drops
-    # restitution to zero: a perfectly inelastic contact (separation speed 0).
+    # Bullet combines the two bodies' restitution as their product: bat 0.6 x ball 0.5 = 0.3
+    # (a min rule would give 0.5). Below restitutionVelocityThreshold it drops restitution to
+    # zero: a 40 m/s impact under a 50 m/s threshold is perfectly inelastic (separation 0).
+    import pybullet as pb
+
     eng = adapters.load("pybullet")
     assert _central_e(eng) == pytest.approx(0.5, abs=1e4 * EPS)
+    pb.changeDynamics(eng._bat, -1, restitution=0.6, physicsClientId=eng._client)
+    assert _central_e(eng) == pytest.approx(0.3, abs=1e4 * EPS)
+    eng.close()
     slow = adapters.load("pybullet", restitution_velocity_threshold=50.0)
     assert _central_e(slow) == pytest.approx(0.0, abs=1e4 * EPS)
+    slow.close()
 
 
 def test_mujoco_impulse_mode_gives_e_exactly():

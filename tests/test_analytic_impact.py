@@ -224,6 +224,27 @@ def test_paper_oblique_reduces_to_normal_at_theta0(case):
     assert paper.v1_mps == pytest.approx(predict(case).v1_mps, abs=TOL_REL * scale)
 
 
+@given(cases(oblique=True))
+def test_paper_oblique_solves_its_own_equations(case):
+    # The paper's eq. 6.4.1 (ball leaving along its incoming line, moment arm r for the
+    # tangential part), solved here as a 3x3 linear system for (v1, u1, omega1):
+    #   m (v0 + v1)(s cos(th) + r sin(th)) = J (omega0 - omega1)
+    #   M (u0n - u1) = m (v0 + v1) cos(th)
+    #   v1 cos(th) - (u1 + omega1 s) = e (v0 cos(th) + u0n + omega0 s)
+    m, M, J, s = case.ball.mass_kg, case.bat.mass_kg, case.bat.inertia_cm_kgm2, case.s_m
+    r = case.bat.radius_m + case.ball.radius_m
+    c, sn, v0, w0, u0n = (math.cos(case.theta_rad), math.sin(case.theta_rad), case.v0_mps,
+                          case.omega0_radps, case.u0n_mps)
+    arm = s * c + r * sn
+    A = np.array([[m * arm, 0.0, J], [m * c, M, 0.0], [c, -1.0, -s]])
+    b = np.array([J * w0 - m * v0 * arm, M * u0n - m * v0 * c, case.e * (v0 * c + u0n + w0 * s)])
+    v1 = np.linalg.solve(A, b)[0]
+    paper = predict_oblique_paper(case)
+    scale = v0 + abs(case.u0_mps) + abs(w0) * (1 + abs(s))
+    assert paper.v1_mps == pytest.approx(v1, abs=1e4 * EPS * scale)
+    assert paper.theta1_rad == case.theta_rad
+
+
 def test_ball_does_not_keep_its_angle():
     # The paper says the ball leaves at its incoming angle; frictionless theory says
     # tan(theta1) = v0 sin(theta) / v1n, which equals tan(theta) only if v1n = v0 cos(theta).

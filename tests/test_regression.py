@@ -27,8 +27,9 @@ def test_agreement_does_not_regress(baseline, engine):
     args = sweep.build_parser().parse_args(spec["options"])
     plan = sweep.sweep_from_args(args)
     cases = plan.firing.cases()[::5]
-    settings = adapters.settings_for(engine, plan.profile)
-    rows = pd.DataFrame(_grid.fire(engine, settings, plan.profile, cases))
+    settings = _grid.with_dt(adapters.settings_for(engine, plan.profile), plan.dt_s)
+    rows = pd.DataFrame(_grid.fire(engine, settings, plan.profile, cases,
+                                   swing=plan.firing.swing))
     assert (rows.status == "ok").all(), rows.status.value_counts().to_dict()
     allowed = spec["engines"][engine]["max_abs_err_mps"]
     worst = rows.v1_abs_err_mps.max()
