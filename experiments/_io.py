@@ -78,14 +78,6 @@ def atomic_write_text(path: Path | str, text: str) -> Path:
     return atomic_write_bytes(path, text.encode("utf-8"))
 
 
-def save_figure(fig, path: Path | str, dpi: int = 120) -> Path:
-    """Render a matplotlib figure to PNG in memory and write it atomically.
-
-    The PNG carries no timestamp metadata, so an unchanged chart gives an unchanged file.
-    """
-    return atomic_write_bytes(path, figure_png(fig, dpi))
-
-
 def _git(*args: str) -> str:
     try:
         return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True,

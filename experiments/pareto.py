@@ -19,7 +19,7 @@ import math
 import statistics
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pandas as pd
@@ -84,8 +84,6 @@ def configs(quick: bool) -> list[Config]:
 
 
 def _windowed(settings: adapters.Settings) -> adapters.Settings:
-    from dataclasses import replace
-
     return replace(settings, approach_steps=max(2, round(WINDOW_S / settings.dt_s)))
 
 
