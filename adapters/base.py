@@ -1,10 +1,13 @@
 """The contract every engine adapter fulfils, and the engine-independent half of firing.
 
-An adapter builds the scene (bat capsule with SET mass properties, ball sphere, nothing else),
-and knows how to put a state into its engine, step it, and read the state back. ``Engine.simulate``
-does the rest the same way for every engine: it places the bodies from the analytic free motion
-so that contact happens at ``s`` with the bat aligned with x, steps until they separate, measures
-penetration and contact time, and classifies the outcome. A physical failure is a status.
+An adapter builds the scene (bat capsule with SET mass properties, ball sphere, nothing else)
+and knows how to put a state into its engine, step it and read the state back: the public
+methods under "the engine-specific half" of ``Engine``, which experiments and tests may call
+too. ``Engine.simulate`` does the rest the same way for every engine: it places the bodies from
+the analytic free motion so that contact happens at ``s`` with the bat aligned with x (swinging
+the bat into place first if asked), steps until they separate, and classifies the outcome. A
+physical failure is a status, never an exception. An engine holds no state from one impact to
+the next: the same case gives the same bits on a fresh engine and on a used one.
 
 World frame = the contact frame at the contact instant: x along the bat (knob to barrel), y from
 the bat toward the ball, rotation about z. Every engine keeps the motion in the x-y plane.
@@ -13,16 +16,19 @@ the bat toward the ball, rotation about z. Every engine keeps the motion in the 
 from __future__ import annotations
 
 import abc
+import contextlib
 import dataclasses
 import math
 import time
 from dataclasses import dataclass
 from enum import Enum
-from typing import ClassVar, NamedTuple
+from typing import ClassVar, Iterator, NamedTuple
 
 from analytic import Ball, Bat, ImpactCase, Outcome
 from analytic import _checks
 from analytic.dynamics import Drive, HingedSwing, MotionState
+
+from ._record import EngineRecord, RestitutionRule
 
 
 class Status(str, Enum):
@@ -93,6 +99,28 @@ class SimOutcome(Outcome):
     def ok(self) -> bool:
         """True when the outcome is physically sound (status ok)."""
         return self.status is Status.OK
+
+
+@dataclass(frozen=True, kw_only=True)
+class BodyLoad:
+    """A ``Drive``'s loads resolved on one bat, as an adapter applies them: ``force_n`` (N) at
+    ``arm_m`` (m from the COM along the axis, barrel side positive), at ``angle_rad`` to the
+    axis and turning with the bat, plus ``torque_nm`` (N m) about z."""
+
+    force_n: float
+    angle_rad: float
+    arm_m: float
+    torque_nm: float
+
+    @classmethod
+    def of(cls, drive: Drive, bat: Bat) -> BodyLoad:
+        return cls(force_n=drive.force_n, angle_rad=drive.force_angle_rad,
+                   arm_m=drive.force_arm_m(bat), torque_nm=drive.torque_nm)
+
+    @property
+    def torque_about_com_nm(self) -> float:
+        """torque + arm f sin(angle): the same force moved to the COM plus its moment (N m)."""
+        return self.torque_nm + self.arm_m * self.force_n * math.sin(self.angle_rad)
 
 
 class Reading(NamedTuple):
@@ -207,34 +235,31 @@ def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
                            omega_release_radps=w0, angle_release_rad=release.bat_angle, dt_s=dt)
 
 
-def _closest(bat: Bat, r: Reading) -> tuple[float, float, float, float]:
-    """Closest point of the bat's axis segment to the ball centre: (px, py, dist, t_axis)."""
+def contact_geometry(bat: Bat, ball: Ball, r: Reading) -> tuple[float, bool]:
+    """(penetration, separating) of sphere and capsule in one pass over the closest point.
+
+    Penetration is the geometric overlap (m, negative for a gap), measured from the side the
+    ball came from: a ball whose centre has crossed the bat's axis is more than r_ball + r_bat
+    deep, however close to the axis it sits. Separating: the ball centre moves away from the
+    closest point of the bat's axis (the bat point's velocity includes the bat's spin).
+    """
     c, s = math.cos(r.bat_angle), math.sin(r.bat_angle)
     dx, dy = r.ball_x - r.bat_x, r.ball_y - r.bat_y
-    along = dx * c + dy * s
-    t = min(max(along, bat.s_min_m), bat.s_max_m)
-    px, py = r.bat_x + t * c, r.bat_y + t * s
-    return px, py, math.hypot(r.ball_x - px, r.ball_y - py), t
+    t = min(max(dx * c + dy * s, bat.s_min_m), bat.s_max_m)
+    nx, ny = dx - t * c, dy - t * s
+    dist = math.hypot(nx, ny)
+    side = dy * c - dx * s
+    pen = bat.radius_m + ball.radius_m - (dist if side > 0.0 else -dist)
+    if dist == 0.0:
+        return pen, False
+    rvx = r.ball_vx - (r.bat_vx - r.bat_w * t * s)
+    rvy = r.ball_vy - (r.bat_vy + r.bat_w * t * c)
+    return pen, rvx * nx + rvy * ny > 0.0
 
 
 def penetration_m(bat: Bat, ball: Ball, r: Reading) -> float:
-    """Geometric overlap of sphere and capsule (m), negative for a gap, measured from the side
-    the ball came from: a ball whose centre has crossed the bat's axis is more than
-    r_ball + r_bat deep, however close to the axis it sits."""
-    dist = _closest(bat, r)[2]
-    return bat.radius_m + ball.radius_m - (dist if ball_side_m(r) > 0.0 else -dist)
-
-
-def separating(bat: Bat, r: Reading) -> bool:
-    """True if the ball centre moves away from the closest point of the bat's axis."""
-    px, py, dist, t = _closest(bat, r)
-    if dist == 0.0:
-        return False
-    nx, ny = (r.ball_x - px) / dist, (r.ball_y - py) / dist
-    # velocity of the bat point at distance t from the COM along the axis
-    c, s = math.cos(r.bat_angle), math.sin(r.bat_angle)
-    pvx, pvy = r.bat_vx - r.bat_w * t * s, r.bat_vy + r.bat_w * t * c
-    return (r.ball_vx - pvx) * nx + (r.ball_vy - pvy) * ny > 0.0
+    """The overlap of ``contact_geometry`` (m)."""
+    return contact_geometry(bat, ball, r)[0]
 
 
 def ball_side_m(r: Reading) -> float:
@@ -257,64 +282,94 @@ MASS_CHECK_REL = 1e-9
 ENERGY_GAIN_REL = 1e-6
 
 
+class Episode(NamedTuple):
+    """What stepping one impact gave: the last reading, the first and last step that saw the
+    contact (-1: none), the deepest penetration (m), steps taken, and how it ended: 'separated',
+    'non_finite', 'missed' (no contact when one was due) or 'budget' (max_contact_s ran out)."""
+
+    end: Reading
+    first: int
+    last: int
+    peak_m: float
+    steps: int
+    ended: str
+
+
 class Engine(abc.ABC):
-    """One physics engine behind the common contract: build once, fire many impacts."""
+    """One physics engine behind the common contract: build once, fire many impacts.
 
-    name: ClassVar[str]
-    profiles: ClassVar[dict[str, Settings]]
+    The methods of the engine-specific half are the public contract: an adapter implements them
+    and experiments and tests may call them (``use_scene`` first, which builds the scene and
+    checks its mass properties). ``name`` is the registry's name for the engine, which a plug-in
+    may choose; ``record`` holds the engine's facts.
+    """
 
-    def __init__(self, settings: Settings) -> None:
+    record: ClassVar[EngineRecord]
+
+    def __init__(self, settings: Settings, *, name: str | None = None) -> None:
         self.settings = settings
-        self._scene_key: tuple | None = None
+        self.name = name or self.record.name
+        self.scene: tuple[Bat, Ball] | None = None  #: the bat and ball the engine holds now
+        self._e: float | None = None  # the e set_restitution last set (None: unknown)
+
+    @classmethod
+    def version(cls) -> str:
+        """The engine library's version string."""
+        return cls.record.version()
 
     # -- the engine-specific half -------------------------------------------------------------
 
-    @classmethod
     @abc.abstractmethod
-    def version(cls) -> str:
-        """The engine library's version string."""
+    def build_scene(self, bat: Bat, ball: Ball) -> None:
+        """Create (or re-create) the world with this bat and ball (use ``use_scene``, which
+        calls it only when either changes and checks the mass properties)."""
 
     @abc.abstractmethod
-    def _build(self, bat: Bat, ball: Ball) -> None:
-        """Create (or re-create) the world with this bat and ball; called when either changes."""
-
-    @abc.abstractmethod
-    def _mass_properties(self) -> MassProperties:
+    def mass_properties(self) -> MassProperties:
         """Read back the mass properties the engine holds for both bodies."""
 
     @abc.abstractmethod
-    def _configure(self, case: ImpactCase) -> None:
-        """Set per-impact parameters (restitution, friction) without rebuilding."""
+    def set_restitution(self, e: float) -> None:
+        """Make the next contact bounce with coefficient of restitution ``e``, without rebuilding."""
+
+    def set_body_restitution(self, *, bat: float, ball: float) -> None:
+        """Set the engine's own restitution value of each body (for engines whose
+        ``record.restitution_rule`` combines two; the others raise NotImplementedError). An
+        adapter that implements it calls ``super().set_body_restitution`` first."""
+        if self.record.restitution_rule is RestitutionRule.MAPPED:
+            raise NotImplementedError(f"{self.name} has no per-body restitution")
+        self._e = None
 
     @abc.abstractmethod
-    def _set_state(self, r: Reading) -> None:
-        """Put both bodies at the given positions and velocities (world frame)."""
+    def set_state(self, r: Reading) -> None:
+        """Put both bodies at the given positions and velocities (world frame) and forget any
+        contact the engine remembers (warm starts, cached impulses)."""
 
     @abc.abstractmethod
-    def _step(self) -> None:
+    def step(self) -> None:
         """Advance the engine by one time step ``settings.dt_s``."""
 
     @abc.abstractmethod
-    def _read(self) -> Reading:
+    def read(self) -> Reading:
         """Current positions and velocities of both bodies (world frame, COM velocities)."""
 
     @abc.abstractmethod
-    def _in_contact(self) -> bool:
+    def in_contact(self) -> bool:
         """True if the engine holds an active contact between bat and ball after the last step."""
 
     @abc.abstractmethod
-    def _set_load(self, drive: Drive | None) -> None:
-        """Apply ``drive``'s force and torque (fixed in the bat's frame) on every following step
-        until called with None. The hinge in ``drive`` is not this method's business."""
+    def set_load(self, load: BodyLoad | None) -> None:
+        """Apply ``load`` (fixed in the bat's frame) on every following step until called with
+        None. Use ``driven``, which pairs it with the hinge."""
 
     @abc.abstractmethod
-    def _pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
+    def pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
         """Hinge the bat's axis point ``pivot_from_com_m`` (m from the COM) to the world point
-        ``pivot_xy_m`` with the engine's own joint or constraint, releasable by ``_unpin``."""
+        ``pivot_xy_m`` with the engine's own joint or constraint, releasable by ``unpin``."""
 
     @abc.abstractmethod
-    def _unpin(self) -> None:
-        """Let go of the hinge set by ``_pin`` (the hands release the bat)."""
+    def unpin(self) -> None:
+        """Let go of the hinge set by ``pin`` (the hands release the bat)."""
 
     def close(self) -> None:
         """Release engine resources (a no-op unless the engine holds a connection)."""
@@ -323,7 +378,7 @@ class Engine(abc.ABC):
 
     def check_mass_properties(self, bat: Bat, ball: Ball) -> None:
         """Raise SceneMismatch unless the engine holds exactly the scene's mass properties."""
-        got = self._mass_properties()
+        got = self.mass_properties()
         want = MassProperties(bat_mass_kg=bat.mass_kg, bat_com_from_knob_m=bat.com_from_knob_m,
                               bat_inertia_kgm2=bat.inertia_cm_kgm2, ball_mass_kg=ball.mass_kg,
                               ball_inertia_kgm2=ball.inertia_kgm2)
@@ -333,13 +388,33 @@ class Engine(abc.ABC):
                 raise SceneMismatch(f"{self.name}: {field.name} read back as {a!r}, the scene "
                                     f"has {b!r} (allowed relative difference {MASS_CHECK_REL:g})")
 
-    def _ensure_scene(self, bat: Bat, ball: Ball) -> None:
-        key = (bat, ball)
-        if key != self._scene_key:
-            self.scene_bat = bat
-            self._build(bat, ball)
+    def use_scene(self, bat: Bat, ball: Ball) -> None:
+        """Hold this bat and ball: build them if they differ from the scene held, and check that
+        the engine holds their mass properties (SceneMismatch otherwise)."""
+        if self.scene is not None and self.scene[0] is bat and self.scene[1] is ball:
+            return
+        if (bat, ball) != self.scene:
+            self.scene = self._e = None
+            self.build_scene(bat, ball)
             self.check_mass_properties(bat, ball)
-            self._scene_key = key
+        self.scene = (bat, ball)
+
+    @contextlib.contextmanager
+    def driven(self, drive: Drive, pivot_xy_m: tuple[float, float] = (0.0, 0.0)) -> Iterator[None]:
+        """Within the block, the held bat is pinned at ``drive``'s pivot (if it has one) to the
+        world point ``pivot_xy_m`` and carries ``drive``'s loads; both go when the block ends."""
+        bat = self._held_bat()
+        drive.check(bat)
+        hinged = drive.pivot_from_knob_m is not None
+        if hinged:
+            self.pin(drive.pivot_from_knob_m - bat.com_from_knob_m, pivot_xy_m)
+        try:
+            self.set_load(BodyLoad.of(drive, bat))
+            yield
+        finally:
+            self.set_load(None)
+            if hinged:
+                self.unpin()
 
     def run_motion(self, bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0,
                    ball: Ball | None = None) -> MotionState:
@@ -347,24 +422,15 @@ class Engine(abc.ABC):
         from analytic import presets
         from analytic.dynamics import start_state
 
-        drive.check(bat)
-        ball = ball or presets.BASEBALL
-        self._ensure_scene(bat, ball)
+        self.use_scene(bat, ball or presets.BASEBALL)
         s0 = start_state(bat, drive, angle_rad)
-        self._set_state(Reading(0.0, PARKED_BALL_Y_M, 0.0, 0.0, 0.0, s0.x_m, s0.y_m, angle_rad,
-                                0.0, 0.0, 0.0))
-        if drive.pivot_from_knob_m is not None:
-            self._pin(drive.pivot_from_knob_m - bat.com_from_knob_m, (0.0, 0.0))
-        self._set_load(drive)
+        self.set_state(Reading(0.0, PARKED_BALL_Y_M, 0.0, 0.0, 0.0, s0.x_m, s0.y_m, angle_rad,
+                               0.0, 0.0, 0.0))
         steps = round(t_s / self.settings.dt_s)
-        try:
+        with self.driven(drive):
             for _ in range(steps):
-                self._step()
-        finally:
-            self._set_load(None)
-            if drive.pivot_from_knob_m is not None:
-                self._unpin()
-        r = self._read()
+                self.step()
+        r = self.read()
         return MotionState(t_s=steps * self.settings.dt_s, x_m=r.bat_x, y_m=r.bat_y,
                            angle_rad=r.bat_angle, vx_mps=r.bat_vx, vy_mps=r.bat_vy,
                            omega_radps=r.bat_w)
@@ -376,91 +442,97 @@ class Engine(abc.ABC):
         engine and released; the impact then meets the bat the engine delivers.
         """
         t_wall = time.perf_counter()
-        st = self.settings
         check_hittable(case)
-        self._ensure_scene(case.bat, case.ball)
-        self._configure(case)
-        start, _ = start_reading(case, st)
-        release_w = release_angle = math.nan
-        swing_steps = 0
-        if swing is not None:
-            if swing.dt_s != st.dt_s:
-                raise ValueError(f"swing plan made for dt_s={swing.dt_s!r}, engine steps "
-                                 f"dt_s={st.dt_s!r}; allowed: a plan from swing_case with this "
-                                 "engine's settings")
-            self._set_state(swing.bat_start)
-            self._pin(swing.swing.hands_from_knob_m - case.bat.com_from_knob_m, swing.pivot_xy_m)
-            self._set_load(swing.swing.drive())
-            try:
-                for _ in range(swing.steps):
-                    self._step()
-            finally:
-                self._set_load(None)
-                self._unpin()
-            bat_now = self._read()
-            release_w, release_angle = bat_now.bat_w, bat_now.bat_angle
-            swing_steps = swing.steps
-            start = start._replace(bat_x=bat_now.bat_x, bat_y=bat_now.bat_y,
-                                   bat_angle=bat_now.bat_angle, bat_vx=bat_now.bat_vx,
-                                   bat_vy=bat_now.bat_vy, bat_w=bat_now.bat_w)
-        self._set_state(start)
+        self.use_scene(case.bat, case.ball)
+        if case.e != self._e:  # a parameter, not state: the next impact starts the same
+            self.set_restitution(case.e)
+            self._e = case.e
+        start, release = self._place(case, swing)
+        episode = self._step_until_separation(case, start)
         ke0 = kinetic_energy_j(case, start)
-        max_steps = st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2
+        status = self._classify(case, episode, ke0)
+        return self._outcome(case, start, episode, status, ke0, release,
+                             time.perf_counter() - t_wall)
+
+    def _held_bat(self) -> Bat:
+        if self.scene is None:
+            raise RuntimeError(f"{self.name}: no scene held; call use_scene(bat, ball) first")
+        return self.scene[0]
+
+    def _place(self, case: ImpactCase, swing: SwingPlan | None) -> tuple[Reading, tuple]:
+        """The start state (``start_reading``), with the bat the engine's swing delivers when a
+        swing is asked for; returns it and (release omega, release angle, swing steps)."""
+        start, _ = start_reading(case, self.settings)
+        if swing is None:
+            return start, (math.nan, math.nan, 0)
+        if swing.dt_s != self.settings.dt_s:
+            raise ValueError(f"swing plan made for dt_s={swing.dt_s!r}, engine steps "
+                             f"dt_s={self.settings.dt_s!r}; allowed: a plan from swing_case "
+                             "with this engine's settings")
+        self.set_state(swing.bat_start)
+        with self.driven(swing.swing.drive(), swing.pivot_xy_m):
+            for _ in range(swing.steps):
+                self.step()
+        bat = self.read()
+        start = start._replace(bat_x=bat.bat_x, bat_y=bat.bat_y, bat_angle=bat.bat_angle,
+                               bat_vx=bat.bat_vx, bat_vy=bat.bat_vy, bat_w=bat.bat_w)
+        return start, (bat.bat_w, bat.bat_angle, swing.steps)
+
+    def _step_until_separation(self, case: ImpactCase, start: Reading) -> Episode:
+        """Step from ``start`` until the contact has come and gone, or cannot come any more."""
+        st = self.settings
         bat, ball = case.bat, case.ball
+        self.set_state(start)
+        max_steps = st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2
         first = last = -1
         peak = -math.inf
-        status = None
         r = start
-        step = 0
-        # Free flight before the planned contact step cannot go wrong but by a blow-up, which
-        # the final reading still catches: the state is read from that step on.
-        while step < max_steps:
-            self._step()
-            step += 1
-            touching = self._in_contact()
+        for step in range(1, max_steps + 1):
+            self.step()
+            touching = self.in_contact()
+            # Free flight before the planned contact step cannot go wrong but by a blow-up,
+            # which the final reading still catches: the state is read from that step on.
             if not touching and first < 0 and step < st.approach_steps:
                 continue
-            r = self._read()
+            r = self.read()
             if not math.isfinite(sum(r)):
-                break
-            peak = max(peak, penetration_m(bat, ball, r))
+                return Episode(r, first, last, math.nan, step, "non_finite")
+            pen, apart = contact_geometry(bat, ball, r)
+            if pen > peak:
+                peak = pen
             if touching:
                 if first < 0:
                     first = step
                 last = step
             elif first >= 0:
-                if separating(bat, r):
-                    break
+                if apart:
+                    return Episode(r, first, last, peak, step, "separated")
             elif step > st.approach_steps + 1:
-                status = Status.TUNNELLED
-                break
-        else:
-            r = self._read()
-            status = Status.NO_SEPARATION if first >= 0 else Status.TUNNELLED
-        if not math.isfinite(sum(r)):
-            status = Status.NON_FINITE
-            peak = peak if math.isfinite(peak) else math.nan
-        else:
-            peak = max(peak, penetration_m(bat, ball, r))
-        out = self._outcome(case, start, r, ke0, status, first, last, peak, step + swing_steps,
-                            time.perf_counter() - t_wall)
-        if swing is not None:
-            out = dataclasses.replace(out, release_omega_radps=release_w,
-                                      release_angle_rad=release_angle)
-        return out
+                return Episode(r, first, last, peak, step, "missed")
+        r = self.read()
+        ended = "non_finite" if not math.isfinite(sum(r)) else "budget"
+        return Episode(r, first, last, max(peak, penetration_m(bat, ball, r)), max_steps, ended)
 
-    def _outcome(self, case, start, r, ke0, status, first, last, peak, steps, wall) -> SimOutcome:
-        bat, ball = case.bat, case.ball
-        ke1 = kinetic_energy_j(case, r)
-        if status is None:
-            if ball_side_m(r) <= 0.0:
-                status = Status.TUNNELLED
-            elif peak > bat.radius_m + ball.radius_m:
-                status = Status.PENETRATION
-            elif ke1 > ke0 * (1.0 + ENERGY_GAIN_REL):
-                status = Status.ENERGY_GAINED
-            else:
-                status = Status.OK
+    @staticmethod
+    def _classify(case: ImpactCase, ep: Episode, ke0: float) -> Status:
+        """The status of an episode: every verdict on an impact is made here."""
+        if ep.ended == "non_finite":
+            return Status.NON_FINITE
+        if ep.ended == "missed" or (ep.ended == "budget" and ep.first < 0):
+            return Status.TUNNELLED
+        if ep.ended == "budget":
+            return Status.NO_SEPARATION
+        if ball_side_m(ep.end) <= 0.0:
+            return Status.TUNNELLED
+        if ep.peak_m > case.bat.radius_m + case.ball.radius_m:
+            return Status.PENETRATION
+        if kinetic_energy_j(case, ep.end) > ke0 * (1.0 + ENERGY_GAIN_REL):
+            return Status.ENERGY_GAINED
+        return Status.OK
+
+    def _outcome(self, case: ImpactCase, start: Reading, ep: Episode, status: Status, ke0: float,
+                 release: tuple, wall_s: float) -> SimOutcome:
+        bat, ball, r = case.bat, case.ball, ep.end
         du, dw = r.bat_vy - start.bat_vy, r.bat_w - start.bat_w
         V = case.u0n_mps + case.omega0_radps * case.s_m
         v1 = r.ball_vy
@@ -473,14 +545,17 @@ class Engine(abc.ABC):
             closing_speed_mps=case.closing_speed_mps,
             hand_dv_mps=du + dw * (case.hands_from_knob_m - bat.com_from_knob_m),
             ke_before_j=ke0,
-            ke_after_j=ke1,
+            ke_after_j=kinetic_energy_j(case, r),
             v1_t_mps=r.ball_vx,
             u1_t_mps=r.bat_vx,
             engine=self.name,
             status=status,
-            contact_duration_s=(last - first + 1) * self.settings.dt_s if first >= 0 else 0.0,
-            peak_penetration_m=peak,
-            steps=steps,
-            wall_s=wall,
+            contact_duration_s=(ep.last - ep.first + 1) * self.settings.dt_s if ep.first >= 0
+            else 0.0,
+            peak_penetration_m=ep.peak_m,
+            steps=ep.steps + release[2],
+            wall_s=wall_s,
             settings=self.settings,
+            release_omega_radps=release[0],
+            release_angle_rad=release[1],
         )

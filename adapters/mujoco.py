@@ -22,15 +22,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import mujoco
 import numpy as np
-from scipy import optimize
 
-from analytic import Ball, Bat, ImpactCase
+from analytic import Ball, Bat
 from analytic import _checks
-from analytic.dynamics import Drive
+from analytic.compliant import damping_ratio_for
 
-from .base import Engine, MassProperties, Reading, Settings
+from ._record import EngineRecord, Integrator, KnobFamily, RestitutionRule, import_engine
+from .base import BodyLoad, Engine, MassProperties, Reading, Settings
 
 INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
 CONTACT_MODELS = ("impulse", "soft", "native")
@@ -74,28 +73,6 @@ class MujocoSettings(Settings):
         _checks.non_negative("tolerance", self.tolerance)
 
 
-def restitution_of_damping_ratio(zeta: float) -> float:
-    """e of a linear spring-damper contact released when its force reaches zero (zeta < 1/sqrt 2).
-
-    x'' + 2 zeta w x' + w^2 x = 0 from x = 0, x' = -v: the force k x + b x' first vanishes at
-    w_d t = pi - arctan(2 zeta sqrt(1 - zeta^2) / (1 - 2 zeta^2)), where x'/v = -e with
-        e = exp(-zeta/sqrt(1 - zeta^2) * (pi - arctan(2 zeta sqrt(1-zeta^2)/(1 - 2 zeta^2))))
-    (T. Schwager and T. Poeschel, Phys. Rev. E 57, 650 (1998); the familiar exp(-zeta pi /
-    sqrt(1-zeta^2)) assumes release at x = 0 and gives e too large.)
-    """
-    root = math.sqrt(1.0 - zeta * zeta)
-    return math.exp(-zeta / root * (math.pi - math.atan2(2 * zeta * root, 1 - 2 * zeta * zeta)))
-
-
-def damping_ratio_for(e: float) -> float:
-    """Inverse of ``restitution_of_damping_ratio`` (zeta for a target e in (0, 1])."""
-    _checks.in_range("e", e, 0.0, 1.0, lo_open=True)
-    if e == 1.0:
-        return 0.0
-    return optimize.brentq(lambda z: restitution_of_damping_ratio(z) - e, 0.0, 1 / math.sqrt(2) - 1e-12,
-                           xtol=1e-15, rtol=4 * np.finfo(float).eps)
-
-
 def _mjcf(bat: Bat, ball: Ball) -> str:
     """The scene as MJCF: body frames at the COMs, mass properties set explicitly."""
     a, b = bat.s_min_m, bat.s_max_m
@@ -127,11 +104,25 @@ def _mjcf(bat: Bat, ball: Ball) -> str:
 </mujoco>"""
 
 
-class MujocoEngine(Engine):
-    """MuJoCo behind the common contract."""
+SOFT_OMEGAS_RADPS = (1000.0, 3000.0, 10000.0)  # soft-contact stiffnesses of the speed study
 
-    name = "mujoco"
-    profiles = {
+
+def _speed_accuracy() -> tuple[KnobFamily, ...]:
+    """Impulse and soft contact under each integrator (Euler and RK4 with w = 3000 in --quick)."""
+    out = []
+    for integrator in ("Euler", "implicitfast", "RK4"):
+        quick = integrator != "implicitfast"
+        out.append(KnobFamily(label=f"impulse, {integrator}", quick=quick,
+                              overrides=(("integrator", integrator),)))
+        out += [KnobFamily(label=f"soft w={w:g}, {integrator}", quick=quick and w == 3000.0,
+                           overrides=(("integrator", integrator), ("contact_model", "soft"),
+                                      ("soft_omega_radps", w))) for w in SOFT_OMEGAS_RADPS]
+    return tuple(out)
+
+
+RECORD = EngineRecord(
+    name="mujoco", package="mujoco", import_name="mujoco",
+    profiles={
         # Fidelity to the impulse model: a 10 us step (contact tilt while the bat turns stays
         # ~1e-10), Euler (the impulse mapping is exact for one explicit step), impulse contact.
         "reference": MujocoSettings(dt_s=1e-5, integrator="Euler", contact_model="impulse",
@@ -140,13 +131,24 @@ class MujocoEngine(Engine):
         # contact instant falls mid-step as it would in an unaligned simulation.
         "default": MujocoSettings(dt_s=0.002, integrator="Euler", contact_model="native",
                                   diagexact=False, contact_phase=0.5),
-    }
+    },
+    color="tab:green", marker="^",
+    speed_accuracy=_speed_accuracy(),
+    integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
+                                 order=4 if name == "RK4" else 1)
+                      for name in ("Euler", "implicitfast", "RK4")),
+    restitution_rule=RestitutionRule.MAPPED,
+    soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
+)
+mujoco = import_engine(RECORD)
 
-    @classmethod
-    def version(cls) -> str:
-        return mujoco.__version__
 
-    def _build(self, bat: Bat, ball: Ball) -> None:
+class MujocoEngine(Engine):
+    """MuJoCo behind the common contract."""
+
+    record = RECORD
+
+    def build_scene(self, bat: Bat, ball: Ball) -> None:
         st = self.settings
         m = mujoco.MjModel.from_xml_string(_mjcf(bat, ball))
         m.opt.timestep = st.dt_s
@@ -166,7 +168,7 @@ class MujocoEngine(Engine):
         m.site_sameframe[self._site] = 0  # else kinematics ignores site_pos set at run time
         m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
 
-    def _mass_properties(self) -> MassProperties:
+    def mass_properties(self) -> MassProperties:
         m = self.model
 
         def tensor(body: int) -> np.ndarray:
@@ -185,14 +187,14 @@ class MujocoEngine(Engine):
             ball_inertia_kgm2=float(tensor(self._ball_id)[2, 2]),
         )
 
-    def _configure(self, case: ImpactCase) -> None:
+    def set_restitution(self, e: float) -> None:
         st = self.settings
         d = st.impedance
         if st.contact_model == "impulse":
-            solref = (0.0, -(1.0 + case.e) / st.dt_s)
+            solref = (0.0, -(1.0 + e) / st.dt_s)
             solimp = (d, d, 0.001, 0.5, 2.0)
         elif st.contact_model == "soft":
-            w, zeta = st.soft_omega_radps, damping_ratio_for(max(case.e, 1e-9))
+            w, zeta = st.soft_omega_radps, damping_ratio_for(max(e, 1e-9))
             solref = (-w * w, -2.0 * zeta * w)
             solimp = (d, d, 0.001, 0.5, 2.0)
         else:
@@ -200,7 +202,7 @@ class MujocoEngine(Engine):
         self.model.geom_solref[:] = solref
         self.model.geom_solimp[:] = solimp
 
-    def _set_state(self, r: Reading) -> None:
+    def set_state(self, r: Reading) -> None:
         data = self.data
         data.time = 0.0
         data.qacc_warmstart[:] = 0.0
@@ -210,31 +212,34 @@ class MujocoEngine(Engine):
         self._qvel[:] = (r.bat_vx, r.bat_vy, 0.0, 0.0, 0.0, r.bat_w,
                          r.ball_vx, r.ball_vy, 0.0, 0.0, 0.0, r.ball_w)
 
-    def _set_load(self, drive: Drive | None) -> None:
+    def set_load(self, load: BodyLoad | None) -> None:
         # Site actuators act in the bat's frame and are evaluated at every integrator stage.
-        if drive is None:
+        if load is None:
             self.data.ctrl[:] = 0.0
             return
-        self.model.site_pos[self._site] = (drive.force_arm_m(self.scene_bat), 0.0, 0.0)
-        q = drive.force_angle_rad
-        self.data.ctrl[:] = (drive.force_n * math.cos(q), drive.force_n * math.sin(q),
-                             drive.torque_nm)
+        self.model.site_pos[self._site] = (load.arm_m, 0.0, 0.0)
+        q = load.angle_rad
+        self.data.ctrl[:] = (load.force_n * math.cos(q), load.force_n * math.sin(q),
+                             load.torque_nm)
 
-    def _pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
+    def pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
         # connect: eq_data[0:3] is the anchor in the bat's frame, [3:6] the point in the world's
         self.model.eq_data[0][:6] = (pivot_from_com_m, 0.0, 0.0, pivot_xy_m[0], pivot_xy_m[1], 0.0)
         self.data.eq_active[0] = 1
 
-    def _unpin(self) -> None:
+    def unpin(self) -> None:
         self.data.eq_active[0] = 0
 
-    def _step(self) -> None:
+    def step(self) -> None:
         mujoco.mj_step(self.model, self.data)
 
-    def _read(self) -> Reading:
+    def read(self) -> Reading:
         q, v = self._qpos, self._qvel
         return Reading(q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * math.atan2(q[6], q[3]),
                        v[0], v[1], v[5])
 
-    def _in_contact(self) -> bool:
+    def in_contact(self) -> bool:
         return self.data.ncon > 0
+
+
+ENGINE = MujocoEngine

@@ -13,13 +13,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import pybullet as pb
-
-from analytic import Ball, Bat, ImpactCase
+from analytic import Ball, Bat
 from analytic import _checks
-from analytic.dynamics import Drive
 
-from .base import Engine, MassProperties, Reading, Settings
+from ._record import EngineRecord, KnobFamily, RestitutionRule, import_engine
+from .base import BodyLoad, Engine, MassProperties, Reading, Settings
 
 #: setting name -> setPhysicsEngineParameter keyword; a None value leaves the engine default.
 ENGINE_PARAMETERS = {
@@ -69,11 +67,9 @@ class PybulletSettings(Settings):
             _checks.positive("max_joint_velocity_radps", self.max_joint_velocity_radps)
 
 
-class PybulletEngine(Engine):
-    """PyBullet behind the common contract."""
-
-    name = "pybullet"
-    profiles = {
+RECORD = EngineRecord(
+    name="pybullet", package="pybullet", import_name="pybullet",
+    profiles={
         # No position feedback into contact velocities (contactERP = 0, contactSlop = 0): the
         # sequential-impulse solver then meets Newton's law exactly for one contact; the hands'
         # pivot (a joint, governed by erp) fully corrected every step, erp = 1: its drift is
@@ -85,25 +81,35 @@ class PybulletEngine(Engine):
         # Out of the box: 1/240 s, every solver parameter left at Bullet's value, the contact
         # instant mid-step as in any unaligned simulation.
         "default": PybulletSettings(dt_s=1 / 240, contact_phase=0.5),
-    }
+    },
+    color="tab:orange", marker="s",
+    speed_accuracy=(
+        KnobFamily(label="reference solver (ERP 0, slop 0)", quick=True),
+        *(KnobFamily(label=f"reference solver, {n} iterations",
+                     overrides=(("solver_iterations", n),)) for n in (1, 10, 200)),
+    ),
+    restitution_rule=RestitutionRule.PRODUCT,
+    threshold_setting="restitution_velocity_threshold",
+)
+pb = import_engine(RECORD)
 
-    def __init__(self, settings: PybulletSettings) -> None:
-        super().__init__(settings)
+
+class PybulletEngine(Engine):
+    """PyBullet behind the common contract."""
+
+    record = RECORD
+
+    def __init__(self, settings: PybulletSettings, *, name: str | None = None) -> None:
+        super().__init__(settings, name=name)
         self._client: int | None = None
         self._load: tuple[float, float, float] | None = None
         self._joint: int | None = None
-
-    @classmethod
-    def version(cls) -> str:
-        from importlib.metadata import version
-
-        return version("pybullet")
 
     def close(self) -> None:
         if self._client is not None:
             pb.disconnect(physicsClientId=self._client)
             self._client = None
-            self._scene_key = None
+            self.scene = None
 
     def __del__(self) -> None:
         try:
@@ -111,7 +117,7 @@ class PybulletEngine(Engine):
         except Exception:  # interpreter shutdown: the module may be gone already
             pass
 
-    def _build(self, bat: Bat, ball: Ball) -> None:
+    def build_scene(self, bat: Bat, ball: Ball) -> None:
         st = self.settings
         if self._client is None:
             self._client = pb.connect(pb.DIRECT)
@@ -147,7 +153,7 @@ class PybulletEngine(Engine):
                               linearDamping=0.0, angularDamping=0.0, restitution=1.0,
                               physicsClientId=c, **extra)
 
-    def _mass_properties(self) -> MassProperties:
+    def mass_properties(self) -> MassProperties:
         c = self._client
         bat = pb.getDynamicsInfo(self._bat, -1, physicsClientId=c)
         ball = pb.getDynamicsInfo(self._ball, -1, physicsClientId=c)
@@ -159,10 +165,15 @@ class PybulletEngine(Engine):
             bat_inertia_kgm2=bat[2][2], ball_mass_kg=ball[0], ball_inertia_kgm2=ball[2][2],
         )
 
-    def _configure(self, case: ImpactCase) -> None:
-        pb.changeDynamics(self._ball, -1, restitution=case.e, physicsClientId=self._client)
+    def set_restitution(self, e: float) -> None:
+        self.set_body_restitution(bat=1.0, ball=e)  # Bullet multiplies the two
 
-    def _set_state(self, r: Reading) -> None:
+    def set_body_restitution(self, *, bat: float, ball: float) -> None:
+        super().set_body_restitution(bat=bat, ball=ball)
+        for body, value in ((self._bat, bat), (self._ball, ball)):
+            pb.changeDynamics(body, -1, restitution=value, physicsClientId=self._client)
+
+    def set_state(self, r: Reading) -> None:
         c = self._client
         half = 0.5 * r.bat_angle
         pb.resetBasePositionAndOrientation(self._bat, [r.bat_x, r.bat_y, 0.0],
@@ -175,22 +186,22 @@ class PybulletEngine(Engine):
         pb.resetBaseVelocity(self._ball, [r.ball_vx, r.ball_vy, 0.0], [0.0, 0.0, r.ball_w],
                              physicsClientId=c)
 
-    def _set_load(self, drive: Drive | None) -> None:
-        self._load = None if drive is None else (
-            drive.force_n, drive.force_angle_rad, drive.torque_about_com_nm(self.scene_bat))
+    def set_load(self, load: BodyLoad | None) -> None:
+        self._load = None if load is None else (load.force_n, load.angle_rad,
+                                                load.torque_about_com_nm)
 
-    def _pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
+    def pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
         self._joint = pb.createConstraint(
             self._bat, -1, -1, -1, pb.JOINT_POINT2POINT, [0.0, 0.0, 0.0],
             [pivot_from_com_m, 0.0, 0.0], [pivot_xy_m[0], pivot_xy_m[1], 0.0],
             physicsClientId=self._client)
 
-    def _unpin(self) -> None:
+    def unpin(self) -> None:
         if self._joint is not None:
             pb.removeConstraint(self._joint, physicsClientId=self._client)
             self._joint = None
 
-    def _step(self) -> None:
+    def step(self) -> None:
         c = self._client
         if self._load is not None:
             f, q, torque = self._load  # force through the COM + its constant torque
@@ -202,7 +213,7 @@ class PybulletEngine(Engine):
                                    physicsClientId=c)
         pb.stepSimulation(physicsClientId=c)
 
-    def _read(self) -> Reading:
+    def read(self) -> Reading:
         c = self._client
         (bx, by, _), _ = pb.getBasePositionAndOrientation(self._ball, physicsClientId=c)
         (bvx, bvy, _), (_, _, bw) = pb.getBaseVelocity(self._ball, physicsClientId=c)
@@ -211,6 +222,9 @@ class PybulletEngine(Engine):
         (cvx, cvy, _), (_, _, cw) = pb.getBaseVelocity(self._bat, physicsClientId=c)
         return Reading(bx, by, bvx, bvy, bw, cx, cy, 2.0 * math.atan2(qz, qw), cvx, cvy, cw)
 
-    def _in_contact(self) -> bool:
+    def in_contact(self) -> bool:
         points = pb.getContactPoints(self._bat, self._ball, physicsClientId=self._client)
         return any(pt[8] < 0.0 or pt[9] > 0.0 for pt in points)
+
+
+ENGINE = PybulletEngine

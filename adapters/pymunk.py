@@ -12,13 +12,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import pymunk
-
-from analytic import Ball, Bat, ImpactCase
+from analytic import Ball, Bat
 from analytic import _checks
-from analytic.dynamics import Drive
 
-from .base import Engine, MassProperties, Reading, Settings
+from ._record import EngineRecord, KnobFamily, RestitutionRule, import_engine
+from .base import BodyLoad, Engine, MassProperties, Reading, Settings
 
 CHIPMUNK_SLOP = 0.1                        # pymunk.Space() defaults, in the space's length unit
 CHIPMUNK_BIAS = (1.0 - 0.1) ** 60
@@ -43,11 +41,9 @@ class PymunkSettings(Settings):
         _checks.in_range("joint_error_bias", self.joint_error_bias, 0.0, 1.0)
 
 
-class PymunkEngine(Engine):
-    """pymunk behind the common contract."""
-
-    name = "pymunk"
-    profiles = {
+RECORD = EngineRecord(
+    name="pymunk", package="pymunk", import_name="pymunk",
+    profiles={
         # Chipmunk's own solver values are already exact for one frictionless contact (a single
         # constraint is solved in the first iteration); fidelity only needs a short step
         # (10 us: the contact normal tilts by omega*dt while the bat turns) and aligned contact.
@@ -57,13 +53,23 @@ class PymunkEngine(Engine):
         # Out of the box: the 1/60 s step of pymunk's examples, Chipmunk's defaults, the contact
         # instant mid-step as in any unaligned simulation.
         "default": PymunkSettings(dt_s=1 / 60, contact_phase=0.5),
-    }
+    },
+    color="tab:blue", marker="o",
+    speed_accuracy=(KnobFamily(label="iterations 1", overrides=(("iterations", 1),)),
+                    KnobFamily(label="iterations 10", overrides=(("iterations", 10),),
+                               quick=True),
+                    KnobFamily(label="iterations 100", overrides=(("iterations", 100),))),
+    restitution_rule=RestitutionRule.PRODUCT,
+)
+pymunk = import_engine(RECORD)
 
-    @classmethod
-    def version(cls) -> str:
-        return pymunk.version
 
-    def _build(self, bat: Bat, ball: Ball) -> None:
+class PymunkEngine(Engine):
+    """pymunk behind the common contract."""
+
+    record = RECORD
+
+    def build_scene(self, bat: Bat, ball: Ball) -> None:
         st = self.settings
         space = pymunk.Space()
         space.gravity = (0.0, 0.0)
@@ -83,7 +89,7 @@ class PymunkEngine(Engine):
         self._space = space
         self._joint: pymunk.PivotJoint | None = None
 
-    def _mass_properties(self) -> MassProperties:
+    def mass_properties(self) -> MassProperties:
         knob_x = self._bat_shape.a.x - self._bat_shape.radius
         return MassProperties(
             bat_mass_kg=self._bat.mass,
@@ -93,26 +99,33 @@ class PymunkEngine(Engine):
             ball_inertia_kgm2=self._ball.moment,
         )
 
-    def _configure(self, case: ImpactCase) -> None:
-        self._ball_shape.elasticity = case.e  # arbiter e = 1.0 * e
+    def set_restitution(self, e: float) -> None:
+        self.set_body_restitution(bat=1.0, ball=e)  # arbiter e = 1.0 * e
 
-    def _set_state(self, r: Reading) -> None:
+    def set_body_restitution(self, *, bat: float, ball: float) -> None:
+        super().set_body_restitution(bat=bat, ball=ball)
+        self._bat_shape.elasticity, self._ball_shape.elasticity = bat, ball
+
+    def set_state(self, r: Reading) -> None:
         bat, ball = self._bat, self._ball
         bat.position, bat.angle = (r.bat_x, r.bat_y), r.bat_angle
         bat.velocity, bat.angular_velocity = (r.bat_vx, r.bat_vy), r.bat_w
         ball.position, ball.angle = (r.ball_x, r.ball_y), 0.0
         ball.velocity, ball.angular_velocity = (r.ball_vx, r.ball_vy), r.ball_w
+        # Removing a shape drops its cached arbiters, whose accumulated impulses would
+        # warm-start the next contact: without this a used engine differs from a fresh one.
+        self._space.remove(self._ball_shape)
+        self._space.add(self._ball_shape)
         self._space.reindex_shapes_for_body(bat)
-        self._space.reindex_shapes_for_body(ball)
 
-    def _set_load(self, drive: Drive | None) -> None:
+    def set_load(self, load: BodyLoad | None) -> None:
         # Chipmunk moves positions before it updates velocities, so a body-frame force must be
         # turned with the angle it has at that moment: inside the body's velocity function.
-        if drive is None:
+        if load is None:
             self._bat.velocity_func = pymunk.Body.update_velocity
             return
-        f, q = drive.force_n, drive.force_angle_rad
-        torque = drive.torque_about_com_nm(self.scene_bat)  # force through the COM + its torque
+        f, q = load.force_n, load.angle_rad
+        torque = load.torque_about_com_nm  # the force moved to the COM, plus its moment
 
         def driven(body, gravity, damping, dt):
             angle = body.angle + q
@@ -122,30 +135,33 @@ class PymunkEngine(Engine):
 
         self._bat.velocity_func = driven
 
-    def _pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
+    def pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
         self._joint = pymunk.PivotJoint(self._space.static_body, self._bat, pivot_xy_m,
                                         (pivot_from_com_m, 0.0))
         self._joint.collide_bodies = False
         self._joint.error_bias = self.settings.joint_error_bias
         self._space.add(self._joint)
 
-    def _unpin(self) -> None:
+    def unpin(self) -> None:
         if self._joint is not None:
             self._space.remove(self._joint)
             self._joint = None
 
-    def _step(self) -> None:
+    def step(self) -> None:
         self._space.step(self.settings.dt_s)
 
-    def _read(self) -> Reading:
+    def read(self) -> Reading:
         ball, bat = self._ball, self._bat
         (bx, by), (bvx, bvy) = ball.position, ball.velocity
         (cx, cy), (cvx, cvy) = bat.position, bat.velocity
         return Reading(bx, by, bvx, bvy, ball.angular_velocity, cx, cy, bat.angle, cvx, cvy,
                        bat.angular_velocity)
 
-    def _in_contact(self) -> bool:
+    def in_contact(self) -> bool:
         # Chipmunk lists only the arbiters that touched in the last step (cached ones are not).
         found = []
         self._bat.each_arbiter(found.append)
         return bool(found)
+
+
+ENGINE = PymunkEngine

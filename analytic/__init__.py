@@ -16,6 +16,7 @@ from .impact import (
     collision_efficiency,
     hittable_sweet_spot,
     predict,
+    predict_arrays,
     predict_oblique_paper,
     sweet_region,
     sweet_spot,
@@ -29,6 +30,6 @@ __all__ = [
     "Ball", "Bat", "Hole", "ImpactCase", "Impulse3D", "MEASURED_EXPONENT", "Outcome",
     "PaperOblique", "RigidBody3D", "SweetRegion", "Swing", "SwingModel",
     "batted_ball_speed", "center_of_percussion", "collision_efficiency", "corked_bat",
-    "corked_bat_paper", "hittable_sweet_spot", "impulse_3d", "predict", "predict_oblique_paper", "presets",
+    "corked_bat_paper", "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays", "predict_oblique_paper", "presets",
     "sweet_region", "sweet_spot", "sweet_zone", "swing_for",
 ]

@@ -98,6 +98,35 @@ def batted_ball_speed(
     return -v0n + _normal_impulse(m, M, J, s, vc, ee) / m
 
 
+def predict_arrays(
+    bat: Bat,
+    ball: Ball,
+    *,
+    s_m: ArrayLike,
+    v0_mps: ArrayLike,
+    u0_mps: ArrayLike = 0.0,
+    omega0_radps: ArrayLike = 0.0,
+    e: ArrayLike = 0.5,
+    theta_rad: ArrayLike = 0.0,
+    phi_rad: ArrayLike = 0.0,
+    hands_from_knob_m: ArrayLike = 0.1,
+) -> dict[str, np.ndarray]:
+    """``predict`` over broadcast arrays of impacts on one bat: the normal-direction fields
+    v1_mps, u1_mps, omega1_radps, impulse_ns and hand_dv_mps (same formulas, vectorized), for
+    tables of many impacts. Inputs are checked as in ``batted_ball_speed``."""
+    m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
+    s = _checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
+    v0n = _checks.array_in_range("v0_mps", v0_mps, 0.0) \
+        * np.cos(_checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2))
+    u0n = _checks.array_in_range("u0_mps", u0_mps) \
+        * np.cos(_checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2))
+    w0 = _checks.array_in_range("omega0_radps", omega0_radps)
+    hands = _checks.array_in_range("hands_from_knob_m", hands_from_knob_m, 0.0, bat.length_m)
+    P = _normal_impulse(m, M, J, s, v0n + u0n + w0 * s, _checks.array_in_range("e", e, 0.0, 1.0))
+    return {"v1_mps": -v0n + P / m, "u1_mps": u0n - P / M, "omega1_radps": w0 - P * s / J,
+            "impulse_ns": P, "hand_dv_mps": -P * (1.0 / M + s * (hands - bat.com_from_knob_m) / J)}
+
+
 def collision_efficiency(bat: Bat, ball: Ball, s_m: ArrayLike, e: ArrayLike = 0.5) -> np.ndarray:
     """Vectorized q = (e - m/Meff)/(1 + m/Meff), 1/Meff = 1/M + s^2/J (dimensionless).
 

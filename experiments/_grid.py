@@ -1,23 +1,24 @@
-"""Firing an engine over a grid of impact points: rows of a tidy table, serial or in processes.
+"""A grid of impact points, the tidy table of fired impacts, and locating marks on engine data.
 
-Shared by the sweep, the benchmarks and the regression test, so every table is made one way.
+Shared by the sweep, the studies, the benchmarks and the regression test, so every table is made
+one way. The impacts themselves run through ``experiments._runner``.
 """
 
 from __future__ import annotations
 
 import math
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
-from typing import Iterable
+from typing import Iterable, Sequence
 
 import numpy as np
+import pandas as pd
 from scipy import optimize
-from tqdm import tqdm
 
 import adapters
-from adapters.base import swing_case
-from analytic import Bat, ImpactCase, center_of_percussion, predict, presets, sweet_spot
+from analytic import Bat, ImpactCase, center_of_percussion, predict_arrays, presets, sweet_spot
 from analytic.dynamics import HingedSwing
+
+from . import _runner
 
 #: Columns of a sweep table, in order. Units are in the names.
 COLUMNS = (
@@ -58,6 +59,11 @@ class Firing:
     def cases(self) -> list[ImpactCase]:
         return [self.case(s) for s in self.s_m]
 
+    def jobs(self, engine: str, settings: adapters.Settings) -> list[_runner.Job]:
+        """One job per grid point for an engine."""
+        return [_runner.Job(engine=engine, settings=settings, case=c, swing=self.swing)
+                for c in self.cases()]
+
 
 def grid(bat: Bat, points: int, s_min_m: float | None = None,
          s_max_m: float | None = None) -> tuple[float, ...]:
@@ -76,102 +82,83 @@ def grid(bat: Bat, points: int, s_min_m: float | None = None,
     return tuple(float(x) for x in np.linspace(lo, hi, points))
 
 
-def row(case: ImpactCase, out: adapters.SimOutcome, profile: str) -> dict:
-    """One table row: analytic vs engine for one impact."""
-    ref = predict(case)
-    err = out.v1_mps - ref.v1_mps
-    return {
-        "engine": out.engine, "profile": profile, "bat": case.bat.name, "s_m": case.s_m,
-        "v0_mps": case.v0_mps, "u0_mps": case.u0_mps, "omega0_radps": case.omega0_radps,
-        "e": case.e, "theta_rad": case.theta_rad,
-        "v1_analytic_mps": ref.v1_mps, "v1_engine_mps": out.v1_mps, "v1_abs_err_mps": abs(err),
-        "v1_rel_err": abs(err) / abs(ref.v1_mps) if ref.v1_mps != 0 else math.inf,
-        "u1_analytic_mps": ref.u1_mps, "u1_engine_mps": out.u1_mps,
-        "omega1_analytic_radps": ref.omega1_radps, "omega1_engine_radps": out.omega1_radps,
-        "hand_dv_analytic_mps": ref.hand_dv_mps, "hand_dv_engine_mps": out.hand_dv_mps,
-        "ke_before_j": out.ke_before_j, "ke_after_j": out.ke_after_j,
-        "status": out.status.value, "contact_duration_s": out.contact_duration_s,
-        "peak_penetration_m": out.peak_penetration_m, "steps": out.steps, "wall_s": out.wall_s,
+def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
+    """The tidy table of fired impacts, one row per impact in order: the case, the analytic
+    prediction (vectorized once per bat and ball), the engine's outcome and their differences.
+    With a swing (any NaN-free release), the SWING_COLUMNS too."""
+    cases = [f.case for f in fired]
+    outs = [f.outcome for f in fired]
+    n = len(cases)
+    ref = {k: np.empty(n) for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
+    groups: dict[tuple, list[int]] = {}
+    for i, c in enumerate(cases):
+        groups.setdefault((c.bat, c.ball), []).append(i)
+    for (bat, ball), idx in groups.items():
+        cs = [cases[i] for i in idx]
+        got = predict_arrays(bat, ball, **{f: np.array([getattr(c, f) for c in cs]) for f in (
+            "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad",
+            "hands_from_knob_m")})
+        for k in ref:
+            ref[k][idx] = got[k]
+    v1 = np.array([o.v1_mps for o in outs])
+    err = np.abs(v1 - ref["v1_mps"])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
+    cols = {
+        "engine": [o.engine for o in outs], "profile": [profile] * n,
+        "bat": [c.bat.name for c in cases], "s_m": [c.s_m for c in cases],
+        "v0_mps": [c.v0_mps for c in cases], "u0_mps": [c.u0_mps for c in cases],
+        "omega0_radps": [c.omega0_radps for c in cases], "e": [c.e for c in cases],
+        "theta_rad": [c.theta_rad for c in cases],
+        "v1_analytic_mps": ref["v1_mps"], "v1_engine_mps": v1, "v1_abs_err_mps": err,
+        "v1_rel_err": rel,
+        "u1_analytic_mps": ref["u1_mps"], "u1_engine_mps": [o.u1_mps for o in outs],
+        "omega1_analytic_radps": ref["omega1_radps"],
+        "omega1_engine_radps": [o.omega1_radps for o in outs],
+        "hand_dv_analytic_mps": ref["hand_dv_mps"],
+        "hand_dv_engine_mps": [o.hand_dv_mps for o in outs],
+        "ke_before_j": [o.ke_before_j for o in outs], "ke_after_j": [o.ke_after_j for o in outs],
+        "status": [o.status.value for o in outs],
+        "contact_duration_s": [o.contact_duration_s for o in outs],
+        "peak_penetration_m": [o.peak_penetration_m for o in outs],
+        "steps": [o.steps for o in outs], "wall_s": [o.wall_s for o in outs],
     }
+    if any(math.isfinite(f.release_omega_radps) for f in fired):
+        cols["release_omega_engine_radps"] = [o.release_omega_radps for o in outs]
+        cols["release_omega_analytic_radps"] = [f.release_omega_radps for f in fired]
+        cols["release_angle_err_rad"] = [o.release_angle_rad - f.release_angle_rad
+                                         for o, f in zip(outs, fired)]
+    return pd.DataFrame(cols)
 
 
-def fire_one(engine: adapters.Engine, case: ImpactCase, profile: str,
-             swing: HingedSwing | None = None) -> dict:
-    """One row; with a swing, the case is re-planned for the engine's step and swung into."""
-    if swing is None:
-        return row(case, engine.simulate(case), profile)
-    case, plan = swing_case(case.bat, case.ball, s_m=case.s_m, v0_mps=case.v0_mps, e=case.e,
-                            swing=swing, settings=engine.settings)
-    out = engine.simulate(case, swing=plan)
-    return {**row(case, out, profile), "release_omega_engine_radps": out.release_omega_radps,
-            "release_omega_analytic_radps": plan.omega_release_radps,
-            "release_angle_err_rad": out.release_angle_rad - plan.angle_release_rad}
+def _engine_value(name: str, settings: adapters.Settings, firing: Firing, s: float,
+                  field: str) -> float:
+    job = _runner.Job(engine=name, settings=settings, case=firing.case(float(s)),
+                      swing=firing.swing)
+    out = _runner.fire_job(job).outcome
+    return getattr(out, field) if out.ok else math.nan
 
 
-_WORKER_ENGINE: adapters.Engine | None = None
-
-
-def _init_worker(name: str, settings: adapters.Settings) -> None:
-    global _WORKER_ENGINE
-    _WORKER_ENGINE = adapters.engine_class(name)(settings)
-
-
-def _fire_chunk(args: tuple[list[ImpactCase], str, HingedSwing | None]) -> list[dict]:
-    cases, profile, swing = args
-    return [fire_one(_WORKER_ENGINE, c, profile, swing) for c in cases]
-
-
-def fire(name: str, settings: adapters.Settings, profile: str, cases: list[ImpactCase], *,
-         workers: int = 1, progress: tqdm | None = None,
-         swing: HingedSwing | None = None) -> list[dict]:
-    """Rows for every case on one engine, in the order given; ``workers`` > 1 uses processes."""
-    if workers <= 1:
-        engine = adapters.engine_class(name)(settings)
-        rows = []
-        try:
-            for c in cases:
-                rows.append(fire_one(engine, c, profile, swing))
-                if progress is not None:
-                    progress.update(1)
-        finally:
-            engine.close()
-        return rows
-    chunks = [list(chunk) for chunk in np.array_split(np.array(cases, dtype=object), workers * 4)
-              if len(chunk)]
-    rows = []
-    with ProcessPoolExecutor(workers, initializer=_init_worker,
-                             initargs=(name, settings)) as pool:
-        for part in pool.map(_fire_chunk, [(c, profile, swing) for c in chunks]):
-            rows.extend(part)
-            if progress is not None:
-                progress.update(len(part))
-    return rows
-
-
-def locate_sweet_spot(engine: adapters.Engine, firing: Firing, bracket: tuple[float, float],
-                      xatol_m: float = 1e-7) -> float:
+def locate_sweet_spot(name: str, settings: adapters.Settings, firing: Firing,
+                      bracket: tuple[float, float], xatol_m: float = 1e-7) -> float:
     """argmax of the engine's v1(s) inside ``bracket`` (bounded Brent search on simulations).
 
     Returns NaN if any simulation in the search fails.
     """
-    def minus_v1(s: float) -> float:
-        r = fire_one(engine, firing.case(float(s)), "", firing.swing)
-        return -r["v1_engine_mps"] if r["status"] == "ok" else math.nan
-
-    res = optimize.minimize_scalar(minus_v1, bounds=bracket, method="bounded",
-                                   options={"xatol": xatol_m})
+    res = optimize.minimize_scalar(
+        lambda s: -_engine_value(name, settings, firing, s, "v1_mps"), bounds=bracket,
+        method="bounded", options={"xatol": xatol_m})
     return float(res.x) if math.isfinite(res.fun) else math.nan
 
 
-def locate_cop(engine: adapters.Engine, firing: Firing, bracket: tuple[float, float],
-               xtol_m: float = 1e-9) -> float:
+def locate_cop(name: str, settings: adapters.Settings, firing: Firing,
+               bracket: tuple[float, float], xtol_m: float = 1e-9) -> float:
     """The s where the engine's hand-point velocity change crosses zero (Brent's root finder).
 
     Returns NaN if the bracket holds no sign change or a simulation fails.
     """
     def hand(s: float) -> float:
-        r = fire_one(engine, firing.case(float(s)), "", firing.swing)
-        return r["hand_dv_engine_mps"] if r["status"] == "ok" else math.nan
+        return _engine_value(name, settings, firing, s, "hand_dv_mps")
 
     a, b = hand(bracket[0]), hand(bracket[1])
     if not (math.isfinite(a) and math.isfinite(b)) or a * b > 0:

@@ -1,14 +1,16 @@
-"""Benchmark: what a collision costs in each engine, against the bare engine, and sweep speed.
+"""Benchmark: what a collision costs in each engine, against the bare engine, and the runners.
 
-    python -m experiments.bench_engines [--repeats K] [--points N]
+    python -m experiments.bench_engines [--engine ...] [--repeats K] [--points N] [--quick]
 
 For each engine (reference profile, R161, the paper's swing, N impact points):
-- per-collision wall time of ``simulate`` (median over impacts and repeats);
+- the harness's cost per collision: firing the grid through the runner and tabulating it
+  (median over repeats of the whole grid's time per impact), and simulate()'s own wall;
 - the bare engine's cost for the same steps: the same start state stepped the same number of
-  times with nothing else done (median), and the ratio of the two;
-- the wall time of ``python -m experiments.sweep --engine all`` on 41 points, start-up included;
-- the speed-up of --workers 2 over 1, on a cheap sweep and on an expensive one.
-Writes results/bench_engines.csv, .json and .png.
+  times with nothing else done (median); overhead = harness - bare, and their ratio;
+- one sweep's wall time serially, with 2 local processes and on a 2-worker Dask LocalCluster, on
+  the cheap all-engine sweep and on an expensive hinged-swing sweep of 96 points;
+- the wall time of the sweep command on 41 points, start-up included.
+Writes <out>/bench_engines.csv, .json and .png.
 """
 
 from __future__ import annotations
@@ -20,38 +22,51 @@ import sys
 import tempfile
 import time
 
+from pathlib import Path
+
 import pandas as pd
 
 import adapters
-from adapters.base import start_reading
+from analytic import presets
 
-from . import _grid, sweep
+from . import _cli, _grid, _runner
 from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
 
 
-def per_collision(name: str, cases, repeats: int) -> dict:
-    engine = adapters.load(name)
-    engine.simulate(cases[0])  # build once, outside the timing
-    walls, bares, steps = [], [], []
+def per_collision(name: str, firing: _grid.Firing, repeats: int) -> dict:
+    """Median cost per collision, through the harness and for the bare engine, same steps."""
+    settings = adapters.settings_for(name)
+    jobs = firing.jobs(name, settings)
+    runner = _runner.Runner()
+    _grid.table(runner.fire(jobs[:1]), "bench")  # build the scene outside the timing
+    harness, walls, bares, steps = [], [], [], []
+    eng = _runner.engine(name, settings)
     for _ in range(repeats):
-        for case in cases:
-            out = engine.simulate(case)
-            walls.append(out.wall_s)
-            steps.append(out.steps)
-            engine._configure(case)
-            engine._set_state(start_reading(case, engine.settings)[0])
+        t0 = time.perf_counter()
+        fired = runner.fire(jobs)
+        _grid.table(fired, "bench")
+        harness.append((time.perf_counter() - t0) / len(jobs))
+        for f in fired:
+            walls.append(f.outcome.wall_s)
+            steps.append(f.outcome.steps)
+            eng.set_restitution(f.case.e)
+            eng.set_state(adapters.start_reading(f.case, settings)[0])
             t0 = time.perf_counter()
-            for _ in range(out.steps):
-                engine._step()
+            for _ in range(f.outcome.steps):
+                eng.step()
             bares.append(time.perf_counter() - t0)
-    engine.close()
-    wall, bare = statistics.median(walls), statistics.median(bares)
+    runner.close()
+    per, bare = statistics.median(harness), statistics.median(bares)
     return {"engine": name, "impacts": len(walls), "steps_median": statistics.median(steps),
-            "wall_per_collision_us": wall * 1e6, "bare_steps_us": bare * 1e6,
-            "bare_per_step_us": bare * 1e6 / statistics.median(steps), "ratio": wall / bare}
+            "harness_per_collision_us": per * 1e6,
+            "simulate_per_collision_us": statistics.median(walls) * 1e6,
+            "bare_steps_us": bare * 1e6,
+            "bare_per_step_us": bare * 1e6 / statistics.median(steps),
+            "overhead_us": (per - bare) * 1e6, "ratio": per / bare}
 
 
 def timed_command(args: list[str], repeats: int) -> float:
+    """Median wall time of a sweep command, start-up included (s)."""
     times = []
     for _ in range(repeats):
         with tempfile.TemporaryDirectory() as tmp:
@@ -62,21 +77,28 @@ def timed_command(args: list[str], repeats: int) -> float:
     return statistics.median(times)
 
 
-def parallel_speedup(label: str, engines: dict[str, adapters.Settings], points: int,
-                     repeats: int) -> dict:
-    """Median wall time of firing ``points`` impacts per engine with 1 and 2 worker processes."""
-    plan = sweep.sweep_from_args(sweep.build_parser().parse_args(["--points", str(points)]))
-    cases = plan.firing.cases()
-    out = {"label": label, "points": points, "engines": list(engines)}
-    for workers in (1, 2):
-        times = []
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            for name, settings in engines.items():
-                _grid.fire(name, settings, "custom", cases, workers=workers)
-            times.append(time.perf_counter() - t0)
-        out[f"wall_workers{workers}_s"] = statistics.median(times)
-    out["speedup"] = out["wall_workers1_s"] / out["wall_workers2_s"]
+def runner_speedups(label: str, args: list[str], repeats: int) -> dict:
+    """Wall time of one sweep (the time it prints: firing, locating, writing) serially, with 2
+    local processes and on a 2-worker Dask LocalCluster (started before the timing)."""
+    from . import sweep as sweep_cmd
+
+    plan = sweep_cmd.sweep_from_args(sweep_cmd.build_parser().parse_args(args))
+    out = {"label": label, "args": " ".join(args)}
+    with tempfile.TemporaryDirectory() as tmp:
+        for key, kw in (("serial", {}), ("workers2", {"workers": 2}),
+                        ("dask_local2", {"workers": 2, "scheduler": "local"})):
+            times = []
+            with _runner.Runner(**kw) as runner:
+                if "scheduler" in kw:
+                    runner.call_all([(statistics.median, ([1.0],))] * 2)  # start the cluster
+                for _ in range(repeats):
+                    t0 = time.perf_counter()
+                    table, meta = sweep_cmd.run(plan, runner)
+                    sweep_cmd.write(table, meta, plan, Path(tmp))
+                    times.append(time.perf_counter() - t0)
+            out[f"{key}_s"] = statistics.median(times)
+    out["speedup_workers2"] = out["serial_s"] / out["workers2_s"]
+    out["dask_over_processes"] = out["dask_local2_s"] / out["workers2_s"]
     return out
 
 
@@ -88,11 +110,12 @@ def chart(table: pd.DataFrame):
 
     fig, ax = plt.subplots(figsize=(7, 4))
     x = range(len(table))
-    ax.bar([i - 0.2 for i in x], table.wall_per_collision_us, 0.4, label="harness: simulate()")
+    ax.bar([i - 0.2 for i in x], table.harness_per_collision_us, 0.4,
+           label="harness: fire and tabulate one impact")
     ax.bar([i + 0.2 for i in x], table.bare_steps_us, 0.4, label="bare engine, same steps")
     for i, r in table.iterrows():
-        ax.annotate(f"{r.ratio:.1f}x", (i - 0.2, r.wall_per_collision_us), ha="center",
-                    va="bottom", fontsize=9)
+        ax.annotate(f"+{r.overhead_us:.1f} us\n{r.ratio:.2f}x", (i - 0.2, r.harness_per_collision_us),
+                    ha="center", va="bottom", fontsize=8)
     ax.set_xticks(list(x), table.engine)
     ax.set_ylabel("median time per collision (us)")
     ax.set_title("Cost of one collision, reference profile (dt = 10 us), R161, paper's swing",
@@ -108,33 +131,38 @@ def main(argv: list[str] | None = None) -> int:
                                 description=__doc__.splitlines()[0])
     p.add_argument("--repeats", type=int, default=5)
     p.add_argument("--points", type=int, default=41)
+    p.add_argument("--quick", action="store_true", help="one repeat, no runner comparison")
+    _cli.add_engine(p)
+    _cli.add_out(p, ROOT / "results")
     args = p.parse_args(argv)
-    plan = sweep.sweep_from_args(sweep.build_parser().parse_args(["--points", str(args.points)]))
-    table = pd.DataFrame([per_collision(n, plan.firing.cases(), args.repeats)
-                          for n in adapters.names()])
+    repeats = 1 if args.quick else args.repeats
+    firing = _grid.Firing(bat=presets.R161, s_m=_grid.grid(presets.R161, args.points),
+                          v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
+                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+    table = pd.DataFrame([per_collision(n, firing, repeats) for n in args.engine])
     print(table.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
-    sweep_s = timed_command(["--engine", "all", "--points", "41"], 3)
-    print(f"sweep --engine all, 41 points, start-up included: median {sweep_s:.2f} s")
-    par = [
-        parallel_speedup("reference, 3 engines", {n: adapters.settings_for(n)
-                                                  for n in adapters.names()}, 401, 3),
-        parallel_speedup("mujoco soft contact, w = 3000 rad/s, dt = 1e-6 s",
-                         {"mujoco": adapters.settings_for("mujoco", contact_model="soft",
-                                                          dt_s=1e-6)}, 101, 1),
-    ]
-    for r in par:
-        print(f"{r['label']}, {r['points']} points: 1 worker {r['wall_workers1_s']:.2f} s, "
-              f"2 workers {r['wall_workers2_s']:.2f} s, speed-up {r['speedup']:.2f}x")
+    engines = ",".join(args.engine)
+    par = []
+    if not args.quick:
+        par = [runner_speedups(f"{engines}, 41 points, reference", ["--engine", engines], 5),
+               runner_speedups("first engine, hinged swing, 96 points",
+                               ["--engine", args.engine[0], "--swing", "--points", "96"], 1)]
+        for r in par:
+            print(f"{r['label']}: serial {r['serial_s']:.2f} s, 2 processes {r['workers2_s']:.2f} s "
+                  f"({r['speedup_workers2']:.2f}x), Dask LocalCluster of 2 {r['dask_local2_s']:.2f} s "
+                  f"({r['dask_over_processes']:.2f} x processes)")
+    sweep_s = timed_command(["--engine", engines, "--points", "41"], 1 if args.quick else 3)
+    print(f"sweep --engine {engines}, 41 points, start-up included: median {sweep_s:.2f} s")
     import matplotlib.pyplot as plt
 
     fig = chart(table)
     atomic_write_many({
-        ROOT / "results" / "bench_engines.csv":
+        args.out / "bench_engines.csv":
             table.to_csv(index=False, float_format="%.4g", lineterminator="\n").encode(),
-        ROOT / "results" / "bench_engines.json": json_bytes({
-            "per_collision": table.to_dict(orient="records"), "sweep_all_41_s": sweep_s,
-            "parallel": par, "provenance": provenance()}),
-        ROOT / "results" / "bench_engines.png": figure_png(fig),
+        args.out / "bench_engines.json": json_bytes({
+            "per_collision": table.to_dict(orient="records"), "sweep_41_s": sweep_s,
+            "runners": par, "repeats": repeats, "provenance": provenance()}),
+        args.out / "bench_engines.png": figure_png(fig),
     })
     plt.close(fig)
     return 0

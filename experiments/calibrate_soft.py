@@ -1,14 +1,16 @@
-"""MuJoCo soft contact: does the solref calibration hit the target e, at any speed and mass?
+"""Soft contacts: does the spring-damper calibration hit the target e, at any speed and mass?
 
-    python -m experiments.calibrate_soft
+    python -m experiments.calibrate_soft [--engine NAME[,NAME...]|all]
 
-Central impacts (s = 0, so the bat does not turn) of the baseball on bats of 0.3, 0.871 and 3 kg
-at 5 to 80 m/s, for several target e and time steps, with w = 3000 rad/s. Measured e =
-(v1 - u1)/v0. Writes results/mujoco_soft_calibration.csv and prints the residual per time step.
+For every chosen engine whose record declares a soft contact: central impacts (s = 0, so the bat
+does not turn) of the baseball on bats of 0.3, 0.871 and 3 kg at 5 to 80 m/s, for several target
+e and time steps, at a natural frequency w = 3000 rad/s. Measured e = (v1 - u1)/v0. Writes
+<out>/soft_calibration.csv and prints the residual per engine, time step and target.
 """
 
 from __future__ import annotations
 
+import argparse
 import sys
 from dataclasses import replace
 
@@ -17,6 +19,7 @@ import pandas as pd
 import adapters
 from analytic import ImpactCase, presets
 
+from . import _cli, _runner
 from ._io import ROOT, atomic_write_many
 
 TARGETS = (0.3, 0.5, 0.8, 1.0)
@@ -26,26 +29,48 @@ STEPS_S = (1e-5, 1e-6, 1e-7)
 OMEGA_RADPS = 3000.0
 
 
-def main() -> int:
-    rows = []
+def jobs(engine: str) -> list[_runner.Job]:
+    """Every (step, bat mass, target e, speed) for one engine's soft contact."""
+    rec = adapters.record(engine)
+    out = []
     for dt in STEPS_S:
-        engine = adapters.load("mujoco", contact_model="soft", soft_omega_radps=OMEGA_RADPS,
-                               dt_s=dt)
+        settings = adapters.settings_for(engine, dt_s=dt, **rec.soft_contact,
+                                         **{rec.stiffness_setting: OMEGA_RADPS})
         for mass in MASSES_KG:
             bat = replace(presets.R161, name=f"r161@{mass}kg", mass_kg=mass)
-            for e in TARGETS:
-                for v0 in SPEEDS_MPS:
-                    out = engine.simulate(ImpactCase(bat=bat, ball=presets.BASEBALL, s_m=0.0,
-                                                     v0_mps=v0, e=e))
-                    e_meas = (out.v1_mps - out.u1_mps) / v0
-                    rows.append({"dt_s": dt, "w_dt": OMEGA_RADPS * dt, "bat_mass_kg": mass,
-                                 "e_target": e, "v0_mps": v0, "e_measured": e_meas,
-                                 "residual": e_meas - e, "status": out.status.value,
-                                 "contact_duration_s": out.contact_duration_s})
+            out += [_runner.Job(engine=engine, settings=settings, case=ImpactCase(
+                bat=bat, ball=presets.BASEBALL, s_m=0.0, v0_mps=v0, e=e))
+                for e in TARGETS for v0 in SPEEDS_MPS]
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m experiments.calibrate_soft",
+                                description=__doc__.splitlines()[0])
+    _cli.add_engine(p)
+    _cli.add_runner(p)
+    _cli.add_out(p, ROOT / "results")
+    args = p.parse_args(argv)
+    soft = [n for n in args.engine if adapters.record(n).soft_contact is not None]
+    if not soft:
+        p.error(f"--engine: none of {', '.join(args.engine)} has a soft contact; allowed: "
+                + ", ".join(n for n in adapters.names()
+                            if adapters.record(n).soft_contact is not None))
+    todo = [j for n in soft for j in jobs(n)]
+    with _cli.Progress(len(todo), "impacts") as bar, _cli.runner(args, bar) as runner:
+        fired = runner.fire(todo)
+    rows = []
+    for job, (case, out, _, _) in zip(todo, fired):
+        e_meas = (out.v1_mps - out.u1_mps) / case.v0_mps
+        rows.append({"engine": job.engine, "dt_s": job.settings.dt_s,
+                     "w_dt": OMEGA_RADPS * job.settings.dt_s, "bat_mass_kg": case.bat.mass_kg,
+                     "e_target": case.e, "v0_mps": case.v0_mps, "e_measured": e_meas,
+                     "residual": e_meas - case.e, "status": out.status.value,
+                     "contact_duration_s": out.contact_duration_s})
     table = pd.DataFrame(rows)
-    atomic_write_many({ROOT / "results" / "mujoco_soft_calibration.csv": table.to_csv(
+    atomic_write_many({args.out / "soft_calibration.csv": table.to_csv(
         index=False, float_format="%.10g", lineterminator="\n").encode()})
-    summary = table.groupby(["dt_s", "e_target"]).agg(
+    summary = table.groupby(["engine", "dt_s", "e_target"]).agg(
         residual_min=("residual", "min"), residual_max=("residual", "max"),
         spread_over_speed_and_mass=("residual", lambda r: r.max() - r.min()))
     print(f"w = {OMEGA_RADPS:g} rad/s; residual = e_measured - e_target over "

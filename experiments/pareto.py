@@ -27,7 +27,7 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from . import _grid
+from . import _cli, _grid, _runner
 from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
 
 STEPS_S = (1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 2e-3, 1 / 240, 1 / 60)
@@ -38,9 +38,12 @@ WINDOW_S = 1e-3  # simulated approach before contact: 47 mm of ball travel at 46
 FLOOR = 1e-16  # errors are drawn no lower than this (float64 rounding of v1 ~ 40 m/s is ~1e-14)
 
 
+DEFAULT_FAMILY = "default profile"
+
+
 @dataclass(frozen=True, kw_only=True)
 class Config:
-    """One point of an engine's knob space: a label, the family it belongs to, the overrides."""
+    """One point of an engine's knob space: a knob family at one time step."""
 
     engine: str
     family: str
@@ -56,30 +59,22 @@ class Config:
         return _windowed(adapters.settings_for(self.engine, self.profile, **dict(self.overrides)))
 
 
-def configs(quick: bool) -> list[Config]:
-    """The knob grid: time step crossed with each engine's solver/integrator/contact choices."""
+def configs(quick: bool, engines: tuple[str, ...]) -> list[Config]:
+    """The knob grid: each engine's knob families (from its record) and its default profile,
+    crossed with the time steps; the default profile also at its own (out-of-the-box) step."""
     steps = QUICK_STEPS_S if quick else STEPS_S
     out = []
-
-    def add(engine, family, profile="reference", **kw):
-        for dt in steps:
-            out.append(Config(engine=engine, family=family, profile=profile,
-                              overrides=(("dt_s", dt), ("contact_phase", PHASE), *kw.items())))
-
-    for iterations in ((10,) if quick else (1, 10, 100)):
-        add("pymunk", f"iterations {iterations}", iterations=iterations)
-    add("pybullet", "reference solver (ERP 0, slop 0)")
-    add("pybullet", "default solver", profile="default")
-    if not quick:
-        for iterations in (1, 10, 200):
-            add("pybullet", f"reference solver, {iterations} iterations",
-                solver_iterations=iterations)
-    for integrator in (("Euler", "RK4") if quick else ("Euler", "implicitfast", "RK4")):
-        add("mujoco", f"impulse, {integrator}", integrator=integrator)
-        for w in ((3000.0,) if quick else SOFT_OMEGAS):
-            add("mujoco", f"soft w={w:g}, {integrator}", integrator=integrator,
-                contact_model="soft", soft_omega_radps=w)
-    add("mujoco", "default (solref 0.02 s)", profile="default")
+    for engine in engines:
+        rec = adapters.record(engine)
+        families = [f for f in rec.speed_accuracy if f.quick or not quick]
+        families.append(adapters.KnobFamily(label=DEFAULT_FAMILY, profile="default"))
+        for fam in families:
+            dts = steps
+            if fam.profile == "default":
+                dts = sorted({*steps, rec.profiles["default"].dt_s})
+            out += [Config(engine=engine, family=fam.label, profile=fam.profile,
+                           overrides=(("dt_s", dt), ("contact_phase", PHASE), *fam.overrides))
+                    for dt in dts]
     return out
 
 
@@ -87,24 +82,31 @@ def _windowed(settings: adapters.Settings) -> adapters.Settings:
     return replace(settings, approach_steps=max(2, round(WINDOW_S / settings.dt_s)))
 
 
-def evaluate(name: str, settings: adapters.Settings, cases, repeats: int) -> dict:
-    """Errors and statuses of one setting over the grid; median wall per collision over repeats."""
-    walls = []
-    for _ in range(repeats):
-        rows = _grid.fire(name, settings, "pareto", cases)
-        walls.extend(r["wall_s"] for r in rows)
-    df = pd.DataFrame(rows)
-    ok = df[df.status == "ok"]
-    counts = df.status.value_counts()
-    return {
-        "median_rel_err": float(ok.v1_rel_err.median()) if len(ok) else math.nan,
-        "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
-        "wall_per_collision_s": statistics.median(walls),
-        "steps_median": float(df.steps.median()),
-        "impacts": len(df),
-        **{f"n_{s.value}": int(counts.get(s.value, 0)) for s in adapters.Status},
-        "all_ok": bool(len(ok) == len(df)),
-    }
+def evaluate(runner: _runner.Runner, settings: list[tuple[str, adapters.Settings]], firing,
+             repeats: int) -> list[dict]:
+    """Errors and statuses of each (engine, settings) over the grid; median wall per collision
+    over ``repeats`` firings of the grid (all settings go to the runner at once)."""
+    jobs = [j for _ in range(repeats) for name, st in settings for j in firing.jobs(name, st)]
+    table = _grid.table(runner.fire(jobs), "pareto")
+    n = len(firing.s_m)
+    per_setting = len(settings) * n
+    out = []
+    for k in range(len(settings)):
+        runs = [table.iloc[r * per_setting + k * n: r * per_setting + (k + 1) * n]
+                for r in range(repeats)]
+        df = runs[-1]
+        ok = df[df.status == "ok"]
+        counts = df.status.value_counts()
+        out.append({
+            "median_rel_err": float(ok.v1_rel_err.median()) if len(ok) else math.nan,
+            "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
+            "wall_per_collision_s": statistics.median(w for r in runs for w in r.wall_s),
+            "steps_median": float(df.steps.median()),
+            "impacts": len(df),
+            **{f"n_{s.value}": int(counts.get(s.value, 0)) for s in adapters.Status},
+            "all_ok": bool(len(ok) == len(df)),
+        })
+    return out
 
 
 def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
@@ -153,10 +155,10 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colors = dict(zip(adapters.names(), ("tab:blue", "tab:orange", "tab:green")))
     fig, ax = plt.subplots(figsize=(9, 6.5))
     notes = []
-    for name in adapters.names():
+    colors = {n: adapters.record(n).color for n in table.engine.unique()}
+    for name in table.engine.unique():
         df = table[table.engine == name]
         good = df[df.all_ok]
         bad = df[~df.all_ok]
@@ -180,8 +182,8 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
         ax.scatter(ref.wall_per_collision_s * 1e6, np.maximum(ref.max_rel_err, FLOOR), s=120,
                    marker="*", color=colors[name], edgecolor="black", zorder=5,
                    label=f"{name}: reference profile (aligned contact)")
-        family, dt = OUT_OF_THE_BOX[name]
-        for _, d in df[(df.family == family) & np.isclose(df.dt_s, dt)].iterrows():
+        dt = adapters.record(name).profiles["default"].dt_s
+        for _, d in df[(df.family == DEFAULT_FAMILY) & np.isclose(df.dt_s, dt)].iterrows():
             verdict = (f"max error {d.max_rel_err:.1e}" if d.all_ok else
                        ", ".join(f"{s.value} {d[f'n_{s.value}']}" for s in adapters.Status
                                  if d[f"n_{s.value}"]))
@@ -201,9 +203,6 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
     return fig
 
 
-#: Each engine's out-of-the-box setting in the grid: (family, time step).
-OUT_OF_THE_BOX = {"pymunk": ("iterations 10", 1 / 60), "pybullet": ("default solver", 1 / 240),
-                  "mujoco": ("default (solref 0.02 s)", 0.002)}
 FAILED_Y = 3.0
 
 
@@ -215,37 +214,38 @@ def _failed_y(errors: pd.Series) -> np.ndarray:
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m experiments.pareto", description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true", help="a small grid (smoke test, < 30 s)")
+    p.add_argument("--quick", action="store_true", help="a small grid (smoke test)")
     p.add_argument("--repeats", type=int, default=None, help="timing repeats per setting")
-    p.add_argument("--out", default=str(ROOT / "results"))
+    _cli.add_engine(p)
+    _cli.add_runner(p)
+    _cli.add_out(p, ROOT / "results")
     args = p.parse_args(argv)
     repeats = args.repeats or (1 if args.quick else 3)
     s = np.linspace(-0.2, 0.25, 4 if args.quick else 10)
     firing = _grid.Firing(bat=presets.R161, s_m=tuple(s), v0_mps=presets.PAPER_PITCH_MPS,
                           u0_mps=presets.PAPER_SWING.u0_mps,
                           omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
-    cases = firing.cases()
     t0 = time.perf_counter()
-    rows = []
-    todo = configs(args.quick)
-    for cfg in _grid.tqdm(todo, desc="settings", disable=None):
-        settings = cfg.settings()
-        rows.append({"engine": cfg.engine, "family": cfg.family, "profile": cfg.profile,
-                     "label": cfg.label, "dt_s": settings.dt_s,
-                     **evaluate(cfg.engine, settings, cases, repeats)})
-    table = pd.DataFrame(rows)
+    todo = configs(args.quick, args.engine)
+    aligned_settings = [(n, _windowed(adapters.settings_for(n))) for n in args.engine]
+    settings = [(c.engine, c.settings()) for c in todo] + aligned_settings
+    total = repeats * len(settings) * len(s)
+    with _cli.Progress(total, "impacts") as bar, _cli.runner(args, bar) as runner:
+        results = evaluate(runner, settings, firing, repeats)
+    table = pd.DataFrame([{"engine": c.engine, "family": c.family, "profile": c.profile,
+                           "label": c.label, "dt_s": st.dt_s, **r}
+                          for c, (_, st), r in zip(todo, settings, results)])
     aligned = pd.DataFrame([{"engine": n, "profile": "reference", "label": "reference profile",
-                             **evaluate(n, _windowed(adapters.settings_for(n)), cases, repeats)}
-                            for n in adapters.names()])
+                             **r} for (n, _), r in zip(aligned_settings, results[len(todo):])])
     conv = convergence(table)
     elapsed = time.perf_counter() - t0
-    out = ROOT / "results" if args.out is None else type(ROOT)(args.out)
+    out = args.out
     import matplotlib.pyplot as plt
 
     fig = chart(table, aligned)
     both = pd.concat([table, aligned.assign(family="reference profile (aligned)",
-                                            dt_s=[adapters.settings_for(n).dt_s
-                                                  for n in aligned.engine])], ignore_index=True)
+                                            dt_s=[st.dt_s for _, st in aligned_settings])],
+                     ignore_index=True)
     atomic_write_many({
         out / "pareto.csv": both.to_csv(index=False, float_format="%.6g",
                                         lineterminator="\n").encode(),

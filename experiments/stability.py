@@ -1,4 +1,4 @@
-"""Where methods fail: time step x closing speed (x MuJoCo contact stiffness) -> outcome status.
+"""Where methods fail: time step x closing speed (x soft-contact stiffness) -> outcome status.
 
     python -m experiments.stability [--quick]
 
@@ -7,10 +7,11 @@ A still R161 is hit at s = 0.1 m with e = 1 (so any spurious energy shows) by ba
 step ((k + 1/2)/K). Theory: the contact is seen ``phase * v * dt`` deep; past R = r_ball + r_bat
 the ball's centre is beyond the bat's axis, the normal flips and the ball is pushed through. So a
 step catches every phase while v dt < R, and a fraction R/(v dt) of them above (THEORY_* below).
-MuJoCo's soft contact gets its own map: time step x stiffness w at 40 m/s, where an undamped
+An engine with a soft contact (its record's ``soft_contact``) gets its own map: time step x
+stiffness w at 40 m/s, where an undamped
 spring lets the ball sink v/w deep (through the bat when w < v/R) and Euler is unstable for
 w dt > 2 (this map uses e = 0.5: at e = 1 every discretized spring gains a little energy).
-Writes results/stability.csv, stability.png, stability_energy.png, stability_mujoco_soft.png.
+Writes results/stability.csv, stability.png, stability_energy.png, stability_<engine>_soft.png.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ import pandas as pd
 import adapters
 from analytic import ImpactCase, presets
 
-from . import _grid
+from . import _cli, _grid, _runner
 from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
 
 BAT, BALL = presets.R161, presets.BASEBALL
@@ -54,24 +55,28 @@ def theory_fraction_caught(v_mps: float, dt_s: float, k: int, overlap_m: float =
     return float(np.mean(phases(k) * v_mps * dt_s + overlap_m < REACH_M))
 
 
-def run_map(engine: str, profile: str, steps, speeds, k: int, extra: dict | None = None,
-            e: float = 1.0) -> list[dict]:
-    """One row per impact over dt x speed x phase."""
-    rows = []
+def map_jobs(engine: str, profile: str, steps, speeds, k: int, extra: dict | None = None,
+             e: float = 1.0, label: str | None = None) -> tuple[list[_runner.Job], list[dict]]:
+    """The jobs of one map (every step x phase x speed) and, for each, its coordinates."""
+    jobs, meta = [], []
     base = adapters.settings_for(engine, profile, **(extra or {}))
+    rec = adapters.record(engine)
+    stiffness = (extra or {}).get(rec.stiffness_setting, np.nan) if rec.stiffness_setting \
+        else np.nan
     for dt in steps:
         for phase in phases(k):
             settings = replace(base, dt_s=float(dt), contact_phase=float(phase))
-            cases = [ImpactCase(bat=BAT, ball=BALL, s_m=S_M, v0_mps=v, e=e) for v in speeds]
-            for case, r in zip(cases, _grid.fire(engine, settings, profile, cases)):
-                rows.append({"map": f"{engine} {profile}", "engine": engine, "profile": profile,
-                             "dt_s": float(dt), "v0_mps": case.v0_mps, "phase": float(phase),
-                             "soft_omega_radps": (extra or {}).get("soft_omega_radps", np.nan),
-                             "status": r["status"],
-                             "peak_penetration_m": r["peak_penetration_m"],
-                             "ke_ratio": r["ke_after_j"] / r["ke_before_j"],
-                             "v1_rel_err": r["v1_rel_err"]})
-    return rows
+            for v in speeds:
+                jobs.append(_runner.Job(engine=engine, settings=settings, case=ImpactCase(
+                    bat=BAT, ball=BALL, s_m=S_M, v0_mps=v, e=e)))
+                meta.append({"map": label or f"{engine} {profile}", "engine": engine,
+                             "profile": profile, "dt_s": float(dt), "v0_mps": v,
+                             "phase": float(phase), "soft_omega_radps": stiffness})
+    return jobs, meta
+
+
+def soft_label(engine: str) -> str:
+    return f"{engine} soft"
 
 
 def summarize(rows: pd.DataFrame, x: str, y: str) -> pd.DataFrame:
@@ -136,7 +141,7 @@ def chart_maps(cells: pd.DataFrame, steps, speeds):
     return fig
 
 
-def chart_soft(cells: pd.DataFrame, steps, omegas):
+def chart_soft(cells: pd.DataFrame, steps, omegas, name: str):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -144,7 +149,7 @@ def chart_soft(cells: pd.DataFrame, steps, omegas):
 
     fig, ax = plt.subplots(figsize=(7, 5))
     im = heatmap(ax, cells, "dt_s", "soft_omega_radps",
-                 f"MuJoCo soft contact at {SOFT_SPEED_MPS:g} m/s (e = {SOFT_E:g}): fraction of phases ok")
+                 f"{name} contact at {SOFT_SPEED_MPS:g} m/s (e = {SOFT_E:g}): fraction of phases ok")
     dts = np.geomspace(min(steps) / 2, max(steps) * 2, 100)
     ax.plot(np.log10(dts), np.log10(2 / dts), "k--", label="w dt = 2 (Euler stability)")
     ax.axhline(np.log10(SOFT_SPEED_MPS / REACH_M), color="k", ls=":",
@@ -166,7 +171,7 @@ def chart_energy(rows: pd.DataFrame):
     import matplotlib.pyplot as plt
 
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7.5), sharex=True)
-    colors = dict(zip(adapters.names(), ("tab:blue", "tab:orange", "tab:green")))
+    colors = {n: adapters.record(n).color for n in rows.engine.unique()}
     maps = rows[rows.soft_omega_radps.isna()]
     for (engine, profile), df in maps.groupby(["engine", "profile"], sort=False):
         x = df.v0_mps * df.dt_s * df.phase / REACH_M
@@ -197,37 +202,56 @@ def chart_energy(rows: pd.DataFrame):
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m experiments.stability",
                                 description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true", help="a small grid (smoke test, < 30 s)")
-    p.add_argument("--out", default=str(ROOT / "results"))
+    p.add_argument("--quick", action="store_true", help="a small grid (smoke test)")
+    _cli.add_engine(p)
+    _cli.add_runner(p)
+    _cli.add_out(p, ROOT / "results")
     args = p.parse_args(argv)
     steps = QUICK["steps"] if args.quick else STEPS_S
     speeds = QUICK["speeds"] if args.quick else SPEEDS_MPS
     k = QUICK["phases"] if args.quick else PHASES
     omegas = QUICK["omegas"] if args.quick else SOFT_OMEGAS
     t0 = time.perf_counter()
-    rows = []
+    jobs, meta = [], []
     for profile in adapters.PROFILES:
-        for engine in _grid.tqdm(adapters.names(), desc=profile, disable=None):
-            rows += run_map(engine, profile, steps, speeds, k)
-    for w in omegas:
-        rows += [{**r, "map": "mujoco soft"} for r in
-                 run_map("mujoco", "reference", steps, (SOFT_SPEED_MPS,), k,
-                         {"contact_model": "soft", "soft_omega_radps": w}, e=SOFT_E)]
-    table = pd.DataFrame(rows)
+        for engine in args.engine:
+            j, m = map_jobs(engine, profile, steps, speeds, k)
+            jobs += j
+            meta += m
+    for engine in args.engine:
+        rec = adapters.record(engine)
+        if rec.soft_contact is None:
+            continue
+        for w in omegas:
+            j, m = map_jobs(engine, "reference", steps, (SOFT_SPEED_MPS,), k,
+                            {**rec.soft_contact, rec.stiffness_setting: w}, e=SOFT_E,
+                            label=soft_label(engine))
+            jobs += j
+            meta += m
+    with _cli.Progress(len(jobs), "impacts") as bar, _cli.runner(args, bar) as runner:
+        fired = _grid.table(runner.fire(jobs), "")
+    table = pd.DataFrame(meta)
+    table["status"] = fired.status.to_numpy()
+    table["peak_penetration_m"] = fired.peak_penetration_m.to_numpy()
+    table["ke_ratio"] = (fired.ke_after_j / fired.ke_before_j).to_numpy()
+    table["v1_rel_err"] = fired.v1_rel_err.to_numpy()
     table["theory_fraction_caught"] = [theory_fraction_caught(v, dt, k) for v, dt in
                                        zip(table.v0_mps, table.dt_s)]
-    cells = summarize(table[table["map"] != "mujoco soft"], "dt_s", "v0_mps")
+    is_soft = table.soft_omega_radps.notna()
+    cells = summarize(table[~is_soft], "dt_s", "v0_mps")
     theory = table.groupby(["map", "dt_s", "v0_mps"], sort=False).theory_fraction_caught.first()
     cells["theory_fraction_caught"] = [theory[(m, d, v)] for m, d, v in
                                        zip(cells["map"], cells.dt_s, cells.v0_mps)]
-    soft = summarize(table[table["map"] == "mujoco soft"], "dt_s", "soft_omega_radps")
+    soft = summarize(table[is_soft], "dt_s", "soft_omega_radps")
     elapsed = time.perf_counter() - t0
     import matplotlib.pyplot as plt
 
     figs = {"stability.png": chart_maps(cells, steps, speeds),
-            "stability_energy.png": chart_energy(table),
-            "stability_mujoco_soft.png": chart_soft(soft, steps, omegas)}
-    out = type(ROOT)(args.out)
+            "stability_energy.png": chart_energy(table)}
+    for name, cells_soft in soft.groupby("map", sort=False):
+        figs[f"stability_{name.replace(' ', '_')}.png"] = chart_soft(cells_soft, steps, omegas,
+                                                                      name)
+    out = args.out
     files = {out / name: figure_png(fig) for name, fig in figs.items()}
     for fig in figs.values():
         plt.close(fig)

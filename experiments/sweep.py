@@ -1,6 +1,6 @@
 """Fire the ball along a bat in one engine (or all) and compare every impact with theory.
 
-    python -m experiments.sweep --engine mujoco
+    python -m experiments.sweep --engine NAME[,NAME...]|all
     python -m experiments.sweep --engine all --points 41 --u0 0 --omega0 0
     python -m experiments.sweep --compare results/old.csv results/new.csv
 
@@ -24,7 +24,7 @@ import adapters
 from analytic import Bat, batted_ball_speed, presets
 from analytic.dynamics import HingedSwing
 
-from . import _grid
+from . import _cli, _grid, _runner
 from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
 
 FLOAT_FORMAT = "%.12g"
@@ -58,7 +58,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=f"engines: {', '.join(adapters.names())}; bats: {', '.join(presets.BATS)}. "
                "Exit code 2 on bad input (results left untouched).",
     )
-    p.add_argument("--engine", choices=[*adapters.names(), "all"], default="mujoco")
+    _cli.add_engine(p)
     p.add_argument("--profile", choices=adapters.PROFILES, default="reference",
                    help="engine settings: tuned for fidelity, or the engine's own defaults")
     p.add_argument("--dt", type=float, default=None, metavar="S",
@@ -86,8 +86,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--hands", type=float, default=0.1, metavar="M",
                    help="hands (pivot) from the knob, for --swing and the COP")
     p.add_argument("--swing-angle", type=float, default=math.pi / 2, metavar="RAD")
-    p.add_argument("--workers", type=int, default=1, help="processes to spread impacts over")
-    p.add_argument("--out", type=Path, default=ROOT / "results", help="output directory")
+    _cli.add_runner(p)
+    _cli.add_out(p, ROOT / "results")
     p.add_argument("--name", default=None, help="file stem (default from the options)")
     p.add_argument("--no-locate", action="store_true",
                    help="skip locating the sweet spot and COP from engine data")
@@ -104,8 +104,6 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
                          fill_density_kgm3=args.fill_density, wood_density_kgm3=args.wood_density)
     if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
         raise ValueError(f"--dt={args.dt!r} is not allowed; allowed: a time step > 0 s")
-    if not 1 <= args.workers <= 64:
-        raise ValueError(f"--workers={args.workers} is out of range; allowed: 1..64")
     s = _grid.grid(bat, args.points, *(args.s_range or (None, None)))
     swing, u0 = None, args.u0
     if args.swing:
@@ -118,42 +116,37 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
                           e=args.e, theta_rad=args.theta, hands_from_knob_m=args.hands,
                           swing=swing)
     firing.cases()  # every impact validated before anything runs
-    engines = adapters.names() if args.engine == "all" else (args.engine,)
+    engines = args.engine
     for name in engines:
         adapters.settings_for(name, args.profile, **({} if args.dt is None else {"dt_s": args.dt}))
-    name = args.name or default_name(args.engine, args.profile, args.dt, presets.BATS[args.bat],
+    name = args.name or default_name(_cli.engine_label(engines), args.profile, args.dt, presets.BATS[args.bat],
                                      args.corked, args.u0 == 0 and args.omega0 == 0, args.swing)
     return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name)
 
 
-def run(sweep: Sweep, *, workers: int = 1, locate: bool = True) -> tuple[pd.DataFrame, dict]:
+def run(sweep: Sweep, runner: _runner.Runner | None = None, *,
+        locate: bool = True) -> tuple[pd.DataFrame, dict]:
     """Fire every engine over the grid; return the table and a per-engine summary."""
-    cases = sweep.firing.cases()
-    total = len(cases) * len(sweep.engines)
-    rows, summary = [], {}
+    runner = runner or _runner.Runner()
+    settings = {n: _grid.with_dt(adapters.settings_for(n, sweep.profile), sweep.dt_s)
+                for n in sweep.engines}
+    jobs = [j for n in sweep.engines for j in sweep.firing.jobs(n, settings[n])]
+    t0 = time.perf_counter()
+    table = _grid.table(runner.fire(jobs), sweep.profile)
+    elapsed = time.perf_counter() - t0
     marks = _grid.analytic_marks(sweep.firing)
-    with _grid.tqdm(total=total, desc="impacts", unit="impact", disable=None if total > 200
-                    else True, leave=False) as bar:
-        for name in sweep.engines:
-            settings = _grid.with_dt(adapters.settings_for(name, sweep.profile), sweep.dt_s)
-            t0 = time.perf_counter()
-            engine_rows = _grid.fire(name, settings, sweep.profile, cases, workers=workers,
-                                     progress=bar, swing=sweep.firing.swing)
-            elapsed = time.perf_counter() - t0
-            rows.extend(engine_rows)
-            summary[name] = _summarize(name, settings, sweep.firing, engine_rows, marks, locate)
-            summary[name]["elapsed_s"] = elapsed
-            summary[name]["settings"] = settings.as_dict()
-            summary[name]["engine_version"] = adapters.engine_class(name).version()
-    columns = list(_grid.COLUMNS) + (list(_grid.SWING_COLUMNS) if sweep.firing.swing else [])
-    table = pd.DataFrame(rows, columns=columns)
-    return table, {"analytic": marks, "engines": summary}
+    summary = {n: _summarize(table[table.engine == n]) for n in sweep.engines}
+    if locate:
+        _locate(runner, sweep.firing, settings, table, marks, summary)
+    for n in sweep.engines:
+        summary[n].update(settings=settings[n].as_dict(),
+                          engine_version=adapters.record(n).version())
+    return table, {"analytic": marks, "engines": summary, "fire_s": elapsed}
 
 
-def _summarize(name, settings, firing, rows, marks, locate) -> dict:
-    df = pd.DataFrame(rows)
+def _summarize(df: pd.DataFrame) -> dict:
     ok = df[df.status == "ok"]
-    out = {
+    return {
         "impacts": len(df),
         "status_counts": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
         "v1_abs_err_max_mps": float(ok.v1_abs_err_mps.max()) if len(ok) else math.nan,
@@ -164,17 +157,24 @@ def _summarize(name, settings, firing, rows, marks, locate) -> dict:
         "sweet_spot_engine_m": math.nan,
         "cop_engine_m": math.nan,
     }
-    if locate and len(ok) == len(df):
-        engine = adapters.engine_class(name)(settings)
-        v1 = df.v1_engine_mps.to_numpy()
-        bracket = _grid.bracket_around(df.s_m, v1, "max")
+
+
+def _locate(runner, firing, settings, table, marks, summary) -> None:
+    """The sweet spot and COP on each all-ok engine's own data, the searches side by side."""
+    calls, keys = [], []
+    for name, df in table.groupby("engine", sort=False):
+        if not (df.status == "ok").all():
+            continue
+        bracket = _grid.bracket_around(df.s_m, df.v1_engine_mps, "max")
         if bracket is not None and bracket[0] < marks["sweet_spot_m"] < bracket[1]:
-            out["sweet_spot_engine_m"] = _grid.locate_sweet_spot(engine, firing, bracket)
+            calls.append((_grid.locate_sweet_spot, (name, settings[name], firing, bracket)))
+            keys.append((name, "sweet_spot_engine_m"))
         bracket = _grid.bracket_around(df.s_m, df.hand_dv_engine_mps, "root")
         if bracket is not None:
-            out["cop_engine_m"] = _grid.locate_cop(engine, firing, bracket)
-        engine.close()
-    return out
+            calls.append((_grid.locate_cop, (name, settings[name], firing, bracket)))
+            keys.append((name, "cop_engine_m"))
+    for (name, key), value in zip(keys, runner.call_all(calls)):
+        summary[name][key] = value
 
 
 def plot(table: pd.DataFrame, sweep: Sweep, meta: dict):
@@ -191,23 +191,23 @@ def plot(table: pd.DataFrame, sweep: Sweep, meta: dict):
     top.plot(s, batted_ball_speed(f.bat, presets.BASEBALL, s, v0_mps=f.v0_mps, u0_mps=f.u0_mps,
                                   omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
              color="black", lw=1.5, label="analytic")
-    markers = dict(zip(adapters.names(), ("o", "s", "^")))
-    colors = dict(zip(adapters.names(), ("tab:blue", "tab:orange", "tab:green")))
+    style = {n: adapters.record(n) for n in table.engine.unique()}
     floor = 1e-16
     any_ok = False
     for i, (name, df) in enumerate(table.groupby("engine", sort=False)):
         ok = df.status == "ok"
         any_ok |= bool(ok.any())
-        top.plot(df.s_m[ok], df.v1_engine_mps[ok], markers[name], ms=5, mfc="none",
-                 color=colors[name], label=f"{name} ({ok.sum()}/{len(df)} ok)")
+        mark, color = style[name].marker, style[name].color
+        top.plot(df.s_m[ok], df.v1_engine_mps[ok], mark, ms=5, mfc="none",
+                 color=color, label=f"{name} ({ok.sum()}/{len(df)} ok)")
         if (~ok).any():
             # Failed impacts carry no trustworthy v1: a rug along the bottom, one row per engine.
             statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
             top.plot(df.s_m[~ok], np.full((~ok).sum(), 0.03 + 0.05 * i), "x", ms=6,
-                     color=colors[name], transform=top.get_xaxis_transform(),
+                     color=color, transform=top.get_xaxis_transform(),
                      label=f"{name} failed: {statuses}")
-        bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), markers[name],
-                        ms=5, mfc="none", color=colors[name], label=name)
+        bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), mark,
+                        ms=5, mfc="none", color=color, label=name)
     marks = meta["analytic"]
     for ax in (top, bottom):
         ax.axvline(marks["sweet_spot_m"], color="tab:red", ls="--", lw=1)
@@ -287,7 +287,9 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(str(err))
     t0 = time.perf_counter()
     try:
-        table, meta = run(sweep, workers=args.workers, locate=not args.no_locate)
+        with _cli.Progress(len(sweep.firing.s_m) * len(sweep.engines), "impacts") as bar, \
+                _cli.runner(args, bar) as runner:
+            table, meta = run(sweep, runner, locate=not args.no_locate)
         paths = write(table, meta, sweep, args.out)
     except KeyboardInterrupt:
         print("interrupted: previous results left intact", file=sys.stderr)

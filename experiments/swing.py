@@ -28,6 +28,7 @@ from analytic import (SwingModel, batted_ball_speed, hittable_sweet_spot, preset
                       swing_for)
 from analytic.dynamics import Drive, motion, state_array
 
+from . import _cli, _runner
 from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
 
 T_END_S = 0.1
@@ -43,8 +44,6 @@ SCENES = {
                                        force_angle_rad=math.pi / 2),
     "d: torque, hinged at the hands": Drive(torque_nm=72.8, pivot_from_knob_m=0.1),
 }
-#: engine -> integrators to try (pymunk and PyBullet have one: semi-implicit Euler)
-INTEGRATORS = {"pymunk": (None,), "pybullet": (None,), "mujoco": ("Euler", "implicitfast", "RK4")}
 FLOOR = 1e-13  # drawing floor for errors that are zero or float noise
 EPS = float(np.finfo(float).eps)
 
@@ -62,31 +61,34 @@ def wrap(a: float) -> float:
     return (a + math.pi) % (2 * math.pi) - math.pi
 
 
-def scene_errors(steps) -> pd.DataFrame:
+def method_rows(engine: str, integrator: adapters.Integrator, dt: float) -> list[dict]:
+    """Every scene in one engine with one integrator and time step, against closed form."""
     bat = presets.R161
+    eng = _runner.engine(engine, adapters.settings_for(engine, dt_s=dt,
+                                                       **dict(integrator.overrides)))
+    label = engine if len(adapters.record(engine).integrators) == 1 \
+        else f"{engine} {integrator.label}"
     rows = []
-    for engine, integrators in INTEGRATORS.items():
-        for integrator in integrators:
-            for dt in steps:
-                kw = {"dt_s": dt} | ({"integrator": integrator} if integrator else {})
-                eng = adapters.load(engine, **kw)
-                label = engine if integrator is None else f"{engine} {integrator}"
-                for name, drive in SCENES.items():
-                    t0 = time.perf_counter()
-                    got = eng.run_motion(bat, drive, T_END_S)
-                    wall = time.perf_counter() - t0
-                    ref = motion(bat, drive, got.t_s)  # round(T/dt) steps: compare at n dt
-                    err = state_array(got) - state_array(ref)
-                    rows.append({"scene": name, "engine": engine, "method": label, "dt_s": dt,
-                                 "angle_err_rad": abs(wrap(err[2])),
-                                 "omega_err_radps": abs(err[5]),
-                                 "com_speed_err_mps": float(np.hypot(err[3], err[4])),
-                                 "angle_ref_rad": ref.angle_rad,
-                                 "omega_ref_radps": ref.omega_radps,
-                                 "com_speed_ref_mps": math.hypot(ref.vx_mps, ref.vy_mps),
-                                 "steps": round(T_END_S / dt), "wall_s": wall})
-                eng.close()
-    return pd.DataFrame(rows)
+    for name, drive in SCENES.items():
+        t0 = time.perf_counter()
+        got = eng.run_motion(bat, drive, T_END_S)
+        wall = time.perf_counter() - t0
+        ref = motion(bat, drive, got.t_s)  # round(T/dt) steps: compare at n dt
+        err = state_array(got) - state_array(ref)
+        rows.append({"scene": name, "engine": engine, "method": label, "dt_s": dt,
+                     "angle_err_rad": abs(wrap(err[2])), "omega_err_radps": abs(err[5]),
+                     "com_speed_err_mps": float(np.hypot(err[3], err[4])),
+                     "angle_ref_rad": ref.angle_rad, "omega_ref_radps": ref.omega_radps,
+                     "com_speed_ref_mps": math.hypot(ref.vx_mps, ref.vy_mps),
+                     "steps": round(T_END_S / dt), "wall_s": wall})
+    return rows
+
+
+def scene_errors(runner: _runner.Runner, engines: tuple[str, ...], steps) -> pd.DataFrame:
+    """Every engine x integrator (from its record) x time step, run side by side."""
+    calls = [(method_rows, (engine, integrator, dt)) for engine in engines
+             for integrator in adapters.record(engine).integrators for dt in steps]
+    return pd.DataFrame([r for rows in runner.call_all(calls) for r in rows])
 
 
 def orders(table: pd.DataFrame) -> pd.DataFrame:
@@ -188,17 +190,20 @@ def chart_models(table: pd.DataFrame):
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m experiments.swing", description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true")
-    p.add_argument("--out", default=str(ROOT / "results"))
+    p.add_argument("--quick", action="store_true", help="two time steps only (smoke test)")
+    _cli.add_engine(p)
+    _cli.add_runner(p)
+    _cli.add_out(p, ROOT / "results")
     args = p.parse_args(argv)
     t0 = time.perf_counter()
-    table = scene_errors(QUICK_STEPS_S if args.quick else STEPS_S)
+    with _cli.runner(args) as runner:
+        table = scene_errors(runner, args.engine, QUICK_STEPS_S if args.quick else STEPS_S)
     fits = orders(table)
     models = swing_models()
     import matplotlib.pyplot as plt
 
     figs = {"swing.png": chart_scenes(table), "swing_models.png": chart_models(models)}
-    out = type(ROOT)(args.out)
+    out = args.out
     files = {out / n: figure_png(f) for n, f in figs.items()}
     for f in figs.values():
         plt.close(f)

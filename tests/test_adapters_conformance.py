@@ -2,9 +2,10 @@
 
 Checks against closed form live here; engine-vs-engine agreement is its own test at the end.
 
-Tolerances. With the reference placement the contact is first seen ``overlap_m`` = 1e-9 m deep,
-i.e. delta/v_c after the geometric contact instant. A still bat then has nothing to get wrong but
-rounding: TOL_ROUND * (speed scale). A swinging bat has turned and moved meanwhile, which slides
+Tolerances. With the reference placement the contact is first seen ``overlap_m`` deep (the
+profile's setting, delta), i.e. delta/v_c after the geometric contact instant. A still bat then
+has nothing to get wrong but rounding: ROUND_OPS * eps * (speed scale), eps the unit roundoff of
+the engine's float type (its record's precision). A swinging bat has turned and moved meanwhile, which slides
 the contact foot along the axis by about (r_bat + r_ball) * omega0 * delta / v_c, so every output
 y may differ by |dy/ds| times that shift (GEOM_SAFETY covers the neglected factors of order 1).
 In an oblique impact the tangential relative speed |v0 sin(theta) - u0 sin(phi)| slides it too.
@@ -23,10 +24,8 @@ from scipy import optimize
 import adapters
 from analytic import ImpactCase, center_of_percussion, predict, presets
 
-from .conftest import EPS
-
 ENGINES = adapters.names()
-TOL_ROUND = 1e4 * EPS   # ~2e-12: a few thousand float64 operations inside an engine step
+ROUND_OPS = 1e4  # a few thousand float operations inside an engine step, each within eps
 GEOM_SAFETY = 10.0
 R161, BALL = presets.R161, presets.BASEBALL
 S_GRID = np.linspace(-0.2, 0.25, 10)
@@ -40,8 +39,14 @@ def engine(request):
     eng.close()
 
 
-def _tolerances(case: ImpactCase, delta_m: float) -> dict[str, float]:
+def _round(engine) -> float:
+    """Relative rounding allowance of an engine: ROUND_OPS times its unit roundoff."""
+    return ROUND_OPS * engine.record.eps
+
+
+def _tolerances(case: ImpactCase, engine) -> dict[str, float]:
     """Allowed |engine - analytic| for v1, u1, omega1 (see the module docstring)."""
+    delta_m = engine.settings.overlap_m
     h = 1e-6
     lo, hi = max(case.s_m - h, case.bat.s_min_m), min(case.s_m + h, case.bat.s_max_m)
     a, b = predict(replace(case, s_m=lo)), predict(replace(case, s_m=hi))
@@ -53,25 +58,27 @@ def _tolerances(case: ImpactCase, delta_m: float) -> dict[str, float]:
     for name in ("v1_mps", "u1_mps", "omega1_radps"):
         slope = abs(getattr(b, name) - getattr(a, name)) / (hi - lo)
         scale = speed / case.bat.length_m if name == "omega1_radps" else speed
-        out[name] = TOL_ROUND * scale + GEOM_SAFETY * slope * shift
+        out[name] = _round(engine) * scale + GEOM_SAFETY * slope * shift
     return out
 
 
-def _assert_matches_theory(out, case, delta_m=1e-9):
+def _assert_matches_theory(engine, case):
+    out = engine.simulate(case)
     assert out.status is adapters.Status.OK, (out.status, case.s_m)
     ref = predict(case)
-    tol = _tolerances(case, delta_m)
+    tol = _tolerances(case, engine)
     for name, allowed in tol.items():
         got, want = getattr(out, name), getattr(ref, name)
         assert abs(got - want) <= allowed, f"{name}: {got!r} vs {want!r} at s={case.s_m}"
+    return out
 
 
 def test_mass_properties_read_back(engine):
     # The engine must hold exactly what the scene set (checked again inside simulate).
     for bat in (R161, R161.corked(), presets.EASTON31):
-        engine._build(bat, BALL)
+        engine.build_scene(bat, BALL)
         engine.check_mass_properties(bat, BALL)
-    engine._scene_key = None
+    engine.scene = None
 
 
 @pytest.mark.parametrize("field,changed", [
@@ -80,10 +87,10 @@ def test_mass_properties_read_back(engine):
 def test_mass_mismatch_is_an_error(engine, field, changed):
     # A wrong read-back must stop the run: the check is the guard against adapter bugs. The COM
     # is read from where the engine put the capsule relative to the body's mass centre.
-    engine._build(R161, BALL)
+    engine.build_scene(R161, BALL)
     with pytest.raises(adapters.SceneMismatch, match=field):
         engine.check_mass_properties(replace(R161, **changed), BALL)
-    engine._scene_key = None
+    engine.scene = None
 
 
 @pytest.mark.parametrize("e", [0.5, 1.0])
@@ -91,21 +98,21 @@ def test_still_bat_across_the_barrel(engine, e):
     # P = (1+e) v0 / (1/m + 1/M + s^2/J): only rounding separates engine and formula.
     for s in S_GRID:
         case = ImpactCase(bat=R161, ball=BALL, s_m=float(s), v0_mps=40.0, e=e)
-        _assert_matches_theory(engine.simulate(case), case)
+        _assert_matches_theory(engine, case)
 
 
 def test_energy_conserved_at_e1(engine):
     # e = 1: kinetic energy after = before, to rounding (impulse model: dKE = 0).
     case = ImpactCase(bat=R161, ball=BALL, s_m=0.15, e=1.0, **SWING)
     out = engine.simulate(case)
-    assert out.ke_after_j == pytest.approx(out.ke_before_j, rel=TOL_ROUND * 10)
+    assert out.ke_after_j == pytest.approx(out.ke_before_j, rel=_round(engine) * 10)
 
 
 def test_swinging_bat_across_the_barrel(engine):
     # The paper's swing: v1 = q v0 + (1+q)(u0 + omega0 s), with the placement error bound.
     for s in S_GRID:
         case = ImpactCase(bat=R161, ball=BALL, s_m=float(s), e=0.5, **SWING)
-        _assert_matches_theory(engine.simulate(case), case)
+        _assert_matches_theory(engine, case)
 
 
 @pytest.mark.parametrize("theta,phi", [(0.3, 0.0), (-0.4, 0.25), (0.6, -0.5)])
@@ -114,14 +121,13 @@ def test_oblique_impacts(engine, theta, phi):
     for s in (-0.1, 0.05, 0.2):
         case = ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, theta_rad=theta, phi_rad=phi,
                           **SWING)
-        out = engine.simulate(case)
-        _assert_matches_theory(out, case)
+        out = _assert_matches_theory(engine, case)
         # Tangential parts: the normal is tilted by the bat's turn omega0 delta/v_c when the
         # contact is seen, so the impulse P leaks P/m (P/M) times that tilt into them.
         ref = predict(case)
-        tilt = abs(case.omega0_radps) * 1e-9 / case.closing_speed_mps
+        tilt = abs(case.omega0_radps) * engine.settings.overlap_m / case.closing_speed_mps
         for name, mass in (("v1_t_mps", BALL.mass_kg), ("u1_t_mps", R161.mass_kg)):
-            allowed = TOL_ROUND * case.v0_mps + GEOM_SAFETY * ref.impulse_ns / mass * tilt
+            allowed = _round(engine) * case.v0_mps + GEOM_SAFETY * ref.impulse_ns / mass * tilt
             assert abs(getattr(out, name) - getattr(ref, name)) <= allowed, name
 
 
@@ -130,7 +136,7 @@ def test_corked_bat(engine):
     bat = R161.corked()
     for s in np.linspace(bat.s_min_m + 0.3, bat.s_max_m, 5):
         case = ImpactCase(bat=bat, ball=BALL, s_m=float(s), e=0.5, **SWING)
-        _assert_matches_theory(engine.simulate(case), case)
+        _assert_matches_theory(engine, case)
 
 
 def test_cop_located_from_engine_data(engine):
@@ -151,8 +157,8 @@ def test_sixtieth_second_step_fails_cleanly(engine):
     case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, e=0.5, **SWING)
     coarse = adapters.load(engine.name, dt_s=1 / 60, contact_phase=0.5).simulate(case)
     assert coarse.status is adapters.Status.TUNNELLED
-    aligned = adapters.load(engine.name, dt_s=1 / 60).simulate(case)
-    if aligned.ok:
+    aligned = adapters.load(engine.name, dt_s=1 / 60)
+    if aligned.simulate(case).ok:
         _assert_matches_theory(aligned, case)
 
 
@@ -161,8 +167,31 @@ def test_engines_agree_with_each_other():
     engines = [adapters.load(name) for name in ENGINES]
     for s in (-0.15, 0.0, 0.08, 0.22):
         case = ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, **SWING)
-        tol = _tolerances(case, 1e-9)["v1_mps"]
+        tol = max(_tolerances(case, eng)["v1_mps"] for eng in engines)
         v1 = [eng.simulate(case).v1_mps for eng in engines]
         assert max(v1) - min(v1) <= 2 * tol, dict(zip(ENGINES, v1))
     for eng in engines:
         eng.close()
+
+
+def test_a_used_engine_gives_the_bits_of_a_fresh_one(engine):
+    # An adapter holds no state from one impact to the next (warm starts, cached impulses,
+    # restitution): after other impacts, on other bats, the same case gives the same bits.
+    from adapters import swing_case
+    from analytic.dynamics import HingedSwing
+
+    cases = [ImpactCase(bat=bat, ball=BALL, s_m=s, e=e, **SWING) for bat, s, e in (
+        (R161, 0.1, 0.5), (R161, -0.2, 0.5), (R161, 0.2, 0.5), (R161, 0.0, 1.0),
+        (R161.corked(), 0.1, 0.3))]
+    swing = HingedSwing.for_omega(R161, 32.0)
+    swung = swing_case(R161, BALL, s_m=0.05, v0_mps=46.9, e=0.5, swing=swing,
+                       settings=engine.settings)
+    used = [engine.simulate(c) for c in cases] + [engine.simulate(swung[0], swing=swung[1])]
+    used += [engine.simulate(c) for c in cases] + [engine.simulate(swung[0], swing=swung[1])]
+    for i, case in enumerate([*cases, swung[0]]):
+        fresh = adapters.load(engine.name)
+        got = fresh.simulate(case) if i < len(cases) else fresh.simulate(case, swing=swung[1])
+        fresh.close()
+        for out in (used[i], used[i + len(cases) + 1]):
+            assert (out.v1_mps, out.u1_mps, out.omega1_radps, out.steps) == \
+                (got.v1_mps, got.u1_mps, got.omega1_radps, got.steps), (engine.name, i)

@@ -13,7 +13,7 @@ Engine side, each tolerance from the integrator's order and dt (T = 0.1 s, dt = 
 - the hinge: a pivot re-projected once per step leaves a relative error of order (omega dt)^2 in
   omega. Its constant depends on the engine's joint solver and is not derived: HINGE_K = 4
   is an empirical bound over the constants measured (0.05 for MuJoCo Euler to 3.7 for RK4).
-Rounding: ROUND = 8 EPS n max(|value|, 1) over n steps.
+Rounding: ROUND = 8 eps n max(|value|, 1) over n steps, eps the engine's unit roundoff.
 """
 
 from __future__ import annotations
@@ -28,19 +28,17 @@ import adapters
 from analytic import predict, presets
 from analytic.dynamics import Drive, HingedSwing, motion, motion_integrated, state_array
 
-from .conftest import EPS
-
 BAT = presets.R161
 T, DT = 0.1, 1e-4
 N = round(T / DT)
 HINGE_K = 4.0
-METHODS = [("pymunk", None), ("pybullet", None), ("mujoco", "Euler"), ("mujoco", "implicitfast"),
-           ("mujoco", "RK4")]
-IDS = [m if i is None else f"{m}-{i}" for m, i in METHODS]
+METHODS = [(n, i) for n in adapters.names() for i in adapters.record(n).integrators]
+IDS = [f"{n}-{i.label}" for n, i in METHODS]
 
 
-def _round(value: float) -> float:
-    return 8 * EPS * N * max(abs(value), 1.0)
+def _round(value: float, name: str) -> float:
+    """ROUND for one engine: its unit roundoff (record precision) over N steps."""
+    return 8 * adapters.record(name).eps * N * max(abs(value), 1.0)
 
 
 def _wrap(a: float) -> float:
@@ -82,8 +80,7 @@ def engines():
     made = []
 
     def make(name, integrator):
-        made.append(adapters.load(name, dt_s=DT,
-                                  **({"integrator": integrator} if integrator else {})))
+        made.append(adapters.load(name, dt_s=DT, **dict(integrator.overrides)))
         return made[-1]
 
     yield make
@@ -102,18 +99,18 @@ def test_constant_alpha_scenes(name, integrator, drive, engines):
     ref = motion(BAT, drive, got.t_s)
     alpha = drive.torque_about_com_nm(BAT) / BAT.inertia_cm_kgm2
     # omega exact; theta off by alpha T dt/2 (Euler family) or exact (RK4)
-    assert got.omega_radps == pytest.approx(ref.omega_radps, abs=_round(ref.omega_radps))
+    assert got.omega_radps == pytest.approx(ref.omega_radps, abs=_round(ref.omega_radps, name))
     theta_err = abs(_wrap(got.angle_rad - ref.angle_rad))
-    if integrator == "RK4":
-        assert theta_err <= _round(ref.angle_rad)
+    if integrator.order >= 2:
+        assert theta_err <= _round(ref.angle_rad, name)
     else:
         assert theta_err == pytest.approx(0.5 * abs(alpha) * got.t_s * DT, rel=1e-6)
     if drive.force_n:
         dv = math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps)
         a, w_max = drive.force_n / BAT.mass_kg, abs(alpha) * T
-        bound = (T / 2) * a * w_max * DT if integrator != "RK4" else \
+        bound = (T / 2) * a * w_max * DT if integrator.order == 1 else \
             10 * T * a * w_max**4 * DT**4 / 2880
-        assert dv <= bound + _round(a * T)
+        assert dv <= bound + _round(a * T, name)
 
 
 @pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
@@ -122,8 +119,9 @@ def test_translation_without_turning(name, integrator, engines):
     drive = Drive(force_n=100.0, force_angle_rad=1.0)
     got = engines(name, integrator).run_motion(BAT, drive, T)
     ref = motion(BAT, drive, got.t_s)
-    assert math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps) <= _round(ref.vx_mps)
-    assert abs(got.omega_radps) <= _round(0.0)
+    assert math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps) \
+        <= _round(ref.vx_mps, name)
+    assert abs(got.omega_radps) <= _round(0.0, name)
 
 
 @pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
@@ -135,10 +133,10 @@ def test_hinged_torque(name, integrator, engines):
     ref = motion(BAT, drive, got.t_s)
     w, alpha = ref.omega_radps, ref.omega_radps / got.t_s
     hinge = HINGE_K * (w * DT) ** 2
-    assert abs(got.omega_radps - w) <= hinge * w + _round(w)
-    first = 0.0 if integrator == "RK4" else 0.5 * alpha * got.t_s * DT
+    assert abs(got.omega_radps - w) <= hinge * w + _round(w, name)
+    first = 0.0 if integrator.order >= 2 else 0.5 * alpha * got.t_s * DT
     assert abs(_wrap(got.angle_rad - ref.angle_rad)) <= first * 1.01 + hinge * ref.angle_rad \
-        + _round(ref.angle_rad)
+        + _round(ref.angle_rad, name)
 
 
 @pytest.mark.parametrize("name", adapters.names())
@@ -154,7 +152,7 @@ def test_swing_into_impact(name):
     # Bound: 2 x their sum, the 2 for the neglected cross terms.
     from dataclasses import replace
 
-    from adapters.base import swing_case
+    from adapters import swing_case
 
     swing = HingedSwing.for_omega(BAT, 32.0)
     eng = adapters.load(name, dt_s=DT)
@@ -175,7 +173,7 @@ def test_swing_into_impact(name):
         # the engine's omega at release: the hinge's relative (omega dt)^2 error
         w = plan.omega_release_radps
         d_omega = abs(out.release_omega_radps - w)
-        assert d_omega <= HINGE_K * (w * DT) ** 2 * w + _round(w)
+        assert d_omega <= HINGE_K * (w * DT) ** 2 * w + _round(w, name)
         oblique = (case.v0_mps + abs(ref.v1_mps)) * d_theta**2
         spin = (1 + ref.q) * (swing.arm_m(BAT) + abs(s)) * d_omega
         assert abs(out.v1_mps - ref.v1_mps) <= 2 * (spread + oblique + spin)

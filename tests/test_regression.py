@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 import adapters
-from experiments import _grid, sweep
+from experiments import _grid, _runner, sweep
 from experiments._io import ROOT
 
 THRESHOLDS = json.loads((ROOT / "results" / "thresholds.json").read_text())
@@ -26,10 +26,9 @@ def test_agreement_does_not_regress(baseline, engine):
     spec = THRESHOLDS["baselines"][baseline]
     args = sweep.build_parser().parse_args(spec["options"])
     plan = sweep.sweep_from_args(args)
-    cases = plan.firing.cases()[::5]
     settings = _grid.with_dt(adapters.settings_for(engine, plan.profile), plan.dt_s)
-    rows = pd.DataFrame(_grid.fire(engine, settings, plan.profile, cases,
-                                   swing=plan.firing.swing))
+    with _runner.Runner() as runner:
+        rows = _grid.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
     assert (rows.status == "ok").all(), rows.status.value_counts().to_dict()
     allowed = spec["engines"][engine]["max_abs_err_mps"]
     worst = rows.v1_abs_err_mps.max()

@@ -1,0 +1,215 @@
+"""One runner for every experiment: impacts in, outcomes out, in order, wherever they run.
+
+    with Runner(workers=2) as runner:                    # or scheduler="local" / "tcp://host:8786"
+        fired = runner.fire([Job(engine="mujoco", settings=s, case=c) for c in cases])
+
+Serial, local processes (``workers`` > 1) and a Dask cluster (``scheduler``) give the same rows:
+an adapter holds no state from one impact to the next, so where an impact runs cannot change
+its bits. The first impact always runs here; it times the work, and the rest goes to the workers
+only when it is worth their start-up (MIN_PARALLEL_S), in chunks of about CHUNK_S each so the
+workers stay balanced.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import time
+from collections import OrderedDict
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable, NamedTuple, Sequence
+
+import adapters
+from adapters import swing_case
+from analytic import ImpactCase
+from analytic.dynamics import HingedSwing
+
+#: Below this much estimated work (s) the rest of a run stays in this process: starting workers
+#: and shipping the work costs more than it saves.
+MIN_PARALLEL_S = 0.25
+#: Target wall time of one chunk of impacts sent to a worker (s): long against the ~1 ms a Dask
+#: task costs, short enough that two workers finish together.
+CHUNK_S = 0.02
+#: Engines kept alive per process (one per engine and settings), oldest closed first.
+ENGINE_CACHE = 8
+
+
+@dataclass(frozen=True, kw_only=True)
+class Job:
+    """One impact to fire: which engine, with which settings, and, with ``swing``, the bat swung
+    about the hands in the engine first (the case is then re-planned for the engine's step)."""
+
+    engine: str
+    settings: adapters.Settings
+    case: ImpactCase
+    swing: HingedSwing | None = None
+
+
+class Fired(NamedTuple):
+    """A fired job: the case as simulated (re-planned under a swing), the engine's outcome, and
+    with a swing the analytic omega and angle at release (rad/s, rad; NaN without)."""
+
+    case: ImpactCase
+    outcome: adapters.SimOutcome
+    release_omega_radps: float
+    release_angle_rad: float
+
+
+_ENGINES: OrderedDict[tuple[str, adapters.Settings], adapters.Engine] = OrderedDict()
+
+
+def engine(name: str, settings: adapters.Settings) -> adapters.Engine:
+    """This process's engine for ``name`` and ``settings`` (made once, reused: adapters are
+    stateless between impacts)."""
+    key = (name, settings)
+    if key in _ENGINES:
+        _ENGINES.move_to_end(key)
+        return _ENGINES[key]
+    while len(_ENGINES) >= ENGINE_CACHE:
+        _ENGINES.popitem(last=False)[1].close()
+    made = _ENGINES[key] = adapters.create(name, settings)
+    return made
+
+
+def close_engines() -> None:
+    """Close every engine this process holds."""
+    while _ENGINES:
+        _ENGINES.popitem()[1].close()
+
+
+def fire_job(job: Job) -> Fired:
+    """Fire one job in this process."""
+    eng = engine(job.engine, job.settings)
+    if job.swing is None:
+        return Fired(job.case, eng.simulate(job.case), math.nan, math.nan)
+    c = job.case
+    case, plan = swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e, swing=job.swing,
+                            settings=eng.settings)
+    return Fired(case, eng.simulate(case, swing=plan), plan.omega_release_radps,
+                 plan.angle_release_rad)
+
+
+def fire_jobs(jobs: Sequence[Job]) -> list[Fired]:
+    """Fire a chunk of jobs in this process (the unit of work a worker receives)."""
+    return [fire_job(j) for j in jobs]
+
+
+def _forget_engines() -> None:
+    """In a forked worker: drop the copies of the parent's engines (they are the parent's)."""
+    _ENGINES.clear()
+
+
+def _call(task: tuple[Callable, tuple]) -> Any:
+    fn, args = task
+    return fn(*args)
+
+
+class Runner:
+    """Runs work serially, in ``workers`` local processes, or on a Dask cluster (``scheduler``:
+    an address such as tcp://host:8786, or "local" for a LocalCluster of ``workers`` processes).
+    Impacts go to the workers only when their estimated time exceeds ``min_parallel_s``. Use it
+    as a context manager; its pool or client lives until the block ends."""
+
+    def __init__(self, workers: int = 1, scheduler: str | None = None,
+                 progress: Callable[[int], None] | None = None,
+                 min_parallel_s: float = MIN_PARALLEL_S) -> None:
+        self.workers = workers
+        self.scheduler = scheduler
+        self.progress = progress
+        self.min_parallel_s = min_parallel_s
+        self._pool: ProcessPoolExecutor | None = None
+        self._client = None
+        self._cluster = None
+
+    @property
+    def parallel(self) -> bool:
+        return self.scheduler is not None or self.workers > 1
+
+    def __enter__(self) -> Runner:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Stop the workers (if any) and close this process's engines."""
+        if self._pool is not None:
+            self._pool.shutdown(cancel_futures=True)
+            self._pool = None
+        if self._client is not None:
+            self._client.close()
+            self._client = None
+        if self._cluster is not None:
+            self._cluster.close()
+            self._cluster = None
+        close_engines()
+
+    def _map_remote(self, fn: Callable, items: list) -> Iterable:
+        """Results of fn over items from the workers, in order, as they come."""
+        if self.scheduler is None:
+            if self._pool is None:
+                # fork: the workers inherit the imported engines and the registry (plug-ins too)
+                self._pool = ProcessPoolExecutor(self.workers,
+                                                 mp_context=multiprocessing.get_context("fork"),
+                                                 initializer=_forget_engines)
+            return self._pool.map(fn, items)
+        if self._client is None:
+            self._client = _dask_client(self.scheduler, self.workers)
+            self._cluster = getattr(self._client, "_batsim_cluster", None)
+        futures = self._client.map(fn, items, pure=False)
+        return (f.result() for f in futures)
+
+    def map(self, fn: Callable, items: Sequence) -> list:
+        """[fn(x) for x in items], on the workers when there are any (fn must be importable)."""
+        items = list(items)
+        if not self.parallel or len(items) <= 1:
+            return [fn(x) for x in items]
+        return list(self._map_remote(fn, items))
+
+    def call_all(self, calls: Sequence[tuple[Callable, tuple]]) -> list:
+        """The results of independent calls fn(*args), in order, run side by side if possible."""
+        return self.map(_call, list(calls))
+
+    def fire(self, jobs: Sequence[Job]) -> list[Fired]:
+        """Every job fired, results in the order of ``jobs``."""
+        jobs = list(jobs)
+        if not jobs:
+            return []
+        t0 = time.perf_counter()
+        out = [fire_job(jobs[0])]
+        self._tick(1)
+        per_job = time.perf_counter() - t0
+        rest = jobs[1:]
+        if not self.parallel or per_job * len(rest) < self.min_parallel_s:
+            for job in rest:
+                out.append(fire_job(job))
+                self._tick(1)
+            return out
+        size = max(1, min(round(CHUNK_S / max(per_job, 1e-9)),
+                          math.ceil(len(rest) / (4 * max(self.workers, 1)))))
+        chunks = [rest[i:i + size] for i in range(0, len(rest), size)]
+        for part in self._map_remote(fire_jobs, chunks):
+            out.extend(part)
+            self._tick(len(part))
+        return out
+
+    def _tick(self, n: int) -> None:
+        if self.progress is not None:
+            self.progress(n)
+
+
+def _dask_client(scheduler: str, workers: int):
+    """A dask.distributed Client for an address, or for a new LocalCluster ("local")."""
+    import logging
+
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler == "local":
+        logging.getLogger("distributed").setLevel(logging.ERROR)
+        cluster = LocalCluster(n_workers=max(workers, 1), threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.ERROR)
+        client = Client(cluster)
+        client._batsim_cluster = cluster
+        return client
+    return Client(scheduler)
