@@ -449,9 +449,9 @@ class Engine(abc.ABC):
             self._e = case.e
         start, release = self._place(case, swing)
         episode = self._step_until_separation(case, start)
-        ke0 = kinetic_energy_j(case, start)
-        status = self._classify(case, episode, ke0)
-        return self._outcome(case, start, episode, status, ke0, release,
+        ke0, ke1 = kinetic_energy_j(case, start), kinetic_energy_j(case, episode.end)
+        status = self._classify(case, episode, ke0, ke1)
+        return self._outcome(case, start, episode, status, (ke0, ke1), release,
                              time.perf_counter() - t_wall)
 
     def _held_bat(self) -> Bat:
@@ -514,7 +514,7 @@ class Engine(abc.ABC):
         return Episode(r, first, last, max(peak, penetration_m(bat, ball, r)), max_steps, ended)
 
     @staticmethod
-    def _classify(case: ImpactCase, ep: Episode, ke0: float) -> Status:
+    def _classify(case: ImpactCase, ep: Episode, ke0: float, ke1: float) -> Status:
         """The status of an episode: every verdict on an impact is made here."""
         if ep.ended == "non_finite":
             return Status.NON_FINITE
@@ -526,12 +526,12 @@ class Engine(abc.ABC):
             return Status.TUNNELLED
         if ep.peak_m > case.bat.radius_m + case.ball.radius_m:
             return Status.PENETRATION
-        if kinetic_energy_j(case, ep.end) > ke0 * (1.0 + ENERGY_GAIN_REL):
+        if ke1 > ke0 * (1.0 + ENERGY_GAIN_REL):
             return Status.ENERGY_GAINED
         return Status.OK
 
-    def _outcome(self, case: ImpactCase, start: Reading, ep: Episode, status: Status, ke0: float,
-                 release: tuple, wall_s: float) -> SimOutcome:
+    def _outcome(self, case: ImpactCase, start: Reading, ep: Episode, status: Status,
+                 ke: tuple[float, float], release: tuple, wall_s: float) -> SimOutcome:
         bat, ball, r = case.bat, case.ball, ep.end
         du, dw = r.bat_vy - start.bat_vy, r.bat_w - start.bat_w
         V = case.u0n_mps + case.omega0_radps * case.s_m
@@ -544,8 +544,8 @@ class Engine(abc.ABC):
             q=(v1 - V) / (case.v0n_mps + V),
             closing_speed_mps=case.closing_speed_mps,
             hand_dv_mps=du + dw * (case.hands_from_knob_m - bat.com_from_knob_m),
-            ke_before_j=ke0,
-            ke_after_j=kinetic_energy_j(case, r),
+            ke_before_j=ke[0],
+            ke_after_j=ke[1],
             v1_t_mps=r.ball_vx,
             u1_t_mps=r.bat_vx,
             engine=self.name,

@@ -78,9 +78,9 @@ def close_engines() -> None:
         _ENGINES.popitem()[1].close()
 
 
-def fire_job(job: Job) -> Fired:
-    """Fire one job in this process."""
-    eng = engine(job.engine, job.settings)
+def fire_job(job: Job, eng: adapters.Engine | None = None) -> Fired:
+    """Fire one job in this process (on ``eng`` if given: this job's engine)."""
+    eng = eng or engine(job.engine, job.settings)
     if job.swing is None:
         return Fired(job.case, eng.simulate(job.case), math.nan, math.nan)
     c = job.case
@@ -90,14 +90,28 @@ def fire_job(job: Job) -> Fired:
                  plan.angle_release_rad)
 
 
-def fire_jobs(jobs: Sequence[Job]) -> list[Fired]:
-    """Fire a chunk of jobs in this process (the unit of work a worker receives)."""
-    return [fire_job(j) for j in jobs]
+def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> list[Fired]:
+    """Fire a chunk of jobs in this process (the unit of work a worker receives), looking the
+    engine up once per run of jobs that share it."""
+    out, last, eng = [], None, None
+    for job in jobs:
+        if last is None or job.settings is not last.settings or job.engine != last.engine:
+            eng, last = engine(job.engine, job.settings), job
+        out.append(fire_job(job, eng))
+        if tick is not None:
+            tick(1)
+    return out
 
 
 def _forget_engines() -> None:
     """In a forked worker: drop the copies of the parent's engines (they are the parent's)."""
     _ENGINES.clear()
+
+
+def _import_engines(names: Sequence[str]) -> None:
+    """In a worker: import these engines now, so that no job pays for it."""
+    for name in names:
+        adapters.engine_class(name)
 
 
 def _call(task: tuple[Callable, tuple]) -> Any:
@@ -154,11 +168,14 @@ class Runner:
                                                  mp_context=multiprocessing.get_context("fork"),
                                                  initializer=_forget_engines)
             return self._pool.map(fn, items)
+        futures = self._dask().map(fn, items, pure=False)
+        return (f.result() for f in futures)
+
+    def _dask(self):
         if self._client is None:
             self._client = _dask_client(self.scheduler, self.workers)
             self._cluster = getattr(self._client, "_batsim_cluster", None)
-        futures = self._client.map(fn, items, pure=False)
-        return (f.result() for f in futures)
+        return self._client
 
     def map(self, fn: Callable, items: Sequence) -> list:
         """[fn(x) for x in items], on the workers when there are any (fn must be importable)."""
@@ -171,6 +188,16 @@ class Runner:
         """The results of independent calls fn(*args), in order, run side by side if possible."""
         return self.map(_call, list(calls))
 
+    def submit_all(self, calls: Sequence[tuple[Callable, tuple]]) -> Callable[[], list]:
+        """Start independent calls fn(*args) on the workers and return a function that waits
+        for their results (in order); serially, the calls run when it is called. This process
+        is free for other work meanwhile."""
+        calls = list(calls)
+        if not self.parallel or len(calls) <= 1:
+            return lambda: [_call(c) for c in calls]
+        results = self._map_remote(_call, calls)  # both backends submit everything at once
+        return lambda: list(results)
+
     def fire(self, jobs: Sequence[Job]) -> list[Fired]:
         """Every job fired, results in the order of ``jobs``."""
         jobs = list(jobs)
@@ -182,10 +209,9 @@ class Runner:
         per_job = time.perf_counter() - t0
         rest = jobs[1:]
         if not self.parallel or per_job * len(rest) < self.min_parallel_s:
-            for job in rest:
-                out.append(fire_job(job))
-                self._tick(1)
-            return out
+            return out + fire_jobs(rest, self.progress)
+        if self.scheduler is not None:  # spawned workers: every one imports the engines first
+            self._dask().run(_import_engines, sorted({j.engine for j in rest}))
         size = max(1, min(round(CHUNK_S / max(per_job, 1e-9)),
                           math.ceil(len(rest) / (4 * max(self.workers, 1)))))
         chunks = [rest[i:i + size] for i in range(0, len(rest), size)]
@@ -203,12 +229,16 @@ def _dask_client(scheduler: str, workers: int):
     """A dask.distributed Client for an address, or for a new LocalCluster ("local")."""
     import logging
 
+    import dask
     from dask.distributed import Client, LocalCluster
 
     if scheduler == "local":
         logging.getLogger("distributed").setLevel(logging.ERROR)
-        cluster = LocalCluster(n_workers=max(workers, 1), threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+        # the workers' sampling profiler takes the GIL every 10 ms from the impacts
+        with dask.config.set({"distributed.worker.profile.enabled": False}):
+            cluster = LocalCluster(n_workers=max(workers, 1), threads_per_worker=1,
+                                   processes=True, dashboard_address=None,
+                                   silence_logs=logging.ERROR)
         client = Client(cluster)
         client._batsim_cluster = cluster
         return client

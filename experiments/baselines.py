@@ -62,7 +62,7 @@ def main(argv: list[str] | None = None) -> int:
         opts = ["--engine", engines, *opts]
         sweep = sweep_cmd.sweep_from_args(parser.parse_args(opts))
         with _cli.runner(args) as runner:
-            table, meta = sweep_cmd.run(sweep, runner)
+            table, meta = sweep_cmd.run(sweep, runner, chart=True)
         sweep_cmd.write(table, meta, sweep, out_dir)
         print(f"== {label}: {sweep.name}")
         sweep_cmd.print_summary(meta)

@@ -77,9 +77,33 @@ def timed_command(args: list[str], repeats: int) -> float:
     return statistics.median(times)
 
 
+def _burn(n: int) -> float:
+    x = 0
+    for i in range(n):
+        x += i * i
+    return float(x)
+
+
+def machine_ceiling(repeats: int = 3, n: int = 5_000_000) -> float:
+    """What two processes gain over one on this machine for pure CPU work: the same Python loop
+    twice serially and in two processes, median ratio. The runners cannot beat it."""
+    ratios = []
+    with _runner.Runner(workers=2, min_parallel_s=0.0) as runner:
+        runner.map(_burn, [1, 1])  # start the workers
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            _burn(n), _burn(n)
+            serial = time.perf_counter() - t0
+            t0 = time.perf_counter()
+            runner.map(_burn, [n, n])
+            ratios.append(serial / (time.perf_counter() - t0))
+    return statistics.median(ratios)
+
+
 def runner_speedups(label: str, args: list[str], repeats: int) -> dict:
-    """Wall time of one sweep (the time it prints: firing, locating, writing) serially, with 2
-    local processes and on a 2-worker Dask LocalCluster (started before the timing)."""
+    """Wall time of one sweep (firing, locating, charting, writing) serially, with 2 local
+    processes and on a 2-worker Dask LocalCluster, each started and warmed before the timing
+    (workers that have imported the engines, as in a long-lived pool or cluster)."""
     from . import sweep as sweep_cmd
 
     plan = sweep_cmd.sweep_from_args(sweep_cmd.build_parser().parse_args(args))
@@ -88,12 +112,14 @@ def runner_speedups(label: str, args: list[str], repeats: int) -> dict:
         for key, kw in (("serial", {}), ("workers2", {"workers": 2}),
                         ("dask_local2", {"workers": 2, "scheduler": "local"})):
             times = []
-            with _runner.Runner(**kw) as runner:
-                if "scheduler" in kw:
-                    runner.call_all([(statistics.median, ([1.0],))] * 2)  # start the cluster
+            with _runner.Runner(min_parallel_s=0.0, **kw) as runner:
+                # an existing pool or cluster: started, engines imported, one job each
+                runner.fire([j for n in plan.engines
+                             for j in plan.firing.jobs(n, adapters.settings_for(n))[:3]])
+                runner.min_parallel_s = _runner.MIN_PARALLEL_S
                 for _ in range(repeats):
                     t0 = time.perf_counter()
-                    table, meta = sweep_cmd.run(plan, runner)
+                    table, meta = sweep_cmd.run(plan, runner, chart=True)
                     sweep_cmd.write(table, meta, plan, Path(tmp))
                     times.append(time.perf_counter() - t0)
             out[f"{key}_s"] = statistics.median(times)
@@ -142,8 +168,10 @@ def main(argv: list[str] | None = None) -> int:
     table = pd.DataFrame([per_collision(n, firing, repeats) for n in args.engine])
     print(table.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
     engines = ",".join(args.engine)
-    par = []
+    par, ceiling = [], None
     if not args.quick:
+        ceiling = machine_ceiling()
+        print(f"this machine: 2 processes run pure CPU work {ceiling:.2f}x as fast as 1")
         par = [runner_speedups(f"{engines}, 41 points, reference", ["--engine", engines], 5),
                runner_speedups("first engine, hinged swing, 96 points",
                                ["--engine", args.engine[0], "--swing", "--points", "96"], 1)]
@@ -161,7 +189,7 @@ def main(argv: list[str] | None = None) -> int:
             table.to_csv(index=False, float_format="%.4g", lineterminator="\n").encode(),
         args.out / "bench_engines.json": json_bytes({
             "per_collision": table.to_dict(orient="records"), "sweep_41_s": sweep_s,
-            "runners": par, "repeats": repeats, "provenance": provenance()}),
+            "runners": par, "two_process_ceiling": ceiling, "repeats": repeats, "provenance": provenance()}),
         args.out / "bench_engines.png": figure_png(fig),
     })
     plt.close(fig)

@@ -16,6 +16,7 @@ import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 import pandas as pd
@@ -124,9 +125,10 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name)
 
 
-def run(sweep: Sweep, runner: _runner.Runner | None = None, *,
-        locate: bool = True) -> tuple[pd.DataFrame, dict]:
-    """Fire every engine over the grid; return the table and a per-engine summary."""
+def run(sweep: Sweep, runner: _runner.Runner | None = None, *, locate: bool = True,
+        chart: bool = False) -> tuple[pd.DataFrame, dict]:
+    """Fire every engine over the grid; return the table and a per-engine summary. With
+    ``chart`` the summary's "png" holds the chart, drawn while the workers locate the marks."""
     runner = runner or _runner.Runner()
     settings = {n: _grid.with_dt(adapters.settings_for(n, sweep.profile), sweep.dt_s)
                 for n in sweep.engines}
@@ -136,12 +138,16 @@ def run(sweep: Sweep, runner: _runner.Runner | None = None, *,
     elapsed = time.perf_counter() - t0
     marks = _grid.analytic_marks(sweep.firing)
     summary = {n: _summarize(table[table.engine == n]) for n in sweep.engines}
-    if locate:
-        _locate(runner, sweep.firing, settings, table, marks, summary)
+    located = _locate(runner, sweep.firing, settings, table, marks) if locate else lambda: {}
+    meta = {"analytic": marks, "engines": summary, "fire_s": elapsed}
+    if chart:
+        meta["png"] = render(table, sweep, marks)
+    for (name, key), value in located().items():
+        summary[name][key] = value
     for n in sweep.engines:
         summary[n].update(settings=settings[n].as_dict(),
                           engine_version=adapters.record(n).version())
-    return table, {"analytic": marks, "engines": summary, "fire_s": elapsed}
+    return table, meta
 
 
 def _summarize(df: pd.DataFrame) -> dict:
@@ -159,8 +165,9 @@ def _summarize(df: pd.DataFrame) -> dict:
     }
 
 
-def _locate(runner, firing, settings, table, marks, summary) -> None:
-    """The sweet spot and COP on each all-ok engine's own data, the searches side by side."""
+def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
+    """Start locating the sweet spot and COP on each all-ok engine's own data, the searches
+    side by side; returns a function that waits for {(engine, summary key): value}."""
     calls, keys = [], []
     for name, df in table.groupby("engine", sort=False):
         if not (df.status == "ok").all():
@@ -173,11 +180,21 @@ def _locate(runner, firing, settings, table, marks, summary) -> None:
         if bracket is not None:
             calls.append((_grid.locate_cop, (name, settings[name], firing, bracket)))
             keys.append((name, "cop_engine_m"))
-    for (name, key), value in zip(keys, runner.call_all(calls)):
-        summary[name][key] = value
+    pending = runner.submit_all(calls)
+    return lambda: dict(zip(keys, pending()))
 
 
-def plot(table: pd.DataFrame, sweep: Sweep, meta: dict):
+def render(table: pd.DataFrame, sweep: Sweep, marks: dict) -> bytes:
+    """The chart as PNG bytes."""
+    import matplotlib.pyplot as plt
+
+    fig = plot(table, sweep, marks)
+    png = figure_png(fig)
+    plt.close(fig)
+    return png
+
+
+def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
     """v1 along the bat: analytic curve, each engine's points, sweet spot and COP; error panel."""
     import matplotlib
 
@@ -208,7 +225,6 @@ def plot(table: pd.DataFrame, sweep: Sweep, meta: dict):
                      label=f"{name} failed: {statuses}")
         bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), mark,
                         ms=5, mfc="none", color=color, label=name)
-    marks = meta["analytic"]
     for ax in (top, bottom):
         ax.axvline(marks["sweet_spot_m"], color="tab:red", ls="--", lw=1)
         ax.axvline(marks["cop_m"], color="tab:purple", ls=":", lw=1.2)
@@ -260,16 +276,13 @@ def print_summary(meta: dict) -> None:
 
 def write(table: pd.DataFrame, meta: dict, sweep: Sweep, out_dir: Path) -> list[Path]:
     """CSV, JSON sidecar and PNG: all rendered first, then renamed into place together."""
-    import matplotlib.pyplot as plt
-
     stem = out_dir / sweep.name
     csv = table.to_csv(index=False, float_format=FLOAT_FORMAT, lineterminator="\n")
-    fig = plot(table, sweep, meta)
-    png = figure_png(fig)
-    plt.close(fig)
+    png = meta.get("png") or render(table, sweep, meta["analytic"])
+    sidecar = {k: v for k, v in meta.items() if k != "png"}
     return atomic_write_many({
         stem.with_suffix(".csv"): csv.encode("utf-8"),
-        stem.with_suffix(".json"): json_bytes({**meta, "provenance": provenance()}),
+        stem.with_suffix(".json"): json_bytes({**sidecar, "provenance": provenance()}),
         stem.with_suffix(".png"): png,
     })
 
@@ -289,7 +302,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with _cli.Progress(len(sweep.firing.s_m) * len(sweep.engines), "impacts") as bar, \
                 _cli.runner(args, bar) as runner:
-            table, meta = run(sweep, runner, locate=not args.no_locate)
+            table, meta = run(sweep, runner, locate=not args.no_locate, chart=True)
         paths = write(table, meta, sweep, args.out)
     except KeyboardInterrupt:
         print("interrupted: previous results left intact", file=sys.stderr)
