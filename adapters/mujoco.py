@@ -234,7 +234,7 @@ class MujocoEngine(Engine):
         mujoco.mj_step(self.model, self.data)
 
     def read(self) -> Reading:
-        q, v = self._qpos, self._qvel
+        q, v = self._qpos.tolist(), self._qvel.tolist()  # Python floats: cheaper downstream
         return Reading(q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * math.atan2(q[6], q[3]),
                        v[0], v[1], v[5])
 

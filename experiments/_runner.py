@@ -188,12 +188,14 @@ class Runner:
         """The results of independent calls fn(*args), in order, run side by side if possible."""
         return self.map(_call, list(calls))
 
-    def submit_all(self, calls: Sequence[tuple[Callable, tuple]]) -> Callable[[], list]:
+    def submit_all(self, calls: Sequence[tuple[Callable, tuple]],
+                   estimate_s: float = math.inf) -> Callable[[], list]:
         """Start independent calls fn(*args) on the workers and return a function that waits
-        for their results (in order); serially, the calls run when it is called. This process
-        is free for other work meanwhile."""
+        for their results (in order); serially, or when their estimated total time is below
+        ``min_parallel_s``, the calls run here when it is called. This process is free for
+        other work meanwhile."""
         calls = list(calls)
-        if not self.parallel or len(calls) <= 1:
+        if not self.parallel or len(calls) <= 1 or estimate_s < self.min_parallel_s:
             return lambda: [_call(c) for c in calls]
         results = self._map_remote(_call, calls)  # both backends submit everything at once
         return lambda: list(results)
@@ -234,8 +236,10 @@ def _dask_client(scheduler: str, workers: int):
 
     if scheduler == "local":
         logging.getLogger("distributed").setLevel(logging.ERROR)
-        # the workers' sampling profiler takes the GIL every 10 ms from the impacts
-        with dask.config.set({"distributed.worker.profile.enabled": False}):
+        # The workers' sampling profiler takes the GIL every 10 ms from the impacts, and with
+        # queuing a worker waits a round trip to the scheduler for its next chunk.
+        with dask.config.set({"distributed.worker.profile.enabled": False,
+                              "distributed.scheduler.worker-saturation": math.inf}):
             cluster = LocalCluster(n_workers=max(workers, 1), threads_per_worker=1,
                                    processes=True, dashboard_address=None,
                                    silence_logs=logging.ERROR)

@@ -16,6 +16,7 @@ Writes <out>/bench_engines.csv, .json and .png.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import statistics
 import subprocess
 import sys
@@ -57,12 +58,13 @@ def per_collision(name: str, firing: _grid.Firing, repeats: int) -> dict:
             bares.append(time.perf_counter() - t0)
     runner.close()
     per, bare = statistics.median(harness), statistics.median(bares)
+    sim = statistics.median(walls)
     return {"engine": name, "impacts": len(walls), "steps_median": statistics.median(steps),
-            "harness_per_collision_us": per * 1e6,
-            "simulate_per_collision_us": statistics.median(walls) * 1e6,
+            "harness_per_collision_us": per * 1e6, "simulate_per_collision_us": sim * 1e6,
             "bare_steps_us": bare * 1e6,
             "bare_per_step_us": bare * 1e6 / statistics.median(steps),
-            "overhead_us": (per - bare) * 1e6, "ratio": per / bare}
+            "simulate_overhead_us": (sim - bare) * 1e6, "harness_overhead_us": (per - bare) * 1e6,
+            "ratio": per / bare}
 
 
 def timed_command(args: list[str], repeats: int) -> float:
@@ -103,26 +105,29 @@ def machine_ceiling(repeats: int = 3, n: int = 5_000_000) -> float:
 def runner_speedups(label: str, args: list[str], repeats: int) -> dict:
     """Wall time of one sweep (firing, locating, charting, writing) serially, with 2 local
     processes and on a 2-worker Dask LocalCluster, each started and warmed before the timing
-    (workers that have imported the engines, as in a long-lived pool or cluster)."""
+    (workers that have imported the engines, as in a long-lived pool or cluster). The three
+    take turns, repeat after repeat, so that a drift of the machine's speed hits all alike."""
     from . import sweep as sweep_cmd
 
     plan = sweep_cmd.sweep_from_args(sweep_cmd.build_parser().parse_args(args))
-    out = {"label": label, "args": " ".join(args)}
-    with tempfile.TemporaryDirectory() as tmp:
-        for key, kw in (("serial", {}), ("workers2", {"workers": 2}),
-                        ("dask_local2", {"workers": 2, "scheduler": "local"})):
-            times = []
-            with _runner.Runner(min_parallel_s=0.0, **kw) as runner:
-                # an existing pool or cluster: started, engines imported, one job each
-                runner.fire([j for n in plan.engines
-                             for j in plan.firing.jobs(n, adapters.settings_for(n))[:3]])
-                runner.min_parallel_s = _runner.MIN_PARALLEL_S
-                for _ in range(repeats):
-                    t0 = time.perf_counter()
-                    table, meta = sweep_cmd.run(plan, runner, chart=True)
-                    sweep_cmd.write(table, meta, plan, Path(tmp))
-                    times.append(time.perf_counter() - t0)
-            out[f"{key}_s"] = statistics.median(times)
+    kinds = {"serial": {}, "workers2": {"workers": 2},
+             "dask_local2": {"workers": 2, "scheduler": "local"}}
+    times: dict[str, list[float]] = {k: [] for k in kinds}
+    warm = [j for n in plan.engines for j in plan.firing.jobs(n, adapters.settings_for(n))[:3]]
+    with tempfile.TemporaryDirectory() as tmp, contextlib.ExitStack() as stack:
+        runners = {k: stack.enter_context(_runner.Runner(min_parallel_s=0.0, **kw))
+                   for k, kw in kinds.items()}
+        for runner in runners.values():
+            runner.fire(warm)  # start the workers, import the engines
+            runner.min_parallel_s = _runner.MIN_PARALLEL_S
+        for _ in range(repeats):
+            for key, runner in runners.items():
+                t0 = time.perf_counter()
+                table, meta = sweep_cmd.run(plan, runner, chart=True)
+                sweep_cmd.write(table, meta, plan, Path(tmp))
+                times[key].append(time.perf_counter() - t0)
+    out = {"label": label, "args": " ".join(args), "repeats": repeats,
+           **{f"{k}_s": statistics.median(v) for k, v in times.items()}}
     out["speedup_workers2"] = out["serial_s"] / out["workers2_s"]
     out["dask_over_processes"] = out["dask_local2_s"] / out["workers2_s"]
     return out
@@ -136,16 +141,17 @@ def chart(table: pd.DataFrame):
 
     fig, ax = plt.subplots(figsize=(7, 4))
     x = range(len(table))
-    ax.bar([i - 0.2 for i in x], table.harness_per_collision_us, 0.4,
-           label="harness: fire and tabulate one impact")
-    ax.bar([i + 0.2 for i in x], table.bare_steps_us, 0.4, label="bare engine, same steps")
+    ax.bar([i - 0.27 for i in x], table.harness_per_collision_us, 0.27,
+           label="harness: fire through the runner and tabulate, per impact")
+    ax.bar(list(x), table.simulate_per_collision_us, 0.27, label="simulate() alone")
+    ax.bar([i + 0.27 for i in x], table.bare_steps_us, 0.27, label="bare engine, the same steps")
     for i, r in table.iterrows():
-        ax.annotate(f"+{r.overhead_us:.1f} us\n{r.ratio:.2f}x", (i - 0.2, r.harness_per_collision_us),
+        ax.annotate(f"+{r.simulate_overhead_us:.0f} us", (i, r.simulate_per_collision_us),
                     ha="center", va="bottom", fontsize=8)
     ax.set_xticks(list(x), table.engine)
     ax.set_ylabel("median time per collision (us)")
-    ax.set_title("Cost of one collision, reference profile (dt = 10 us), R161, paper's swing",
-                 fontsize=10)
+    ax.set_title("Cost of one collision, reference profile (dt = 10 us), R161, paper's swing;\n"
+                 "label: simulate() minus the bare steps", fontsize=10)
     ax.legend()
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
@@ -172,9 +178,9 @@ def main(argv: list[str] | None = None) -> int:
     if not args.quick:
         ceiling = machine_ceiling()
         print(f"this machine: 2 processes run pure CPU work {ceiling:.2f}x as fast as 1")
-        par = [runner_speedups(f"{engines}, 41 points, reference", ["--engine", engines], 5),
+        par = [runner_speedups(f"{engines}, 41 points, reference", ["--engine", engines], 9),
                runner_speedups("first engine, hinged swing, 96 points",
-                               ["--engine", args.engine[0], "--swing", "--points", "96"], 1)]
+                               ["--engine", args.engine[0], "--swing", "--points", "96"], 3)]
         for r in par:
             print(f"{r['label']}: serial {r['serial_s']:.2f} s, 2 processes {r['workers2_s']:.2f} s "
                   f"({r['speedup_workers2']:.2f}x), Dask LocalCluster of 2 {r['dask_local2_s']:.2f} s "

@@ -8,9 +8,9 @@ step ((k + 1/2)/K). Theory: the contact is seen ``phase * v * dt`` deep; past R 
 the ball's centre is beyond the bat's axis, the normal flips and the ball is pushed through. So a
 step catches every phase while v dt < R, and a fraction R/(v dt) of them above (THEORY_* below).
 An engine with a soft contact (its record's ``soft_contact``) gets its own map: time step x
-stiffness w at 40 m/s, where an undamped
-spring lets the ball sink v/w deep (through the bat when w < v/R) and Euler is unstable for
-w dt > 2 (this map uses e = 0.5: at e = 1 every discretized spring gains a little energy).
+stiffness w at 40 m/s, where an undamped spring lets the ball sink v/w deep (through the bat
+when w < v/R) and Euler is unstable for w dt > 2 (this map uses e = 0.5: at e = 1 every
+discretized spring gains a little energy).
 Writes results/stability.csv, stability.png, stability_energy.png, stability_<engine>_soft.png.
 """
 

@@ -180,7 +180,9 @@ def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
         if bracket is not None:
             calls.append((_grid.locate_cop, (name, settings[name], firing, bracket)))
             keys.append((name, "cop_engine_m"))
-    pending = runner.submit_all(calls)
+    # a bounded Brent search takes ~10-25 simulations of about the grid's median cost
+    estimate = 25 * len(calls) * float(table.wall_s.median())
+    pending = runner.submit_all(calls, estimate)
     return lambda: dict(zip(keys, pending()))
 
 
