@@ -21,6 +21,7 @@ import dataclasses
 import functools
 import importlib
 import pkgutil
+import sys
 from importlib import metadata
 from pathlib import Path
 from types import MappingProxyType
@@ -75,6 +76,11 @@ def reload_plugins() -> None:
 def names() -> tuple[str, ...]:
     """Registered engine names: built-ins by name, then plug-ins by name."""
     return tuple(_registry())
+
+
+def loaded() -> tuple[str, ...]:
+    """Registered engines whose adapter (and so engine) this process has imported."""
+    return tuple(n for n, target in _registry().items() if target.split(":")[0] in sys.modules)
 
 
 def _check_name(name: str) -> str:
@@ -139,5 +145,5 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine:
 __all__ = ["BodyLoad", "ContactReference", "ENTRY_POINT_GROUP", "Engine", "EngineNotInstalled",
            "EngineRecord", "Integrator", "KnobFamily", "MassProperties", "PROFILES", "PluginConflict",
            "Reading", "RestitutionRule", "SceneMismatch", "Settings", "SimOutcome", "Status",
-           "SwingPlan", "create", "engine_class", "import_engine", "load", "names", "record",
+           "SwingPlan", "create", "engine_class", "import_engine", "load", "loaded", "names", "record",
            "reload_plugins", "settings_for", "start_reading", "swing_case"]

@@ -19,7 +19,8 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
-PACKAGES = ("numpy", "scipy", "pandas", "matplotlib", "pymunk", "pybullet", "mujoco")
+#: Libraries every result depends on; each engine's package comes from its record.
+PACKAGES = ("numpy", "scipy", "pandas", "matplotlib")
 
 
 def atomic_write_bytes(path: Path | str, data: bytes) -> Path:
@@ -87,9 +88,13 @@ def _git(*args: str) -> str:
 
 
 def versions() -> dict[str, str]:
-    """Installed versions of the libraries whose behaviour the results depend on."""
+    """Installed versions of the libraries whose behaviour the results depend on: the
+    scientific stack and the package of every engine this process has used."""
+    import adapters
+
+    engines = sorted({adapters.record(n).package for n in adapters.loaded()})
     out = {"python": platform.python_version()}
-    for name in PACKAGES:
+    for name in (*PACKAGES, *engines):
         try:
             out[name] = metadata.version(name)
         except metadata.PackageNotFoundError:

@@ -1,7 +1,7 @@
 """One runner for every experiment: impacts in, outcomes out, in order, wherever they run.
 
     with Runner(workers=2) as runner:                    # or scheduler="local" / "tcp://host:8786"
-        fired = runner.fire([Job(engine="mujoco", settings=s, case=c) for c in cases])
+        fired = runner.fire([Job(engine=name, settings=s, case=c) for c in cases])
 
 Serial, local processes (``workers`` > 1) and a Dask cluster (``scheduler``) give the same rows:
 an adapter holds no state from one impact to the next, so where an impact runs cannot change

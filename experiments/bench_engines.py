@@ -150,9 +150,10 @@ def chart(table: pd.DataFrame):
                     ha="center", va="bottom", fontsize=8)
     ax.set_xticks(list(x), table.engine)
     ax.set_ylabel("median time per collision (us)")
+    ax.set_ylim(0, 1.55 * table.harness_per_collision_us.max())  # room for the legend
     ax.set_title("Cost of one collision, reference profile (dt = 10 us), R161, paper's swing;\n"
                  "label: simulate() minus the bare steps", fontsize=10)
-    ax.legend()
+    ax.legend(loc="upper left", fontsize=8)
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     return fig
