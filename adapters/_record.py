@@ -8,12 +8,15 @@ the reference its contact converges to. A new engine brings its record and nothi
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import os
+import sys
 from dataclasses import dataclass
 from enum import Enum
 from importlib import metadata
 from types import MappingProxyType, ModuleType
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Iterator, Mapping
 
 import numpy as np
 
@@ -136,10 +139,46 @@ class EngineRecord:
 
 
 def import_engine(record: EngineRecord) -> ModuleType:
-    """Import the engine's module, or raise EngineNotInstalled with the install hint."""
+    """Import the engine's module, or raise EngineNotInstalled with the install hint. Whatever
+    the engine prints to the process's stdout while it loads (PyBullet's build-time banner) is
+    dropped, so that it never mixes with a command's own output."""
     try:
-        return importlib.import_module(record.import_name)
+        with _stdout_silenced():
+            return importlib.import_module(record.import_name)
     except ModuleNotFoundError as err:
         if err.name is None or err.name.split(".")[0] != record.import_name.split(".")[0]:
             raise
         raise EngineNotInstalled(record.install_hint) from err
+
+
+@contextlib.contextmanager
+def _stdout_silenced() -> Iterator[None]:
+    """Point file descriptors 1 and 2 at /dev/null for the block (C libraries print there
+    directly); an import error still arrives as a Python exception."""
+    streams = []
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            streams.append(stream.fileno())
+            stream.flush()
+        except (AttributeError, OSError, ValueError):  # no real stream (captured by pytest)
+            continue
+    saved = [os.dup(fd) for fd in streams]
+    try:
+        with open(os.devnull, "wb") as null:
+            for fd in streams:
+                os.dup2(null.fileno(), fd)
+        yield
+    finally:
+        _flush_c_stdio()  # C's buffered output would otherwise reach the real streams later
+        for fd, copy in zip(streams, saved):
+            os.dup2(copy, fd)
+            os.close(copy)
+
+
+def _flush_c_stdio() -> None:
+    import ctypes
+
+    try:
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, AttributeError):
+        pass

@@ -67,7 +67,7 @@ class Settings:
         _checks.positive("dt_s", self.dt_s)
         _checks.in_range("contact_phase", self.contact_phase, 0.0, 1.0, hi_open=True)
         _checks.non_negative("overlap_m", self.overlap_m)
-        _checks.in_range("approach_steps", self.approach_steps, 1, 1000)
+        _checks.integer("approach_steps", self.approach_steps, 1, 1000)
         _checks.positive("max_contact_s", self.max_contact_s)
 
     def as_dict(self) -> dict:

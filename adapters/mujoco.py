@@ -69,7 +69,7 @@ class MujocoSettings(Settings):
                              f"{', '.join(CONTACT_MODELS)}")
         _checks.positive("soft_omega_radps", self.soft_omega_radps)
         _checks.in_range("impedance", self.impedance, 0.0001, 0.9999)
-        _checks.in_range("iterations", self.iterations, 1, 10_000)
+        _checks.integer("iterations", self.iterations, 1, 10_000)
         _checks.non_negative("tolerance", self.tolerance)
 
 

@@ -55,7 +55,7 @@ class PybulletSettings(Settings):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.solver_iterations is not None:
-            _checks.in_range("solver_iterations", self.solver_iterations, 1, 10_000)
+            _checks.integer("solver_iterations", self.solver_iterations, 1, 10_000)
         for name in ("contact_erp", "erp", "friction_erp"):
             if getattr(self, name) is not None:
                 _checks.in_range(name, getattr(self, name), 0.0, 1.0)

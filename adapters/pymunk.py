@@ -35,7 +35,7 @@ class PymunkSettings(Settings):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        _checks.in_range("iterations", self.iterations, 1, 10_000)
+        _checks.integer("iterations", self.iterations, 1, 10_000)
         _checks.non_negative("collision_slop", self.collision_slop)
         _checks.in_range("collision_bias", self.collision_bias, 0.0, 1.0)
         _checks.in_range("joint_error_bias", self.joint_error_bias, 0.0, 1.0)

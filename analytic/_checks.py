@@ -4,14 +4,16 @@ allowed range, so a user sees at once what to fix."""
 from __future__ import annotations
 
 import math
+import numbers
 
 
 def finite(name: str, value: float) -> float:
-    """Return ``value`` as a float, or raise ValueError if it is not a finite real number."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} is not a number; allowed: a finite real number") from None
+    """Return ``value`` as a float, or raise ValueError if it is not a finite real number (a
+    string such as '0.5' is refused: it would fail later, far from here)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name}={value!r} is not a number ({type(value).__name__}); allowed: "
+                         "a finite real number")
+    x = float(value)
     if not math.isfinite(x):
         raise ValueError(f"{name}={value!r} is not finite; allowed: a finite real number")
     return x
@@ -37,6 +39,15 @@ def in_range(
             f"{name}={x!r} is out of range; allowed: {lo:g} {left} {name} {right} {hi:g}"
         )
     return x
+
+
+def integer(name: str, value: int, lo: int, hi: int) -> int:
+    """Return ``value`` if it is an integer within [lo, hi], else raise."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ValueError(f"{name}={value!r} is not an integer ({type(value).__name__}); allowed: "
+                         f"an integer {lo} <= {name} <= {hi}")
+    in_range(name, value, lo, hi)
+    return int(value)
 
 
 def positive(name: str, value: float) -> float:

@@ -19,6 +19,27 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+UMASK = _umask()
+
+
+def make_public(path: Path, directory: bool = False) -> None:
+    """Give a file made by mkstemp (0600) or a directory made by mkdtemp (0700), and every file
+    in it, the mode the user's umask asks for."""
+    path = Path(path)
+    if directory:
+        for child in path.iterdir():
+            make_public(child)
+        os.chmod(path, 0o777 & ~UMASK)
+    else:
+        os.chmod(path, 0o666 & ~UMASK)
 #: Libraries every result depends on; each engine's package comes from its record.
 PACKAGES = ("numpy", "scipy", "pandas", "matplotlib")
 
@@ -33,6 +54,7 @@ def atomic_write_bytes(path: Path | str, data: bytes) -> Path:
             f.write(data)
             f.flush()
             os.fsync(f.fileno())
+        make_public(Path(tmp))
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -53,6 +75,7 @@ def atomic_write_many(files: dict[Path, bytes]) -> list[Path]:
                 f.write(data)
                 f.flush()
                 os.fsync(f.fileno())
+            make_public(Path(tmp))
             staged.append((tmp, path))
         for tmp, path in staged:
             os.replace(tmp, path)

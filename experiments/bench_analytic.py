@@ -2,28 +2,36 @@
 
     python -m experiments.bench_analytic [--points N] [--repeats K]
 
-Prints the median time and impacts per second and writes results/bench_analytic.json.
+Prints the median time and impacts per second and writes bench_analytic.json into the run
+directory.
 """
 
 from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import time
 
 import numpy as np
 
 from analytic import batted_ball_speed, presets
 
-from ._io import ROOT, provenance, write_json
+from . import _cli
+from ._io import json_bytes, provenance
 
 
-def main(argv: list[str] | None = None) -> dict:
-    parser = argparse.ArgumentParser(prog="python -m experiments.bench_analytic",
-                                     description=__doc__.splitlines()[0])
-    parser.add_argument("--points", type=int, default=1_000_000)
-    parser.add_argument("--repeats", type=int, default=15)
-    args = parser.parse_args(argv)
+def build_parser() -> argparse.ArgumentParser:
+    p = _cli.Parser(prog="python -m experiments.bench_analytic",
+                    description=__doc__.splitlines()[0])
+    p.add_argument("--points", type=_cli.integer(1, 10**8), default=1_000_000)
+    p.add_argument("--repeats", type=_cli.integer(1, 1000), default=15)
+    _cli.add_output(p)
+    return p
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    """Time the vectorized v1 over the grid; the JSON and a one-line summary."""
     bat, ball = presets.R161, presets.BASEBALL
     s = np.linspace(bat.s_min_m, bat.s_max_m, args.points)
     times = []
@@ -34,11 +42,14 @@ def main(argv: list[str] | None = None) -> dict:
     med = statistics.median(times)
     result = {"points": args.points, "repeats": args.repeats, "median_s": med,
               "min_s": min(times), "impacts_per_s": args.points / med}
-    print(f"{args.points} impacts: median {med * 1e3:.2f} ms over {args.repeats} runs, "
-          f"{args.points / med:.3g} impacts/s")
-    write_json(ROOT / "results" / "bench_analytic.json", {**result, "provenance": provenance()})
-    return result
+    return {"bench_analytic.json": json_bytes({**result, "provenance": provenance()})}, (
+        f"{args.points} impacts: median {med * 1e3:.2f} ms over {args.repeats} runs, "
+        f"{args.points / med:.3g} impacts/s")
+
+
+def main(argv: list[str] | None = None) -> int:
+    return _cli.run_command(build_parser(), argv, "bench_analytic", produce)
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

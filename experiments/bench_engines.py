@@ -10,13 +10,14 @@ For each engine (reference profile, R161, the paper's swing, N impact points):
 - one sweep's wall time serially, with 2 local processes and on a 2-worker Dask LocalCluster, on
   the cheap all-engine sweep and on an expensive hinged-swing sweep of 96 points;
 - the wall time of the sweep command on 41 points, start-up included.
-Writes <out>/bench_engines.csv, .json and .png.
+Writes bench_engines.csv, .json and .png into the run directory.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import os
 import statistics
 import subprocess
 import sys
@@ -31,7 +32,7 @@ import adapters
 from analytic import presets
 
 from . import _cli, _grid, _runner
-from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
+from ._io import ROOT, figure_png, json_bytes, provenance
 
 
 def per_collision(name: str, firing: _grid.Firing, repeats: int) -> dict:
@@ -74,7 +75,8 @@ def timed_command(args: list[str], repeats: int) -> float:
         with tempfile.TemporaryDirectory() as tmp:
             t0 = time.perf_counter()
             subprocess.run([sys.executable, "-m", "experiments.sweep", *args, "--out", tmp],
-                           cwd=ROOT, check=True, capture_output=True)
+                           cwd=ROOT, check=True, capture_output=True,
+                           env={**os.environ, "BATSIM_QUIET": "1"})
             times.append(time.perf_counter() - t0)
     return statistics.median(times)
 
@@ -124,7 +126,7 @@ def runner_speedups(label: str, args: list[str], repeats: int) -> dict:
             for key, runner in runners.items():
                 t0 = time.perf_counter()
                 table, meta = sweep_cmd.run(plan, runner, chart=True)
-                sweep_cmd.write(table, meta, plan, Path(tmp))
+                _cli.publish(Path(tmp) / key, sweep_cmd.files(table, meta, plan))
                 times[key].append(time.perf_counter() - t0)
     out = {"label": label, "args": " ".join(args), "repeats": repeats,
            **{f"{k}_s": statistics.median(v) for k, v in times.items()}}
@@ -159,48 +161,57 @@ def chart(table: pd.DataFrame):
     return fig
 
 
-def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m experiments.bench_engines",
-                                description=__doc__.splitlines()[0])
-    p.add_argument("--repeats", type=int, default=5)
-    p.add_argument("--points", type=int, default=41)
+def build_parser() -> argparse.ArgumentParser:
+    p = _cli.Parser(prog="python -m experiments.bench_engines",
+                    description=__doc__.splitlines()[0])
+    p.add_argument("--repeats", type=_cli.integer(1, 100), default=5)
+    p.add_argument("--points", type=_cli.integer(2, 10_000), default=41)
     p.add_argument("--quick", action="store_true", help="one repeat, no runner comparison")
     _cli.add_engine(p)
-    _cli.add_out(p, ROOT / "results")
-    args = p.parse_args(argv)
+    _cli.add_output(p)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    return _cli.run_command(build_parser(), argv, "bench_engines", produce)
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    """Every measurement: the files and what to print."""
     repeats = 1 if args.quick else args.repeats
     firing = _grid.Firing(bat=presets.R161, s_m=_grid.grid(presets.R161, args.points),
                           v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
                           omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     table = pd.DataFrame([per_collision(n, firing, repeats) for n in args.engine])
-    print(table.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
+    lines = [table.to_string(index=False, float_format=lambda v: f"{v:.2f}")]
     engines = ",".join(args.engine)
     par, ceiling = [], None
     if not args.quick:
         ceiling = machine_ceiling()
-        print(f"this machine: 2 processes run pure CPU work {ceiling:.2f}x as fast as 1")
+        lines.append(f"this machine: 2 processes run pure CPU work {ceiling:.2f}x as fast as 1")
         par = [runner_speedups(f"{engines}, 41 points, reference", ["--engine", engines], 9),
                runner_speedups("first engine, hinged swing, 96 points",
                                ["--engine", args.engine[0], "--swing", "--points", "96"], 3)]
-        for r in par:
-            print(f"{r['label']}: serial {r['serial_s']:.2f} s, 2 processes {r['workers2_s']:.2f} s "
-                  f"({r['speedup_workers2']:.2f}x), Dask LocalCluster of 2 {r['dask_local2_s']:.2f} s "
-                  f"({r['dask_over_processes']:.2f} x processes)")
+        lines += [f"{r['label']}: serial {r['serial_s']:.2f} s, 2 processes "
+                  f"{r['workers2_s']:.2f} s ({r['speedup_workers2']:.2f}x), Dask LocalCluster "
+                  f"of 2 {r['dask_local2_s']:.2f} s ({r['dask_over_processes']:.2f} x processes)"
+                  for r in par]
     sweep_s = timed_command(["--engine", engines, "--points", "41"], 1 if args.quick else 3)
-    print(f"sweep --engine {engines}, 41 points, start-up included: median {sweep_s:.2f} s")
+    lines.append(f"sweep --engine {engines}, 41 points, start-up included: median {sweep_s:.2f} s")
     import matplotlib.pyplot as plt
 
     fig = chart(table)
-    atomic_write_many({
-        args.out / "bench_engines.csv":
-            table.to_csv(index=False, float_format="%.4g", lineterminator="\n").encode(),
-        args.out / "bench_engines.json": json_bytes({
+    files = {
+        "bench_engines.csv": table.to_csv(index=False, float_format="%.4g",
+                                          lineterminator="\n").encode(),
+        "bench_engines.json": json_bytes({
             "per_collision": table.to_dict(orient="records"), "sweep_41_s": sweep_s,
-            "runners": par, "two_process_ceiling": ceiling, "repeats": repeats, "provenance": provenance()}),
-        args.out / "bench_engines.png": figure_png(fig),
-    })
+            "runners": par, "two_process_ceiling": ceiling, "repeats": repeats,
+            "provenance": provenance()}),
+        "bench_engines.png": figure_png(fig),
+    }
     plt.close(fig)
-    return 0
+    return files, "\n".join(lines)
 
 
 if __name__ == "__main__":

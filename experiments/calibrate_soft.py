@@ -5,7 +5,7 @@
 For every chosen engine whose record declares a soft contact: central impacts (s = 0, so the bat
 does not turn) of the baseball on bats of 0.3, 0.871 and 3 kg at 5 to 80 m/s, for several target
 e and time steps, at a natural frequency w = 3000 rad/s. Measured e = (v1 - u1)/v0. Writes
-<out>/soft_calibration.csv and prints the residual per engine, time step and target.
+soft_calibration.csv into the run directory and prints the residual per engine, step and target.
 """
 
 from __future__ import annotations
@@ -20,7 +20,6 @@ import adapters
 from analytic import ImpactCase, presets
 
 from . import _cli, _runner
-from ._io import ROOT, atomic_write_many
 
 TARGETS = (0.3, 0.5, 0.8, 1.0)
 SPEEDS_MPS = (5.0, 20.0, 40.0, 80.0)
@@ -44,19 +43,32 @@ def jobs(engine: str) -> list[_runner.Job]:
     return out
 
 
-def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m experiments.calibrate_soft",
-                                description=__doc__.splitlines()[0])
+def build_parser() -> argparse.ArgumentParser:
+    p = _cli.Parser(prog="python -m experiments.calibrate_soft",
+                    description=__doc__.splitlines()[0])
     _cli.add_engine(p)
     _cli.add_runner(p)
-    _cli.add_out(p, ROOT / "results")
+    _cli.add_output(p)
+    return p
+
+
+def soft_engines(engines: tuple[str, ...]) -> list[str]:
+    """The engines among these whose record declares a soft contact."""
+    return [n for n in engines if adapters.record(n).soft_contact is not None]
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = build_parser()
     args = p.parse_args(argv)
-    soft = [n for n in args.engine if adapters.record(n).soft_contact is not None]
-    if not soft:
+    if not soft_engines(args.engine):
         p.error(f"--engine: none of {', '.join(args.engine)} has a soft contact; allowed: "
-                + ", ".join(n for n in adapters.names()
-                            if adapters.record(n).soft_contact is not None))
-    todo = [j for n in soft for j in jobs(n)]
+                + ", ".join(soft_engines(adapters.names())))
+    return _cli.run_command(p, argv, "calibrate_soft", produce)
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    """Every calibration impact of the chosen soft engines: the table and its summary."""
+    todo = [j for n in soft_engines(args.engine) for j in jobs(n)]
     with _cli.Progress(len(todo), "impacts") as bar, _cli.runner(args, bar) as runner:
         fired = runner.fire(todo)
     rows = []
@@ -68,15 +80,14 @@ def main(argv: list[str] | None = None) -> int:
                      "residual": e_meas - case.e, "status": out.status.value,
                      "contact_duration_s": out.contact_duration_s})
     table = pd.DataFrame(rows)
-    atomic_write_many({args.out / "soft_calibration.csv": table.to_csv(
-        index=False, float_format="%.10g", lineterminator="\n").encode()})
     summary = table.groupby(["engine", "dt_s", "e_target"]).agg(
         residual_min=("residual", "min"), residual_max=("residual", "max"),
         spread_over_speed_and_mass=("residual", lambda r: r.max() - r.min()))
-    print(f"w = {OMEGA_RADPS:g} rad/s; residual = e_measured - e_target over "
-          f"{len(SPEEDS_MPS)} speeds x {len(MASSES_KG)} bat masses")
-    print(summary.to_string(float_format=lambda v: f"{v:.3e}"))
-    return 0
+    text = (f"w = {OMEGA_RADPS:g} rad/s; residual = e_measured - e_target over "
+            f"{len(SPEEDS_MPS)} speeds x {len(MASSES_KG)} bat masses\n"
+            + summary.to_string(float_format=lambda v: f"{v:.3e}"))
+    return {"soft_calibration.csv": table.to_csv(index=False, float_format="%.10g",
+                                                 lineterminator="\n").encode()}, text
 
 
 if __name__ == "__main__":

@@ -19,6 +19,22 @@ from ._grid import TIMING_COLUMNS
 KEYS = ["engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad"]
 
 
+def check_table(path: Path) -> None:
+    """Raise ValueError unless ``path`` is a readable sweep table (a CSV with the key columns)."""
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{str(path)!r} is not a file; allowed: a sweep table (sweep.csv of a run)")
+    try:
+        columns = pd.read_csv(path, nrows=0).columns
+    except (UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError, OSError) as err:
+        raise ValueError(f"{str(path)!r} is not a CSV table ({type(err).__name__}); allowed: a "
+                         "sweep table (sweep.csv of a run)") from None
+    missing = [k for k in (*KEYS, "status", "v1_abs_err_mps") if k not in columns]
+    if missing:
+        raise ValueError(f"{str(path)!r} is not a sweep table (no column {missing[0]!r}); "
+                         "allowed: a sweep table (sweep.csv of a run)")
+
+
 def compare_tables(old_path: Path, new_path: Path, out=sys.stdout) -> int:
     """Print added/removed rows, status changes and the largest value changes per engine."""
     old = pd.read_csv(old_path).drop(columns=list(TIMING_COLUMNS), errors="ignore")
@@ -58,13 +74,17 @@ def compare_tables(old_path: Path, new_path: Path, out=sys.stdout) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m experiments.compare", description=__doc__.splitlines()[0])
+    from ._cli import Parser
+
+    p = Parser(prog="python -m experiments.compare", description=__doc__.splitlines()[0])
     p.add_argument("old", type=Path)
     p.add_argument("new", type=Path)
     args = p.parse_args(argv)
     for path in (args.old, args.new):
-        if not path.is_file():
-            p.error(f"{path} does not exist; allowed: a sweep CSV")
+        try:
+            check_table(path)
+        except ValueError as err:
+            p.error(str(err))
     return compare_tables(args.old, args.new)
 
 

@@ -2,7 +2,8 @@
 
     python -m experiments.findings
 
-Writes results/findings.md (text, tables, the answers) and results/findings_*.png. Every number is
+Writes findings.md (text, tables, the answers) and findings_*.png into the run directory
+(results/ by python -m experiments.baselines). Every number is
 computed here by the analytic model and, where it says so, confirmed by the three engines
 (reference profile); numbers from the literature carry their reference.
 """
@@ -25,7 +26,7 @@ from analytic import (Bat, ImpactCase, SwingModel, batted_ball_speed, center_of_
                       sweet_spot, swing_for)
 from analytic.dynamics import HingedSwing
 
-from ._io import ROOT, atomic_write_many, figure_png, provenance
+from ._io import figure_png, provenance
 
 R161, AL, BALL = presets.R161, presets.EASTON31, presets.BASEBALL
 PITCH = presets.PAPER_PITCH_MPS
@@ -503,10 +504,22 @@ def audit_section(sweet: dict, cork: dict, metal: dict) -> str:
     return "## 4. Audit of the paper\n\n" + md_table(table) + "\n"
 
 
+def build_parser() -> argparse.ArgumentParser:
+    from . import _cli
+
+    p = _cli.Parser(prog="python -m experiments.findings", description=__doc__.splitlines()[0])
+    _cli.add_output(p)
+    return p
+
+
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m experiments.findings", description=__doc__.splitlines()[0])
-    p.add_argument("--out", default=str(ROOT / "results"))
-    args = p.parse_args(argv)
+    from . import _cli
+
+    return _cli.run_command(build_parser(), argv, "findings", produce)
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    """The report and its charts."""
     sweet_text, sweet_figs, sweet = sweet_spot_section()
     cork_text, cork_figs, cork = cork_section()
     metal_text, metal_figs, metal = metal_section()
@@ -530,18 +543,15 @@ corking inertia, oblique-impact angle, metal-bat speeds and reaction times are w
     import matplotlib.pyplot as plt
 
     figs = {**sweet_figs, **cork_figs, **metal_figs}
-    out = Path(args.out)
-    files = {out / name: figure_png(fig) for name, fig in figs.items()}
+    files = {name: figure_png(fig) for name, fig in figs.items()}
     for fig in figs.values():
         plt.close(fig)
     body = head + "\n".join([sweet_text, cork_text, metal_text, audit, refs])
-    files[out / "findings.md"] = body.encode()
-    atomic_write_many(files)
+    files["findings.md"] = body.encode()
     for eng in _ENGINES.values():
         eng.close()
     _ENGINES.clear()
-    print(f"wrote {out / 'findings.md'} and {len(figs)} charts")
-    return 0
+    return files, f"findings.md and {len(figs)} charts"
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@ time step's real cost shows; the aligned reference profile is drawn apart for co
 Cost per collision is the wall time to simulate the collision window: WINDOW_S of approach
 (``approach_steps`` = WINDOW_S/dt) and the contact until separation, as a simulation must step
 through it; with a fixed number of steps an impulse engine would cost the same at every dt.
-Writes results/pareto.csv, results/pareto.png and results/convergence.csv.
+Writes pareto.csv, pareto.png, pareto.json and convergence.csv into the run directory.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ import adapters
 from analytic import presets
 
 from . import _cli, _grid, _runner
-from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
+from ._io import figure_png, json_bytes, provenance
 
 STEPS_S = (1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 2e-3, 1 / 240, 1 / 60)
 QUICK_STEPS_S = (1e-5, 1e-4, 2e-3, 1 / 240, 1 / 60)
@@ -212,14 +212,19 @@ def _failed_y(errors: pd.Series) -> np.ndarray:
     return np.where(np.isfinite(e), np.maximum(e, FLOOR), FAILED_Y)
 
 
-def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m experiments.pareto", description=__doc__.splitlines()[0])
+def build_parser() -> argparse.ArgumentParser:
+    p = _cli.Parser(prog="python -m experiments.pareto", description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="a small grid (smoke test)")
-    p.add_argument("--repeats", type=int, default=None, help="timing repeats per setting")
+    p.add_argument("--repeats", type=_cli.integer(1, 100), default=None,
+                   help="timing repeats per setting (default 3, 1 with --quick)")
     _cli.add_engine(p)
     _cli.add_runner(p)
-    _cli.add_out(p, ROOT / "results")
-    args = p.parse_args(argv)
+    _cli.add_output(p)
+    return p
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    """Every setting of every chosen engine over the grid: the files and a summary."""
     repeats = args.repeats or (1 if args.quick else 3)
     s = np.linspace(-0.2, 0.25, 4 if args.quick else 10)
     firing = _grid.Firing(bat=presets.R161, s_m=tuple(s), v0_mps=presets.PAPER_PITCH_MPS,
@@ -239,27 +244,28 @@ def main(argv: list[str] | None = None) -> int:
                              **r} for (n, _), r in zip(aligned_settings, results[len(todo):])])
     conv = convergence(table)
     elapsed = time.perf_counter() - t0
-    out = args.out
     import matplotlib.pyplot as plt
 
     fig = chart(table, aligned)
     both = pd.concat([table, aligned.assign(family="reference profile (aligned)",
                                             dt_s=[st.dt_s for _, st in aligned_settings])],
                      ignore_index=True)
-    atomic_write_many({
-        out / "pareto.csv": both.to_csv(index=False, float_format="%.6g",
-                                        lineterminator="\n").encode(),
-        out / "pareto.png": figure_png(fig),
-        out / "convergence.csv": conv.to_csv(index=False, float_format="%.4g",
-                                             lineterminator="\n").encode(),
-        out / "pareto.json": json_bytes({"quick": args.quick, "repeats": repeats,
-                                         "grid_s_m": list(s), "contact_phase": PHASE,
-                                         "elapsed_s": elapsed, "provenance": provenance()}),
-    })
+    files = {
+        "pareto.csv": both.to_csv(index=False, float_format="%.6g", lineterminator="\n").encode(),
+        "pareto.png": figure_png(fig),
+        "convergence.csv": conv.to_csv(index=False, float_format="%.4g",
+                                       lineterminator="\n").encode(),
+        "pareto.json": json_bytes({"quick": args.quick, "repeats": repeats,
+                                   "grid_s_m": list(s), "contact_phase": PHASE,
+                                   "elapsed_s": elapsed, "provenance": provenance()}),
+    }
     plt.close(fig)
-    print(conv.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
-    print(f"{len(table)} settings in {elapsed:.1f} s")
-    return 0
+    return files, (conv.to_string(index=False, float_format=lambda v: f"{v:.3g}")
+                   + f"\n{len(table)} settings in {elapsed:.1f} s")
+
+
+def main(argv: list[str] | None = None) -> int:
+    return _cli.run_command(build_parser(), argv, "pareto", produce)
 
 
 if __name__ == "__main__":

@@ -11,7 +11,8 @@ An engine with a soft contact (its record's ``soft_contact``) gets its own map: 
 stiffness w at 40 m/s, where an undamped spring lets the ball sink v/w deep (through the bat
 when w < v/R) and Euler is unstable for w dt > 2 (this map uses e = 0.5: at e = 1 every
 discretized spring gains a little energy).
-Writes results/stability.csv, stability.png, stability_energy.png, stability_<engine>_soft.png.
+Writes stability.csv, stability_cells.csv, stability.json, stability.png, stability_energy.png
+and stability_<engine>_soft.png into the run directory.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ import adapters
 from analytic import ImpactCase, presets
 
 from . import _cli, _grid, _runner
-from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
+from ._io import figure_png, json_bytes, provenance
 
 BAT, BALL = presets.R161, presets.BASEBALL
 REACH_M = BAT.radius_m + BALL.radius_m
@@ -199,14 +200,21 @@ def chart_energy(rows: pd.DataFrame):
     return fig
 
 
-def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m experiments.stability",
-                                description=__doc__.splitlines()[0])
+def build_parser() -> argparse.ArgumentParser:
+    p = _cli.Parser(prog="python -m experiments.stability", description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="a small grid (smoke test)")
     _cli.add_engine(p)
     _cli.add_runner(p)
-    _cli.add_out(p, ROOT / "results")
-    args = p.parse_args(argv)
+    _cli.add_output(p)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    return _cli.run_command(build_parser(), argv, "stability", produce)
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    """Every map for the chosen engines: the files and a summary."""
     steps = QUICK["steps"] if args.quick else STEPS_S
     speeds = QUICK["speeds"] if args.quick else SPEEDS_MPS
     k = QUICK["phases"] if args.quick else PHASES
@@ -251,22 +259,19 @@ def main(argv: list[str] | None = None) -> int:
     for name, cells_soft in soft.groupby("map", sort=False):
         figs[f"stability_{name.replace(' ', '_')}.png"] = chart_soft(cells_soft, steps, omegas,
                                                                       name)
-    out = args.out
-    files = {out / name: figure_png(fig) for name, fig in figs.items()}
+    files = {name: figure_png(fig) for name, fig in figs.items()}
     for fig in figs.values():
         plt.close(fig)
-    files[out / "stability.csv"] = table.to_csv(index=False, float_format="%.6g",
-                                                lineterminator="\n").encode()
-    files[out / "stability_cells.csv"] = pd.concat([cells, soft]).to_csv(
+    files["stability.csv"] = table.to_csv(index=False, float_format="%.6g",
+                                          lineterminator="\n").encode()
+    files["stability_cells.csv"] = pd.concat([cells, soft]).to_csv(
         index=False, float_format="%.6g", lineterminator="\n").encode()
-    files[out / "stability.json"] = json_bytes({"quick": args.quick, "phases": k,
-                                                "elapsed_s": elapsed, "provenance": provenance()})
-    atomic_write_many(files)
+    files["stability.json"] = json_bytes({"quick": args.quick, "phases": k,
+                                          "elapsed_s": elapsed, "provenance": provenance()})
     ref = cells[cells["map"].str.endswith("reference")]
     match = (ref.fraction_ok == ref.theory_fraction_caught).mean()
-    print(f"reference maps: measured fraction ok equals theory in {match:.1%} of cells")
-    print(f"{len(table)} impacts in {elapsed:.1f} s")
-    return 0
+    return files, (f"reference maps: measured fraction ok equals theory in {match:.1%} of "
+                   f"cells\n{len(table)} impacts in {elapsed:.1f} s")
 
 
 if __name__ == "__main__":

@@ -2,10 +2,11 @@
 
     python -m experiments.sweep --engine NAME[,NAME...]|all
     python -m experiments.sweep --engine all --points 41 --u0 0 --omega0 0
-    python -m experiments.sweep --compare results/old.csv results/new.csv
+    python -m experiments.sweep --compare runs/A/sweep.csv runs/B/sweep.csv
 
-Writes <out>/<name>.csv (one row per impact), <name>.json (provenance and summary) and
-<name>.png (v1 along the bat per engine over the analytic curve, and the error), atomically.
+Writes runs/<name>/sweep.csv (one row per impact), sweep.json (provenance, configuration and
+summary) and sweep.png (v1 along the bat per engine over the analytic curve, and the error),
+all at once (see experiments._cli for names and --out/--name/--force).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from analytic import Bat, batted_ball_speed, presets
 from analytic.dynamics import HingedSwing
 
 from . import _cli, _grid, _runner
-from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
+from ._io import figure_png, json_bytes, provenance
 
 FLOAT_FORMAT = "%.12g"
 
@@ -51,45 +52,60 @@ def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked
                      motion])
 
 
+#: Largest grid: beyond it a sweep is an accident (the message gives what it would cost).
+MAX_POINTS = 10_000
+#: Rough cost of one impact (s) and of one table row (bytes), for that message.
+IMPACT_S = {"plain": 60e-6, "swing": 0.05}
+ROW_BYTES = 2_000
+
+
 def build_parser() -> argparse.ArgumentParser:
     swing, pitch = presets.PAPER_SWING, presets.PAPER_PITCH_MPS
-    p = argparse.ArgumentParser(
+    num = _cli.number
+    p = _cli.Parser(
         prog="python -m experiments.sweep",
         description="Fire a ball along a bat in physics engines and compare with impact theory.",
-        epilog=f"engines: {', '.join(adapters.names())}; bats: {', '.join(presets.BATS)}. "
-               "Exit code 2 on bad input (results left untouched).",
+        epilog=f"bats: {', '.join(presets.BATS)}. A run goes to runs/<name>/ (sweep.csv, "
+               "sweep.json, sweep.png); exit code 2 on bad input, before anything runs.",
     )
     _cli.add_engine(p)
     p.add_argument("--profile", choices=adapters.PROFILES, default="reference",
                    help="engine settings: tuned for fidelity, or the engine's own defaults")
-    p.add_argument("--dt", type=float, default=None, metavar="S",
-                   help="override the profile's time step (s)")
+    p.add_argument("--dt", type=num(0.0, 1.0, lo_open=True, unit="s"), default=None,
+                   metavar="S", help="override the profile's time step (s)")
     p.add_argument("--bat", choices=list(presets.BATS), default="r161")
     p.add_argument("--corked", action="store_true", help="drill and fill the barrel end")
-    p.add_argument("--hole-radius", type=float, default=0.0127, metavar="M")
-    p.add_argument("--hole-depth", type=float, default=0.254, metavar="M")
-    p.add_argument("--fill-density", type=float, default=200.0, metavar="KGM3",
-                   help="cork 200, rubber 1100, hollow 0")
-    p.add_argument("--wood-density", type=float, default=640.0, metavar="KGM3")
-    p.add_argument("--points", type=int, default=41, help="impact points over the hittable length")
-    p.add_argument("--s-range", type=float, nargs=2, default=None, metavar=("MIN", "MAX"),
+    for flag, default, metavar, text in (
+            ("--hole-radius", 0.0127, "M", "hole radius (m, default 0.0127)"),
+            ("--hole-depth", 0.254, "M", "hole depth (m, default 0.254)"),
+            ("--fill-density", 200.0, "KGM3", "cork 200 (default), rubber 1100, hollow 0"),
+            ("--wood-density", 640.0, "KGM3", "wood density (kg/m^3, default 640)")):
+        p.add_argument(flag, type=num(0.0), default=None, metavar=metavar,
+                       help=f"with --corked: {text}")
+    p.add_argument("--points", type=_cli.integer(2, 10**12), default=41,
+                   help=f"impact points over the hittable length (2..{MAX_POINTS})")
+    p.add_argument("--s-range", type=num(), nargs=2, default=None, metavar=("MIN", "MAX"),
                    help="part of the bat to sweep, m from the COM (default: all of it)")
-    p.add_argument("--v0", type=float, default=pitch, metavar="MPS", help="pitch speed")
-    p.add_argument("--u0", type=float, default=swing.u0_mps, metavar="MPS", help="bat COM speed")
-    p.add_argument("--omega0", type=float, default=swing.omega0_radps, metavar="RADPS")
-    p.add_argument("--e", type=float, default=presets.E_WOOD, help="coefficient of restitution")
-    p.add_argument("--theta", type=float, default=0.0, metavar="RAD",
+    p.add_argument("--v0", type=num(0.0, 1e4, unit="m/s"), default=pitch, metavar="MPS",
+                   help="pitch speed")
+    p.add_argument("--u0", type=num(-1e4, 1e4, unit="m/s"), default=swing.u0_mps,
+                   metavar="MPS", help="bat COM speed")
+    p.add_argument("--omega0", type=num(-1e5, 1e5, unit="rad/s"), default=swing.omega0_radps,
+                   metavar="RADPS")
+    p.add_argument("--e", type=num(0.0, 1.0), default=presets.E_WOOD,
+                   help="coefficient of restitution")
+    p.add_argument("--theta", type=num(-1.5707, 1.5707, unit="rad"), default=0.0, metavar="RAD",
                    help="ball's angle to the contact normal")
     p.add_argument("--swing", action="store_true",
                    help="swing the bat about the hands in the engine before each impact, with "
                         "the constant torque that reaches --omega0 over --swing-angle; u0 is "
                         "then omega0 times the hands-to-COM distance (--u0 is ignored)")
-    p.add_argument("--hands", type=float, default=0.1, metavar="M",
+    p.add_argument("--hands", type=num(0.0, unit="m"), default=0.1, metavar="M",
                    help="hands (pivot) from the knob, for --swing and the COP")
-    p.add_argument("--swing-angle", type=float, default=math.pi / 2, metavar="RAD")
+    p.add_argument("--swing-angle", type=num(0.0, 2 * math.pi, lo_open=True, unit="rad"),
+                   default=math.pi / 2, metavar="RAD")
     _cli.add_runner(p)
-    _cli.add_out(p, ROOT / "results")
-    p.add_argument("--name", default=None, help="file stem (default from the options)")
+    _cli.add_output(p)
     p.add_argument("--no-locate", action="store_true",
                    help="skip locating the sweet spot and COP from engine data")
     p.add_argument("--compare", nargs=2, type=Path, metavar=("OLD", "NEW"),
@@ -97,19 +113,40 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+HOLE = {"hole_radius": ("hole_radius_m", 0.0127), "hole_depth": ("hole_depth_m", 0.254),
+        "fill_density": ("fill_density_kgm3", 200.0), "wood_density": ("wood_density_kgm3", 640.0)}
+
+
 def sweep_from_args(args: argparse.Namespace) -> Sweep:
-    """Validate every option (ValueError names the problem) and build the sweep."""
+    """Validate every option together (ValueError names the problem) and build the sweep."""
     bat = presets.BATS[args.bat]
+    given = [k for k in HOLE if getattr(args, k) is not None]
+    if given and not args.corked:
+        flag = "--" + given[0].replace("_", "-")
+        raise ValueError(f"{flag} {getattr(args, given[0])!r} without --corked does nothing; "
+                         "allowed: add --corked, or leave the hole options out")
     if args.corked:
-        bat = bat.corked(hole_radius_m=args.hole_radius, hole_depth_m=args.hole_depth,
-                         fill_density_kgm3=args.fill_density, wood_density_kgm3=args.wood_density)
-    if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
-        raise ValueError(f"--dt={args.dt!r} is not allowed; allowed: a time step > 0 s")
+        bat = bat.corked(**{field: default if getattr(args, k) is None else getattr(args, k)
+                            for k, (field, default) in HOLE.items()})
+    engines = args.engine
+    if args.points > MAX_POINTS:
+        per = IMPACT_S["swing" if args.swing else "plain"] * len(engines)
+        raise ValueError(
+            f"--points {args.points} is too many: about {_duration(args.points * per)} and "
+            f"{args.points * len(engines) * ROW_BYTES / 1e6:.3g} MB; allowed: 2..{MAX_POINTS} "
+            f"({MAX_POINTS} take about {_duration(MAX_POINTS * per)})")
     s = _grid.grid(bat, args.points, *(args.s_range or (None, None)))
+    hands_max = bat.com_from_knob_m if args.swing else bat.length_m
+    if not args.hands < hands_max:
+        raise ValueError(f"--hands {args.hands!r} m is not allowed for '{bat.name}'; allowed: 0 "
+                         f"<= --hands < {hands_max:g} m from the knob ("
+                         + ("the hands must be on the knob side of the COM to swing it)"
+                            if args.swing else "on the bat)"))
     swing, u0 = None, args.u0
     if args.swing:
         if args.theta != 0.0:
-            raise ValueError("--swing with --theta is not supported; allowed: --theta 0")
+            raise ValueError(f"--swing with --theta {args.theta!r}: not supported; allowed: "
+                             "--theta 0 with --swing")
         swing = HingedSwing.for_omega(bat, args.omega0, hands_from_knob_m=args.hands,
                                       angle_rad=args.swing_angle)
         u0 = args.omega0 * swing.arm_m(bat)
@@ -117,12 +154,19 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
                           e=args.e, theta_rad=args.theta, hands_from_knob_m=args.hands,
                           swing=swing)
     firing.cases()  # every impact validated before anything runs
-    engines = args.engine
     for name in engines:
         adapters.settings_for(name, args.profile, **({} if args.dt is None else {"dt_s": args.dt}))
-    name = args.name or default_name(_cli.engine_label(engines), args.profile, args.dt, presets.BATS[args.bat],
-                                     args.corked, args.u0 == 0 and args.omega0 == 0, args.swing)
+    name = default_name(_cli.engine_label(engines), args.profile, args.dt,
+                        presets.BATS[args.bat], args.corked, args.u0 == 0 and args.omega0 == 0,
+                        args.swing)
     return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name)
+
+
+def _duration(seconds: float) -> str:
+    for unit, size in (("days", 86400), ("h", 3600), ("min", 60)):
+        if seconds >= size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
 
 
 def run(sweep: Sweep, runner: _runner.Runner | None = None, *, locate: bool = True,
@@ -276,42 +320,49 @@ def print_summary(meta: dict) -> None:
           f"COP {marks['cop_m'] * 1e3:.4f} mm from the COM")
 
 
-def write(table: pd.DataFrame, meta: dict, sweep: Sweep, out_dir: Path) -> list[Path]:
-    """CSV, JSON sidecar and PNG: all rendered first, then renamed into place together."""
-    stem = out_dir / sweep.name
-    csv = table.to_csv(index=False, float_format=FLOAT_FORMAT, lineterminator="\n")
+def files(table: pd.DataFrame, meta: dict, sweep: Sweep, stem: str = "sweep") -> dict[str, bytes]:
+    """The sweep's CSV, JSON sidecar (summary, configuration, provenance) and PNG, by name."""
     png = meta.get("png") or render(table, sweep, meta["analytic"])
     sidecar = {k: v for k, v in meta.items() if k != "png"}
-    return atomic_write_many({
-        stem.with_suffix(".csv"): csv.encode("utf-8"),
-        stem.with_suffix(".json"): json_bytes({**sidecar, "provenance": provenance()}),
-        stem.with_suffix(".png"): png,
-    })
+    return {
+        f"{stem}.csv": table.to_csv(index=False, float_format=FLOAT_FORMAT,
+                                    lineterminator="\n").encode("utf-8"),
+        f"{stem}.json": json_bytes({**sidecar, "provenance": provenance()}),
+        f"{stem}.png": png,
+    }
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.compare:
-        from .compare import compare_tables
+        from .compare import check_table, compare_tables
 
+        for path in args.compare:
+            try:
+                check_table(path)
+            except ValueError as err:
+                parser.error(f"--compare: {err}")
         return compare_tables(*args.compare)
     try:
         sweep = sweep_from_args(args)
     except ValueError as err:
         parser.error(str(err))
+    target = _cli.run_dir(parser, args, "sweep")
+    return _cli.main_guard(lambda: _run_and_publish(sweep, args, parser, target))
+
+
+def _run_and_publish(sweep: Sweep, args, parser, target: Path) -> int:
     t0 = time.perf_counter()
-    try:
-        with _cli.Progress(len(sweep.firing.s_m) * len(sweep.engines), "impacts") as bar, \
-                _cli.runner(args, bar) as runner:
-            table, meta = run(sweep, runner, locate=not args.no_locate, chart=True)
-        paths = write(table, meta, sweep, args.out)
-    except KeyboardInterrupt:
-        print("interrupted: previous results left intact", file=sys.stderr)
-        return 130
+    with _cli.Progress(len(sweep.firing.s_m) * len(sweep.engines), "impacts") as bar, \
+            _cli.runner(args, bar) as runner:
+        table, meta = run(sweep, runner, locate=not args.no_locate, chart=True)
+    meta["configuration"] = _cli.configuration(parser, args)
+    _cli.publish(target, files(table, meta, sweep))
     print_summary(meta)
-    print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> "
-          + ", ".join(str(p.relative_to(ROOT) if p.is_relative_to(ROOT) else p) for p in paths))
+    print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> {_cli.shown(target)}/")
+    print("compare two runs: python -m experiments.compare "
+          f"{_cli.shown(target)}/sweep.csv OTHER_RUN/sweep.csv")
     return 0
 
 

@@ -7,10 +7,10 @@
    q = 0, 45, 90 deg to the axis, held in the bat's frame (the seed lecture's example), (d) a
    torque on the bat hinged at the hands. Errors of angle and angular velocity at T_END against
    closed form (or solve_ivp at rtol 1e-12), and the fitted order p of error ~ dt^p.
-   -> results/swing.csv, swing_orders.csv, swing.png
+   -> swing.csv, swing_orders.csv, swing.png (in the run directory)
 2. Swing-speed models: the swing each model predicts for the R161, its corked variants and the
    aluminium bat, given the paper's swing of the R161, and what it does to v1 at the sweet spot.
-   -> results/swing_models.csv, swing_models.png
+   -> swing_models.csv, swing_models.png
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from analytic import (SwingModel, batted_ball_speed, hittable_sweet_spot, preset
 from analytic.dynamics import Drive, motion, state_array
 
 from . import _cli, _runner
-from ._io import ROOT, atomic_write_many, figure_png, json_bytes, provenance
+from ._io import figure_png, json_bytes, provenance
 
 T_END_S = 0.1
 STEPS_S = (1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6)
@@ -188,13 +188,21 @@ def chart_models(table: pd.DataFrame):
     return fig
 
 
-def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m experiments.swing", description=__doc__.splitlines()[0])
+def build_parser() -> argparse.ArgumentParser:
+    p = _cli.Parser(prog="python -m experiments.swing", description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="two time steps only (smoke test)")
     _cli.add_engine(p)
     _cli.add_runner(p)
-    _cli.add_out(p, ROOT / "results")
-    args = p.parse_args(argv)
+    _cli.add_output(p)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    return _cli.run_command(build_parser(), argv, "swing", produce)
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    """The scenes in every chosen engine and integrator, and the swing-model table."""
     t0 = time.perf_counter()
     with _cli.runner(args) as runner:
         table = scene_errors(runner, args.engine, QUICK_STEPS_S if args.quick else STEPS_S)
@@ -203,23 +211,21 @@ def main(argv: list[str] | None = None) -> int:
     import matplotlib.pyplot as plt
 
     figs = {"swing.png": chart_scenes(table), "swing_models.png": chart_models(models)}
-    out = args.out
-    files = {out / n: figure_png(f) for n, f in figs.items()}
+    files = {n: figure_png(f) for n, f in figs.items()}
     for f in figs.values():
         plt.close(f)
     for name, df, fmt in (("swing.csv", table, "%.6g"), ("swing_orders.csv", fits, "%.4g"),
                           ("swing_models.csv", models, "%.6g")):
-        files[out / name] = df.to_csv(index=False, float_format=fmt, lineterminator="\n").encode()
-    files[out / "swing.json"] = json_bytes({"t_end_s": T_END_S, "quick": args.quick,
-                                            "elapsed_s": time.perf_counter() - t0,
-                                            "provenance": provenance()})
-    atomic_write_many(files)
+        files[name] = df.to_csv(index=False, float_format=fmt, lineterminator="\n").encode()
+    files["swing.json"] = json_bytes({"t_end_s": T_END_S, "quick": args.quick,
+                                      "elapsed_s": time.perf_counter() - t0,
+                                      "provenance": provenance()})
     pivot = fits.pivot_table(index=["scene", "method"], columns="quantity", values="p",
                              dropna=False, sort=False)
-    print(pivot.to_string(float_format=lambda v: f"{v:.2f}"))
-    print(models.pivot_table(index="bat", columns="model", values="v1_max_mps", sort=False)
-          .to_string(float_format=lambda v: f"{v:.2f}"))
-    return 0
+    text = pivot.to_string(float_format=lambda v: f"{v:.2f}") + "\n" + models.pivot_table(
+        index="bat", columns="model", values="v1_max_mps", sort=False).to_string(
+        float_format=lambda v: f"{v:.2f}")
+    return files, text
 
 
 if __name__ == "__main__":

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 
 from analytic import Ball, Bat, ImpactCase
+
+os.environ["BATSIM_QUIET"] = "1"  # no progress lines in test output (subprocesses too)
 
 settings.register_profile("ci", deadline=None, max_examples=200,
                           suppress_health_check=[HealthCheck.too_slow])

@@ -138,10 +138,10 @@ def test_plugin_is_registered_and_runs_every_study(plugin, tmp_path):
     out = tmp_path / "out"
     assert sweep.main(["--engine", plugin, "--points", "3", "--out", str(out), "--name", "p",
                        "--no-locate"]) == 0
-    assert "plugged" in (out / "p.csv").read_text()
+    assert "plugged" in (out / "p" / "sweep.csv").read_text()
     for study in (pareto, stability, swing):
         assert study.main(["--quick", "--engine", plugin, "--out", str(out)]) == 0
-    meta = json.loads((out / "p.json").read_text())
+    meta = json.loads((out / "p" / "sweep.json").read_text())
     assert set(meta["engines"]) == {plugin}
 
 

@@ -14,7 +14,8 @@ from experiments import findings
 
 
 def test_report_is_complete(tmp_path):
-    assert findings.main(["--out", str(tmp_path)]) == 0
+    assert findings.main(["--out", str(tmp_path), "--name", "f"]) == 0
+    tmp_path = tmp_path / "f"
     text = (tmp_path / "findings.md").read_text()
     for heading in ("## 1. Where is the sweet spot?", "## 2. Does corking help",
                     "## 3. Why are metal bats banned?", "## 4. Audit of the paper",

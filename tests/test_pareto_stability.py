@@ -18,8 +18,8 @@ from experiments import pareto, stability
 @pytest.fixture(scope="module")
 def stability_out(tmp_path_factory):
     out = tmp_path_factory.mktemp("stability")
-    assert stability.main(["--quick", "--out", str(out)]) == 0
-    return out
+    assert stability.main(["--quick", "--out", str(out), "--name", "s"]) == 0
+    return out / "s"
 
 
 def test_stability_outputs(stability_out):
@@ -57,7 +57,8 @@ def test_soft_contact_sinks_through_below_v_over_r(stability_out):
 
 
 def test_pareto_outputs(tmp_path):
-    assert pareto.main(["--quick", "--out", str(tmp_path)]) == 0
+    assert pareto.main(["--quick", "--out", str(tmp_path), "--name", "p"]) == 0
+    tmp_path = tmp_path / "p"
     table = pd.read_csv(tmp_path / "pareto.csv")
     configs = pareto.configs(True, adapters.names())
     assert len(table) == len(configs) + len(adapters.names())

@@ -1,0 +1,156 @@
+"""The command-line convention, for every experiment: bad input exits 2 with one line naming
+the option, the value and what is allowed, before anything runs or any file is touched;
+--help only prints; runs go to their own directory and never overwrite another."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import adapters
+from experiments import (_cli, baselines, bench_analytic, bench_engines, calibrate_soft, compare,
+                         findings, pareto, stability, sweep, swing)
+from experiments._io import ROOT
+
+COMMANDS = {"sweep": sweep, "pareto": pareto, "stability": stability, "swing": swing,
+            "calibrate_soft": calibrate_soft, "findings": findings, "baselines": baselines,
+            "bench_engines": bench_engines, "bench_analytic": bench_analytic, "compare": compare}
+NOT_SOFT = [n for n in adapters.names() if adapters.record(n).soft_contact is None]
+
+
+def _bad_inputs(tmp: Path) -> list[tuple[str, list[str], str]]:
+    """(command, argv, a piece the one-line error must hold)."""
+    a_file = ROOT / "README.md"
+    existing = tmp / "taken"
+    existing.mkdir()
+    cases = [
+        ("sweep", ["--engine", "bullet"], "--engine"),
+        ("sweep", ["--engine", ""], "--engine"),
+        ("sweep", ["--engine", f"{adapters.names()[0]},bullet"], "bullet"),
+        ("sweep", ["--bat", "maple"], "--bat"),
+        ("sweep", ["--profile", "fast"], "--profile"),
+        ("sweep", ["--e", "1.5"], "--e"),
+        ("sweep", ["--e", "-0.1"], "--e"),
+        ("sweep", ["--e", "abc"], "--e"),
+        ("sweep", ["--dt", "-1e-5"], "--dt"),
+        ("sweep", ["--dt", "0"], "--dt"),
+        ("sweep", ["--dt", "nan"], "--dt"),
+        ("sweep", ["--dt", "2"], "--dt"),
+        ("sweep", ["--points", "1"], "--points"),
+        ("sweep", ["--points", "100000000"], "--points 100000000 is too many"),
+        ("sweep", ["--points", "2.5"], "--points"),
+        ("sweep", ["--s-range", "-0.2", "0.4"], "s_max=0.4 m is off the bat"),
+        ("sweep", ["--s-range", "0.2", "-0.2"], "s_min=0.2 >= s_max=-0.2"),
+        ("sweep", ["--corked", "--hole-depth", "2"], "hole_depth_m=2.0 is out of range"),
+        ("sweep", ["--hole-radius", "0.01"], "--hole-radius 0.01 without --corked"),
+        ("sweep", ["--corked", "--hole-radius", "0.05"], "hole_radius_m=0.05 is out of range"),
+        ("sweep", ["--corked", "--fill-density", "-5"], "--fill-density"),
+        ("sweep", ["--swing", "--swing-angle", "0"], "--swing-angle"),
+        ("sweep", ["--swing", "--theta", "0.3"], "--swing with --theta 0.3"),
+        ("sweep", ["--swing", "--hands", "0.6"], "--hands 0.6 m is not allowed"),
+        ("sweep", ["--hands", "0.9"], "--hands 0.9 m is not allowed"),
+        ("sweep", ["--theta", "2"], "--theta"),
+        ("sweep", ["--v0", "-3"], "--v0"),
+        ("sweep", ["--v0", "1e9"], "--v0"),
+        ("sweep", ["--omega0", "1e9"], "--omega0"),
+        ("sweep", ["--hands", "-1"], "--hands"),
+        ("sweep", ["--v0", "0", "--u0", "0", "--omega0", "0"], "closing speed"),
+        ("sweep", ["--workers", "0"], "--workers"),
+        ("sweep", ["--workers", "1000"], "--workers"),
+        ("sweep", ["--workers", "two"], "--workers"),
+        ("sweep", ["--out", str(a_file)], "is a file"),
+        ("sweep", ["--out", str(a_file / "sub")], "is a file"),
+        ("sweep", ["--out", str(ROOT / "results")], "inside results/"),
+        ("sweep", ["--out", str(ROOT / "results" / "x")], "inside results/"),
+        ("sweep", ["--name", "../escaped"], "--name"),
+        ("sweep", ["--name", "a/b"], "--name"),
+        ("sweep", ["--name", ""], "--name"),
+        ("sweep", ["--name", ".hidden"], "--name"),
+        ("sweep", ["--name", "taken"], "exists; allowed: --force"),
+        ("sweep", ["--compare", str(tmp / "no.csv"), str(tmp / "no.csv")], "is not a file"),
+        ("sweep", ["--compare", str(a_file), str(a_file)], "is not a sweep table"),
+        ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.csv")] * 2],
+         "not a sweep table"),
+        ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.png")] * 2], "is not a"),
+        ("compare", [str(tmp / "no.csv"), str(tmp / "no.csv")], "is not a file"),
+        ("pareto", ["--repeats", "0"], "--repeats"),
+        ("pareto", ["--engine", "nope"], "--engine"),
+        ("stability", ["--workers", "-1"], "--workers"),
+        ("stability", ["--out", str(a_file)], "is a file"),
+        ("swing", ["--engine", "nope"], "--engine"),
+        ("swing", ["--quick", "--name", "x/y"], "--name"),
+        ("baselines", ["--only", "nothing"], "--only"),
+        ("bench_engines", ["--points", "1"], "--points"),
+        ("bench_engines", ["--repeats", "0"], "--repeats"),
+        ("bench_analytic", ["--points", "0"], "--points"),
+        ("findings", ["--name", "../x"], "--name"),
+    ]
+    if NOT_SOFT:
+        cases.append(("calibrate_soft", ["--engine", NOT_SOFT[0]], "has a soft contact"))
+    return cases
+
+
+def test_bad_inputs_exit_2_with_one_line_before_any_work(tmp_path, capsys):
+    cases = _bad_inputs(tmp_path)
+    assert len(cases) >= 40
+    before = sorted(tmp_path.rglob("*"))
+    for command, argv, piece in cases:
+        with pytest.raises(SystemExit) as exit_:
+            COMMANDS[command].main([*argv, *(["--out", str(tmp_path)]
+                                             if command not in ("compare", "baselines")
+                                             and "--out" not in argv else [])])
+        err = capsys.readouterr().err.strip()
+        assert exit_.value.code == 2, (command, argv, err)
+        assert piece in err and "\n" not in err, (command, argv, err)
+        assert "Traceback" not in err
+    assert sorted(tmp_path.rglob("*")) == before  # nothing written, not even a directory
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+def test_help_only_prints(command, capsys, tmp_path):
+    runs = sorted(_cli.RUNS.glob("*")) if _cli.RUNS.exists() else []
+    results = {p: p.stat().st_mtime_ns for p in (ROOT / "results").iterdir()}
+    with pytest.raises(SystemExit) as exit_:
+        COMMANDS[command].main(["--help"])
+    assert exit_.value.code == 0
+    assert "usage:" in capsys.readouterr().out
+    assert (sorted(_cli.RUNS.glob("*")) if _cli.RUNS.exists() else []) == runs
+    assert {p: p.stat().st_mtime_ns for p in (ROOT / "results").iterdir()} == results
+
+
+def test_runs_never_overwrite_each_other(tmp_path):
+    # The default name carries the options that differ from the defaults; a second run gets
+    # .2; an explicit --name is refused when taken, and --force replaces it.
+    args = ["--engine", adapters.names()[0], "--points", "3", "--no-locate", "--out",
+            str(tmp_path)]
+    assert sweep.main(args) == 0
+    assert sweep.main(args) == 0
+    name = f"sweep-engine={adapters.names()[0]}_points=3_no_locate"
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name, f"{name}.2"]
+    first = (tmp_path / name / "sweep.csv").read_bytes()
+    assert sweep.main([*args, "--name", name, "--force", "--e", "0.6"]) == 0
+    assert (tmp_path / name / "sweep.csv").read_bytes() != first
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name, f"{name}.2"]
+
+
+@pytest.mark.parametrize("umask,mode", [(0o022, 0o644), (0o027, 0o640), (0o077, 0o600)])
+def test_files_follow_the_umask(tmp_path, umask, mode):
+    # A run's files and the committed ones get 0666 & ~umask, as any program's files do.
+    code = ("import sys; from pathlib import Path; from experiments import _cli, _io; "
+            "p = Path(sys.argv[1]); _cli.publish(p / 'run', {'a.txt': b'x'}); "
+            "_io.atomic_write_bytes(p / 'b.txt', b'y')")
+    subprocess.run([sys.executable, "-c", code, str(tmp_path)], cwd=ROOT, check=True,
+                   preexec_fn=lambda: os.umask(umask))
+    for path in (tmp_path / "run" / "a.txt", tmp_path / "b.txt"):
+        assert path.stat().st_mode & 0o777 == mode, path
+    assert (tmp_path / "run").stat().st_mode & 0o777 == 0o777 & ~umask
+
+
+def test_runs_are_ignored_by_git():
+    res = subprocess.run(["git", "check-ignore", "-q", "runs/anything/sweep.csv"], cwd=ROOT,
+                         check=False)
+    assert res.returncode == 0
