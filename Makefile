@@ -1,29 +1,51 @@
 # Two commands on a fresh machine: `make sweep` (the main job) and `make test`.
-# Each creates .venv on first use and installs the project from pyproject.toml.
+# Each creates $(VENV) on first use (or anew if another Python made it) and installs the
+# project with the versions pinned in constraints.txt. Another Python:
+#   make test PYTHON=python3.13 VENV=.venv-3.13
 PYTHON ?= python3
-VENV := .venv
+VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
+# the version of $(PYTHON), e.g. 3.11.7: a .venv made by another one is rebuilt
+PYVER := $(shell $(PYTHON) -c 'import platform; print(platform.python_version())' 2>/dev/null)
 
-.PHONY: test sweep bench baselines clean
+.PHONY: test sweep bench baselines lock clean check-python
 
-$(STAMP): pyproject.toml
+check-python:
+	@$(PYTHON) -c 'import sys; sys.exit(0 if (3, 11) <= sys.version_info[:2] <= (3, 13) else \
+	"$(PYTHON) is Python %d.%d; batsim needs 3.11, 3.12 or 3.13 (make PYTHON=python3.11)" \
+	% sys.version_info[:2])'
+	@if [ -x $(PY) ] && [ "$$($(PY) -c 'import platform; print(platform.python_version())')" \
+	    != "$(PYVER)" ]; then echo "$(VENV) was made by another Python: rebuilding it"; \
+	    rm -rf $(VENV); fi
+
+$(STAMP): pyproject.toml constraints.txt | check-python
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet -e '.[test]'
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -c constraints.txt -e '.[test]'
 	touch $(STAMP)
 
-test: $(STAMP)
+test: check-python $(STAMP)
 	$(PY) -m pytest -q
 
-sweep: $(STAMP)
+sweep: check-python $(STAMP)
 	$(PY) -m experiments.sweep --engine mujoco
 
-bench: $(STAMP)
+bench: check-python $(STAMP)
 	$(PY) -m experiments.bench_analytic
 	$(PY) -m experiments.bench_engines
 
-baselines: $(STAMP)
+baselines: check-python $(STAMP)
 	$(PY) -m experiments.baselines
 
+# Refresh constraints.txt: resolve the newest versions pyproject.toml allows in a scratch
+# environment and pin them (then run `make test` on 3.11 and 3.13 before committing).
+lock:
+	rm -rf .venv-lock && $(PYTHON) -m venv .venv-lock
+	.venv-lock/bin/python -m pip install --quiet --upgrade pip
+	.venv-lock/bin/python -m pip install --quiet '.[test]'
+	.venv-lock/bin/python -m pip freeze --exclude-editable | grep -v '^batsim' > constraints.txt
+	rm -rf .venv-lock
+
 clean:
-	rm -rf $(VENV) build *.egg-info
+	rm -rf $(VENV) .venv-* build *.egg-info
