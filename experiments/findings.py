@@ -194,11 +194,13 @@ profile), all three engines put the sweet spot within **{worst * 1e3:.1f} um** o
     fig, ax = plt.subplots(figsize=(8, 5))
     for v, row in zip(pitches, grid_s):
         ax.plot(omegas, (end - row) * 100, label=f"sweet spot, pitch {v:g} m/s")
+    ax.axhspan(5 * 2.54, 7 * 2.54, color="0.88", zorder=0, label="Russell: 5-7 in from the end")
+    ax.axhspan(16.5, 17.5, facecolor="none", edgecolor="0.55", hatch="///", lw=0, zorder=1,
+               label="Cross: about 17 cm (drawn 16.5-17.5)")
     for h, s in cops.items():
-        ax.axhline((end - s) * 100, ls=":", color="tab:purple" if h == 0.1 else "tab:brown",
-                   label=f"COP, hands {h} m from the knob")
-    ax.axhspan(5 * 2.54, 7 * 2.54, color="0.85", label="Russell: 5-7 in from the end")
-    ax.axhline(17, color="k", ls="--", lw=1, label="Cross: about 17 cm")
+        ax.axhline((end - s) * 100, ls=(0, (6, 2, 1, 2)), lw=2, zorder=3,
+                   color="tab:purple" if h == 0.1 else "tab:brown",
+                   label=f"COP, hands {h} m from the knob: {(end - s) * 100:.1f} cm")
     ax.set_xlabel("bat angular speed omega0 (rad/s); u0 = omega0 x 0.46 m (swing from the hands)")
     ax.set_ylabel("distance from the barrel end (cm)")
     ax.set_title("R161: sweet spot (max v1) vs swing and pitch speed; e does not move it",

@@ -91,19 +91,33 @@ def summarize(rows: pd.DataFrame, x: str, y: str) -> pd.DataFrame:
                  failure=("status", dominant)).reset_index()
 
 
+def _edges(values) -> np.ndarray:
+    """Cell edges on a log axis: geometric midpoints, the ends half a step out."""
+    v = np.log10(np.asarray(values, dtype=float))
+    step = np.diff(v).mean() if len(v) > 1 else 1.0
+    mids = (v[:-1] + v[1:]) / 2
+    return 10 ** np.concatenate([[v[0] - step / 2], mids, [v[-1] + step / 2]])
+
+
 def heatmap(ax, cells: pd.DataFrame, x: str, y: str, title: str):
+    """Fraction ok per cell on log-log axes, the most common failure lettered in each cell in
+    black or white, whichever reads on the cell's colour."""
+    import matplotlib
+
+    cmap = matplotlib.colormaps["RdYlGn"]
     xs, ys = sorted(cells[x].unique()), sorted(cells[y].unique())
     grid = np.full((len(ys), len(xs)), np.nan)
     for _, c in cells.iterrows():
         grid[ys.index(c[y]), xs.index(c[x])] = c.fraction_ok
+    im = ax.pcolormesh(_edges(xs), _edges(ys), grid, cmap=cmap, vmin=0, vmax=1)
+    for _, c in cells.iterrows():
         if c.failure:
-            ax.text(np.log10(c[x]), np.log10(c[y]), c.failure, ha="center", va="center",
-                    fontsize=6, color="white" if c.fraction_ok < 0.5 else "black")
-    lx, ly = np.log10(xs), np.log10(ys)
-    dx = (lx[1] - lx[0]) / 2 if len(lx) > 1 else 0.5
-    dy = (ly[1] - ly[0]) / 2 if len(ly) > 1 else 0.5
-    im = ax.imshow(grid, origin="lower", aspect="auto", cmap="RdYlGn", vmin=0, vmax=1,
-                   extent=(lx[0] - dx, lx[-1] + dx, ly[0] - dy, ly[-1] + dy))
+            r, g, b, _ = cmap(c.fraction_ok)
+            dark = 0.299 * r + 0.587 * g + 0.114 * b < 0.5
+            ax.text(c[x], c[y], c.failure, ha="center", va="center", fontsize=9,
+                    fontweight="bold", color="white" if dark else "black")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
     ax.set_title(title, fontsize=9)
     return im
 
@@ -117,24 +131,25 @@ def chart_maps(cells: pd.DataFrame, steps, speeds):
     maps = list(cells["map"].unique())
     ncol = 3
     nrow = int(np.ceil(len(maps) / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(13, 4.4 * nrow), squeeze=False,
+    fig, axes = plt.subplots(nrow, ncol, figsize=(14, 4.6 * nrow), squeeze=False,
                              sharex=True, sharey=True, layout="constrained")
-    dts = np.geomspace(min(steps) / 2, max(steps) * 2, 100)
+    dts = np.geomspace(min(steps) / 3, max(steps) * 3, 100)
     for ax, name in zip(axes.flat, maps):
         im = heatmap(ax, cells[cells["map"] == name], "dt_s", "v0_mps", name)
-        ax.plot(np.log10(dts), np.log10(REACH_M / dts), "k--", lw=1.2,
-                label="v dt = r_ball + r_bat")
-        ax.plot(np.log10(dts), np.log10(2 * REACH_M / dts), "k:", lw=1,
+        ax.plot(dts, REACH_M / dts, "k--", lw=1.2, label="v dt = r_ball + r_bat")
+        ax.plot(dts, 2 * REACH_M / dts, "k:", lw=1,
                 label="v dt = 2 (r_ball + r_bat): half the phases")
-        ax.set_xlim(np.log10(min(steps)) - 0.2, np.log10(max(steps)) + 0.2)
-        ax.set_ylim(np.log10(min(speeds)) - 0.2, np.log10(max(speeds)) + 0.2)
+        e_x, e_y = _edges(sorted(cells.dt_s.unique())), _edges(sorted(cells.v0_mps.unique()))
+        ax.set_xlim(e_x[0], e_x[-1])
+        ax.set_ylim(e_y[0], e_y[-1])
     for ax in axes[-1]:
-        ax.set_xlabel("log10 time step (s)")
+        ax.set_xlabel("time step (s)")
     for ax in axes[:, 0]:
-        ax.set_ylabel("log10 closing speed (m/s)")
+        ax.set_ylabel("closing speed (m/s)")
     for ax in list(axes.flat)[len(maps):]:
         ax.axis("off")
-    axes.flat[0].legend(fontsize=7, loc="lower left", framealpha=0.9)
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=8)
     fig.colorbar(im, ax=axes, shrink=0.8, label="fraction of contact phases ok")
     fig.suptitle("Outcome over time step x closing speed (still R161, s = 0.1 m, e = 1); letters: "
                  "most common failure (T tunnelled, E energy gained, P penetration, N non-finite, "
@@ -148,20 +163,20 @@ def chart_soft(cells: pd.DataFrame, steps, omegas, name: str):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, ax = plt.subplots(figsize=(7.5, 5.8), layout="constrained")
     im = heatmap(ax, cells, "dt_s", "soft_omega_radps",
                  f"{name} contact at {SOFT_SPEED_MPS:g} m/s (e = {SOFT_E:g}): fraction of phases ok")
-    dts = np.geomspace(min(steps) / 2, max(steps) * 2, 100)
-    ax.plot(np.log10(dts), np.log10(2 / dts), "k--", label="w dt = 2 (Euler stability)")
-    ax.axhline(np.log10(SOFT_SPEED_MPS / REACH_M), color="k", ls=":",
+    dts = np.geomspace(min(steps) / 3, max(steps) * 3, 100)
+    ax.plot(dts, 2 / dts, "k--", label="w dt = 2 (Euler stability)")
+    ax.axhline(SOFT_SPEED_MPS / REACH_M, color="k", ls=":",
                label="w = v/(r_ball + r_bat): sinks through")
-    ax.set_xlim(np.log10(min(steps)) - 0.2, np.log10(max(steps)) + 0.2)
-    ax.set_ylim(np.log10(min(omegas)) - 0.2, np.log10(max(omegas)) + 0.2)
-    ax.set_xlabel("log10 time step (s)")
-    ax.set_ylabel("log10 contact stiffness w (rad/s)")
-    ax.legend(fontsize=7, loc="lower left")
+    e_x, e_y = _edges(sorted(cells.dt_s.unique())), _edges(sorted(cells.soft_omega_radps.unique()))
+    ax.set_xlim(e_x[0], e_x[-1])
+    ax.set_ylim(e_y[0], e_y[-1])
+    ax.set_xlabel("time step (s)")
+    ax.set_ylabel("contact stiffness w (rad/s)")
+    fig.legend(loc="outside lower center", ncol=2, fontsize=8)
     fig.colorbar(im, ax=ax, label="fraction of contact phases ok")
-    fig.tight_layout()
     return fig
 
 

@@ -241,15 +241,18 @@ def render(table: pd.DataFrame, sweep: Sweep, marks: dict) -> bytes:
 
 
 def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
-    """v1 along the bat: analytic curve, each engine's points, sweet spot and COP; error panel."""
+    """v1 along the bat: analytic curve, each engine's points, sweet spot and COP; a strip of
+    failed impacts (no trustworthy v1, so kept off the v1 axis), one row per engine; errors."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     f = sweep.firing
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7), sharex=True,
-                                      gridspec_kw={"height_ratios": [3, 2]})
+    engines = list(table.engine.unique())
+    fig, (top, strip, bottom) = plt.subplots(
+        3, 1, figsize=(8, 7.5 + 0.25 * len(engines)), sharex=True,
+        gridspec_kw={"height_ratios": [3, 0.35 + 0.2 * len(engines), 2]})
     s = np.linspace(f.bat.s_min_m, f.bat.s_max_m, 400)
     top.plot(s, batted_ball_speed(f.bat, presets.BASEBALL, s, v0_mps=f.v0_mps, u0_mps=f.u0_mps,
                                   omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
@@ -264,14 +267,20 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
         top.plot(df.s_m[ok], df.v1_engine_mps[ok], mark, ms=5, mfc="none",
                  color=color, label=f"{name} ({ok.sum()}/{len(df)} ok)")
         if (~ok).any():
-            # Failed impacts carry no trustworthy v1: a rug along the bottom, one row per engine.
             statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
-            top.plot(df.s_m[~ok], np.full((~ok).sum(), 0.03 + 0.05 * i), "x", ms=6,
-                     color=color, transform=top.get_xaxis_transform(),
-                     label=f"{name} failed: {statuses}")
+            strip.plot(df.s_m[~ok], np.full((~ok).sum(), i), "x", ms=6, color=color,
+                       label=f"{name} failed: {statuses}")
         bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), mark,
                         ms=5, mfc="none", color=color, label=name)
-    for ax in (top, bottom):
+    strip.set_yticks(range(len(engines)), engines, fontsize=7)
+    strip.set_ylim(-0.7, len(engines) - 0.3)
+    strip.set_ylabel("failed", fontsize=8)
+    if strip.get_legend_handles_labels()[0]:
+        strip.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    else:
+        strip.text(0.5, 0.5, "no failed impacts", transform=strip.transAxes, ha="center",
+                   va="center", fontsize=8)
+    for ax in (top, strip, bottom):
         ax.axvline(marks["sweet_spot_m"], color="tab:red", ls="--", lw=1)
         ax.axvline(marks["cop_m"], color="tab:purple", ls=":", lw=1.2)
     top.annotate(f"sweet spot {marks['sweet_spot_m'] * 1e3:.1f} mm", (marks["sweet_spot_m"], 0.3),

@@ -105,30 +105,67 @@ def orders(table: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+QUANTITIES = (("angle_err_rad", "angle error (rad)"),
+              ("omega_err_radps", "angular velocity error (rad/s)"),
+              ("com_speed_err_mps", "COM velocity error (m/s)"))
+
+
+def _same_curves(df: pd.DataFrame, q: str) -> list[tuple[list[str], pd.DataFrame]]:
+    """Methods grouped by identical error curves (to 1e-6 relative above the rounding floor),
+    so that a curve hidden under another is named, not lost."""
+    groups: list[tuple[list[str], pd.DataFrame]] = []
+    for method, d in df.groupby("method", sort=False):
+        err = np.where(d[q] > noise_floor(d, q), d[q], 0.0)
+        for names, ref in groups:
+            ref_err = np.where(ref[q] > noise_floor(ref, q), ref[q], 0.0)
+            if np.allclose(err, ref_err, rtol=1e-6, atol=0.0):
+                names.append(method)
+                break
+        else:
+            groups.append(([method], d))
+    return groups
+
+
 def chart_scenes(table: pd.DataFrame):
+    """Error against time step, one column per scene and one row per quantity; methods with
+    the same curve share a line, and a panel whose errors are all rounding says so."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 3, figsize=(14, 8), sharex=True, layout="constrained")
+    scenes = list(dict.fromkeys(table.scene))
     methods = list(dict.fromkeys(table.method))
     colors = dict(zip(methods, plt.cm.tab10.colors))
-    for ax, (scene, df) in zip(axes.flat, table.groupby("scene", sort=False)):
-        for method, d in df.groupby("method", sort=False):
-            ax.loglog(d.dt_s, np.maximum(d.angle_err_rad, FLOOR / 10), "o-", ms=4,
-                      color=colors[method], label=f"{method}: angle (rad)")
-            ax.loglog(d.dt_s, np.maximum(d.omega_err_radps, FLOOR / 10), "s--", ms=4,
-                      color=colors[method], mfc="none", label=f"{method}: omega (rad/s)")
-        ax.set_title(scene, fontsize=9)
-        ax.grid(alpha=0.3, which="both")
-    for ax in axes[-1]:
-        ax.set_xlabel("time step (s)")
-    for ax in axes[:, 0]:
-        ax.set_ylabel(f"|error| at t = {T_END_S:g} s (errors < {FLOOR:g}: float noise)")
-    axes.flat[0].legend(fontsize=6, ncol=1)
-    fig.suptitle("Forces and torques on the R161 in each engine vs closed form / solve_ivp "
-                 "(solid: angle, dashed: angular velocity)", fontsize=10)
+    markers = dict(zip(methods, "osv^Dpx*"))
+    fig, axes = plt.subplots(len(QUANTITIES), len(scenes), figsize=(3.3 * len(scenes), 9.5),
+                             sharex=True, layout="constrained")
+    for col, scene in enumerate(scenes):
+        df = table[table.scene == scene]
+        for row, (q, label) in enumerate(QUANTITIES):
+            ax = axes[row, col]
+            above = df[df[q] > noise_floor(df, q)]
+            if above.empty:
+                ax.text(0.5, 0.5, f"every method exact\nto rounding\n(max {df[q].max():.0e})",
+                        transform=ax.transAxes, ha="center", va="center", fontsize=8)
+                ax.set_xscale("log")
+                ax.set_yticks([])
+            for i, (names, d) in enumerate(_same_curves(df, q) if not above.empty else []):
+                ax.loglog(d.dt_s, np.maximum(d[q], FLOOR), "-", marker=markers[names[0]],
+                          ms=7 - 1.5 * i, mfc="none", lw=2.2 - 0.5 * i, alpha=0.85,
+                          color=colors[names[0]], label=" = ".join(names))
+            if not above.empty:
+                ax.legend(fontsize=6, loc="upper left")
+            ax.grid(alpha=0.3, which="both")
+            if row == 0:
+                ax.set_title(scene, fontsize=9)
+            if col == 0:
+                ax.set_ylabel(label)
+            if row == len(QUANTITIES) - 1:
+                ax.set_xlabel("time step (s)")
+    fig.suptitle(f"Forces and torques on the R161 in each engine and integrator vs closed form "
+                 f"/ solve_ivp: |error| at t = {T_END_S:g} s (errors below the rounding floor "
+                 f"drawn at {FLOOR:g})", fontsize=10)
     return fig
 
 
