@@ -371,6 +371,12 @@ class Engine(abc.ABC):
     def unpin(self) -> None:
         """Let go of the hinge set by ``pin`` (the hands release the bat)."""
 
+    def numerical_failures(self) -> int:
+        """How many numerical blow-ups (NaN, inf or huge values the engine caught, and perhaps
+        reset its state after) the engine has reported so far; engines that report none
+        return 0. ``simulate`` calls an impact ``non_finite`` when this grows during it."""
+        return 0
+
     def close(self) -> None:
         """Release engine resources (a no-op unless the engine holds a connection)."""
 
@@ -447,8 +453,11 @@ class Engine(abc.ABC):
         if case.e != self._e:  # a parameter, not state: the next impact starts the same
             self.set_restitution(case.e)
             self._e = case.e
+        failures = self.numerical_failures()
         start, release = self._place(case, swing)
         episode = self._step_until_separation(case, start)
+        if self.numerical_failures() != failures:
+            episode = episode._replace(ended="non_finite")
         ke0, ke1 = kinetic_energy_j(case, start), kinetic_energy_j(case, episode.end)
         status = self._classify(case, episode, ke0, ke1)
         return self._outcome(case, start, episode, status, (ke0, ke1), release,

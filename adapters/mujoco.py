@@ -141,6 +141,12 @@ RECORD = EngineRecord(
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
 )
 mujoco = import_engine(RECORD)
+# MuJoCo's own warning handler prints and appends to MUJOCO_LOG.TXT in the working directory;
+# the adapter reads the warning counters instead (numerical_failures), so the text is dropped.
+mujoco.set_mju_user_warning(lambda text: None)
+#: Warnings that mean the state blew up (MuJoCo resets it after them).
+BLOW_UPS = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
+            mujoco.mjtWarning.mjWARN_BADQACC)
 
 
 class MujocoEngine(Engine):
@@ -240,6 +246,10 @@ class MujocoEngine(Engine):
 
     def in_contact(self) -> bool:
         return self.data.ncon > 0
+
+    def numerical_failures(self) -> int:
+        warnings = self.data.warning
+        return sum(warnings[int(w)].number for w in BLOW_UPS)
 
 
 ENGINE = MujocoEngine

@@ -24,8 +24,10 @@ import math
 import os
 import re
 import shutil
+import signal
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 from typing import Callable
@@ -269,11 +271,26 @@ def shown(path: Path) -> str:
 def main_guard(run: Callable[[], int]) -> int:
     """Run a command's body; Ctrl-C (anywhere, engine callbacks included) exits 130 and leaves
     every earlier file as it was, since nothing is renamed into place before the end."""
+    _runner.INTERRUPTED.clear()
+    previous = signal.getsignal(signal.SIGINT)
+    in_main = threading.current_thread() is threading.main_thread()
+    if in_main:
+        signal.signal(signal.SIGINT, _on_sigint)
     try:
         return run()
     except KeyboardInterrupt:
         print("interrupted: nothing written, earlier results left as they were", file=sys.stderr)
         return 130
+    finally:
+        if in_main:
+            signal.signal(signal.SIGINT, previous)
+
+
+def _on_sigint(signum, frame) -> None:
+    # Raised where the signal lands; if that is inside an engine's callback, which swallows it,
+    # the flag stops the run when the impact is done.
+    _runner.INTERRUPTED.set()
+    raise KeyboardInterrupt
 
 
 def run_command(p: argparse.ArgumentParser, argv: list[str] | None, experiment: str,

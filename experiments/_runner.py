@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import multiprocessing
+import threading
 import time
 from collections import OrderedDict
 from concurrent.futures import ProcessPoolExecutor
@@ -57,6 +58,10 @@ class Fired(NamedTuple):
 
 
 _ENGINES: OrderedDict[tuple[str, adapters.Settings], adapters.Engine] = OrderedDict()
+#: Set by the SIGINT handler of experiments._cli.main_guard. Python code that an engine calls
+#: back (pymunk's velocity functions) swallows the KeyboardInterrupt raised there, so every
+#: impact checks this flag once it is done.
+INTERRUPTED = threading.Event()
 
 
 def engine(name: str, settings: adapters.Settings) -> adapters.Engine:
@@ -82,12 +87,16 @@ def fire_job(job: Job, eng: adapters.Engine | None = None) -> Fired:
     """Fire one job in this process (on ``eng`` if given: this job's engine)."""
     eng = eng or engine(job.engine, job.settings)
     if job.swing is None:
-        return Fired(job.case, eng.simulate(job.case), math.nan, math.nan)
-    c = job.case
-    case, plan = swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e, swing=job.swing,
-                            settings=eng.settings)
-    return Fired(case, eng.simulate(case, swing=plan), plan.omega_release_radps,
-                 plan.angle_release_rad)
+        fired = Fired(job.case, eng.simulate(job.case), math.nan, math.nan)
+    else:
+        c = job.case
+        case, plan = swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
+                                swing=job.swing, settings=eng.settings)
+        fired = Fired(case, eng.simulate(case, swing=plan), plan.omega_release_radps,
+                      plan.angle_release_rad)
+    if INTERRUPTED.is_set():
+        raise KeyboardInterrupt
+    return fired
 
 
 def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> list[Fired]:

@@ -154,3 +154,31 @@ def test_runs_are_ignored_by_git():
     res = subprocess.run(["git", "check-ignore", "-q", "runs/anything/sweep.csv"], cwd=ROOT,
                          check=False)
     assert res.returncode == 0
+
+
+def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(tmp_path):
+    # SIGINT sent to the process while it swings bats in an engine that calls Python back on
+    # every step (the first engine whose impacts swing through a Python velocity function is
+    # whichever the registry lists; pymunk's callback swallows KeyboardInterrupt, so the run
+    # must stop through the flag checked after each impact): exit 130, the run that was there
+    # untouched, no temporary directory left.
+    import signal
+    import time
+
+    args = ["-m", "experiments.sweep", "--swing", "--out", str(tmp_path), "--name", "r"]
+    for name in adapters.names():
+        before = subprocess.run([sys.executable, *args, "--engine", name, "--points", "3",
+                                 "--no-locate", "--force"], cwd=ROOT, capture_output=True,
+                                check=True)
+        kept = {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()}
+        env = {**os.environ, "BATSIM_QUIET": "0", "PYTHONUNBUFFERED": "1"}
+        proc = subprocess.Popen([sys.executable, *args, "--engine", name, "--points", "200",
+                                 "--force"], cwd=ROOT, env=env, stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        time.sleep(3.5)  # past the imports, inside the swings (200 impacts take ~8 s)
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=120)
+        assert proc.returncode == 130, (name, before.returncode, err[-2000:])
+        assert "interrupted" in err
+        assert {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()} == kept
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
