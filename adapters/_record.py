@@ -12,7 +12,7 @@ import contextlib
 import importlib
 import os
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 from importlib import metadata
 from types import MappingProxyType, ModuleType
@@ -90,7 +90,10 @@ class EngineRecord:
     combines two bodies' restitution; ``threshold_setting``: the settings field of its
     restitution velocity threshold, if it has one. ``soft_contact``: the overrides that switch
     it to a spring-damper contact, if it has one, whose natural frequency (rad/s) is the settings
-    field ``stiffness_setting`` (the stability study maps it).
+    field ``stiffness_setting`` (the stability study maps it). ``engine_defaults``: the
+    engine's own out-of-the-box values of settings fields (what the README quotes), each read
+    back from the engine (``Engine.read_back_defaults``) or, where the engine does not report
+    it, measured: a test pins both.
     """
 
     name: str
@@ -108,6 +111,7 @@ class EngineRecord:
     threshold_setting: str | None = None
     soft_contact: Mapping[str, Any] | None = None
     stiffness_setting: str | None = None
+    engine_defaults: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]
@@ -117,6 +121,7 @@ class EngineRecord:
         if self.precision not in ("float64", "float32"):
             raise ValueError(f"precision={self.precision!r} is unknown; allowed: float64, float32")
         object.__setattr__(self, "profiles", MappingProxyType(dict(self.profiles)))
+        object.__setattr__(self, "engine_defaults", MappingProxyType(dict(self.engine_defaults)))
         if (self.soft_contact is None) != (self.stiffness_setting is None):
             raise ValueError(f"engine {self.name!r}: soft_contact and stiffness_setting go "
                              "together; allowed: both or neither")

@@ -317,6 +317,12 @@ class Engine(abc.ABC):
         """The engine library's version string."""
         return cls.record.version()
 
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        """The engine's own values of settings fields, as a fresh engine reports them (only
+        those it reports; the record's ``engine_defaults`` holds the rest as measured)."""
+        return {}
+
     # -- the engine-specific half -------------------------------------------------------------
 
     @abc.abstractmethod

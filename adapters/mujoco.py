@@ -139,6 +139,8 @@ RECORD = EngineRecord(
                       for name in ("Euler", "implicitfast", "RK4")),
     restitution_rule=RestitutionRule.MAPPED,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
+    engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
+                     "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler"},
 )
 mujoco = import_engine(RECORD)
 # MuJoCo's own warning handler prints and appends to MUJOCO_LOG.TXT in the working directory;
@@ -153,6 +155,16 @@ class MujocoEngine(Engine):
     """MuJoCo behind the common contract."""
 
     record = RECORD
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        m = mujoco.MjModel.from_xml_string(
+            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
+        return {"solref": tuple(m.geom_solref[0].tolist()),
+                "solimp": tuple(m.geom_solimp[0].tolist()), "iterations": int(m.opt.iterations),
+                "tolerance": float(m.opt.tolerance), "dt_s": float(m.opt.timestep),
+                "integrator": next(i for i in INTEGRATORS if m.opt.integrator
+                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}"))}
 
     def build_scene(self, bat: Bat, ball: Ball) -> None:
         st = self.settings

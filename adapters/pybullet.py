@@ -90,6 +90,10 @@ RECORD = EngineRecord(
     ),
     restitution_rule=RestitutionRule.PRODUCT,
     threshold_setting="restitution_velocity_threshold",
+    # Bullet reports neither contact value: both measured (setting them explicitly reproduces
+    # the default solver's impacts bit for bit); the iteration count it reports.
+    engine_defaults={"contact_erp": 0.08, "contact_slop": 1e-5, "solver_iterations": 50,
+                     "dt_s": 1 / 240},
 )
 pb = import_engine(RECORD)
 
@@ -98,6 +102,15 @@ class PybulletEngine(Engine):
     """PyBullet behind the common contract."""
 
     record = RECORD
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        client = pb.connect(pb.DIRECT)
+        try:
+            got = pb.getPhysicsEngineParameters(physicsClientId=client)
+        finally:
+            pb.disconnect(physicsClientId=client)
+        return {"solver_iterations": got["numSolverIterations"], "dt_s": got["fixedTimeStep"]}
 
     def __init__(self, settings: PybulletSettings, *, name: str | None = None) -> None:
         super().__init__(settings, name=name)

@@ -18,8 +18,10 @@ from analytic import _checks
 from ._record import EngineRecord, KnobFamily, RestitutionRule, import_engine
 from .base import BodyLoad, Engine, MassProperties, Reading, Settings
 
-CHIPMUNK_SLOP = 0.1                        # pymunk.Space() defaults, in the space's length unit
-CHIPMUNK_BIAS = (1.0 - 0.1) ** 60
+# pymunk.Space() defaults (length unit: m here), as Chipmunk computes them, in single precision:
+# 0.1f, and pow(1 - 0.1f, 60) for the bias; the record's engine_defaults and a test pin them.
+CHIPMUNK_SLOP = 0.10000000149011612
+CHIPMUNK_BIAS = 0.0017970074436457143
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -60,6 +62,8 @@ RECORD = EngineRecord(
                                quick=True),
                     KnobFamily(label="iterations 100", overrides=(("iterations", 100),))),
     restitution_rule=RestitutionRule.PRODUCT,
+    engine_defaults={"iterations": 10, "collision_slop": CHIPMUNK_SLOP,
+                     "collision_bias": CHIPMUNK_BIAS, "joint_error_bias": CHIPMUNK_BIAS},
 )
 pymunk = import_engine(RECORD)
 
@@ -68,6 +72,13 @@ class PymunkEngine(Engine):
     """pymunk behind the common contract."""
 
     record = RECORD
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        space = pymunk.Space()
+        joint = pymunk.PivotJoint(space.static_body, pymunk.Body(1.0, 1.0), (0.0, 0.0))
+        return {"iterations": space.iterations, "collision_slop": space.collision_slop,
+                "collision_bias": space.collision_bias, "joint_error_bias": joint.error_bias}
 
     def build_scene(self, bat: Bat, ball: Ball) -> None:
         st = self.settings

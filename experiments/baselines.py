@@ -4,8 +4,9 @@
 
 - sweeps: the sweeps listed in BASELINES (R161, 41 points), each as <stem>.csv/.json/.png, then
   thresholds.json (what the regression test allows) and summary.md;
-- the studies, each into its usual file names: pareto, stability, swing, calibrate_soft,
-  findings, bench_analytic, bench_engines (run the benchmarks on a quiet machine).
+- the studies, each into its usual file names: pareto, stability, swing, defaults,
+  calibrate_soft, findings, bench_analytic, bench_engines (run the benchmarks on a quiet
+  machine).
 Each part's files are written together, atomically; an interrupted part leaves its old files.
 """
 
@@ -15,8 +16,8 @@ import argparse
 import math
 import sys
 
-from . import (_cli, bench_analytic, bench_engines, calibrate_soft, findings, pareto, stability,
-               swing)
+from . import (_cli, bench_analytic, bench_engines, calibrate_soft, defaults, findings, pareto,
+               stability, swing)
 from . import sweep as sweep_cmd
 from ._io import atomic_write_many, json_bytes, provenance
 
@@ -28,7 +29,7 @@ BASELINES = {
     "swing, default": ["--profile", "default"],
     "swing, default solver at dt = 1e-4 s": ["--profile", "default", "--dt", "1e-4"],
 }
-STUDIES = {"pareto": pareto, "stability": stability, "swing": swing,
+STUDIES = {"pareto": pareto, "stability": stability, "swing": swing, "defaults": defaults,
            "calibrate_soft": calibrate_soft, "findings": findings,
            "bench_analytic": bench_analytic, "bench_engines": bench_engines}
 PARTS = ("sweeps", *STUDIES)

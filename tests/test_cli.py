@@ -13,12 +13,13 @@ import pytest
 
 import adapters
 from experiments import (_cli, baselines, bench_analytic, bench_engines, calibrate_soft, compare,
-                         findings, pareto, stability, sweep, swing)
+                         defaults, findings, pareto, stability, sweep, swing)
 from experiments._io import ROOT
 
 COMMANDS = {"sweep": sweep, "pareto": pareto, "stability": stability, "swing": swing,
             "calibrate_soft": calibrate_soft, "findings": findings, "baselines": baselines,
-            "bench_engines": bench_engines, "bench_analytic": bench_analytic, "compare": compare}
+            "bench_engines": bench_engines, "bench_analytic": bench_analytic, "compare": compare,
+            "defaults": defaults}
 NOT_SOFT = [n for n in adapters.names() if adapters.record(n).soft_contact is None]
 
 
@@ -88,6 +89,7 @@ def _bad_inputs(tmp: Path) -> list[tuple[str, list[str], str]]:
         ("bench_engines", ["--repeats", "0"], "--repeats"),
         ("bench_analytic", ["--points", "0"], "--points"),
         ("findings", ["--name", "../x"], "--name"),
+        ("defaults", ["--phases", "1"], "--phases"),
     ]
     if NOT_SOFT:
         cases.append(("calibrate_soft", ["--engine", NOT_SOFT[0]], "has a soft contact"))

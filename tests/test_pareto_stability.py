@@ -67,3 +67,19 @@ def test_pareto_outputs(tmp_path):
     assert (tmp_path / "pareto.png").stat().st_size > 0
     conv = pd.read_csv(tmp_path / "convergence.csv")
     assert set(conv.engine) == set(adapters.names())
+
+
+def test_out_of_the_box_catches_no_more_than_the_tunnelling_bound(tmp_path):
+    # At each engine's own step, a contact first seen deeper than R = r_ball + r_bat has the
+    # ball's centre past the bat's axis: no engine can return it ok. So ok <= theory_ok, per
+    # engine, and every knob row names a setting that differs between the two profiles.
+    from experiments import defaults
+
+    assert defaults.main(["--phases", "8", "--out", str(tmp_path), "--name", "d"]) == 0
+    caught = pd.read_csv(tmp_path / "d" / "defaults_caught.csv")
+    assert set(caught.engine) == set(adapters.names())
+    assert (caught.ok <= caught.theory_ok).all(), caught
+    knobs = pd.read_csv(tmp_path / "d" / "defaults_knobs.csv")
+    for name in adapters.names():
+        changed = knobs[(knobs.engine == name) & knobs.change.str.contains(" = ")]
+        assert len(changed) == 2 * len(defaults.knobs(name))
