@@ -35,6 +35,7 @@ class ContactReference(str, Enum):
     """The continuous model an engine's contact converges to as its time step shrinks."""
 
     RIGID_IMPULSE = "rigid impulse"  #: Newton's restitution law, instantaneous (analytic.predict)
+    LINEAR_SPRING_DAMPER = "linear spring-damper"  #: x'' = -b x' - k x in the contact coordinate
 
 
 class RestitutionRule(str, Enum):

@@ -28,7 +28,7 @@ from analytic import Ball, Bat, ImpactCase, Outcome
 from analytic import _checks
 from analytic.dynamics import Drive, HingedSwing, MotionState
 
-from ._record import EngineRecord, RestitutionRule
+from ._record import ContactReference, EngineRecord, RestitutionRule
 
 
 class Status(str, Enum):
@@ -40,6 +40,9 @@ class Status(str, Enum):
     ENERGY_GAINED = "energy_gained"  #: kinetic energy after > before (beyond float noise)
     PENETRATION = "penetration"      #: ball centre crossed the bat's axis (> r_ball + r_bat deep)
     NO_SEPARATION = "no_separation"  #: still touching when the step budget ran out
+    #: Sound, but v1 misses the rigid-body answer by more than the row's tolerance (given by
+    #: the harness's judge, experiments._verdict, never by simulate)
+    INACCURATE = "inaccurate"
 
 
 class SceneMismatch(RuntimeError):
@@ -316,6 +319,12 @@ class Engine(abc.ABC):
     def version(cls) -> str:
         """The engine library's version string."""
         return cls.record.version()
+
+    @classmethod
+    def converges_to(cls, settings: Settings) -> ContactReference:
+        """The continuous model this engine's contact converges to with these settings as the
+        step shrinks (the record's, unless a setting switches the contact model)."""
+        return cls.record.converges_to
 
     @classmethod
     def read_back_defaults(cls) -> dict:

@@ -28,7 +28,7 @@ from analytic import Ball, Bat
 from analytic import _checks
 from analytic.compliant import damping_ratio_for
 
-from ._record import EngineRecord, Integrator, KnobFamily, RestitutionRule, import_engine
+from ._record import ContactReference, EngineRecord, Integrator, KnobFamily, RestitutionRule, import_engine
 from .base import BodyLoad, Engine, MassProperties, Reading, Settings
 
 INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
@@ -155,6 +155,14 @@ class MujocoEngine(Engine):
     """MuJoCo behind the common contract."""
 
     record = RECORD
+
+    @classmethod
+    def converges_to(cls, settings: MujocoSettings) -> ContactReference:
+        # impulse: one Euler step reverses the normal velocity as Newton's law asks; soft: a
+        # spring-damper acting on the contact coordinate; native: untuned, judged as impulse
+        if settings.contact_model == "soft":
+            return ContactReference.LINEAR_SPRING_DAMPER
+        return ContactReference.RIGID_IMPULSE
 
     @classmethod
     def read_back_defaults(cls) -> dict:

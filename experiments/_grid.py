@@ -18,17 +18,20 @@ import adapters
 from analytic import Bat, ImpactCase, center_of_percussion, predict_arrays, presets, sweet_spot
 from analytic.dynamics import HingedSwing
 
-from . import _runner
+from . import _runner, _verdict
 
 #: Columns of a sweep table, in order. Units are in the names.
 COLUMNS = (
     "engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad",
-    "v1_analytic_mps", "v1_engine_mps", "v1_abs_err_mps", "v1_rel_err",
+    "v1_analytic_mps", "v1_engine_mps", "v1_abs_err_mps", "v1_rel_err", "v1_tol_mps",
     "u1_analytic_mps", "u1_engine_mps", "omega1_analytic_radps", "omega1_engine_radps",
     "hand_dv_analytic_mps", "hand_dv_engine_mps", "ke_before_j", "ke_after_j", "status",
     "contact_duration_s", "peak_penetration_m", "steps", "wall_s",
 )
 TIMING_COLUMNS = ("wall_s",)
+#: Statuses whose v1 is a measurement (the engine's impact was sound): errors are taken over
+#: them. ``ok`` rows matched the rigid answer within their tolerance, ``inaccurate`` did not.
+MEASURED = ("ok", "inaccurate")
 #: Extra columns of a sweep whose bat is swung in the engine before each impact.
 SWING_COLUMNS = ("release_omega_engine_radps", "release_omega_analytic_radps",
                  "release_angle_err_rad")
@@ -84,8 +87,9 @@ def grid(bat: Bat, points: int, s_min_m: float | None = None,
 
 def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
     """The tidy table of fired impacts, one row per impact in order: the case, the analytic
-    prediction (vectorized once per bat and ball), the engine's outcome and their differences.
-    With a swing (any NaN-free release), the SWING_COLUMNS too."""
+    prediction (vectorized once per bat and ball), the engine's outcome, their difference and
+    the tolerance it is judged against (experiments._verdict): a sound impact outside it gets
+    the status ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too."""
     cases = [f.case for f in fired]
     outs = [f.outcome for f in fired]
     n = len(cases)
@@ -102,6 +106,9 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
             ref[k][idx] = got[k]
     v1 = np.array([o.v1_mps for o in outs])
     err = np.abs(v1 - ref["v1_mps"])
+    tol = _verdict.tolerances(cases, outs, [f.release_omega_radps for f in fired])
+    status = [("inaccurate" if o.ok and not err[i] <= tol[i] else o.status.value)
+              for i, o in enumerate(outs)]
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
     cols = {
@@ -111,14 +118,14 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
         "omega0_radps": [c.omega0_radps for c in cases], "e": [c.e for c in cases],
         "theta_rad": [c.theta_rad for c in cases],
         "v1_analytic_mps": ref["v1_mps"], "v1_engine_mps": v1, "v1_abs_err_mps": err,
-        "v1_rel_err": rel,
+        "v1_rel_err": rel, "v1_tol_mps": tol,
         "u1_analytic_mps": ref["u1_mps"], "u1_engine_mps": [o.u1_mps for o in outs],
         "omega1_analytic_radps": ref["omega1_radps"],
         "omega1_engine_radps": [o.omega1_radps for o in outs],
         "hand_dv_analytic_mps": ref["hand_dv_mps"],
         "hand_dv_engine_mps": [o.hand_dv_mps for o in outs],
         "ke_before_j": [o.ke_before_j for o in outs], "ke_after_j": [o.ke_after_j for o in outs],
-        "status": [o.status.value for o in outs],
+        "status": status,
         "contact_duration_s": [o.contact_duration_s for o in outs],
         "peak_penetration_m": [o.peak_penetration_m for o in outs],
         "steps": [o.steps for o in outs], "wall_s": [o.wall_s for o in outs],
@@ -136,7 +143,7 @@ def _engine_value(name: str, settings: adapters.Settings, firing: Firing, s: flo
     job = _runner.Job(engine=name, settings=settings, case=firing.case(float(s)),
                       swing=firing.swing)
     out = _runner.fire_job(job).outcome
-    return getattr(out, field) if out.ok else math.nan
+    return getattr(out, field) if out.ok else math.nan  # simulate's verdict: sound
 
 
 def locate_sweet_spot(name: str, settings: adapters.Settings, firing: Firing,

@@ -43,7 +43,7 @@ SOFT_E = 0.5  # at e = 1 a discretized spring gains ~w dt of energy on every con
 QUICK = dict(steps=tuple(np.geomspace(1e-5, 1 / 60, 5)), speeds=(10.0, 40.0, 100.0), phases=4,
              omegas=(300.0, 3000.0, 30000.0))
 LETTERS = {"tunnelled": "T", "non_finite": "N", "energy_gained": "E", "penetration": "P",
-           "no_separation": "S"}
+           "inaccurate": "I", "no_separation": "S"}
 
 
 def phases(k: int) -> np.ndarray:
@@ -153,7 +153,7 @@ def chart_maps(cells: pd.DataFrame, steps, speeds):
     fig.colorbar(im, ax=axes, shrink=0.8, label="fraction of contact phases ok")
     fig.suptitle("Outcome over time step x closing speed (still R161, s = 0.1 m, e = 1); letters: "
                  "most common failure (T tunnelled, E energy gained, P penetration, N non-finite, "
-                 "S no separation)", fontsize=9)
+                 "I inaccurate, S no separation)", fontsize=9)
     return fig
 
 

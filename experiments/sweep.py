@@ -195,7 +195,7 @@ def run(sweep: Sweep, runner: _runner.Runner | None = None, *, locate: bool = Tr
 
 
 def _summarize(df: pd.DataFrame) -> dict:
-    ok = df[df.status == "ok"]
+    ok = df[df.status.isin(_grid.MEASURED)]
     return {
         "impacts": len(df),
         "status_counts": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
@@ -214,7 +214,7 @@ def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
     side by side; returns a function that waits for {(engine, summary key): value}."""
     calls, keys = [], []
     for name, df in table.groupby("engine", sort=False):
-        if not (df.status == "ok").all():
+        if not df.status.isin(_grid.MEASURED).all():
             continue
         bracket = _grid.bracket_around(df.s_m, df.v1_engine_mps, "max")
         if bracket is not None and bracket[0] < marks["sweet_spot_m"] < bracket[1]:
@@ -261,17 +261,21 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
     floor = 1e-16
     any_ok = False
     for i, (name, df) in enumerate(table.groupby("engine", sort=False)):
-        ok = df.status == "ok"
+        ok = df.status.isin(_grid.MEASURED)
         any_ok |= bool(ok.any())
         mark, color = style[name].marker, style[name].color
+        within = int((df.status == "ok").sum())
         top.plot(df.s_m[ok], df.v1_engine_mps[ok], mark, ms=5, mfc="none",
-                 color=color, label=f"{name} ({ok.sum()}/{len(df)} ok)")
-        if (~ok).any():
+                 color=color, label=f"{name} ({within}/{len(df)} ok"
+                                    + (f", {ok.sum() - within} inaccurate)" if ok.sum() > within
+                                       else ")"))
+        if (~ok).any():  # no trustworthy v1: kept off the v1 axis
             statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
             strip.plot(df.s_m[~ok], np.full((~ok).sum(), i), "x", ms=6, color=color,
                        label=f"{name} failed: {statuses}")
         bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), mark,
                         ms=5, mfc="none", color=color, label=name)
+        bottom.semilogy(df.s_m, df.v1_tol_mps, "-", lw=0.8, color=color, alpha=0.6)
     strip.set_yticks(range(len(engines)), engines, fontsize=7)
     strip.set_ylim(-0.7, len(engines) - 0.3)
     strip.set_ylabel("failed", fontsize=8)
@@ -298,7 +302,7 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
                      if f.swing else ""), fontsize=10)
     top.legend(fontsize=8, loc="lower center")
     top.grid(alpha=0.3)
-    bottom.set_ylabel("|v1 engine - v1 analytic| (m/s)")
+    bottom.set_ylabel("|v1 engine - v1 analytic| (m/s)\nline: each row's tolerance")
     bottom.set_xlabel("impact point s from the COM toward the barrel (m)")
     bottom.grid(alpha=0.3, which="both")
     if any_ok:

@@ -1,0 +1,80 @@
+"""The tolerance each fired impact is judged against, derived as the conformance suite derives
+it: what the engine's float precision, the depth at which it first sees the contact, and (after
+a swing in the engine) its integrator's angle error can move v1 by.
+
+    allowed = ROUND_OPS eps speed + GEOM_SAFETY |dv1/ds| slide  (+ the swing's terms)
+
+- eps: the engine's unit roundoff (its record's precision); speed = v0 + |u0| + |omega0| L.
+- The contact is first seen delta = overlap_m + contact_phase v_c dt deep, delta / v_c after the
+  geometric instant; meanwhile the turning bat (and any tangential motion) slides the contact
+  foot along the axis by (R |omega0| + |v_t - u_t|) delta / v_c, R = r_bat + r_ball, and v1
+  takes the analytic value of a point that far away: |dv1/ds| slide + |d2v1/ds2| slide^2 / 2
+  (the second term matters at the sweet spot, where dv1/ds = 0).
+- Swung in the engine about the hands (first-order integrators): the bat is turned by
+  d_theta = omega_r dt / 2 at release (omega_r its analytic release speed), which slides the
+  foot by (R + |s|) d_theta, tilts the ball's approach by d_theta ((v0 + |v1|) d_theta^2) and
+  comes with the hinge's relative omega error HINGE_K (omega_r dt)^2, which moves v1 by
+  (1 + q)(d + |s|) d_omega; twice their sum covers the neglected cross terms.
+An impact the engine reports sound (status ok) is kept ok only within this tolerance of the
+rigid-body answer; otherwise its status is ``inaccurate``. Engines whose contact converges to
+another model than the rigid impulse (soft contacts) are not judged here (NaN tolerance).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import adapters
+from analytic import predict_arrays
+
+ROUND_OPS = 1e4      #: float operations of an impact, each within eps
+GEOM_SAFETY = 10.0   #: covers the factors of order 1 the slide estimate neglects
+HINGE_K = 4.0        #: empirical bound on the hinges' (omega dt)^2 constant (0.05-3.7 measured)
+FD_STEP_M = 1e-6     #: finite-difference step for dv1/ds (m)
+CURVATURE_STEP_M = 1e-3  #: step for d2v1/ds2 (m): v1(s) is a smooth rational function
+
+
+def tolerances(cases, outcomes, release_omega_radps) -> np.ndarray:
+    """Allowed |v1 engine - v1 rigid| per impact (m/s; NaN where not judged)."""
+    out = np.full(len(cases), math.nan)
+    for i, (case, o, w_r) in enumerate(zip(cases, outcomes, release_omega_radps)):
+        rec = adapters.record(o.engine)
+        cls = adapters.engine_class(o.engine)
+        if cls.converges_to(o.settings) is not adapters.ContactReference.RIGID_IMPULSE:
+            continue
+        bat, ball, st = case.bat, case.ball, o.settings
+        lo = max(case.s_m - FD_STEP_M, bat.s_min_m)
+        hi = min(case.s_m + FD_STEP_M, bat.s_max_m)
+        kw = dict(v0_mps=case.v0_mps, u0_mps=case.u0_mps, omega0_radps=case.omega0_radps,
+                  e=case.e, theta_rad=case.theta_rad, phi_rad=case.phi_rad)
+        v_lo, v_hi = (predict_arrays(bat, ball, s_m=x, **kw)["v1_mps"] for x in (lo, hi))
+        slope = float(abs(v_hi - v_lo)) / (hi - lo)
+        h = CURVATURE_STEP_M
+        s3 = np.clip(case.s_m + np.array([-h, 0.0, h]), bat.s_min_m - h, bat.s_max_m + h)
+        s3 = np.clip(s3, -bat.com_from_knob_m, bat.s_barrel_end_m)
+        v3 = predict_arrays(bat, ball, s_m=s3, **kw)["v1_mps"]
+        curvature = float(abs(v3[0] - 2 * v3[1] + v3[2])) / h**2
+        v_c = case.closing_speed_mps
+        reach = bat.radius_m + ball.radius_m
+        delta = st.overlap_m + st.contact_phase * v_c * st.dt_s
+        tangential = abs(case.v0_mps * math.sin(case.theta_rad)
+                         - case.u0_mps * math.sin(case.phi_rad))
+        slide = (reach * abs(case.omega0_radps) + tangential) * delta / v_c
+        speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * bat.length_m
+        tol = ROUND_OPS * rec.eps * speed + GEOM_SAFETY * (slope * slide
+                                                          + 0.5 * curvature * slide**2)
+        if math.isfinite(w_r):
+            d_theta = 0.5 * abs(w_r) * st.dt_s
+            d_omega = HINGE_K * (w_r * st.dt_s) ** 2 * abs(w_r)
+            ref = predict_arrays(bat, ball, s_m=case.s_m, **kw)
+            r = ball.mass_kg * (1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
+            q = (case.e - r) / (1 + r)
+            arm = bat.com_from_knob_m - case.hands_from_knob_m
+            swing_slide = (reach + abs(case.s_m)) * d_theta
+            tol += 2 * (slope * swing_slide + 0.5 * curvature * swing_slide**2
+                        + (case.v0_mps + abs(float(ref["v1_mps"]))) * d_theta**2
+                        + (1 + q) * (abs(arm) + abs(case.s_m)) * d_omega)
+        out[i] = tol
+    return out
