@@ -79,23 +79,9 @@ def batted_ball_speed(
     v1 = -v0n + (1 + e) v_c / (1 + m/M + m s^2/J), with v0n, v_c as in ``predict``.
     Raises ValueError if any point is off the bat or any pair does not approach (v_c <= 0).
     """
-    m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
-    s = _checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
-    v0 = _checks.array_in_range("v0_mps", v0_mps, 0.0)
-    u0 = _checks.array_in_range("u0_mps", u0_mps)
-    w0 = _checks.array_in_range("omega0_radps", omega0_radps)
-    ee = _checks.array_in_range("e", e, 0.0, 1.0)
-    th = _checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2)
-    ph = _checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2)
-    v0n = v0 * np.cos(th)
-    vc = v0n + u0 * np.cos(ph) + w0 * s
-    if np.any(vc <= 0.0):
-        bad = np.broadcast_to(s, vc.shape)[vc <= 0.0].flat[0]
-        raise ValueError(
-            f"closing speed <= 0 at s_m={bad!r}: the bodies do not approach; "
-            "allowed: v0*cos(theta) + u0*cos(phi) + omega0*s > 0"
-        )
-    return -v0n + _normal_impulse(m, M, J, s, vc, ee) / m
+    return predict_arrays(bat, ball, s_m=s_m, v0_mps=v0_mps, u0_mps=u0_mps,
+                          omega0_radps=omega0_radps, e=e, theta_rad=theta_rad,
+                          phi_rad=phi_rad)["v1_mps"]
 
 
 def predict_arrays(
@@ -113,7 +99,8 @@ def predict_arrays(
 ) -> dict[str, np.ndarray]:
     """``predict`` over broadcast arrays of impacts on one bat: the normal-direction fields
     v1_mps, u1_mps, omega1_radps, impulse_ns and hand_dv_mps (same formulas, vectorized), for
-    tables of many impacts. Inputs are checked as in ``batted_ball_speed``."""
+    tables of many impacts. Raises ValueError if any point is off the bat, any value out of
+    range, or any pair does not approach (closing speed <= 0)."""
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     s = _checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
     v0n = _checks.array_in_range("v0_mps", v0_mps, 0.0) \
@@ -122,7 +109,14 @@ def predict_arrays(
         * np.cos(_checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2))
     w0 = _checks.array_in_range("omega0_radps", omega0_radps)
     hands = _checks.array_in_range("hands_from_knob_m", hands_from_knob_m, 0.0, bat.length_m)
-    P = _normal_impulse(m, M, J, s, v0n + u0n + w0 * s, _checks.array_in_range("e", e, 0.0, 1.0))
+    vc = v0n + u0n + w0 * s
+    if np.any(vc <= 0.0):
+        bad = np.broadcast_to(s, vc.shape)[vc <= 0.0].flat[0]
+        raise ValueError(
+            f"closing speed <= 0 at s_m={bad!r}: the bodies do not approach; "
+            "allowed: v0*cos(theta) + u0*cos(phi) + omega0*s > 0"
+        )
+    P = _normal_impulse(m, M, J, s, vc, _checks.array_in_range("e", e, 0.0, 1.0))
     return {"v1_mps": -v0n + P / m, "u1_mps": u0n - P / M, "omega1_radps": w0 - P * s / J,
             "impulse_ns": P, "hand_dv_mps": -P * (1.0 / M + s * (hands - bat.com_from_knob_m) / J)}
 

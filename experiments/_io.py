@@ -97,11 +97,6 @@ def json_bytes(obj: Any) -> bytes:
     return (json.dumps(obj, indent=2, sort_keys=True, default=str) + "\n").encode("utf-8")
 
 
-def atomic_write_text(path: Path | str, text: str) -> Path:
-    """Text version of ``atomic_write_bytes`` (UTF-8, newline kept as given)."""
-    return atomic_write_bytes(path, text.encode("utf-8"))
-
-
 def _git(*args: str) -> str:
     try:
         return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True,
@@ -146,8 +141,3 @@ def provenance(**extra: Any) -> dict[str, Any]:
         "versions": versions(),
         **extra,
     }
-
-
-def write_json(path: Path | str, obj: Any) -> Path:
-    """Write ``obj`` as indented, key-sorted JSON, atomically."""
-    return atomic_write_bytes(path, json_bytes(obj))
