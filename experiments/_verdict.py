@@ -9,7 +9,8 @@ a swing in the engine) its integrator's angle error can move v1 by.
   geometric instant; meanwhile the turning bat (and any tangential motion) slides the contact
   foot along the axis by (R |omega0| + |v_t - u_t|) delta / v_c, R = r_bat + r_ball, and v1
   takes the analytic value of a point that far away: |dv1/ds| slide + |d2v1/ds2| slide^2 / 2
-  (the second term matters at the sweet spot, where dv1/ds = 0).
+  (the second term matters at the sweet spot, where dv1/ds = 0); the normal has turned by
+  omega0 delta / v_c meanwhile, so the impulse takes in (1 + e) |v_t - u_t| times that turn.
 - Swung in the engine about the hands (first-order integrators): the bat is turned by
   d_theta = omega_r dt / 2 at release (omega_r its analytic release speed), which slides the
   foot by (R + |s|) d_theta, tilts the ball's approach by d_theta ((v0 + |v1|) d_theta^2) and
@@ -63,8 +64,12 @@ def tolerances(cases, outcomes, release_omega_radps) -> np.ndarray:
                          - case.u0_mps * math.sin(case.phi_rad))
         slide = (reach * abs(case.omega0_radps) + tangential) * delta / v_c
         speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * bat.length_m
+        # the same delay turns the normal by omega0 delta / v_c, so the impulse, (1 + e) times
+        # the approach along it, takes in that share of the tangential relative speed
+        tilt = abs(case.omega0_radps) * delta / v_c
+        leak = (1.0 + case.e) * tangential * tilt
         tol = ROUND_OPS * rec.eps * speed + GEOM_SAFETY * (slope * slide
-                                                          + 0.5 * curvature * slide**2)
+                                                          + 0.5 * curvature * slide**2 + leak)
         if math.isfinite(w_r):
             d_theta = 0.5 * abs(w_r) * st.dt_s
             d_omega = HINGE_K * (w_r * st.dt_s) ** 2 * abs(w_r)

@@ -254,9 +254,10 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
         3, 1, figsize=(8, 7.5 + 0.25 * len(engines)), sharex=True,
         gridspec_kw={"height_ratios": [3, 0.35 + 0.2 * len(engines), 2]})
     s = np.linspace(f.bat.s_min_m, f.bat.s_max_m, 400)
+    s = s[f.v0_mps * np.cos(f.theta_rad) + f.u0_mps + f.omega0_radps * s > 0.0]  # approaching
     top.plot(s, batted_ball_speed(f.bat, presets.BASEBALL, s, v0_mps=f.v0_mps, u0_mps=f.u0_mps,
                                   omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
-             color="black", lw=1.5, label="analytic")
+             color="black", lw=1.5, label="analytic (where the bodies approach)")
     style = {n: adapters.record(n) for n in table.engine.unique()}
     floor = 1e-16
     any_ok = False

@@ -1,0 +1,51 @@
+"""Fuzz: every engine at its reference profile, over random impacts, lands within the tolerance
+each row is judged against (experiments._verdict) of the rigid-body answer.
+
+The tolerance is derived, not fitted (rounding at the engine's precision, the contact foot's
+slide while the turning bat is first seen overlap_m deep); if it were too tight, or an engine
+wrong somewhere in this space, a draw would come back `inaccurate` or failed. e >= 0.3 keeps
+the draws where one impulse is the whole rigid episode (the bodies separate at e v_c and do not
+meet again within it), so the single impulse of analytic.predict is that answer. Closing speeds
+are kept at 20 m/s and above, the bat-ball regime (slow pitches and swings give 30-60): below it
+this test found an engine that holds a slow contact on a fast-turning bat for about 25 steps and
+misses v1 by 0.73 m/s (v_c 1-5 m/s with omega0 40-48 rad/s; reported, not yet diagnosed).
+"""
+
+from __future__ import annotations
+
+import math
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import adapters
+from analytic import ImpactCase, presets
+from experiments import _grid, _runner
+
+ENGINES = adapters.names()
+MIN_CLOSING_MPS = 20.0
+
+
+@st.composite
+def impacts(draw) -> ImpactCase:
+    bat = presets.R161
+    s = draw(st.floats(bat.s_min_m, bat.s_max_m))
+    theta, phi = draw(st.floats(-1.0, 1.0)), draw(st.floats(-0.5, 0.5))
+    v0, u0, w0 = draw(st.floats(1.0, 60.0)), draw(st.floats(-5.0, 30.0)), \
+        draw(st.floats(-50.0, 50.0))
+    closing = v0 * math.cos(theta) + u0 * math.cos(phi) + w0 * s
+    if closing < MIN_CLOSING_MPS:  # keep only impacts (assume would discard too many draws)
+        u0 += (MIN_CLOSING_MPS - closing) / math.cos(phi) + draw(st.floats(0.0, 20.0))
+    return ImpactCase(bat=bat, ball=presets.BASEBALL, s_m=s, v0_mps=v0, u0_mps=u0,
+                      omega0_radps=w0, e=draw(st.floats(0.3, 1.0)), theta_rad=theta,
+                      phi_rad=phi)
+
+
+@settings(max_examples=60, deadline=None)
+@given(case=impacts())
+def test_every_engine_is_within_its_tolerance(case):
+    jobs = [_runner.Job(engine=n, settings=adapters.settings_for(n), case=case)
+            for n in ENGINES]
+    table = _grid.table(_runner.Runner().fire(jobs), "reference")
+    bad = table[table.status != "ok"]
+    assert bad.empty, bad[["engine", "status", "v1_abs_err_mps", "v1_tol_mps"]].to_string()
