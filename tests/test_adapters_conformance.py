@@ -1,6 +1,7 @@
 """One conformance suite for every registered engine (reference profile), ids = engine names.
 
-Checks against closed form live here; engine-vs-engine agreement is its own test at the end.
+Checks against closed form live here: each engine within its bound of theory implies any two
+engines within twice that of each other, so no engine-vs-engine test is needed.
 
 Tolerances. With the reference placement the contact is first seen ``overlap_m`` deep (the
 profile's setting, delta), i.e. delta/v_c after the geometric contact instant. A still bat then
@@ -152,26 +153,14 @@ def test_cop_located_from_engine_data(engine):
 
 
 def test_sixtieth_second_step_fails_cleanly(engine):
-    # dt = 1/60 s: v_rel dt = 1.1 m >> r_ball + r_bat = 0.067 m. Mid-step contact must come back
-    # as a failure status; an exactly aligned one may survive, but then its number must be right.
+    # dt = 1/60 s: v_rel dt = 1.1 m >> r_ball + r_bat = 0.067 m. A mid-step contact is first
+    # seen 0.55 m deep, past the bat's axis: tunnelled. Aligned on a step boundary it is seen
+    # overlap_m = 1e-9 m deep, far below R, so it is caught, and the step's length does not enter
+    # the impulse: it must match theory within the same placement bound as at 10 us.
     case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, e=0.5, **SWING)
     coarse = adapters.load(engine.name, dt_s=1 / 60, contact_phase=0.5).simulate(case)
     assert coarse.status is adapters.Status.TUNNELLED
-    aligned = adapters.load(engine.name, dt_s=1 / 60)
-    if aligned.simulate(case).ok:
-        _assert_matches_theory(aligned, case)
-
-
-def test_engines_agree_with_each_other():
-    # Engine vs engine: each is within its theory bound, so two differ by at most twice that.
-    engines = [adapters.load(name) for name in ENGINES]
-    for s in (-0.15, 0.0, 0.08, 0.22):
-        case = ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, **SWING)
-        tol = max(_tolerances(case, eng)["v1_mps"] for eng in engines)
-        v1 = [eng.simulate(case).v1_mps for eng in engines]
-        assert max(v1) - min(v1) <= 2 * tol, dict(zip(ENGINES, v1))
-    for eng in engines:
-        eng.close()
+    _assert_matches_theory(adapters.load(engine.name, dt_s=1 / 60), case)
 
 
 def test_a_used_engine_gives_the_bits_of_a_fresh_one(engine):

@@ -52,6 +52,22 @@ def _velocities(case: ImpactCase, out=None) -> tuple[np.ndarray, np.ndarray, flo
             out.omega1_radps)
 
 
+def _v1_3d(case: ImpactCase) -> float:
+    """The ball's normal velocity after the impact from the general 3D impulse (EQ 141), an
+    independent formula: the planar code is not called."""
+    bat, ball = case.bat, case.ball
+    bv, cv, w = _velocities(case)
+    a = RigidBody3D(mass_kg=ball.mass_kg, inertia_kgm2=np.eye(3) * ball.inertia_kgm2,
+                    velocity_mps=[bv[0], bv[1], 0.0])
+    b = RigidBody3D(mass_kg=bat.mass_kg,
+                    inertia_kgm2=np.diag([bat.axial_inertia_kgm2, bat.inertia_cm_kgm2,
+                                          bat.inertia_cm_kgm2]),
+                    velocity_mps=[cv[0], cv[1], 0.0], omega_radps=[0.0, 0.0, w])
+    res = impulse_3d(a, b, r_a_m=[0.0, -ball.radius_m, 0.0], r_b_m=[case.s_m, bat.radius_m, 0.0],
+                     normal=[0.0, 1.0, 0.0], e=case.e)
+    return float(res.a.velocity_mps[1])
+
+
 @given(cases(oblique=True))
 def test_linear_momentum_conserved(case):
     # m v_ball + M v_bat is the same before and after (both components).
@@ -128,22 +144,27 @@ def test_planar_model_equals_3d_impulse(case):
 
 @given(cases())
 def test_collision_efficiency_form(case):
-    # v1 = q v0 + (1 + q)(u0 + omega0 s), q = (e - m/Meff)/(1 + m/Meff), from the impulse form.
-    out = predict(case)
+    # q is the batted speed per unit pitch speed off a bat at rest (Cross): measured with the
+    # general 3D impulse on the same bat at rest, v1 = q v0; then the moving bat obeys
+    # v1 = q v0 + (1 + q)(u0 + omega0 s) (a change of frame along the normal).
+    at_rest = ImpactCase(bat=case.bat, ball=case.ball, s_m=case.s_m, v0_mps=case.v0_mps, e=case.e)
+    q_measured = _v1_3d(at_rest) / case.v0_mps
     q = float(collision_efficiency(case.bat, case.ball, case.s_m, case.e))
-    assert q == pytest.approx(out.q, rel=0, abs=TOL_REL)
-    v1 = q * case.v0_mps + (1 + q) * (case.u0_mps + case.omega0_radps * case.s_m)
+    assert q == pytest.approx(q_measured, rel=0, abs=TOL_REL * 10)
+    assert predict(case).q == pytest.approx(q_measured, rel=0, abs=TOL_REL * 10)
+    v1 = q_measured * case.v0_mps + (1 + q_measured) * (case.u0_mps + case.omega0_radps * case.s_m)
     scale = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps * case.s_m)
-    assert v1 == pytest.approx(out.v1_mps, abs=TOL_REL * scale)
+    assert _v1_3d(case) == pytest.approx(v1, abs=TOL_REL * 10 * scale)
 
 
 def test_vectorized_equals_pointwise():
-    # The same formula evaluated on an array must give the scalar results bit for bit (to EPS).
+    # The vectorized v1 over an array against the general 3D impulse point by point (an
+    # independent formula); both are a few dozen float operations: 1e3 EPS relative.
     s = np.linspace(R161.s_min_m, R161.s_max_m, 57)
     v = batted_ball_speed(R161, BALL, s, v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5)
-    ref = [predict(ImpactCase(bat=R161, ball=BALL, s_m=x, v0_mps=46.9, u0_mps=17.87,
-                              omega0_radps=32.0, e=0.5)).v1_mps for x in s]
-    np.testing.assert_allclose(v, ref, rtol=4 * EPS, atol=0)
+    ref = [_v1_3d(ImpactCase(bat=R161, ball=BALL, s_m=float(x), v0_mps=46.9, u0_mps=17.87,
+                             omega0_radps=32.0, e=0.5)) for x in s]
+    np.testing.assert_allclose(v, ref, rtol=1e3 * EPS, atol=1e3 * EPS * 46.9)
 
 
 @pytest.mark.parametrize("v0,u0,w0", [(46.9, 17.87, 32.0), (40.2, 0.0, 32.0), (35.0, 10.0, 12.0),
@@ -165,8 +186,20 @@ def test_sweet_spot_is_numerical_argmax(v0, u0, w0):
 
 
 def test_sweet_spot_at_com_without_rotation():
-    # omega0 = 0: v1 = -v0 + (1+e) A / (m k + m s^2/J) peaks at s = 0 exactly.
-    assert sweet_spot(R161, BALL, 46.9, 17.87, 0.0) == 0.0
+    # omega0 = 0: v1 = -v0 + (1+e) A / (m k + m s^2/J) is even in s, so it peaks at s = 0. A
+    # bounded numerical search over the bat must find it there, to the flat peak's rounding
+    # width sqrt(2 * 8 EPS |v1| / |v1''|) (as in test_sweet_spot_is_numerical_argmax).
+    def f(s):
+        return -float(batted_ball_speed(R161, BALL, s, v0_mps=46.9, u0_mps=17.87,
+                                        omega0_radps=0.0))
+
+    found = optimize.minimize_scalar(f, bounds=(R161.s_min_m, R161.s_max_m), method="bounded",
+                                     options={"xatol": 1e-10})
+    h = 1e-3
+    curvature = abs(f(h) - 2 * f(0.0) + f(-h)) / h**2
+    assert found.x == pytest.approx(0.0, abs=math.sqrt(2 * 8 * EPS * abs(f(0.0)) / curvature)
+                                    + 1e-9)
+    assert sweet_spot(R161, BALL, 46.9, 17.87, 0.0) == pytest.approx(found.x, abs=1e-7)
 
 
 @given(st.floats(35.0, 47.0), st.floats(0.0, 17.87), st.floats(12.0, 47.0))
@@ -209,8 +242,7 @@ def test_oblique_keeps_tangential_and_uses_normal_parts(case):
     out = predict(case)
     normal = predict(ImpactCase(bat=case.bat, ball=case.ball, s_m=case.s_m, v0_mps=case.v0n_mps,
                                 u0_mps=case.u0n_mps, omega0_radps=case.omega0_radps, e=case.e))
-    assert out.v1_t_mps == case.v0_mps * math.sin(case.theta_rad)
-    assert out.u1_t_mps == case.u0_mps * math.sin(case.phi_rad)
+    # (the tangential parts are checked against the 3D impulse in test_planar_model_equals_3d)
     scale = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) + out.impulse_ns
     assert out.v1_mps == pytest.approx(normal.v1_mps, abs=TOL_REL * scale)
     assert out.omega1_radps == pytest.approx(normal.omega1_radps, abs=TOL_REL * scale * 1e2)
@@ -242,7 +274,6 @@ def test_paper_oblique_solves_its_own_equations(case):
     paper = predict_oblique_paper(case)
     scale = v0 + abs(case.u0_mps) + abs(w0) * (1 + abs(s))
     assert paper.v1_mps == pytest.approx(v1, abs=1e4 * EPS * scale)
-    assert paper.theta1_rad == case.theta_rad
 
 
 def test_ball_does_not_keep_its_angle():

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from hypothesis import given
+from hypothesis import assume, given
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
@@ -29,12 +29,10 @@ def test_momenta_conserved_and_restitution_holds(a, b, r_a, r_b, n, e):
     # Linear momentum sum, angular momentum about the contact point (positions x_A = p - r_A,
     # x_B = p - r_B with p = 0), and n.(pdot_A - pdot_B) after = -e * before.
     n_len = np.linalg.norm(n)
-    if n_len < 0.1:
-        return
+    assume(n_len >= 0.1)
     n = n / n_len
     v_rel = n @ (a.point_velocity(r_a) - b.point_velocity(r_b))
-    if v_rel > -0.1:  # only approaching contacts are impacts
-        return
+    assume(v_rel <= -0.1)  # only approaching contacts are impacts
     res = impulse_3d(a, b, r_a_m=r_a, r_b_m=r_b, normal=n, e=e)
 
     def momenta(A, B):
