@@ -15,15 +15,16 @@ centre of its sphere; bat: the capsule's cylinder, R = r_bat + r_ball from the a
   -lambda s) keeps g'' = 0 with
       lambda = [2 omega (v - V).t + omega^2 d.n] / (1/m + 1/M + s^2/J),
   until lambda falls to zero or s leaves [s_min, s_max].
-The episode ends when the gap has grown past one ball radius (EPISODE_GAP_RADII) or the ball is
-off the cylinder's span, or after MAX_EPISODE_S. Frame: the contact frame at the first contact
+The episode ends when the gap has grown past one ball radius (EPISODE_GAP_RADII) with no contact
+to come, when the ball is off the cylinder's span, or after ``max_episode_s``. The adapters end
+an engine's episode the same way (``free_flight``). Frame: the contact frame at the first contact
 (x along the bat toward the barrel, y toward the ball), as in ``predict``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass, fields
 
 import numpy as np
 from scipy import integrate, optimize
@@ -39,21 +40,48 @@ ZENO_REL = 1e-9
 
 
 @dataclass(frozen=True, kw_only=True)
+class PlanarState:
+    """Both bodies at one instant, in one fixed frame: the ball's centre and velocity, the bat's
+    COM, velocity, angle (of its axis, toward the barrel) and angular velocity. The ball's side
+    of the bat is the +normal side, normal = (-sin angle, cos angle). Units: m, m/s, rad, rad/s."""
+
+    ball_x_m: float
+    ball_y_m: float
+    ball_vx_mps: float
+    ball_vy_mps: float
+    bat_x_m: float
+    bat_y_m: float
+    bat_vx_mps: float
+    bat_vy_mps: float
+    bat_angle_rad: float
+    bat_omega_radps: float
+
+    def array(self) -> np.ndarray:
+        return np.array(astuple(self), dtype=float)
+
+    @classmethod
+    def of(cls, y) -> PlanarState:
+        return cls(**dict(zip((f.name for f in fields(cls)), map(float, y))))
+
+
+@dataclass(frozen=True, kw_only=True)
 class CollisionEpisode(Outcome):
     """The rigid-body outcome of the whole episode (fields of ``Outcome``, at its end) and how it
-    went: ``impacts`` impulses, ``sustained_contact_s`` (s) of sliding contact, ``episode_s``
-    (s) from the first contact to the end, ``ended``: 'separated', 'left_cylinder' or
-    'time_limit'."""
+    went: ``impacts`` impulses, ``sustained_contact_s`` (s) of sliding contact and the largest
+    contact force in it, ``peak_sustained_force_n`` (N; 0 without), ``episode_s`` (s) from the
+    first contact to the end, ``ended``: 'separated', 'left_cylinder' or 'time_limit', and
+    ``end_state`` (contact frame at the first contact)."""
 
     impacts: int
     sustained_contact_s: float
+    peak_sustained_force_n: float
     episode_s: float
     ended: str
+    end_state: PlanarState
 
 
-# The state of both bodies, contact frame at t = 0 (m, m/s, rad, rad/s):
-# y = [px, py, vx, vy, Px, Py, Vx, Vy, theta, omega] (ball centre and velocity, bat COM and
-# velocity, bat angle and angular velocity).
+# Internally the state is the array of PlanarState's fields, y = [px, py, vx, vy, Px, Py, Vx, Vy,
+# theta, omega].
 
 
 def _geometry(y):
@@ -71,8 +99,9 @@ def _free(y, dt):
     return out
 
 
-def collide(case: ImpactCase) -> CollisionEpisode:
-    """The whole rigid impact episode for ``case`` (see the module docstring)."""
+def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> CollisionEpisode:
+    """The whole rigid impact episode for ``case``, followed for at most ``max_episode_s`` (s)
+    (see the module docstring)."""
     bat, ball = case.bat, case.ball
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     reach = bat.radius_m + ball.radius_m
@@ -82,10 +111,10 @@ def collide(case: ImpactCase) -> CollisionEpisode:
                   0.0, case.omega0_radps])
     v_c0 = case.closing_speed_mps
     ke0 = _energy(y, m, M, J)
-    t_now, impacts, sustained, ended = 0.0, 0, 0.0, "time_limit"
+    t_now, impacts, sustained, ended, peak = 0.0, 0, 0.0, "time_limit", 0.0
     impulse_total = 0.0
     in_contact = True  # touching at t = 0
-    while t_now < MAX_EPISODE_S:
+    while t_now < max_episode_s:
         d, tt, n = _geometry(y)
         s = float(d @ tt)
         if in_contact:
@@ -99,17 +128,18 @@ def collide(case: ImpactCase) -> CollisionEpisode:
                 impacts += 1
                 v_rel = float((y[2:4] - y[6:8]) @ n) - y[9] * s
             if v_rel <= ZENO_REL * v_c0:  # stays on the bat: sustained contact
-                y, dt, why = _slide(y, m, M, J, reach, bat.s_min_m, bat.s_max_m,
-                                    MAX_EPISODE_S - t_now)
+                y, dt, why, force = _slide(y, m, M, J, reach, bat.s_min_m, bat.s_max_m,
+                                           max_episode_s - t_now)
                 t_now += dt
                 sustained += dt
+                peak = max(peak, force)
                 if why == "left_cylinder":
                     ended = why
                     break
             in_contact = False
         # free flight to the next contact or the end of the episode
         dt, why = _next_contact(y, reach, ball.radius_m, bat.s_min_m, bat.s_max_m,
-                                MAX_EPISODE_S - t_now)
+                                max_episode_s - t_now)
         y = _free(y, dt)
         t_now += dt
         if why == "contact":
@@ -127,43 +157,85 @@ def collide(case: ImpactCase) -> CollisionEpisode:
         hand_dv_mps=float(y[7] - case.u0n_mps) + float(y[9] - case.omega0_radps) * hands,
         ke_before_j=ke0, ke_after_j=_energy(y, m, M, J), v1_t_mps=float(y[2]),
         u1_t_mps=float(y[6]), impacts=impacts, sustained_contact_s=sustained,
-        episode_s=t_now, ended=ended)
+        peak_sustained_force_n=peak, episode_s=t_now, ended=ended, end_state=PlanarState.of(y))
+
+
+def free_flight(state: PlanarState, *, reach_m: float, ball_radius_m: float, s_min_m: float,
+                s_max_m: float, t_max_s: float) -> tuple[float, str]:
+    """Where free flight from ``state`` leads: (time, why), why 'contact' (the gap closes again
+    at that time, to float precision), 'separated' (the gap has grown past EPISODE_GAP_RADII
+    ball radii first), 'left_cylinder' (the ball is off the span [s_min, s_max] first) or
+    'time_limit' (``t_max_s``). ``reach_m`` = r_bat + r_ball. How both ``collide`` and the
+    engines decide that an episode is over."""
+    return _next_contact(state.array(), reach_m, ball_radius_m, s_min_m, s_max_m, t_max_s)
 
 
 def _energy(y, m, M, J) -> float:
     return 0.5 * (m * (y[2] ** 2 + y[3] ** 2) + M * (y[6] ** 2 + y[7] ** 2) + J * y[9] ** 2)
 
 
-def _gap(y, dt, reach):
-    z = _free(y, dt)
-    d, tt, n = _geometry(z)
-    return float(d @ n) - reach, float(d @ tt)
+def _gap(y, t, reach):
+    """Gap and axial coordinate of the ball after free flight for time(s) ``t``."""
+    dx = y[0] - y[4] + (y[2] - y[6]) * t
+    dy = y[1] - y[5] + (y[3] - y[7]) * t
+    c, s = np.cos(y[8] + y[9] * t), np.sin(y[8] + y[9] * t)
+    return dy * c - dx * s - reach, dx * c + dy * s
+
+
+#: Samples of the gap evaluated at once while looking for the end of a free flight.
+_CHUNK = 32
+
+
+def _sample_step(y, h_max: float) -> float:
+    d, tt, n = _geometry(y)
+    rel = y[2:4] - y[6:8]
+    opening = float(rel @ n) - y[9] * float(d @ tt)
+    curving = -2 * y[9] * float(rel @ tt) - y[9] ** 2 * float(d @ n)
+    if opening > 0.0 and curving < 0.0:
+        return min(h_max, 0.5 * opening / -curving)
+    return h_max
 
 
 def _next_contact(y, reach, r_ball, s_min, s_max, t_max):
     """Time to the next contact (root of the gap, to float precision) or to the episode's end,
-    and which: 'contact', 'separated', 'left_cylinder' or 'time_limit'."""
+    and which: 'contact', 'separated', 'left_cylinder' or 'time_limit'. The gap is sampled
+    every h, a contact is a sign change: h lets the bat turn 0.02 rad at most, is at most
+    0.1 ms, and (chosen afresh every _CHUNK samples) is a quarter of the time 2 g'/|g''| in
+    which the gap, opening at g' against its curvature g'' = -2 omega (v - V).t
+    - omega^2 d.n, closes again (a slow bounce off the turning bat is caught up within a
+    fraction of a millisecond)."""
     w = abs(y[9])
-    h = min(1e-4, 0.02 / w) if w > 0 else 1e-4
-    t0, g0 = 0.0, _gap(y, 0.0, reach)[0]
+    h_max = min(1e-4, 0.02 / w) if w > 0 else 1e-4
+    t0, g0 = 0.0, float(_gap(y, 0.0, reach)[0])
     while t0 < t_max:
-        t1 = min(t0 + h, t_max)
-        g1, s1 = _gap(y, t1, reach)
-        if not s_min <= s1 <= s_max:
-            return t1, "left_cylinder"
-        if g1 > EPISODE_GAP_RADII * r_ball:
-            return t1, "separated"
-        if g0 > 0.0 and g1 <= 0.0:
-            root = optimize.brentq(lambda t: _gap(y, t, reach)[0], t0, t1, xtol=1e-15,
-                                   rtol=4 * np.finfo(float).eps)
-            return root, "contact"
-        t0, g0 = t1, g1
+        h = _sample_step(_free(y, t0), h_max)
+        t = np.minimum(t0 + h * np.arange(1, _CHUNK + 1), t_max)
+        g, ax = _gap(y, t, reach)
+        prev = np.concatenate(([g0], g[:-1]))
+        off = ~((s_min <= ax) & (ax <= s_max))
+        sep = g > EPISODE_GAP_RADII * r_ball
+        hit = (prev > 0.0) & (g <= 0.0)
+        end = off | sep | hit | (t >= t_max)
+        if end.any():
+            k = int(np.argmax(end))
+            if off[k]:
+                return float(t[k]), "left_cylinder"
+            if sep[k]:
+                return float(t[k]), "separated"
+            if hit[k]:
+                lo = t0 if k == 0 else float(t[k - 1])
+                root = optimize.brentq(lambda x: float(_gap(y, x, reach)[0]), lo, float(t[k]),
+                                       xtol=1e-15, rtol=4 * np.finfo(float).eps)
+                return root, "contact"
+            return t_max, "time_limit"
+        t0, g0 = float(t[-1]), float(g[-1])
     return t_max, "time_limit"
 
 
 def _slide(y, m, M, J, reach, s_min, s_max, t_max):
     """Integrate the sustained frictionless contact until the force vanishes or the ball
-    leaves the cylinder; returns (state, duration, 'released' or 'left_cylinder')."""
+    leaves the cylinder; returns (state, duration, 'released' or 'left_cylinder', the largest
+    force at the solver's steps)."""
     def force(z):
         d, tt, n = _geometry(z)
         s = float(d @ tt)
@@ -187,10 +259,11 @@ def _slide(y, m, M, J, reach, s_min, s_max, t_max):
     released.terminal, released.direction = True, -1
     off_end.terminal, off_end.direction = True, -1
     if force(y)[0] <= 0.0:  # nothing holds the ball on: it leaves at once
-        return y, 0.0, "released"
+        return y, 0.0, "released", 0.0
     scale = np.abs(y).max() + 1.0
     sol = integrate.solve_ivp(rhs, (0.0, t_max), y, method="DOP853", rtol=RTOL,
                               atol=RTOL * scale * 1e-3, events=(released, off_end))
     z = sol.y[:, -1]
     why = "left_cylinder" if len(sol.t_events[1]) else "released"
-    return z, float(sol.t[-1]), why
+    peak = max(force(sol.y[:, i])[0] for i in range(sol.y.shape[1]))
+    return z, float(sol.t[-1]), why, max(peak, 0.0)

@@ -24,6 +24,7 @@ from . import _runner, _verdict
 COLUMNS = (
     "engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad",
     "v1_analytic_mps", "v1_engine_mps", "v1_abs_err_mps", "v1_rel_err", "v1_tol_mps",
+    "v1_impulse_mps", "rigid_impacts", "rigid_sustained_s", "rigid_end",
     "u1_analytic_mps", "u1_engine_mps", "omega1_analytic_radps", "omega1_engine_radps",
     "hand_dv_analytic_mps", "hand_dv_engine_mps", "ke_before_j", "ke_after_j", "status",
     "contact_duration_s", "peak_penetration_m", "steps", "wall_s",
@@ -86,27 +87,29 @@ def grid(bat: Bat, points: int, s_min_m: float | None = None,
 
 
 def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
-    """The tidy table of fired impacts, one row per impact in order: the case, the analytic
-    prediction (vectorized once per bat and ball), the engine's outcome, their difference and
-    the tolerance it is judged against (experiments._verdict): a sound impact outside it gets
-    the status ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too."""
+    """The tidy table of fired impacts, one row per impact in order: the case, the rigid-body
+    answer (``analytic.collide``'s whole episode, followed as long as the engine's budget; the
+    single impulse beside it), the engine's outcome, their difference and the tolerance it is
+    judged against (experiments._verdict): a sound impact outside it gets the status
+    ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too."""
     cases = [f.case for f in fired]
     outs = [f.outcome for f in fired]
     n = len(cases)
-    ref = {k: np.empty(n) for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
+    impulse = np.empty(n)
     groups: dict[tuple, list[int]] = {}
     for i, c in enumerate(cases):
         groups.setdefault((c.bat, c.ball), []).append(i)
     for (bat, ball), idx in groups.items():
         cs = [cases[i] for i in idx]
-        got = predict_arrays(bat, ball, **{f: np.array([getattr(c, f) for c in cs]) for f in (
+        impulse[idx] = predict_arrays(bat, ball, **{f: np.array([getattr(c, f) for c in cs]) for f in (
             "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad",
-            "hands_from_knob_m")})
-        for k in ref:
-            ref[k][idx] = got[k]
+            "hands_from_knob_m")})["v1_mps"]
+    rigid = [_verdict.rigid(c, o.settings.max_contact_s) for c, o in zip(cases, outs)]
+    ref = {k: np.array([getattr(r, k) for r in rigid])
+           for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
     v1 = np.array([o.v1_mps for o in outs])
     err = np.abs(v1 - ref["v1_mps"])
-    tol = _verdict.tolerances(cases, outs, [f.release_omega_radps for f in fired])
+    tol = _verdict.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
     status = [("inaccurate" if o.ok and not err[i] <= tol[i] else o.status.value)
               for i, o in enumerate(outs)]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -118,7 +121,10 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
         "omega0_radps": [c.omega0_radps for c in cases], "e": [c.e for c in cases],
         "theta_rad": [c.theta_rad for c in cases],
         "v1_analytic_mps": ref["v1_mps"], "v1_engine_mps": v1, "v1_abs_err_mps": err,
-        "v1_rel_err": rel, "v1_tol_mps": tol,
+        "v1_rel_err": rel, "v1_tol_mps": tol, "v1_impulse_mps": impulse,
+        "rigid_impacts": [r.impacts for r in rigid],
+        "rigid_sustained_s": [r.sustained_contact_s for r in rigid],
+        "rigid_end": [r.ended for r in rigid],
         "u1_analytic_mps": ref["u1_mps"], "u1_engine_mps": [o.u1_mps for o in outs],
         "omega1_analytic_radps": ref["omega1_radps"],
         "omega1_engine_radps": [o.omega1_radps for o in outs],

@@ -16,6 +16,13 @@ a swing in the engine) its integrator's angle error can move v1 by.
   foot by (R + |s|) d_theta, tilts the ball's approach by d_theta ((v0 + |v1|) d_theta^2) and
   comes with the hinge's relative omega error HINGE_K (omega_r dt)^2, which moves v1 by
   (1 + q)(d + |s|) d_omega; twice their sum covers the neglected cross terms.
+- When the rigid episode is more than one impulse (``analytic.collide``: e = 0 or small, the
+  ball re-met or riding the turning bat), each impulse carries the terms above (a later one
+  seen as late as a whole step, contact_phase 1), and the sustained
+  contact force F (peak F_max) is quantized by the step: the engine applies it for up to
+  OFF_SPAN_STEPS + 2 steps more or less than the rigid episode (one where the contact starts, one
+  where it ends, and the steps the ball may pass the cylinder's end before the engine's episode
+  is over), which moves v1 by at most (OFF_SPAN_STEPS + 2) F_max dt / m.
 An impact the engine reports sound (status ok) is kept ok only within this tolerance of the
 rigid-body answer; otherwise its status is ``inaccurate``. Engines whose contact converges to
 another model than the rigid impulse (soft contacts) are not judged here (NaN tolerance).
@@ -23,12 +30,15 @@ another model than the rigid impulse (soft contacts) are not judged here (NaN to
 
 from __future__ import annotations
 
+import functools
 import math
+from dataclasses import replace
 
 import numpy as np
 
 import adapters
-from analytic import predict_arrays
+from adapters.base import OFF_SPAN_STEPS
+from analytic import CollisionEpisode, ImpactCase, collide, predict_arrays
 
 ROUND_OPS = 1e4      #: float operations of an impact, each within eps
 GEOM_SAFETY = 10.0   #: covers the factors of order 1 the slide estimate neglects
@@ -37,10 +47,19 @@ FD_STEP_M = 1e-6     #: finite-difference step for dv1/ds (m)
 CURVATURE_STEP_M = 1e-3  #: step for d2v1/ds2 (m): v1(s) is a smooth rational function
 
 
-def tolerances(cases, outcomes, release_omega_radps) -> np.ndarray:
+@functools.lru_cache(maxsize=1 << 16)
+def rigid(case: ImpactCase, max_episode_s: float) -> CollisionEpisode:
+    """The rigid-body answer an engine's impact is judged against: the whole episode, followed
+    as long as the engine follows its own (its ``max_contact_s``). Cached: studies fire the same
+    case at many settings."""
+    return collide(case, max_episode_s=max_episode_s)
+
+
+def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarray:
     """Allowed |v1 engine - v1 rigid| per impact (m/s; NaN where not judged)."""
     out = np.full(len(cases), math.nan)
-    for i, (case, o, w_r) in enumerate(zip(cases, outcomes, release_omega_radps)):
+    for i, (case, o, w_r, ep) in enumerate(zip(cases, outcomes, release_omega_radps,
+                                               rigid_episodes)):
         rec = adapters.record(o.engine)
         cls = adapters.engine_class(o.engine)
         if cls.converges_to(o.settings) is not adapters.ContactReference.RIGID_IMPULSE:
@@ -59,17 +78,22 @@ def tolerances(cases, outcomes, release_omega_radps) -> np.ndarray:
         curvature = float(abs(v3[0] - 2 * v3[1] + v3[2])) / h**2
         v_c = case.closing_speed_mps
         reach = bat.radius_m + ball.radius_m
-        delta = st.overlap_m + st.contact_phase * v_c * st.dt_s
         tangential = abs(case.v0_mps * math.sin(case.theta_rad)
                          - case.u0_mps * math.sin(case.phi_rad))
-        slide = (reach * abs(case.omega0_radps) + tangential) * delta / v_c
         speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * bat.length_m
-        # the same delay turns the normal by omega0 delta / v_c, so the impulse, (1 + e) times
-        # the approach along it, takes in that share of the tangential relative speed
-        tilt = abs(case.omega0_radps) * delta / v_c
-        leak = (1.0 + case.e) * tangential * tilt
-        tol = ROUND_OPS * rec.eps * speed + GEOM_SAFETY * (slope * slide
-                                                          + 0.5 * curvature * slide**2 + leak)
+
+        def seen_late(phase: float) -> float:
+            delta = st.overlap_m + phase * v_c * st.dt_s
+            slide = (reach * abs(case.omega0_radps) + tangential) * delta / v_c
+            # the same delay turns the normal by omega0 delta / v_c, so the impulse, (1 + e)
+            # times the approach along it, takes in that share of the tangential speed
+            leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * delta / v_c
+            return GEOM_SAFETY * (slope * slide + 0.5 * curvature * slide**2 + leak)
+
+        if ep.impacts > 1 or ep.sustained_contact_s > 0.0:
+            out[i] = _episode_tolerance(case, ep, o, w_r, speed * ROUND_OPS * rec.eps)
+            continue
+        tol = ROUND_OPS * rec.eps * speed + seen_late(st.contact_phase)
         if math.isfinite(w_r):
             d_theta = 0.5 * abs(w_r) * st.dt_s
             d_omega = HINGE_K * (w_r * st.dt_s) ** 2 * abs(w_r)
@@ -83,3 +107,44 @@ def tolerances(cases, outcomes, release_omega_radps) -> np.ndarray:
                         + (1 + q) * (abs(arm) + abs(case.s_m)) * d_omega)
         out[i] = tol
     return out
+
+
+def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
+                       rounding: float) -> float:
+    """The tolerance of an episode of more than one impulse. The same sources as for one, but
+    the rigid answer's sensitivity is taken from ``collide`` itself (a long slide along the
+    turning bat amplifies a shift of the contact point or of the bat's speed far more than the
+    single impulse does): v1 of the episode with s moved by the slides, and, after a swing in
+    the engine, with omega0 (and u0 with it) and the approach tilted by the swing's errors."""
+    bat, ball, st = case.bat, case.ball, o.settings
+    reach = bat.radius_m + ball.radius_m
+    v_c = case.closing_speed_mps
+    tangential = abs(case.v0_mps * math.sin(case.theta_rad)
+                     - case.u0_mps * math.sin(case.phi_rad))
+
+    def delay(phase: float) -> float:
+        return (st.overlap_m + phase * v_c * st.dt_s) / v_c
+
+    # the first contact seen at its phase, each later one as late as a whole step
+    late = delay(st.contact_phase) + (ep.impacts - 1) * delay(1.0)
+    slide = (reach * abs(case.omega0_radps) + tangential) * late
+    leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * late
+    moved = []
+    if math.isfinite(w_r):
+        d_theta = 0.5 * abs(w_r) * st.dt_s
+        d_omega = HINGE_K * (w_r * st.dt_s) ** 2 * abs(w_r)
+        slide += (reach + abs(case.s_m)) * d_theta
+        arm = bat.com_from_knob_m - case.hands_from_knob_m
+        moved += [dict(omega0_radps=case.omega0_radps + sign * d_omega,
+                       u0_mps=case.u0_mps + sign * d_omega * arm) for sign in (-1, 1)]
+        # the bat turned by d_theta tilts each approach against the contact normal
+        moved += [{angle: max(min(getattr(case, angle) + sign * d_theta, 1.5), -1.5)}
+                  for angle in ("theta_rad", "phi_rad") for sign in (-1, 1)]
+    span = [dict(s_m=min(max(case.s_m + sign * slide, bat.s_min_m), bat.s_max_m))
+            for sign in (-1, 1)]
+    dv_s = max(abs(rigid(replace(case, **kw), st.max_contact_s).v1_mps - ep.v1_mps)
+               for kw in span)
+    dv_swing = max((abs(rigid(replace(case, **kw), st.max_contact_s).v1_mps - ep.v1_mps)
+                    for kw in moved), default=0.0)
+    return (rounding * ep.impacts + GEOM_SAFETY * (dv_s + leak) + 2 * dv_swing
+            + (OFF_SPAN_STEPS + 2) * ep.peak_sustained_force_n * st.dt_s / ball.mass_kg)

@@ -257,7 +257,11 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
     s = s[f.v0_mps * np.cos(f.theta_rad) + f.u0_mps + f.omega0_radps * s > 0.0]  # approaching
     top.plot(s, batted_ball_speed(f.bat, presets.BASEBALL, s, v0_mps=f.v0_mps, u0_mps=f.u0_mps,
                                   omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
-             color="black", lw=1.5, label="analytic (where the bodies approach)")
+             color="black", lw=1.5, label="single impulse (where the bodies approach)")
+    one = table.drop_duplicates("s_m")
+    if ((one.rigid_impacts > 1) | (one.rigid_sustained_s > 0)).any():
+        top.plot(one.s_m, one.v1_analytic_mps, "-", color="tab:gray", lw=2.5, alpha=0.6,
+                 zorder=0, label="rigid episode (re-contacts, sustained contact), at the grid")
     style = {n: adapters.record(n) for n in table.engine.unique()}
     floor = 1e-16
     any_ok = False
@@ -303,7 +307,7 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
                      if f.swing else ""), fontsize=10)
     top.legend(fontsize=8, loc="lower center")
     top.grid(alpha=0.3)
-    bottom.set_ylabel("|v1 engine - v1 analytic| (m/s)\nline: each row's tolerance")
+    bottom.set_ylabel("|v1 engine - v1 rigid| (m/s)\nline: each row's tolerance")
     bottom.set_xlabel("impact point s from the COM toward the barrel (m)")
     bottom.grid(alpha=0.3, which="both")
     if any_ok:

@@ -3,9 +3,10 @@ each row is judged against (experiments._verdict) of the rigid-body answer.
 
 The tolerance is derived, not fitted (rounding at the engine's precision, the contact foot's
 slide while the turning bat is first seen overlap_m deep); if it were too tight, or an engine
-wrong somewhere in this space, a draw would come back `inaccurate` or failed. e >= 0.3 keeps
-the draws where one impulse is the whole rigid episode (the bodies separate at e v_c and do not
-meet again within it), so the single impulse of analytic.predict is that answer. Closing speeds
+wrong somewhere in this space, a draw would come back `inaccurate` or failed. e runs over
+[0, 1]: the answer is the whole rigid episode (analytic.collide), which for small e holds
+re-contacts and sustained sliding contact; an engine still touching at the end of its budget
+is right only where the rigid episode is too ('time_limit'). Closing speeds
 are kept at 20 m/s and above, the bat-ball regime (slow pitches and swings give 30-60): below it
 this test found an engine that holds a slow contact on a fast-turning bat for about 25 steps and
 misses v1 by 0.73 m/s (v_c 1-5 m/s with omega0 40-48 rad/s; reported, not yet diagnosed).
@@ -37,7 +38,7 @@ def impacts(draw) -> ImpactCase:
     if closing < MIN_CLOSING_MPS:  # keep only impacts (assume would discard too many draws)
         u0 += (MIN_CLOSING_MPS - closing) / math.cos(phi) + draw(st.floats(0.0, 20.0))
     return ImpactCase(bat=bat, ball=presets.BASEBALL, s_m=s, v0_mps=v0, u0_mps=u0,
-                      omega0_radps=w0, e=draw(st.floats(0.3, 1.0)), theta_rad=theta,
+                      omega0_radps=w0, e=draw(st.floats(0.0, 1.0)), theta_rad=theta,
                       phi_rad=phi)
 
 
@@ -47,5 +48,7 @@ def test_every_engine_is_within_its_tolerance(case):
     jobs = [_runner.Job(engine=n, settings=adapters.settings_for(n), case=case)
             for n in ENGINES]
     table = _grid.table(_runner.Runner().fire(jobs), "reference")
-    bad = table[table.status != "ok"]
-    assert bad.empty, bad[["engine", "status", "v1_abs_err_mps", "v1_tol_mps"]].to_string()
+    still_on = (table.status == "no_separation") & (table.rigid_end == "time_limit")
+    bad = table[(table.status != "ok") & ~still_on]
+    assert bad.empty, bad[["engine", "status", "v1_abs_err_mps", "v1_tol_mps", "rigid_impacts",
+                           "rigid_sustained_s", "rigid_end"]].to_string()
