@@ -568,6 +568,8 @@ class Engine(abc.ABC):
                 if _off_span_m(bat, ball, r) > OFF_SPAN_STEPS * _foot_speed_mps(bat, ball, r) * st.dt_s:
                     return Episode(r, first, last, peak, step, "left_cylinder")
             elif first >= 0:
+                if _off_span_m(bat, ball, r) > 0.0:  # collide's cylinder ends here too
+                    return Episode(r, first, last, peak, step, "left_cylinder")
                 if apart and step >= check_at:
                     t, why = free_flight(
                         _planar(r), reach_m=bat.radius_m + ball.radius_m,

@@ -37,6 +37,8 @@ RTOL = 1e-12              #: solve_ivp tolerance in sustained contact
 #: After an impulse, a separation slower than this fraction of the first closing speed is
 #: treated as sustained contact (a Zeno sequence of ever smaller bounces).
 ZENO_REL = 1e-9
+#: ... or whose gap would peak below this (m): float positions of ~1 m resolve ~1e-16 m.
+APEX_M = 1e-12
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -127,7 +129,7 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
                 impulse_total += P
                 impacts += 1
                 v_rel = float((y[2:4] - y[6:8]) @ n) - y[9] * s
-            if v_rel <= ZENO_REL * v_c0:  # stays on the bat: sustained contact
+            if _stays_on(y, v_rel, v_c0):  # sustained contact
                 y, dt, why, force = _slide(y, m, M, J, reach, bat.s_min_m, bat.s_max_m,
                                            max_episode_s - t_now)
                 t_now += dt
@@ -170,6 +172,23 @@ def free_flight(state: PlanarState, *, reach_m: float, ball_radius_m: float, s_m
     return _next_contact(state.array(), reach_m, ball_radius_m, s_min_m, s_max_m, t_max_s)
 
 
+def _stays_on(y, v_rel: float, v_c0: float) -> bool:
+    """After an impulse: is the ball's bounce too small to follow (a Zeno sequence of ever
+    smaller bounces converging on sustained contact)? Either it leaves slower than ZENO_REL of
+    the first closing speed, or the gap it opens against its curvature g'' < 0 peaks below
+    APEX_M, v_rel^2 / (2 |g''|), where float positions cannot resolve it any more."""
+    if v_rel <= ZENO_REL * v_c0:
+        return True
+    curving = _curving(y)
+    return curving < 0.0 and v_rel * v_rel / (-2.0 * curving) < APEX_M
+
+
+def _curving(y) -> float:
+    """g'' of the gap in free flight: -2 omega (v - V).t - omega^2 d.n."""
+    d, tt, n = _geometry(y)
+    return -2 * y[9] * float((y[2:4] - y[6:8]) @ tt) - y[9] ** 2 * float(d @ n)
+
+
 def _energy(y, m, M, J) -> float:
     return 0.5 * (m * (y[2] ** 2 + y[3] ** 2) + M * (y[6] ** 2 + y[7] ** 2) + J * y[9] ** 2)
 
@@ -188,9 +207,8 @@ _CHUNK = 32
 
 def _sample_step(y, h_max: float) -> float:
     d, tt, n = _geometry(y)
-    rel = y[2:4] - y[6:8]
-    opening = float(rel @ n) - y[9] * float(d @ tt)
-    curving = -2 * y[9] * float(rel @ tt) - y[9] ** 2 * float(d @ n)
+    opening = float((y[2:4] - y[6:8]) @ n) - y[9] * float(d @ tt)
+    curving = _curving(y)
     if opening > 0.0 and curving < 0.0:
         return min(h_max, 0.5 * opening / -curving)
     return h_max
@@ -205,7 +223,7 @@ def _next_contact(y, reach, r_ball, s_min, s_max, t_max):
     - omega^2 d.n, closes again (a slow bounce off the turning bat is caught up within a
     fraction of a millisecond)."""
     w = abs(y[9])
-    h_max = min(1e-4, 0.02 / w) if w > 0 else 1e-4
+    h_max = 0.02 / w if w * 1e-4 > 0.02 else 1e-4
     t0, g0 = 0.0, float(_gap(y, 0.0, reach)[0])
     while t0 < t_max:
         h = _sample_step(_free(y, t0), h_max)
@@ -215,15 +233,18 @@ def _next_contact(y, reach, r_ball, s_min, s_max, t_max):
         off = ~((s_min <= ax) & (ax <= s_max))
         sep = g > EPISODE_GAP_RADII * r_ball
         hit = (prev > 0.0) & (g <= 0.0)
-        end = off | sep | hit | (t >= t_max)
+        sunk = (prev <= 0.0) & (g < -APEX_M)  # closed from a gap lost in float noise
+        end = off | sep | hit | sunk | (t >= t_max)
         if end.any():
             k = int(np.argmax(end))
             if off[k]:
                 return float(t[k]), "left_cylinder"
             if sep[k]:
                 return float(t[k]), "separated"
+            lo = t0 if k == 0 else float(t[k - 1])
+            if sunk[k]:
+                return lo, "contact"
             if hit[k]:
-                lo = t0 if k == 0 else float(t[k - 1])
                 root = optimize.brentq(lambda x: float(_gap(y, x, reach)[0]), lo, float(t[k]),
                                        xtol=1e-15, rtol=4 * np.finfo(float).eps)
                 return root, "contact"
