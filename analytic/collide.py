@@ -34,10 +34,8 @@ from .model import ImpactCase, Outcome
 EPISODE_GAP_RADII = 1.0   #: the episode is over once the gap exceeds this many ball radii
 MAX_EPISODE_S = 1.0       #: longest episode followed (s)
 RTOL = 1e-12              #: solve_ivp tolerance in sustained contact
-#: After an impulse, a separation slower than this fraction of the first closing speed is
-#: treated as sustained contact (a Zeno sequence of ever smaller bounces).
-ZENO_REL = 1e-9
-#: ... or whose gap would peak below this (m): float positions of ~1 m resolve ~1e-16 m.
+#: After an impulse, a bounce whose gap would peak below this is sustained contact (m): float
+#: positions of ~1 m resolve ~1e-16 m.
 APEX_M = 1e-12
 
 
@@ -129,7 +127,7 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
                 impulse_total += P
                 impacts += 1
                 v_rel = float((y[2:4] - y[6:8]) @ n) - y[9] * s
-            if _stays_on(y, v_rel, v_c0):  # sustained contact
+            if _stays_on(y, v_rel):  # sustained contact
                 y, dt, why, force = _slide(y, m, M, J, reach, bat.s_min_m, bat.s_max_m,
                                            max_episode_s - t_now)
                 t_now += dt
@@ -172,15 +170,13 @@ def free_flight(state: PlanarState, *, reach_m: float, ball_radius_m: float, s_m
     return _next_contact(state.array(), reach_m, ball_radius_m, s_min_m, s_max_m, t_max_s)
 
 
-def _stays_on(y, v_rel: float, v_c0: float) -> bool:
-    """After an impulse: is the ball's bounce too small to follow (a Zeno sequence of ever
-    smaller bounces converging on sustained contact)? Either it leaves slower than ZENO_REL of
-    the first closing speed, or the gap it opens against its curvature g'' < 0 peaks below
-    APEX_M, v_rel^2 / (2 |g''|), where float positions cannot resolve it any more."""
-    if v_rel <= ZENO_REL * v_c0:
-        return True
+def _stays_on(y, v_rel: float) -> bool:
+    """After an impulse: does the ball stay on the bat? Only if the gap's free-flight
+    curvature g'' pulls it back (g'' < 0) and the bounce would peak below APEX_M,
+    v_rel^2 / (2 |g''|): the end of a Zeno sequence of ever smaller bounces, which float
+    positions cannot resolve any more (e = 0 gives a zero bounce)."""
     curving = _curving(y)
-    return curving < 0.0 and v_rel * v_rel / (-2.0 * curving) < APEX_M
+    return curving < 0.0 and max(v_rel, 0.0) ** 2 / (-2.0 * curving) < APEX_M
 
 
 def _curving(y) -> float:

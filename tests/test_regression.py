@@ -30,7 +30,10 @@ def test_agreement_does_not_regress(baseline, engine):
     settings = _grid.with_dt(adapters.settings_for(engine, plan.profile), plan.dt_s)
     with _runner.Runner() as runner:
         rows = _grid.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
-    assert (rows.status == "ok").all(), rows.status.value_counts().to_dict()
+    # ok, or still touching at the budget where the rigid bodies are too (e = 0 near the COM)
+    still_on = (rows.status == "no_separation") & (rows.rigid_end == "time_limit")
+    assert ((rows.status == "ok") | still_on).all(), rows.status.value_counts().to_dict()
+    rows = rows[rows.status == "ok"]
     allowed = spec["engines"][engine]["max_abs_err_mps"]
     worst = rows.v1_abs_err_mps.max()
     assert worst <= allowed, f"{engine}: max |dv1| {worst:.3e} m/s > allowed {allowed:.3e} m/s"
