@@ -115,10 +115,10 @@ def hunt_crossley_restitution(dissipation_spm: float, speed_mps: float) -> float
     if a == 0.0:
         return 1.0
     lhs = a - math.log1p(a)
-    # in y = 1 - e a: y - 1 - ln y = lhs, one root in [exp(-lhs - 1), 1]
-    y = optimize.brentq(lambda y: y - 1.0 - math.log(y) - lhs, math.exp(-lhs - 1.0), 1.0,
+    # in u = -ln(1 - e a) > 0: exp(-u) - 1 + u = lhs, one root in [0, lhs + 1]
+    u = optimize.brentq(lambda u: math.expm1(-u) + u - lhs, 0.0, lhs + 1.0,
                         xtol=1e-300, rtol=4 * np.finfo(float).eps)
-    return (1.0 - y) / a
+    return -math.expm1(-u) / a
 
 
 @dataclass(frozen=True, kw_only=True)
