@@ -86,6 +86,9 @@ def sweeps(args: argparse.Namespace) -> dict[str, bytes]:
     for label, opts in BASELINES.items():
         opts = ["--engine", engines, *opts]
         sweep = sweep_cmd.sweep_from_args(parser.parse_args(opts))
+        if f"{sweep.name}.csv" in files:
+            raise RuntimeError(f"baseline {label!r} would overwrite {sweep.name}: two baselines "
+                               "must differ in an option the sweep's name spells")
         with _cli.Progress(len(sweep.firing.s_m) * len(sweep.engines), label) as bar, \
                 _cli.runner(args, bar) as runner:
             table, meta = sweep_cmd.run(sweep, runner, chart=True)

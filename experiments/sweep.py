@@ -43,13 +43,17 @@ class Sweep:
     name: str
 
 
+#: The restitution of a sweep unless --e says otherwise (wood on a baseball).
+DEFAULT_E = presets.E_WOOD
+
+
 def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked: bool,
-                 still: bool, hinged: bool = False) -> str:
-    """sweep_<engine|all>_<profile>[-dt<dt>]_<bat>[_corked]_<swing|still|hinged>."""
+                 still: bool, hinged: bool = False, e: float = DEFAULT_E) -> str:
+    """sweep_<engine|all>_<profile>[-dt<dt>]_<bat>[_corked]_<swing|still|hinged>[_e<e>]."""
     prof = profile if dt_s is None else f"{profile}-dt{dt_s:.0e}"
     motion = "hinged" if hinged else "still" if still else "swing"
     return "_".join(["sweep", engine, prof, bat.name.split()[0] + ("_corked" if corked else ""),
-                     motion])
+                     motion] + ([] if e == DEFAULT_E else [f"e{e:g}"]))
 
 
 #: Largest grid: beyond it a sweep is an accident (the message gives what it would cost).
@@ -92,7 +96,7 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar="MPS", help="bat COM speed")
     p.add_argument("--omega0", type=num(-1e5, 1e5, unit="rad/s"), default=swing.omega0_radps,
                    metavar="RADPS")
-    p.add_argument("--e", type=num(0.0, 1.0), default=presets.E_WOOD,
+    p.add_argument("--e", type=num(0.0, 1.0), default=DEFAULT_E,
                    help="coefficient of restitution")
     p.add_argument("--theta", type=num(-1.5707, 1.5707, unit="rad"), default=0.0, metavar="RAD",
                    help="ball's angle to the contact normal")
@@ -158,7 +162,7 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
         adapters.settings_for(name, args.profile, **({} if args.dt is None else {"dt_s": args.dt}))
     name = default_name(_cli.engine_label(engines), args.profile, args.dt,
                         presets.BATS[args.bat], args.corked, args.u0 == 0 and args.omega0 == 0,
-                        args.swing)
+                        args.swing, args.e)
     return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name)
 
 
@@ -276,6 +280,9 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
                                        else ")"))
         if (~ok).any():  # no trustworthy v1: kept off the v1 axis
             statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
+            as_rigid = int(((df.status == "no_separation") & (df.rigid_end == "time_limit")).sum())
+            if as_rigid:
+                statuses += f" ({as_rigid} still in contact in rigid theory too)"
             strip.plot(df.s_m[~ok], np.full((~ok).sum(), i), "x", ms=6, color=color,
                        label=f"{name} failed: {statuses}")
         bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), mark,
