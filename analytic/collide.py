@@ -69,7 +69,7 @@ class CollisionEpisode(Outcome):
     """The rigid-body outcome of the whole episode (fields of ``Outcome``, at its end) and how it
     went: ``impacts`` impulses, ``sustained_contact_s`` (s) of sliding contact and the largest
     contact force in it, ``peak_sustained_force_n`` (N; 0 without), ``episode_s`` (s) from the
-    first contact to the end, ``ended``: 'separated', 'left_cylinder' or 'time_limit', and
+    first contact to the end (to the last separation when ``separates_for_good`` proves it), ``ended``: 'separated', 'left_cylinder' or 'time_limit', and
     ``end_state`` (contact frame at the first contact)."""
 
     impacts: int
@@ -138,6 +138,9 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
                     break
             in_contact = False
         # free flight to the next contact or the end of the episode
+        if separates_for_good(PlanarState.of(y), reach_m=reach, ball_radius_m=ball.radius_m):
+            ended = "separated"
+            break
         dt, why = _next_contact(y, reach, ball.radius_m, bat.s_min_m, bat.s_max_m,
                                 max_episode_s - t_now)
         y = _free(y, dt)
@@ -208,6 +211,28 @@ def _sample_step(y, h_max: float) -> float:
     if opening > 0.0 and curving < 0.0:
         return min(h_max, 0.5 * opening / -curving)
     return h_max
+
+
+def separates_for_good(state: PlanarState, *, reach_m: float, ball_radius_m: float) -> bool:
+    """A sufficient condition, in a few float operations, for free flight from ``state`` to
+    reach the episode's end gap (EPISODE_GAP_RADII ball radii) with no contact before it. In
+    free flight g'' = -2 omega (v - V).t - omega^2 d.n, so |g''| <= C = 2 |omega| |v - V|
+    + omega^2 (|d| + |v - V| T) up to time T, and g(t) >= g0 + g' t - C t^2 / 2; with
+    T = 2 g_end / g' that bound is past g_end at T (and positive before) when g0 >= 0 and
+    C T^2 / 2 <= g_end + g0. Used by ``collide`` and by the engines' episodes alike."""
+    w = state.bat_omega_radps
+    c, s = math.cos(state.bat_angle_rad), math.sin(state.bat_angle_rad)
+    dx, dy = state.ball_x_m - state.bat_x_m, state.ball_y_m - state.bat_y_m
+    rvx, rvy = state.ball_vx_mps - state.bat_vx_mps, state.ball_vy_mps - state.bat_vy_mps
+    opening = rvy * c - rvx * s - w * (dx * c + dy * s)
+    gap = dy * c - dx * s - reach_m
+    if opening <= 0.0 or gap < 0.0:
+        return False
+    end = EPISODE_GAP_RADII * ball_radius_m
+    horizon = 2.0 * end / opening
+    v_rel = math.hypot(rvx, rvy)
+    bound = 2.0 * abs(w) * v_rel + w * w * (math.hypot(dx, dy) + v_rel * horizon)
+    return 0.5 * bound * horizon * horizon <= end + gap
 
 
 def _next_contact(y, reach, r_ball, s_min, s_max, t_max):

@@ -31,8 +31,9 @@ COLUMNS = (
 )
 TIMING_COLUMNS = ("wall_s",)
 #: Statuses whose v1 is a measurement (the engine's impact was sound): errors are taken over
-#: them. ``ok`` rows matched the rigid answer within their tolerance, ``inaccurate`` did not.
-MEASURED = ("ok", "inaccurate")
+#: them. ``ok`` rows matched the rigid answer within their tolerance, ``inaccurate`` did not,
+#: ``unjudged`` ones (soft contacts) have no tolerance against it.
+MEASURED = ("ok", "inaccurate", "unjudged")
 #: Extra columns of a sweep whose bat is swung in the engine before each impact.
 SWING_COLUMNS = ("release_omega_engine_radps", "release_omega_analytic_radps",
                  "release_angle_err_rad")
@@ -110,8 +111,8 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
     v1 = np.array([o.v1_mps for o in outs])
     err = np.abs(v1 - ref["v1_mps"])
     tol = _verdict.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
-    status = [("inaccurate" if o.ok and not err[i] <= tol[i] else o.status.value)
-              for i, o in enumerate(outs)]
+    status = [o.status.value if not o.ok else "unjudged" if math.isnan(tol[i])
+              else "ok" if err[i] <= tol[i] else "inaccurate" for i, o in enumerate(outs)]
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
     cols = {

@@ -10,7 +10,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from analytic import ImpactCase, predict, presets
-from analytic.collide import RTOL, collide
+from analytic.collide import RTOL, PlanarState, collide, free_flight, separates_for_good
 
 from .conftest import EPS, cases
 
@@ -129,3 +129,19 @@ def test_sustained_contact_is_the_limit_of_a_stiff_penalty_contact():
         assert coarse / fine == pytest.approx(10.0, rel=0.1)  # first order in 1/k
     assert errors[-1] < 1e-6
     assert runs[-1][1] == pytest.approx(ref.sustained_contact_s, abs=1e-6)
+
+
+@settings(max_examples=300, deadline=None)
+@given(v=st.tuples(st.floats(-60, 60), st.floats(0.0, 60), st.floats(-30, 30), st.floats(-30, 30)),
+       w=st.floats(-60, 60), gap=st.floats(0.0, 0.05), s=st.floats(-0.5, 0.25))
+def test_separates_for_good_never_hides_a_contact(v, w, gap, s):
+    # The shortcut must be sufficient: wherever it says the gap reaches a ball radius with no
+    # contact first, the sampled free flight (root-finding any sign change) finds none.
+    reach = R161.radius_m + BALL.radius_m
+    state = PlanarState(ball_x_m=s, ball_y_m=reach + gap, ball_vx_mps=v[0], ball_vy_mps=v[1],
+                        bat_x_m=0.0, bat_y_m=0.0, bat_vx_mps=v[2], bat_vy_mps=v[3],
+                        bat_angle_rad=0.0, bat_omega_radps=w)
+    assume(separates_for_good(state, reach_m=reach, ball_radius_m=BALL.radius_m))
+    _, why = free_flight(state, reach_m=reach, ball_radius_m=BALL.radius_m, s_min_m=-10.0,
+                         s_max_m=10.0, t_max_s=1.0)
+    assert why != "contact"  # separated, or slower than the 1 s followed
