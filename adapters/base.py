@@ -549,6 +549,9 @@ class Engine(abc.ABC):
         max_steps = st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2
         first = last = -1
         check_at = 0
+        # a rigid contact slides off the cylinder's end only in sustained contact, as in
+        # collide; a soft one may be milliseconds long and slide past it within one impact
+        rigid = self.converges_to(st) is ContactReference.RIGID_IMPULSE
         peak = -math.inf
         r = start
         for step in range(1, max_steps + 1):
@@ -568,7 +571,8 @@ class Engine(abc.ABC):
                 if first < 0:
                     first = step
                 last = step
-                if _off_span_m(bat, ball, r) > OFF_SPAN_STEPS * _foot_speed_mps(bat, ball, r) * st.dt_s:
+                if rigid and _off_span_m(bat, ball, r) > \
+                        OFF_SPAN_STEPS * _foot_speed_mps(bat, ball, r) * st.dt_s:
                     return Episode(r, first, last, peak, step, "left_cylinder")
             elif first >= 0:
                 if _off_span_m(bat, ball, r) > 0.0:  # collide's cylinder ends here too
