@@ -107,6 +107,10 @@ BASEBALL_HERTZ = HuntCrossley(stiffness=43593574.039150596, exponent=1.5,
                               dissipation_spm=0.03581876333178441)
 
 
+#: Laws a sweep can put beside the rigid answer, by name.
+LAWS = {"hertz": BASEBALL_HERTZ}
+
+
 def hunt_crossley_restitution(dissipation_spm: float, speed_mps: float) -> float:
     """e of a Hunt-Crossley contact hit at ``speed_mps``: the root in (0, 1/a) of
     a - ln(1 + a) = -e a - ln(1 - e a), a = d v0 (from m u du / (1 + d u) = -k x^n dx

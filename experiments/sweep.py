@@ -15,7 +15,7 @@ import argparse
 import math
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 import adapters
-from analytic import Bat, batted_ball_speed, presets
+from analytic import Bat, batted_ball_speed, compliant, predict, presets
 from analytic.dynamics import HingedSwing
 
 from . import _cli, _grid, _runner
@@ -41,6 +41,8 @@ class Sweep:
     dt_s: float | None
     firing: _grid.Firing
     name: str
+    #: A compliant law (analytic.compliant.LAWS) whose prediction goes beside the rigid one.
+    law: str | None = None
 
 
 #: The restitution of a sweep unless --e says otherwise (wood on a baseball).
@@ -110,6 +112,13 @@ def build_parser() -> argparse.ArgumentParser:
                    default=math.pi / 2, metavar="RAD")
     _cli.add_runner(p)
     _cli.add_output(p)
+    p.add_argument("--reference", choices=("rigid", "compliant"), default="rigid",
+                   help="compliant: also predict every impact under a contact law (--law) and "
+                        "put it beside the rigid answer (columns v1_compliant_mps, "
+                        "compliant_contact_s, compliant_bat_turn_rad, ...; a curve on the chart)")
+    p.add_argument("--law", choices=tuple(compliant.LAWS), default=None,
+                   help="with --reference compliant: the contact law (default hertz: a "
+                        "baseball, e = 0.5 and 0.7 ms at 40 m/s, its e falling with speed)")
     p.add_argument("--no-locate", action="store_true",
                    help="skip locating the sweet spot and COP from engine data")
     p.add_argument("--compare", nargs=2, type=Path, metavar=("OLD", "NEW"),
@@ -133,6 +142,10 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
         bat = bat.corked(**{field: default if getattr(args, k) is None else getattr(args, k)
                             for k, (field, default) in HOLE.items()})
     engines = args.engine
+    if args.law is not None and args.reference != "compliant":
+        raise ValueError(f"--law {args.law} without --reference compliant does nothing; "
+                         "allowed: add --reference compliant, or leave --law out")
+    law = (args.law or "hertz") if args.reference == "compliant" else None
     if args.points > MAX_POINTS:
         per = IMPACT_S["swing" if args.swing else "plain"] * len(engines)
         raise ValueError(
@@ -162,8 +175,9 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
         adapters.settings_for(name, args.profile, **({} if args.dt is None else {"dt_s": args.dt}))
     name = default_name(_cli.engine_label(engines), args.profile, args.dt,
                         presets.BATS[args.bat], args.corked, args.u0 == 0 and args.omega0 == 0,
-                        args.swing, args.e)
-    return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name)
+                        args.swing, args.e) + (f"_{law}" if law else "")
+    return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name,
+                 law=law)
 
 
 def _duration(seconds: float) -> str:
@@ -183,6 +197,8 @@ def run(sweep: Sweep, runner: _runner.Runner | None = None, *, locate: bool = Tr
     jobs = [j for n in sweep.engines for j in sweep.firing.jobs(n, settings[n])]
     t0 = time.perf_counter()
     table = _grid.table(runner.fire(jobs), sweep.profile)
+    if sweep.law:
+        table = with_compliant(table, sweep.firing, sweep.law)
     elapsed = time.perf_counter() - t0
     marks = _grid.analytic_marks(sweep.firing)
     summary = {n: _summarize(table[table.engine == n]) for n in sweep.engines}
@@ -196,6 +212,31 @@ def run(sweep: Sweep, runner: _runner.Runner | None = None, *, locate: bool = Tr
         summary[n].update(settings=settings[n].as_dict(),
                           engine_version=adapters.record(n).version())
     return table, meta
+
+
+def with_compliant(table: pd.DataFrame, firing: _grid.Firing, law: str) -> pd.DataFrame:
+    """The table with the compliant prediction of every impact beside the rigid one:
+    v1_compliant_mps, v1_rigid_minus_compliant_mps (m/s), compliant_contact_s (s),
+    compliant_peak_force_n (N), compliant_bat_turn_rad (rad): one integration per grid point.
+    The law's own e at each closing speed (``compliant_e``) and impulse theory at that e
+    (``v1_impulse_law_e_mps``) split the difference into the ball's COR and the contact's
+    finite time."""
+    contact_law = compliant.LAWS[law]
+    got = {s: compliant.predict(firing.case(s), contact_law) for s in firing.s_m}
+    e_law = {s: compliant.hunt_crossley_restitution(contact_law.dissipation_spm,
+                                                    firing.case(s).closing_speed_mps)
+             for s in firing.s_m}
+    out = table.copy()
+    per_row = [got[s] for s in out.s_m]
+    out["compliant_e"] = [e_law[s] for s in out.s_m]
+    out["v1_impulse_law_e_mps"] = [predict(replace(firing.case(s), e=e_law[s])).v1_mps
+                                   for s in out.s_m]
+    out["v1_compliant_mps"] = [g.v1_mps for g in per_row]
+    out["v1_rigid_minus_compliant_mps"] = out.v1_analytic_mps - out.v1_compliant_mps
+    out["compliant_contact_s"] = [g.contact_duration_s for g in per_row]
+    out["compliant_peak_force_n"] = [g.peak_force_n for g in per_row]
+    out["compliant_bat_turn_rad"] = [g.bat_turn_rad for g in per_row]
+    return out
 
 
 def _summarize(df: pd.DataFrame) -> dict:
@@ -263,6 +304,9 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
                                   omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
              color="black", lw=1.5, label="single impulse (where the bodies approach)")
     one = table.drop_duplicates("s_m")
+    if "v1_compliant_mps" in one:
+        top.plot(one.s_m, one.v1_compliant_mps, "--", color="tab:brown", lw=1.5,
+                 label=f"compliant contact ({sweep.law}), at the grid")
     if ((one.rigid_impacts > 1) | (one.rigid_sustained_s > 0)).any():
         top.plot(one.s_m, one.v1_analytic_mps, "-", color="tab:gray", lw=2.5, alpha=0.6,
                  zorder=0, label="rigid episode (re-contacts, sustained contact), at the grid")
@@ -325,6 +369,21 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
     return fig
 
 
+def print_compliant(table: pd.DataFrame, law: str) -> None:
+    """How far the rigid answer is from the compliant one along the bat."""
+    one = table.drop_duplicates("s_m")
+    worst = one.v1_rigid_minus_compliant_mps.abs().idxmax()
+    print(f"compliant ({law}) vs rigid: max |v1 rigid - v1 compliant| "
+          f"{abs(one.v1_rigid_minus_compliant_mps[worst]):.3f} m/s at s = {one.s_m[worst]:.3f} m; "
+          f"contact {one.compliant_contact_s.min() * 1e3:.2f}-"
+          f"{one.compliant_contact_s.max() * 1e3:.2f} ms; the bat turns up to "
+          f"{one.compliant_bat_turn_rad.abs().max() * 1e3:.1f} mrad meanwhile")
+    finite = (one.v1_impulse_law_e_mps - one.v1_compliant_mps).abs()
+    print(f"  of which the finite contact time is up to {finite.max():.3f} m/s (compliant against "
+          f"impulse theory at the law's own e(v_c), {one.compliant_e.min():.3f}-"
+          f"{one.compliant_e.max():.3f}); the rest is the ball's COR at these speeds")
+
+
 def print_summary(meta: dict) -> None:
     """Per engine: errors, statuses, sweet spot and COP from engine data vs analytic (mm)."""
     marks = meta["analytic"]
@@ -385,6 +444,8 @@ def _run_and_publish(sweep: Sweep, args, parser, target: Path) -> int:
     meta["configuration"] = _cli.configuration(parser, args)
     _cli.publish(target, files(table, meta, sweep))
     print_summary(meta)
+    if sweep.law:
+        print_compliant(table, sweep.law)
     print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> {_cli.shown(target)}/")
     print("compare two runs: python -m experiments.compare "
           f"{_cli.shown(target)}/sweep.csv OTHER_RUN/sweep.csv")

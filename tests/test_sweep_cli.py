@@ -79,3 +79,27 @@ def test_runners_give_identical_rows(sweep_plan):
     assert set(serial.engine) == set(_grid.adapters.names())
     for kw in ({"workers": 2}, {"workers": 2, "scheduler": "local"}):
         pd.testing.assert_frame_equal(serial, _rows(sweep_plan, **kw), check_exact=True)
+
+
+def test_compliant_reference_beside_the_rigid_one(tmp_path):
+    # --reference compliant adds the law's prediction per row. Checked here: the law's e at each
+    # closing speed solves Hunt-Crossley's a - ln(1 + a) = -e a - ln(1 - e a), a = d v_c; the
+    # difference column is rigid minus compliant; and the contact lasts what a Hertz contact of
+    # this baseball does, 0.5-1 ms (it was calibrated to 0.7 ms at 40 m/s on a wall).
+    import math
+
+    from analytic.compliant import LAWS
+
+    assert sweep.main(["--engine", "all", "--points", "3", "--reference", "compliant",
+                       "--no-locate", "--out", str(tmp_path), "--name", "c"]) == 0
+    t = pd.read_csv(tmp_path / "c" / "sweep.csv")
+    d = LAWS["hertz"].dissipation_spm
+    for _, row in t.iterrows():
+        v_c = row.v0_mps + row.u0_mps + row.omega0_radps * row.s_m
+        a, e = d * v_c, row.compliant_e
+        assert a - math.log1p(a) == pytest.approx(-e * a - math.log1p(-e * a), rel=1e-9)
+    # the CSV keeps 12 significant digits of each column
+    assert list(t.v1_rigid_minus_compliant_mps) == pytest.approx(
+        list(t.v1_analytic_mps - t.v1_compliant_mps), abs=1e-10)
+    assert t.compliant_contact_s.between(0.5e-3, 1e-3).all()
+    assert _run("--law", "hertz").returncode == 2  # a law without the compliant reference
