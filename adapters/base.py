@@ -578,7 +578,8 @@ class Engine(abc.ABC):
                 if _off_span_m(bat, ball, r) > 0.0:  # collide's cylinder ends here too
                     return Episode(r, first, last, peak, step, "left_cylinder")
                 if apart and separates_for_good(_planar(r), reach_m=bat.radius_m + ball.radius_m,
-                                                ball_radius_m=ball.radius_m):
+                                                ball_radius_m=ball.radius_m,
+                                                t_max_s=(max_steps - step) * st.dt_s):
                     return Episode(r, first, last, peak, step, "separated")
                 if apart and step >= check_at:
                     t, why = free_flight(

@@ -138,7 +138,8 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
                     break
             in_contact = False
         # free flight to the next contact or the end of the episode
-        if separates_for_good(PlanarState.of(y), reach_m=reach, ball_radius_m=ball.radius_m):
+        if separates_for_good(PlanarState.of(y), reach_m=reach, ball_radius_m=ball.radius_m,
+                              t_max_s=max_episode_s - t_now):
             ended = "separated"
             break
         dt, why = _next_contact(y, reach, ball.radius_m, bat.s_min_m, bat.s_max_m,
@@ -208,18 +209,21 @@ def _sample_step(y, h_max: float) -> float:
     d, tt, n = _geometry(y)
     opening = float((y[2:4] - y[6:8]) @ n) - y[9] * float(d @ tt)
     curving = _curving(y)
-    if opening > 0.0 and curving < 0.0:
-        return min(h_max, 0.5 * opening / -curving)
+    if opening > 0.0 and -curving * h_max > 0.5 * opening:  # (no overflow for tiny g'')
+        return 0.5 * opening / -curving
     return h_max
 
 
-def separates_for_good(state: PlanarState, *, reach_m: float, ball_radius_m: float) -> bool:
+def separates_for_good(state: PlanarState, *, reach_m: float, ball_radius_m: float,
+                       t_max_s: float) -> bool:
     """A sufficient condition, in a few float operations, for free flight from ``state`` to
     reach the episode's end gap (EPISODE_GAP_RADII ball radii) with no contact before it. In
     free flight g'' = -2 omega (v - V).t - omega^2 d.n, so |g''| <= C = 2 |omega| |v - V|
     + omega^2 (|d| + |v - V| T) up to time T, and g(t) >= g0 + g' t - C t^2 / 2; with
     T = 2 g_end / g' that bound is past g_end at T (and positive before) when g0 >= 0 and
-    C T^2 / 2 <= g_end + g0. Used by ``collide`` and by the engines' episodes alike."""
+    C T^2 / 2 <= g_end + g0, and it gets there within ``t_max_s`` if T <= t_max_s (a ball
+    leaving at 1e-15 m/s is still on the bat at the end of the episode). Used by ``collide``
+    and by the engines' episodes alike."""
     w = state.bat_omega_radps
     c, s = math.cos(state.bat_angle_rad), math.sin(state.bat_angle_rad)
     dx, dy = state.ball_x_m - state.bat_x_m, state.ball_y_m - state.bat_y_m
@@ -230,6 +234,8 @@ def separates_for_good(state: PlanarState, *, reach_m: float, ball_radius_m: flo
         return False
     end = EPISODE_GAP_RADII * ball_radius_m
     horizon = 2.0 * end / opening
+    if horizon > t_max_s:
+        return False
     v_rel = math.hypot(rvx, rvy)
     bound = 2.0 * abs(w) * v_rel + w * w * (math.hypot(dx, dy) + v_rel * horizon)
     return 0.5 * bound * horizon * horizon <= end + gap

@@ -141,7 +141,7 @@ def test_separates_for_good_never_hides_a_contact(v, w, gap, s):
     state = PlanarState(ball_x_m=s, ball_y_m=reach + gap, ball_vx_mps=v[0], ball_vy_mps=v[1],
                         bat_x_m=0.0, bat_y_m=0.0, bat_vx_mps=v[2], bat_vy_mps=v[3],
                         bat_angle_rad=0.0, bat_omega_radps=w)
-    assume(separates_for_good(state, reach_m=reach, ball_radius_m=BALL.radius_m))
+    assume(separates_for_good(state, reach_m=reach, ball_radius_m=BALL.radius_m, t_max_s=1.0))
     _, why = free_flight(state, reach_m=reach, ball_radius_m=BALL.radius_m, s_min_m=-10.0,
                          s_max_m=10.0, t_max_s=1.0)
-    assert why != "contact"  # separated, or slower than the 1 s followed
+    assert why == "separated"

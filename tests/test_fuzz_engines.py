@@ -52,3 +52,12 @@ def test_every_engine_is_within_its_tolerance(case):
     bad = table[(table.status != "ok") & ~still_on]
     assert bad.empty, bad[["engine", "status", "v1_abs_err_mps", "v1_tol_mps", "rigid_impacts",
                            "rigid_sustained_s", "rigid_end"]].to_string()
+
+
+def test_a_plastic_head_on_impact_at_the_com_stays_together():
+    # e = 0 at s = 0 with no spin (a fuzz draw): after the impulse ball and bat move together,
+    # nothing separates them; every engine and the rigid episode are still in contact when the
+    # budget ends (the rigid end once said 'separated' for a 1e-15 m/s float-noise opening).
+    case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.0,
+                      v0_mps=35.17854551140874, u0_mps=15.0, e=0.0)
+    test_every_engine_is_within_its_tolerance.hypothesis.inner_test(case)
