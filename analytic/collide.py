@@ -105,12 +105,8 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
     bat, ball = case.bat, case.ball
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     reach = bat.radius_m + ball.radius_m
-    y = np.array([case.s_m, reach,
-                  case.v0_mps * math.sin(case.theta_rad), -case.v0n_mps,
-                  0.0, 0.0, case.u0_mps * math.sin(case.phi_rad), case.u0n_mps,
-                  0.0, case.omega0_radps])
-    v_c0 = case.closing_speed_mps
-    ke0 = _energy(y, m, M, J)
+    y = first_touch(case)
+    y0 = y.copy()
     t_now, impacts, sustained, ended, peak = 0.0, 0, 0.0, "time_limit", 0.0
     impulse_total = 0.0
     in_contact = True  # touching at t = 0
@@ -151,17 +147,34 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
             continue
         ended = why
         break
+    return CollisionEpisode(
+        **outcome_fields(case, y0, y), impacts=impacts, sustained_contact_s=sustained,
+        peak_sustained_force_n=peak, episode_s=t_now, ended=ended, end_state=PlanarState.of(y))
+
+
+def first_touch(case: ImpactCase) -> np.ndarray:
+    """Both bodies at the first touch, contact frame, as the array of PlanarState's fields."""
+    reach = case.bat.radius_m + case.ball.radius_m
+    return np.array([case.s_m, reach,
+                     case.v0_mps * math.sin(case.theta_rad), -case.v0n_mps,
+                     0.0, 0.0, case.u0_mps * math.sin(case.phi_rad), case.u0n_mps,
+                     0.0, case.omega0_radps])
+
+
+def outcome_fields(case: ImpactCase, y0: np.ndarray, y: np.ndarray) -> dict:
+    """The fields of ``Outcome`` for an impact that took the bodies from ``y0`` to ``y``."""
+    bat, ball = case.bat, case.ball
+    m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     V = case.u0n_mps + case.omega0_radps * case.s_m
     v1 = float(y[3])
     hands = case.hands_from_knob_m - bat.com_from_knob_m
-    return CollisionEpisode(
+    return dict(
         v1_mps=v1, u1_mps=float(y[7]), omega1_radps=float(y[9]),
         impulse_ns=m * (v1 + case.v0n_mps), q=(v1 - V) / (case.v0n_mps + V),
-        closing_speed_mps=v_c0,
+        closing_speed_mps=case.closing_speed_mps,
         hand_dv_mps=float(y[7] - case.u0n_mps) + float(y[9] - case.omega0_radps) * hands,
-        ke_before_j=ke0, ke_after_j=_energy(y, m, M, J), v1_t_mps=float(y[2]),
-        u1_t_mps=float(y[6]), impacts=impacts, sustained_contact_s=sustained,
-        peak_sustained_force_n=peak, episode_s=t_now, ended=ended, end_state=PlanarState.of(y))
+        ke_before_j=_energy(y0, m, M, J), ke_after_j=_energy(y, m, M, J),
+        v1_t_mps=float(y[2]), u1_t_mps=float(y[6]))
 
 
 def free_flight(state: PlanarState, *, reach_m: float, ball_radius_m: float, s_min_m: float,

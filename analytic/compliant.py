@@ -146,15 +146,12 @@ def predict(case: ImpactCase, law: ContactLaw) -> CompliantOutcome:
     planar, the bat turning and moving during the contact, integrated with solve_ivp (DOP853,
     rtol 1e-12) from the first touch until the force is back to zero. ``case.e`` is not used:
     the law sets the restitution. Frame and fields as ``analytic.predict``."""
-    from .collide import _energy, _geometry
+    from .collide import _geometry, first_touch, outcome_fields
 
     bat, ball = case.bat, case.ball
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     reach = bat.radius_m + ball.radius_m
-    y0 = np.array([case.s_m, reach,
-                   case.v0_mps * math.sin(case.theta_rad), -case.v0n_mps,
-                   0.0, 0.0, case.u0_mps * math.sin(case.phi_rad), case.u0n_mps,
-                   0.0, case.omega0_radps])
+    y0 = first_touch(case)
 
     def contact(z):
         d, tt, n = _geometry(z)
@@ -184,16 +181,8 @@ def predict(case: ImpactCase, law: ContactLaw) -> CompliantOutcome:
                               dense_output=False)
     z = sol.y[:, -1]
     forces = [contact(sol.y[:, i]) for i in range(sol.y.shape[1])]
-    V = case.u0n_mps + case.omega0_radps * case.s_m
-    v1 = float(z[3])
-    hands = case.hands_from_knob_m - bat.com_from_knob_m
     return CompliantOutcome(
-        v1_mps=v1, u1_mps=float(z[7]), omega1_radps=float(z[9]),
-        impulse_ns=m * (v1 + case.v0n_mps), q=(v1 - V) / (case.v0n_mps + V),
-        closing_speed_mps=case.closing_speed_mps,
-        hand_dv_mps=float(z[7] - case.u0n_mps) + float(z[9] - case.omega0_radps) * hands,
-        ke_before_j=_energy(y0, m, M, J), ke_after_j=_energy(z, m, M, J),
-        v1_t_mps=float(z[2]), u1_t_mps=float(z[6]),
+        **outcome_fields(case, y0, z),
         contact_duration_s=float(sol.t[-1]),
         peak_force_n=max(max(f for f, *_ in forces), 0.0),
         peak_penetration_m=max(x for _, x, *_ in forces),
