@@ -364,6 +364,12 @@ class Engine(abc.ABC):
         return cls.record.converges_to
 
     @classmethod
+    def contact_law(cls, settings: Settings, e: float):
+        """The continuous contact law (``analytic.compliant``) this engine's contact converges
+        to at these settings and restitution, or None for a rigid contact (the default)."""
+        return None
+
+    @classmethod
     def read_back_defaults(cls) -> dict:
         """The engine's own values of settings fields, as a fresh engine reports them (only
         those it reports; the record's ``engine_defaults`` holds the rest as measured)."""

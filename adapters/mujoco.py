@@ -26,7 +26,7 @@ import numpy as np
 
 from analytic import Ball, Bat
 from analytic import _checks
-from analytic.compliant import damping_ratio_for
+from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
 from ._record import ContactReference, EngineRecord, Integrator, KnobFamily, RestitutionRule, import_engine
 from .base import BodyLoad, Engine, MassProperties, Reading, Settings
@@ -163,6 +163,14 @@ class MujocoEngine(Engine):
         if settings.contact_model == "soft":
             return ContactReference.LINEAR_SPRING_DAMPER
         return ContactReference.RIGID_IMPULSE
+
+    @classmethod
+    def contact_law(cls, settings: MujocoSettings, e: float):
+        # soft: solref (-w^2, -2 zeta w) acts on J qacc, in contact space (module docstring)
+        if settings.contact_model != "soft":
+            return None
+        return ContactSpaceSpringDamper(omega_radps=settings.soft_omega_radps,
+                                        damping_ratio=damping_ratio_for(max(e, 1e-9)))
 
     @classmethod
     def read_back_defaults(cls) -> dict:

@@ -60,10 +60,10 @@ class LinearSpringDamper:
         _checks.positive("stiffness_npm", self.stiffness_npm)
         _checks.non_negative("damping_nspm", self.damping_nspm)
 
-    def force_n(self, x_m: float, rate_mps: float) -> float:
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         return self.stiffness_npm * x_m + self.damping_nspm * rate_mps
 
-    def release_value(self, x_m: float, rate_mps: float) -> float:
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         """Crosses zero, linearly in time, where the contact lets go."""
         return self.force_n(x_m, rate_mps)
 
@@ -84,16 +84,41 @@ class HuntCrossley:
         _checks.in_range("exponent", self.exponent, 1.0, 2.0)
         _checks.non_negative("dissipation_spm", self.dissipation_spm)
 
-    def force_n(self, x_m: float, rate_mps: float) -> float:
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         return self.stiffness * x_m**self.exponent * (1.0 + self.dissipation_spm * rate_mps)
 
-    def release_value(self, x_m: float, rate_mps: float) -> float:
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         """F / x^(n-1): zero where F is, but crossing linearly in time at x = 0 (F ~ x^n
         would make the release instant ill-conditioned)."""
         return self.stiffness * x_m * (1.0 + self.dissipation_spm * rate_mps)
 
 
-ContactLaw = LinearSpringDamper | HuntCrossley
+@dataclass(frozen=True, kw_only=True)
+class ContactSpaceSpringDamper:
+    """A spring-damper in the contact's own acceleration space, whatever the masses: the force
+    is m_eff (w^2 x + 2 zeta w x'), m_eff = 1/(1/m + 1/M + s^2/J) at the current contact point,
+    so that the part of x'' the force makes is -w^2 x - 2 zeta w x'. MuJoCo's soft contact
+    (solref = (-w^2, -2 zeta w), constant impedance, exact diagonals) is this law: MuJoCo's
+    constraint acceleration is J qacc, without the turning bat's J' qdot, so the latter stays
+    in x'' (measured: MuJoCo converges to this law, not to one that also cancels J' qdot).
+    ``omega_radps`` w (rad/s), ``damping_ratio`` zeta (1); released at zero force."""
+
+    omega_radps: float
+    damping_ratio: float
+
+    def __post_init__(self) -> None:
+        _checks.positive("omega_radps", self.omega_radps)
+        _checks.non_negative("damping_ratio", self.damping_ratio)
+
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
+        w = self.omega_radps
+        return m_eff_kg * (w * w * x_m + 2 * self.damping_ratio * w * rate_mps)
+
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
+        return self.force_n(x_m, rate_mps, m_eff_kg)
+
+
+ContactLaw = LinearSpringDamper | HuntCrossley | ContactSpaceSpringDamper
 
 
 #: A baseball against a rigid surface as a Hertz contact with hysteresis (Hunt-Crossley,
@@ -153,12 +178,17 @@ def predict(case: ImpactCase, law: ContactLaw) -> CompliantOutcome:
     reach = bat.radius_m + ball.radius_m
     y0 = first_touch(case)
 
-    def contact(z):
+    def state(z):
+        """Overlap x, its rate and the reduced mass at the contact point."""
         d, tt, n = _geometry(z)
         s = float(d @ tt)
         x = reach - float(d @ n)
         rate = -(float((z[2:4] - z[6:8]) @ n) - z[9] * s)
-        return law.force_n(max(x, 0.0), rate), x, n, s
+        return x, rate, 1.0 / (1 / m + 1 / M + s * s / J), n, s
+
+    def contact(z):
+        x, rate, m_eff, n, s = state(z)
+        return law.force_n(max(x, 0.0), rate, m_eff), x, n, s
 
     def rhs(t, z):
         f, x, n, s = contact(z)
@@ -170,9 +200,8 @@ def predict(case: ImpactCase, law: ContactLaw) -> CompliantOutcome:
     def released(t, z):
         if t == 0.0:
             return 1.0
-        d, tt, n = _geometry(z)
-        x = reach - float(d @ n)
-        return law.release_value(x, -(float((z[2:4] - z[6:8]) @ n) - z[9] * float(d @ tt)))
+        x, rate, m_eff, _, _ = state(z)
+        return law.release_value(x, rate, m_eff)
 
     released.terminal, released.direction = True, -1
     # a generous horizon: a Hertz contact of a baseball lasts about a millisecond
