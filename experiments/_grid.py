@@ -24,7 +24,8 @@ from . import _runner, _verdict
 COLUMNS = (
     "engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad",
     "v1_analytic_mps", "v1_engine_mps", "v1_abs_err_mps", "v1_rel_err", "v1_tol_mps",
-    "v1_impulse_mps", "rigid_impacts", "rigid_sustained_s", "rigid_end",
+    "v1_impulse_mps", "rigid_impacts", "rigid_sustained_s", "rigid_end", "v1_law_mps",
+    "v1_law_err_mps", "v1_law_tol_mps",
     "u1_analytic_mps", "u1_engine_mps", "omega1_analytic_radps", "omega1_engine_radps",
     "hand_dv_analytic_mps", "hand_dv_engine_mps", "ke_before_j", "ke_after_j", "status",
     "contact_duration_s", "peak_penetration_m", "steps", "wall_s",
@@ -111,8 +112,19 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
     v1 = np.array([o.v1_mps for o in outs])
     err = np.abs(v1 - ref["v1_mps"])
     tol = _verdict.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
-    status = [o.status.value if not o.ok else "unjudged" if math.isnan(tol[i])
-              else "ok" if err[i] <= tol[i] else "inaccurate" for i, o in enumerate(outs)]
+    law = np.array([_verdict.soft_judgement(c, o) for c, o in zip(cases, outs)]).reshape(-1, 2)
+    law_err = np.abs(v1 - law[:, 0])
+
+    def judged(i: int, o) -> str:
+        if not o.ok:
+            return o.status.value
+        if not math.isnan(tol[i]):
+            return "ok" if err[i] <= tol[i] else "inaccurate"
+        if not math.isnan(law[i, 1]):
+            return "ok" if law_err[i] <= law[i, 1] else "inaccurate"
+        return "unjudged"
+
+    status = [judged(i, o) for i, o in enumerate(outs)]
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
     cols = {
@@ -126,6 +138,7 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
         "rigid_impacts": [r.impacts for r in rigid],
         "rigid_sustained_s": [r.sustained_contact_s for r in rigid],
         "rigid_end": [r.ended for r in rigid],
+        "v1_law_mps": law[:, 0], "v1_law_err_mps": law_err, "v1_law_tol_mps": law[:, 1],
         "u1_analytic_mps": ref["u1_mps"], "u1_engine_mps": [o.u1_mps for o in outs],
         "omega1_analytic_radps": ref["omega1_radps"],
         "omega1_engine_radps": [o.omega1_radps for o in outs],

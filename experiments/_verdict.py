@@ -41,7 +41,7 @@ import numpy as np
 
 import adapters
 from adapters.base import OFF_SPAN_STEPS
-from analytic import CollisionEpisode, ImpactCase, collide, predict_arrays
+from analytic import CollisionEpisode, ImpactCase, collide, compliant, predict_arrays
 
 ROUND_OPS = 1e4      #: float operations of an impact, each within eps
 GEOM_SAFETY = 10.0   #: covers the factors of order 1 the slide estimate neglects
@@ -181,3 +181,35 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
     return (rounding * ep.impacts + GEOM_SAFETY * (dv_s + leak) + 2 * dv_swing
             + ep.impacts * _lingering(case, st.dt_s, tangential)
             + (OFF_SPAN_STEPS + 2) * ep.peak_sustained_force_n * st.dt_s / ball.mass_kg)
+
+
+#: Soft contacts: a factor 2 over the first-order term below (measured for MuJoCo at
+#: w = 3000 rad/s, paper's swing, s = 0.1 m, dt = 1e-5..1e-7: 0.86 of the term for Euler,
+#: 0.22 for RK4).
+LAW_SAFETY = 2.0
+
+
+@functools.lru_cache(maxsize=1 << 12)
+def law_answer(case: ImpactCase, law) -> compliant.CompliantOutcome:
+    """The answer of the continuous contact law a soft engine declares (``Engine.contact_law``).
+    Cached: the studies fire one case and law at many steps and phases."""
+    return compliant.predict(case, law)
+
+
+def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
+    """(v1 of the engine's own contact law, allowed |v1 engine - v1 law|) for an engine whose
+    contact converges to a continuous law, else (NaN, NaN). The tolerance is the leading error
+    of a first-order step through a spring-damper contact of duration t_c: its restitution
+    comes out off by about e (pi dt / t_c) / 3 (measured -5.0e-3 at w = 3000 rad/s, dt = 1e-5),
+    which moves v1 by v_c / (1 + r) per unit e, r = m (1/M + s^2/J); LAW_SAFETY times that,
+    plus rounding."""
+    law = adapters.engine_class(o.engine).contact_law(o.settings, case.e)
+    if law is None:
+        return math.nan, math.nan
+    ref = law_answer(case, law)
+    bat, ball = case.bat, case.ball
+    r = ball.mass_kg * (1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
+    de = case.e * math.pi * o.settings.dt_s / (3.0 * ref.contact_duration_s)
+    speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * bat.length_m
+    rounding = ROUND_OPS * adapters.record(o.engine).eps * speed
+    return ref.v1_mps, LAW_SAFETY * case.closing_speed_mps / (1 + r) * de + rounding

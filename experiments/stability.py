@@ -172,8 +172,8 @@ def chart_soft(cells: pd.DataFrame, steps, omegas, name: str):
 
     fig, ax = plt.subplots(figsize=(7.5, 5.8), layout="constrained")
     im = heatmap(ax, cells, "dt_s", "soft_omega_radps",
-                 f"{name} contact at {SOFT_SPEED_MPS:g} m/s (e = {SOFT_E:g}): fraction of phases sound\n"
-                 "(not judged against rigid theory: a soft contact converges to its own law)")
+                 f"{name} contact at {SOFT_SPEED_MPS:g} m/s (e = {SOFT_E:g}): fraction of phases ok\n"
+                 "(judged against its own contact law, not rigid theory)")
     dts = np.geomspace(min(steps) / 3, max(steps) * 3, 100)
     ax.plot(dts, 2 / dts, "k--", label="w dt = 2 (Euler stability)")
     ax.axhline(SOFT_SPEED_MPS / REACH_M, color="k", ls=":",
@@ -184,7 +184,7 @@ def chart_soft(cells: pd.DataFrame, steps, omegas, name: str):
     ax.set_xlabel("time step (s)")
     ax.set_ylabel("contact stiffness w (rad/s)")
     fig.legend(loc="outside lower center", ncol=2, fontsize=8)
-    fig.colorbar(im, ax=ax, label="fraction of contact phases sound")
+    fig.colorbar(im, ax=ax, label="fraction of contact phases ok")
     return fig
 
 
