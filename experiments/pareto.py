@@ -100,6 +100,9 @@ def evaluate(runner: _runner.Runner, settings: list[tuple[str, adapters.Settings
         out.append({
             "median_rel_err": float(ok.v1_rel_err.median()) if len(ok) else math.nan,
             "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
+            # soft contacts: the same against the engine's own law (its discretization alone)
+            "max_law_rel_err": float((ok.v1_law_err_mps / ok.v1_law_mps.abs()).max())
+            if len(ok) and ok.v1_law_mps.notna().all() else math.nan,
             "wall_per_collision_s": statistics.median(w for r in runs for w in r.wall_s),
             "steps_median": float(df.steps.median()),
             "impacts": len(df),
@@ -142,10 +145,16 @@ def convergence(table: pd.DataFrame) -> pd.DataFrame:
         p, c = np.polyfit(x, y, 1)
         resid = y - (p * x + c)
         r2 = 1 - resid.var() / y.var() if y.var() > 0 else 1.0
+        law = d[d.max_law_rel_err > 1e3 * FLOOR]
+        p_law = (np.polyfit(np.log10(law.dt_s.to_numpy()),
+                            np.log10(law.max_law_rel_err.to_numpy()), 1)[0]
+                 if len(law) >= 3 else math.nan)
         rows.append({"engine": engine, "family": family, "p": p, "r2": r2, "points": len(d),
                      "dt_min_s": d.dt_s.min(), "dt_max_s": d.dt_s.max(),
                      "err_at_dt_min": float(d.sort_values("dt_s").max_rel_err.iloc[0]),
-                     "err_at_dt_max": float(d.sort_values("dt_s").max_rel_err.iloc[-1])})
+                     "err_at_dt_max": float(d.sort_values("dt_s").max_rel_err.iloc[-1]),
+                     "p_law": p_law,
+                     "law_err_at_dt_min": float(d.sort_values("dt_s").max_law_rel_err.iloc[0])})
     return pd.DataFrame(rows)
 
 
@@ -178,6 +187,11 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
                        edgecolor=colors[name], lw=2, zorder=6)
             notes.append((colors[name], f"{name} knee (circled): {row.family}, dt = "
                                         f"{row.dt_s:.0e} s: {e[k]:.1e} in {t[k] * 1e6:.0f} us"))
+        law = good[good.max_law_rel_err.notna()]
+        if len(law):
+            ax.scatter(law.wall_per_collision_s * 1e6, np.maximum(law.max_law_rel_err, FLOOR),
+                       s=22, marker="D", facecolor="none", edgecolor=colors[name], lw=0.9,
+                       label=f"{name}: soft, against its own law")
         ref = aligned[aligned.engine == name]
         ax.scatter(ref.wall_per_collision_s * 1e6, np.maximum(ref.max_rel_err, FLOOR), s=120,
                    marker="*", color=colors[name], edgecolor="black", zorder=5,
