@@ -278,6 +278,29 @@ def _planar(r: Reading) -> PlanarState:
                        bat_omega_radps=r.bat_w)
 
 
+def _flight_end(bat: Bat, ball: Ball, r: Reading, apart: bool, t_left_s: float,
+                dt_s: float, search: bool) -> tuple[str | None, int]:
+    """After contact, with the bodies not touching: how the episode ends now ('left_cylinder'
+    or 'separated', as ``analytic.collide`` would end it from this state), or None and the
+    steps until a free-flight search is worth repeating (it predicted a contact that far
+    ahead). The search runs only when ``search``; the cheap checks every step."""
+    if _off_span_m(bat, ball, r) > 0.0:  # collide's cylinder ends here too
+        return "left_cylinder", 0
+    if not apart:
+        return None, 0
+    reach = bat.radius_m + ball.radius_m
+    state = _planar(r)
+    if separates_for_good(state, reach_m=reach, ball_radius_m=ball.radius_m, t_max_s=t_left_s):
+        return "separated", 0
+    if not search:
+        return None, 0
+    t, why = free_flight(state, reach_m=reach, ball_radius_m=ball.radius_m,
+                         s_min_m=bat.s_min_m, s_max_m=bat.s_max_m, t_max_s=t_left_s)
+    if why != "contact":
+        return ("left_cylinder" if why == "left_cylinder" else "separated"), 0
+    return None, max(1, int(t / dt_s) - 1)
+
+
 def _axial_m(r: Reading) -> float:
     return (r.ball_x - r.bat_x) * math.cos(r.bat_angle) + (r.ball_y - r.bat_y) * math.sin(r.bat_angle)
 
@@ -581,21 +604,11 @@ class Engine(abc.ABC):
                         OFF_SPAN_STEPS * _foot_speed_mps(bat, ball, r) * st.dt_s:
                     return Episode(r, first, last, peak, step, "left_cylinder")
             elif first >= 0:
-                if _off_span_m(bat, ball, r) > 0.0:  # collide's cylinder ends here too
-                    return Episode(r, first, last, peak, step, "left_cylinder")
-                if apart and separates_for_good(_planar(r), reach_m=bat.radius_m + ball.radius_m,
-                                                ball_radius_m=ball.radius_m,
-                                                t_max_s=(max_steps - step) * st.dt_s):
-                    return Episode(r, first, last, peak, step, "separated")
-                if apart and step >= check_at:
-                    t, why = free_flight(
-                        _planar(r), reach_m=bat.radius_m + ball.radius_m,
-                        ball_radius_m=ball.radius_m, s_min_m=bat.s_min_m, s_max_m=bat.s_max_m,
-                        t_max_s=(max_steps - step) * st.dt_s)
-                    if why != "contact":
-                        return Episode(r, first, last, peak, step,
-                                       "left_cylinder" if why == "left_cylinder" else "separated")
-                    check_at = step + max(1, int(t / st.dt_s) - 1)
+                ended, wait = _flight_end(bat, ball, r, apart, (max_steps - step) * st.dt_s,
+                                          st.dt_s, search=step >= check_at)
+                if ended:
+                    return Episode(r, first, last, peak, step, ended)
+                check_at = max(check_at, step + wait)
             elif step > st.approach_steps + 1:
                 return Episode(r, first, last, peak, step, "missed")
         r = self.read()
