@@ -266,8 +266,9 @@ def contact_geometry(bat: Bat, ball: Ball, r: Reading) -> tuple[float, bool]:
     return pen, rvx * nx + rvy * ny > 0.0
 
 
-#: While touching, the ball may pass the cylinder's end by this many steps of foot slide before
-#: the episode ends 'left_cylinder' (an impact at the grid's end slides that far in its steps).
+#: While touching, the ball may stay past the cylinder's end for this many steps before the
+#: episode ends 'left_cylinder' (an impulse at the grid's very end is seen there for its 1-3
+#: steps; a ball sliding off the end in sustained contact is stopped after them).
 OFF_SPAN_STEPS = 3
 
 
@@ -309,14 +310,6 @@ def _off_span_m(bat: Bat, ball: Ball, r: Reading) -> float:
     """How far the ball centre is beyond the cylinder's span along the axis (m, <= 0 on it)."""
     s = _axial_m(r)
     return max(bat.s_min_m - s, s - bat.s_max_m)
-
-
-def _foot_speed_mps(bat: Bat, ball: Ball, r: Reading) -> float:
-    """A bound on how fast the contact foot moves along the axis: the bat's turn under the
-    ball, R |omega|, plus the relative speed along the axis (m/s)."""
-    c, s = math.cos(r.bat_angle), math.sin(r.bat_angle)
-    along = (r.ball_vx - r.bat_vx) * c + (r.ball_vy - r.bat_vy) * s
-    return (bat.radius_m + ball.radius_m) * abs(r.bat_w) + abs(along)
 
 
 def penetration_m(bat: Bat, ball: Ball, r: Reading) -> float:
@@ -577,7 +570,7 @@ class Engine(abc.ABC):
         self.set_state(start)
         max_steps = st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2
         first = last = -1
-        check_at = 0
+        check_at = off_steps = 0
         # a rigid contact slides off the cylinder's end only in sustained contact, as in
         # collide; a soft one may be milliseconds long and slide past it within one impact
         rigid = self.converges_to(st) is ContactReference.RIGID_IMPULSE
@@ -600,8 +593,8 @@ class Engine(abc.ABC):
                 if first < 0:
                     first = step
                 last = step
-                if rigid and _off_span_m(bat, ball, r) > \
-                        OFF_SPAN_STEPS * _foot_speed_mps(bat, ball, r) * st.dt_s:
+                off_steps = off_steps + 1 if rigid and _off_span_m(bat, ball, r) > 0.0 else 0
+                if off_steps > OFF_SPAN_STEPS:
                     return Episode(r, first, last, peak, step, "left_cylinder")
             elif first >= 0:
                 ended, wait = _flight_end(bat, ball, r, apart, (max_steps - step) * st.dt_s,

@@ -22,7 +22,9 @@ a swing in the engine) its integrator's angle error can move v1 by.
   contact force F (peak F_max) is quantized by the step: the engine applies it for up to
   OFF_SPAN_STEPS + 2 steps more or less than the rigid episode (one where the contact starts, one
   where it ends, and the steps the ball may pass the cylinder's end before the engine's episode
-  is over), which moves v1 by at most (OFF_SPAN_STEPS + 2) F_max dt / m.
+  is over), which moves v1 by at most (OFF_SPAN_STEPS + 2) F_max dt / m; and a velocity-level
+  contact lets the sliding ball sink up to a dt T into the bat (a = F_max / m_eff, T the
+  sliding time), which weakens the slide's effect on v1 by sink / R.
 - A contact that separates slower than the turning bat tilts its normal (e v_c < |v_t - u_t|
   omega0 dt) stays active into the next step(s), where the constraint removes the approach the
   tilt creates: LINGER_STEPS steps of |v_t - u_t| omega0 dt - e v_c.
@@ -123,7 +125,7 @@ def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarr
             return GEOM_SAFETY * (slope * slide + 0.5 * curvature * slide**2 + leak)
 
         if ep.impacts > 1 or ep.sustained_contact_s > 0.0:
-            out[i] = _episode_tolerance(case, ep, o, w_r, speed * ROUND_OPS * rec.eps)
+            out[i] = _episode_tolerance(case, ep, o, w_r, speed * ROUND_OPS * rec.eps, v1[i])
             continue
         tol = ROUND_OPS * rec.eps * speed + seen_late(st.contact_phase) \
             + _lingering(case, st.dt_s, tangential)
@@ -142,7 +144,7 @@ def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarr
 
 
 def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
-                       rounding: float) -> float:
+                       rounding: float, v1_impulse: float) -> float:
     """The tolerance of an episode of more than one impulse. The same sources as for one, but
     the rigid answer's sensitivity is taken from ``collide`` itself (a long slide along the
     turning bat amplifies a shift of the contact point or of the bat's speed far more than the
@@ -178,7 +180,14 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
                for kw in span)
     dv_swing = max((abs(rigid(replace(case, **kw), st.max_contact_s).v1_mps - ep.v1_mps)
                     for kw in moved), default=0.0)
+    # a velocity-level contact lets the ball sink into the bat as it slides, up to
+    # a dt T (a = F_max / m_eff, T the sliding time); at R - sink the turning bat's pull on the
+    # ball, omega^2 d.n, is that fraction weaker, and so is what the slide did to v1
+    m_eff = 1.0 / (1 / ball.mass_kg + 1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
+    sink = ep.peak_sustained_force_n / m_eff * st.dt_s * ep.sustained_contact_s
+    slid = abs(ep.v1_mps - v1_impulse)
     return (rounding * ep.impacts + GEOM_SAFETY * (dv_s + leak) + 2 * dv_swing
+            + sink / reach * slid
             + ep.impacts * _lingering(case, st.dt_s, tangential)
             + (OFF_SPAN_STEPS + 2) * ep.peak_sustained_force_n * st.dt_s / ball.mass_kg)
 
