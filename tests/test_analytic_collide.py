@@ -144,4 +144,4 @@ def test_separates_for_good_never_hides_a_contact(v, w, gap, s):
     assume(separates_for_good(state, reach_m=reach, ball_radius_m=BALL.radius_m, t_max_s=1.0))
     _, why = free_flight(state, reach_m=reach, ball_radius_m=BALL.radius_m, s_min_m=-10.0,
                          s_max_m=10.0, t_max_s=1.0)
-    assert why == "separated"
+    assert why in ("separated", "left_cylinder")  # no contact first (and within the time)
