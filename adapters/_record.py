@@ -36,6 +36,8 @@ class ContactReference(str, Enum):
 
     RIGID_IMPULSE = "rigid impulse"  #: Newton's restitution law, instantaneous (analytic.predict)
     LINEAR_SPRING_DAMPER = "linear spring-damper"  #: x'' = -b x' - k x in the contact coordinate
+    #: F = k x^n (1 + d x'): a penalty force with Hunt-Crossley dissipation (analytic.compliant)
+    HUNT_CROSSLEY = "Hunt-Crossley"
 
 
 class RestitutionRule(str, Enum):
