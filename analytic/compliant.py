@@ -150,6 +150,21 @@ def hunt_crossley_restitution(dissipation_spm: float, speed_mps: float) -> float
     return -math.expm1(-u) / a
 
 
+def hunt_crossley_dissipation(e: float, speed_mps: float) -> float:
+    """The dissipation d (s/m) with which a Hunt-Crossley contact hit at ``speed_mps`` bounces
+    with restitution ``e`` (the inverse of ``hunt_crossley_restitution``; e in (0, 1]). How an
+    engine without a restitution parameter (Drake) is given one e at one stated speed: at other
+    speeds its e follows the law."""
+    _checks.in_range("e", e, 0.0, 1.0, lo_open=True)
+    _checks.positive("speed_mps", speed_mps)
+    if e == 1.0:
+        return 0.0
+    # e(a) falls from 1 at a = 0 towards 1/a: the root lies below a = 2/e + 1
+    a = optimize.brentq(lambda a: hunt_crossley_restitution(a, 1.0) - e, 0.0, 2.0 / e + 1.0,
+                        xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    return a / speed_mps
+
+
 @dataclass(frozen=True, kw_only=True)
 class CompliantOutcome(Outcome):
     """The outcome of a compliant impact (fields of ``Outcome``, when the force has returned to

@@ -72,6 +72,15 @@ def test_hunt_crossley_restitution_limits():
         assert hunt_crossley_restitution(a, 1.0) * a == pytest.approx(1.0, rel=1e-3)
 
 
+@given(e=st.floats(1e-3, 1.0), v=st.floats(0.1, 100.0))
+def test_hunt_crossley_dissipation_inverts_the_restitution(e, v):
+    # d from (e, v) satisfies a - ln(1 + a) = -e a - ln(1 - e a), a = d v, to float precision
+    # of the brentq roots (a few ulps of e, amplified near e = 1 where e(a) is flat: 1e-9).
+    d = compliant.hunt_crossley_dissipation(e, v)
+    assert hunt_crossley_restitution(d, v) == pytest.approx(e, rel=1e-9, abs=1e-12)
+    assert d * v <= 2 / e + 1  # below the bracket's top: e -> 1/a as a grows
+
+
 def test_stiffening_linear_contact_converges_to_impulse_theory_at_half_order():
     # The paper's swing at s = 0.1 m, zeta fixed for e = 0.5: the contact lasts ~ 1/sqrt(k),
     # during which the bat turns (omega0 t_c); the rigid answer is the limit and the error
