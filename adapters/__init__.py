@@ -71,6 +71,8 @@ def reload_plugins() -> None:
     importlib.invalidate_caches()
     _registry.cache_clear()
     record.cache_clear()
+    missing.cache_clear()
+    available.cache_clear()
 
 
 def names() -> tuple[str, ...]:
@@ -81,6 +83,25 @@ def names() -> tuple[str, ...]:
 def loaded() -> tuple[str, ...]:
     """Registered engines whose adapter (and so engine) this process has imported."""
     return tuple(n for n, target in _registry().items() if target.split(":")[0] in sys.modules)
+
+
+@functools.cache
+def available() -> tuple[str, ...]:
+    """Registered engines whose package is installed (checking imports each engine), in
+    registry order; ``missing()`` says why the others are not."""
+    return tuple(n for n in names() if n not in missing())
+
+
+@functools.cache
+def missing() -> MappingProxyType:
+    """Registered engine name -> its install hint, for engines whose package is not installed."""
+    out = {}
+    for n in names():
+        try:
+            engine_class(n)
+        except EngineNotInstalled as err:
+            out[n] = str(err)
+    return MappingProxyType(out)
 
 
 def _check_name(name: str) -> str:
@@ -145,5 +166,5 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine:
 __all__ = ["BodyLoad", "ContactReference", "ENTRY_POINT_GROUP", "Engine", "EngineNotInstalled",
            "EngineRecord", "Integrator", "KnobFamily", "MassProperties", "PROFILES", "PluginConflict",
            "Reading", "RestitutionRule", "SceneMismatch", "Settings", "SimOutcome", "Status",
-           "SwingPlan", "create", "engine_class", "import_engine", "load", "loaded", "names", "record",
+           "SwingPlan", "available", "create", "engine_class", "import_engine", "load", "loaded", "missing", "names", "record",
            "reload_plugins", "settings_for", "start_reading", "swing_case"]

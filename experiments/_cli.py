@@ -118,16 +118,24 @@ def integer(lo: int, hi: int) -> Callable[[str], int]:
 
 
 def engines_arg(value: str) -> tuple[str, ...]:
-    """``all`` or a comma-separated list of registered engine names, as a tuple."""
+    """``all`` (every installed engine; each missing one named on stderr with its install hint)
+    or a comma-separated list of registered engine names, as a tuple."""
     known = adapters.names()
     if value == "all":
-        return known
+        for hint in adapters.missing().values():
+            print(f"skipped: {hint}", file=sys.stderr)
+        return adapters.available()
     picked = tuple(dict.fromkeys(v.strip() for v in value.split(",") if v.strip()))
     bad = [v for v in picked if v not in known]
     if bad or not picked:
         raise argparse.ArgumentTypeError(
             f"{value!r}: {bad[0] if bad else 'no engine'} is not an engine; allowed: all, or a "
             f"comma-separated list of {', '.join(known)}")
+    for name in picked:
+        try:
+            adapters.engine_class(name)
+        except adapters.EngineNotInstalled as err:
+            raise argparse.ArgumentTypeError(str(err)) from None
     return picked
 
 
@@ -161,7 +169,8 @@ def directory_arg(value: str) -> Path:
 # -- the shared options ---------------------------------------------------------------------
 
 def add_engine(p: argparse.ArgumentParser, default: str = "all") -> None:
-    p.add_argument("--engine", type=engines_arg, default=engines_arg(default),
+    # a str default is converted by engines_arg only when --engine is not given
+    p.add_argument("--engine", type=engines_arg, default=default,
                    metavar="NAME[,NAME...]|all",
                    help=f"engines to run (default {default}); registered: "
                         f"{', '.join(adapters.names())}")
@@ -186,8 +195,8 @@ def add_output(p: argparse.ArgumentParser) -> None:
 
 
 def engine_label(engines: tuple[str, ...]) -> str:
-    """'all' for every registered engine, else the names joined by '+' (for file names)."""
-    return "all" if engines == adapters.names() else "+".join(engines)
+    """'all' for every installed engine, else the names joined by '+' (for file names)."""
+    return "all" if engines == adapters.available() else "+".join(engines)
 
 
 def configuration(p: argparse.ArgumentParser, args: argparse.Namespace) -> dict:
@@ -197,7 +206,7 @@ def configuration(p: argparse.ArgumentParser, args: argparse.Namespace) -> dict:
 
 
 def _plain(v):
-    if isinstance(v, tuple) and v == adapters.names():
+    if isinstance(v, tuple) and v == adapters.available():
         return "all"
     if isinstance(v, (tuple, list)):
         return ",".join(map(str, v))

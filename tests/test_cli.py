@@ -184,3 +184,23 @@ def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(tmp_path):
         assert "interrupted" in err
         assert {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()} == kept
         assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
+
+
+@pytest.mark.parametrize("name", adapters.names())
+def test_a_missing_engine_is_named_with_its_install_hint(name, tmp_path):
+    # With the engine's package hidden: --engine all runs the others and says which it skipped
+    # and how to install it; naming the engine is a bad input (exit 2, the hint, nothing run).
+    rec = adapters.record(name)
+    hide = f"import sys; sys.modules[{rec.import_name!r}] = None\n"
+    run = ("from experiments import sweep\n"
+           f"sweep.main(['--points', '2', '--out', {str(tmp_path)!r}, '--name', 'x', {{}}])")
+    res = subprocess.run([sys.executable, "-c", hide + run.format("'--engine', 'all'")],
+                         capture_output=True, text=True, cwd=ROOT, timeout=300, check=False)
+    hint = rec.install_hint
+    assert res.returncode == 0, res.stderr
+    assert f"skipped: {hint}" in res.stderr
+    others = [n for n in adapters.names() if n != name]
+    assert all(f"\n{n} " in res.stdout for n in others) and f"\n{name} " not in res.stdout
+    res = subprocess.run([sys.executable, "-c", hide + run.format(f"'--engine', {name!r}")],
+                         capture_output=True, text=True, cwd=ROOT, timeout=300, check=False)
+    assert res.returncode == 2 and hint in res.stderr, res.stderr
