@@ -1,0 +1,425 @@
+"""The computations behind ``results/findings.md``: the paper's questions answered with numbers.
+
+Each function returns numbers or tables (no prose, no plotting) so that tests can check the
+physics they rest on; ``experiments.findings`` writes them up. Everything here is a result of
+the rigid-bat impact model (``analytic``) unless a function says it fires engines or uses the
+compliant ball (``analytic.compliant``). Units: m, m/s, rad/s, kg, kg m^2, s, unless a column
+name says otherwise (mm, cm, %).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+import pandas as pd
+from scipy import optimize
+
+import adapters
+from analytic import (MEASURED_EXPONENT, Bat, ImpactCase, Swing, SwingModel, batted_ball_speed,
+                      center_of_percussion, compliant, corked_bat_paper, hittable_sweet_spot,
+                      predict, presets, sweet_spot, sweet_zone, swing_for)
+
+from . import _grid, _runner
+
+R161, AL, BALL = presets.R161, presets.EASTON31, presets.BASEBALL
+E = presets.E_WOOD
+IN = 0.0254
+HANDS_M = 0.1                   # the paper's holding point, 0.1 m from the knob
+PLATE_TO_RUBBER_M = 18.44       # 60 ft 6 in
+PITCHER_AFTER_FOLLOW_THROUGH_M = 16.5  # about 54 ft: where the pitcher stands after delivery
+REACTION_S = 0.4                # the reaction time the NCAA's argument uses
+FILLS = {"cork": 200.0, "rubber": 1100.0, "hollow": 0.0}
+DEPTHS_IN = (6, 8, 10)
+SWEET_ZONE_WITHIN = 0.01        # the sweet zone: v1 within 1% of the swing's best
+NATHAN_Q_FROM_END_M = 6 * IN    # Nathan et al. measured q 6 in from the barrel end
+
+
+@dataclass(frozen=True, kw_only=True)
+class Scenario:
+    """A pitch and a swing: ``v0_mps`` the pitch, ``swing`` the bat's COM speed and rate (m/s,
+    rad/s) on the R161; ``bat_speed_mps`` the bat's speed at its sweet spot (m/s)."""
+
+    key: str
+    label: str
+    v0_mps: float
+    swing: Swing
+
+    @property
+    def bat_speed_mps(self) -> float:
+        s = hittable_sweet_spot(R161, BALL, self.v0_mps, self.swing.u0_mps,
+                                self.swing.omega0_radps)
+        return self.swing.speed_at(s)
+
+
+#: The paper's swing: u0 = 17.87 m/s, omega0 = 32 rad/s (about 45 mph at the sweet spot).
+PAPER = Scenario(key="paper", label="paper's swing", v0_mps=presets.PAPER_PITCH_MPS,
+                 swing=presets.PAPER_SWING)
+#: A major-league swing: the bat turning about (near) the knob at 48 rad/s, about 70 mph at the
+#: sweet spot, against a 40 m/s (90 mph) pitch.
+MLB = Scenario(key="mlb", label="MLB-like swing about the knob", v0_mps=40.0,
+               swing=Swing(u0_mps=48.0 * R161.com_from_knob_m, omega0_radps=48.0))
+SCENARIOS = (PAPER, MLB)
+
+
+def carried_swing(bat: Bat, sc: Scenario, model: SwingModel | str,
+                  exponent: float = MEASURED_EXPONENT) -> Swing:
+    """The swing a batter gives ``bat`` if he gives the R161 the scenario's swing."""
+    return swing_for(bat, model=model, reference_bat=R161, reference=sc.swing, exponent=exponent)
+
+
+def best_v1(bat: Bat, sc: Scenario, swing: Swing | None = None, e: float = E) -> tuple[float, float]:
+    """(s of the bat's best hittable point, v1 there) for this swing (the scenario's by default)."""
+    sw = swing or sc.swing
+    s = hittable_sweet_spot(bat, BALL, sc.v0_mps, sw.u0_mps, sw.omega0_radps)
+    return s, v1_at(bat, s, sc.v0_mps, sw, e)
+
+
+def v1_at(bat: Bat, s_m: float, v0_mps: float, swing: Swing, e: float = E) -> float:
+    return float(batted_ball_speed(bat, BALL, s_m, v0_mps=v0_mps, u0_mps=swing.u0_mps,
+                                   omega0_radps=swing.omega0_radps, e=e))
+
+
+# -- 1. the sweet spot ---------------------------------------------------------------------------
+
+@dataclass(frozen=True, kw_only=True)
+class HandsRegion:
+    """Where the sweet spot moves for swings from the hands (u0 = omega0 d): ``grid_s_m``
+    [pitch, omega] over ``pitches_mps`` x ``omegas_radps``; its extent ``s_lo_m``..``s_hi_m``."""
+
+    pitches_mps: tuple[float, ...]
+    omegas_radps: np.ndarray
+    grid_s_m: np.ndarray
+    s_lo_m: float
+    s_hi_m: float
+
+
+def sweet_region_from_hands(pitches_mps=(35.0, 41.0, 47.0),
+                            omegas_radps=np.linspace(12, 48, 37)) -> HandsRegion:
+    d = R161.com_from_knob_m - HANDS_M
+    grid = np.array([[sweet_spot(R161, BALL, v, w * d, w) for w in omegas_radps]
+                     for v in pitches_mps])
+    return HandsRegion(pitches_mps=tuple(pitches_mps), omegas_radps=np.asarray(omegas_radps),
+                       grid_s_m=grid, s_lo_m=float(grid.min()), s_hi_m=float(grid.max()))
+
+
+def zone(bat: Bat, sc: Scenario, within: float = SWEET_ZONE_WITHIN) -> tuple[float, float]:
+    """The stretch of one swing's bat where v1 is within ``within`` of its best (m from the COM),
+    clipped to the hittable cylinder (``analytic.sweet_zone``, closed form)."""
+    z = sweet_zone(bat, BALL, v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
+                   omega0_radps=sc.swing.omega0_radps, e=E, fraction=1 - within)
+    return max(z.s_min_m, bat.s_min_m), min(z.s_max_m, bat.s_max_m)
+
+
+def from_end_cm(bat: Bat, s_m: float) -> float:
+    """Distance of the point s (m from the COM) from the barrel end, in cm."""
+    return (bat.s_barrel_end_m - s_m) * 100
+
+
+def sweet_spot_table() -> pd.DataFrame:
+    """Per scenario: the sweet spot, the sweet zone and the COP, from the COM and from the end."""
+    rows = []
+    cop = center_of_percussion(R161, HANDS_M)
+    for sc in SCENARIOS:
+        s, v1 = best_v1(R161, sc)
+        lo, hi = zone(R161, sc)
+        rows.append({"swing": sc.label, "pitch (m/s)": sc.v0_mps,
+                     "bat speed at s* (m/s)": sc.bat_speed_mps, "s* (mm from COM)": s * 1e3,
+                     "s* (cm from end)": from_end_cm(R161, s), "v1 at s* (m/s)": v1,
+                     "1% zone (mm from COM)": f"{lo * 1e3:.0f} to {hi * 1e3:.0f}",
+                     "1% zone (cm from end)": f"{from_end_cm(R161, hi):.1f} to "
+                                              f"{from_end_cm(R161, lo):.1f}",
+                     "COP, hands 0.1 m (cm from end)": from_end_cm(R161, cop)})
+    return pd.DataFrame(rows)
+
+
+# -- 2. corked bats ------------------------------------------------------------------------------
+
+def corked_bats() -> dict[tuple[str, int], tuple[Bat, Bat]]:
+    """(fill, depth in inches) -> (exact corked R161, the paper's), 1 in holes in 640 kg/m^3 wood."""
+    out = {}
+    for fill, rho in FILLS.items():
+        for depth in DEPTHS_IN:
+            kw = dict(hole_radius_m=0.5 * IN, hole_depth_m=depth * IN, fill_density_kgm3=rho,
+                      wood_density_kgm3=640.0)
+            out[(fill, depth)] = (R161.corked(**kw), corked_bat_paper(R161, **kw))
+    return out
+
+
+CORK_1x10 = R161.corked()  # the default: a 1 x 10 in cork fill
+
+
+def cork_properties() -> pd.DataFrame:
+    rows = []
+    for (fill, depth), (exact, paper) in corked_bats().items():
+        rows.append({"fill": fill, "depth (in)": depth,
+                     "dM (g)": (exact.mass_kg - R161.mass_kg) * 1e3,
+                     "dCOM (mm)": (exact.com_from_knob_m - R161.com_from_knob_m) * 1e3,
+                     "J_cm exact (kg m^2)": exact.inertia_cm_kgm2,
+                     "J_cm paper (kg m^2)": paper.inertia_cm_kgm2,
+                     "paper - exact (%)": (paper.inertia_cm_kgm2 / exact.inertia_cm_kgm2 - 1) * 100,
+                     "I_knob change (%)":
+                         (exact.inertia_knob_kgm2 / R161.inertia_knob_kgm2 - 1) * 100})
+    return pd.DataFrame(rows)
+
+
+def cork_gain(corked: Bat, sc: Scenario, exponent: float) -> float:
+    """v1 at the corked bat's best point minus the solid bat's (m/s) when swing speed scales as
+    omega0 ~ I_knob^-exponent (the batter's effort carried over from the R161)."""
+    sw = carried_swing(corked, sc, SwingModel.MEASURED, exponent)
+    return best_v1(corked, sc, sw)[1] - best_v1(R161, sc)[1]
+
+
+def break_even_exponent(corked: Bat, sc: Scenario) -> float:
+    """The exponent n of omega0 ~ I_knob^-n at which corking neither gains nor loses v1 (a
+    lighter bat must be swung that much faster to make up for its lost mass)."""
+    return float(optimize.brentq(lambda n: cork_gain(corked, sc, n), 0.0, 2.0, xtol=1e-10))
+
+
+def cork_verdicts(corked: Bat = CORK_1x10) -> pd.DataFrame:
+    """Per scenario: the break-even exponent and the gain at n = 0.27 (measured), 0.5 (constant
+    torque), under the paper's u0 ~ 1/M and under its own log spiral's u0 ~ M^-1/2."""
+    rows = []
+    for sc in SCENARIOS:
+        wood = best_v1(R161, sc)[1]
+        spiral = {p: best_v1(corked, sc, Swing(u0_mps=sc.swing.u0_mps
+                                               * (R161.mass_kg / corked.mass_kg) ** p,
+                                               omega0_radps=sc.swing.omega0_radps))[1] - wood
+                  for p in (1.0, 0.5)}
+        rows.append({"swing": sc.label, "break-even n": break_even_exponent(corked, sc),
+                     "gain at n = 0.27 (m/s)": cork_gain(corked, sc, MEASURED_EXPONENT),
+                     "gain at n = 0.5 (m/s)": cork_gain(corked, sc, 0.5),
+                     "gain, u0 ~ 1/M (paper, m/s)": spiral[1.0],
+                     "gain, u0 ~ M^-1/2 (its log spiral, m/s)": spiral[0.5],
+                     "gain, same swing (m/s)": best_v1(corked, sc)[1] - wood})
+    return pd.DataFrame(rows)
+
+
+def cork_speeds(sc: Scenario) -> pd.DataFrame:
+    """v1 at each bat's best point under each swing model (m/s), the solid bat first."""
+    rows = []
+    bats = [("none (wood)", 0, R161)] + [(f, d, b[0]) for (f, d), b in corked_bats().items()]
+    for fill, depth, bat in bats:
+        row = {"fill": fill, "depth (in)": depth, "same swing": best_v1(bat, sc)[1]}
+        for m in SwingModel:
+            row[m.value] = best_v1(bat, sc, carried_swing(bat, sc, m))[1]
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def collision_efficiency(bat: Bat, s_m: float, e: float = E) -> float:
+    """q = (e - r)/(1 + r), r = m (1/M + s^2/J): the batted-ball speed per unit pitch speed off a
+    still, free bat (what a cannon test measures)."""
+    return predict(ImpactCase(bat=bat, ball=BALL, s_m=s_m, v0_mps=40.0, e=e)).q
+
+
+def nathan_q_check() -> dict[str, float]:
+    """q of the solid and the 1 x 10 in corked R161, 6 in from each one's barrel end, e = 0.5."""
+    return {name: collision_efficiency(bat, bat.s_barrel_end_m - NATHAN_Q_FROM_END_M)
+            for name, bat in (("solid", R161), ("corked", CORK_1x10))}
+
+
+def paper_cork_inertia_if_subtracted(bat: Bat = CORK_1x10) -> float:
+    """Relative error of the paper's J' (%) had it subtracted (M + dM) R^2: only the dropped
+    dM r^2/4 of the hole's own cylinder remains."""
+    dm = bat.mass_kg - R161.mass_kg
+    return -dm * (0.5 * IN) ** 2 / 4 / bat.inertia_cm_kgm2 * 100
+
+
+# -- 3. metal bats -------------------------------------------------------------------------------
+
+def uniform_rod_fraction(bat: Bat) -> float:
+    """J_cm as a fraction of a uniform rod's M L^2 / 12."""
+    return bat.inertia_cm_kgm2 / (bat.mass_kg * bat.length_m**2 / 12)
+
+
+def aluminium_with(fraction: float) -> Bat:
+    """The paper's aluminium bat with J_cm = ``fraction`` of a uniform rod's."""
+    return replace(AL, inertia_cm_kgm2=fraction * AL.mass_kg * AL.length_m**2 / 12)
+
+
+def metal_table(sc: Scenario, es=(0.50, 0.55, 0.60)) -> pd.DataFrame:
+    """Wood vs the paper's aluminium bat under each swing model: v1 at the best point (aluminium
+    at several e) and the ball's time to the pitcher at 18.44 m and 16.5 m."""
+    rows = []
+    for m in SwingModel:
+        for label, bat in (("R161 wood", R161), ("Easton aluminium", AL)):
+            sw = carried_swing(bat, sc, m)
+            row = {"swing model": m.value, "bat": label}
+            for e in (es if bat is AL else (E,)):
+                v1 = best_v1(bat, sc, sw, e)[1]
+                row[f"v1, e={e:.2f} (m/s)"] = v1
+                row[f"t to 16.5 m, e={e:.2f} (s)"] = PITCHER_AFTER_FOLLOW_THROUGH_M / v1
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def metal_inertia_scan(sc: Scenario, fractions=(0.5, 0.6, 0.7, 0.76, 0.8, 0.9)) -> pd.DataFrame:
+    """The aluminium bat's sweet spot and its v1 gain over wood (e = 0.5) as its unknown J_cm
+    ranges over fractions of a uniform rod (the paper's 0.0205 kg m^2 is 50%, the R161 76%)."""
+    wood_s, wood_v1 = best_v1(R161, sc)
+    rows = []
+    for f in fractions:
+        bat = aluminium_with(f)
+        s, _ = best_v1(bat, sc)
+        rows.append({"J_cm / uniform rod": f, "J_cm (kg m^2)": bat.inertia_cm_kgm2,
+                     "sweet spot (cm from end)": from_end_cm(bat, s),
+                     "wood's (cm from end)": from_end_cm(R161, wood_s),
+                     **{f"gain over wood, {m.value} (m/s)":
+                        best_v1(bat, sc, carried_swing(bat, sc, m))[1] - wood_v1
+                        for m in SwingModel}})
+    return pd.DataFrame(rows)
+
+
+def fraction_matching_wood_sweet_spot(sc: Scenario) -> float:
+    """The aluminium J_cm fraction at which its sweet spot lies as far from its end as the
+    R161's does from its own (what Crisco et al. measured on real wood and metal bats)."""
+    target = from_end_cm(R161, best_v1(R161, sc)[0])
+    return float(optimize.brentq(
+        lambda f: from_end_cm(aluminium_with(f), best_v1(aluminium_with(f), sc)[0]) - target,
+        0.2, 1.5))
+
+
+def al_com_sensitivity(sc: Scenario, fractions=(0.55, 0.60, 0.65)) -> dict[float, float]:
+    """The measured-model v1 gain of aluminium over wood with its assumed COM moved."""
+    wood = best_v1(R161, sc, carried_swing(R161, sc, SwingModel.MEASURED))[1]
+    out = {}
+    for f in fractions:
+        bat = replace(AL, com_from_knob_m=f * AL.length_m)
+        out[f] = best_v1(bat, sc, carried_swing(bat, sc, SwingModel.MEASURED))[1] - wood
+    return out
+
+
+# -- 4. the realistic ball -----------------------------------------------------------------------
+
+def ball_cor_curve(speeds_mps=(10.0, 20.0, 25.9, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0)
+                   ) -> pd.DataFrame:
+    """The compliant baseball (``compliant.BASEBALL_HERTZ``) against a still R161 at its COM:
+    its COR and contact time against impact speed."""
+    rows = []
+    for v in speeds_mps:
+        case = ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=v, e=E)
+        out = compliant.predict(case, compliant.BASEBALL_HERTZ)
+        rows.append({"impact speed (m/s)": v,
+                     "COR": compliant.hunt_crossley_restitution(
+                         compliant.BASEBALL_HERTZ.dissipation_spm, v),
+                     "contact time (ms)": out.contact_duration_s * 1e3,
+                     "peak force (kN)": out.peak_force_n / 1e3,
+                     "compression (mm)": out.peak_penetration_m * 1e3})
+    return pd.DataFrame(rows)
+
+
+def rigid_vs_compliant(sc: Scenario, points: int = 41) -> pd.DataFrame:
+    """Along the R161's barrel half for one swing: rigid v1 (e = 0.5), the compliant ball's v1,
+    the rigid v1 at the compliant ball's own COR at that closing speed, contact time and the
+    bat's turn during contact."""
+    rows = []
+    for s in np.linspace(0.0, R161.s_max_m, points):
+        case = ImpactCase(bat=R161, ball=BALL, s_m=float(s), v0_mps=sc.v0_mps,
+                          u0_mps=sc.swing.u0_mps, omega0_radps=sc.swing.omega0_radps, e=E)
+        law = compliant.predict(case, compliant.BASEBALL_HERTZ)
+        e_law = compliant.hunt_crossley_restitution(compliant.BASEBALL_HERTZ.dissipation_spm,
+                                                    case.closing_speed_mps)
+        rows.append({"s_m": float(s), "closing_mps": case.closing_speed_mps, "e_law": e_law,
+                     "v1_rigid_mps": predict(case).v1_mps, "v1_compliant_mps": law.v1_mps,
+                     "v1_rigid_at_e_law_mps": predict(replace(case, e=e_law)).v1_mps,
+                     "contact_s": law.contact_duration_s, "bat_turn_rad": law.bat_turn_rad})
+    return pd.DataFrame(rows)
+
+
+# -- engines -------------------------------------------------------------------------------------
+
+def engine_checks(runner: _runner.Runner, engines: tuple[str, ...]) -> pd.DataFrame:
+    """The model's headline impacts fired in every engine (reference profile): the 1 x 10 in
+    cork bat and the aluminium bat at their best points under each swing model, both swings.
+    A tidy table (``_grid.table``): each row judged against the answer its engine's contact
+    converges to (rigid theory, or the engine's own contact law)."""
+    cases, labels = [], []
+    for sc in SCENARIOS:
+        for name, bat in (("1x10 in cork", CORK_1x10), ("aluminium", AL)):
+            for m in SwingModel:
+                sw = carried_swing(bat, sc, m)
+                s, _ = best_v1(bat, sc, sw)
+                cases.append(ImpactCase(bat=bat, ball=BALL, s_m=s, v0_mps=sc.v0_mps,
+                                        u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps, e=E))
+                labels.append((sc.label, name, m.value))
+    jobs = [_runner.Job(engine=n, settings=adapters.settings_for(n), case=c)
+            for n in engines for c in cases]
+    table = _grid.table(runner.fire(jobs), "reference").drop(columns=["bat"])
+    meta = pd.DataFrame([lab for _ in engines for lab in labels],
+                        columns=["swing", "bat", "swing model"])
+    return pd.concat([meta, table], axis=1)
+
+
+def engine_sweet_spots(engines: tuple[str, ...]) -> pd.DataFrame:
+    """The sweet spot located from each engine's data alone (bounded Brent search on v1(s),
+    reference profile) for both swings, against the analytic one (mm)."""
+    rows = []
+    for sc in SCENARIOS:
+        s_star = sweet_spot(R161, BALL, sc.v0_mps, sc.swing.u0_mps, sc.swing.omega0_radps)
+        firing = _grid.Firing(bat=R161, s_m=(s_star,), v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
+                              omega0_radps=sc.swing.omega0_radps, e=E)
+        bracket = (max(R161.s_min_m, s_star - 0.05), min(R161.s_max_m, s_star + 0.05))
+        row = {"swing": sc.label, "s* analytic (mm from COM)": s_star * 1e3}
+        for n in engines:
+            got = _grid.locate_sweet_spot(n, adapters.settings_for(n), firing, bracket)
+            row[f"{n} - analytic (mm)"] = (got - s_star) * 1e3
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def v1_gain_curve(corked: Bat, sc: Scenario, exponents: np.ndarray) -> np.ndarray:
+    """``cork_gain`` over a range of exponents (m/s), for the chart."""
+    return np.array([cork_gain(corked, sc, float(n)) for n in exponents])
+
+
+def time_below(v1_mps: float, distance_m: float = PITCHER_AFTER_FOLLOW_THROUGH_M) -> bool:
+    """True if a ball at v1 reaches a pitcher ``distance_m`` away in less than REACTION_S."""
+    return distance_m / v1_mps < REACTION_S
+
+
+# -- 5. the paper's numbers, for the audit -------------------------------------------------------
+
+def audit_numbers() -> dict[str, float]:
+    """Every number the audit of the paper quotes (m, m/s, rad, kg m^2, s, %)."""
+    from analytic import predict_oblique_paper, sweet_region
+
+    sw = PAPER.swing
+    light = replace(BALL, mass_kg=0.14)  # the paper's "0.14 kg" ball
+    ranges = dict(v0_range_mps=(40.2, 46.9), u0_range_mps=(0.0, 17.87),
+                  omega0_range_radps=(12.0, 32.0))
+    region = sweet_region(R161, BALL, **ranges)
+    region_light = sweet_region(R161, light, **ranges)
+    oblique = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=PAPER.v0_mps, u0_mps=sw.u0_mps,
+                         omega0_radps=sw.omega0_radps, e=E, theta_rad=math.radians(20))
+    out = predict(oblique)
+    al = carried_swing(AL, PAPER, SwingModel.CONSTANT_FORCE)
+    al_s, al_v1 = best_v1(AL, PAPER, al)
+    wood_v1 = best_v1(R161, PAPER)[1]
+    s_light = hittable_sweet_spot(R161, light, PAPER.v0_mps, sw.u0_mps, sw.omega0_radps)
+    wood_v1_light = float(batted_ball_speed(R161, light, s_light, v0_mps=PAPER.v0_mps,
+                                            u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps, e=E))
+    e_needed = optimize.brentq(lambda e: v1_at(AL, al_s, PAPER.v0_mps, al, e) - 42.59, 0.0, 1.0)
+
+    def al_short(inertia: float) -> float:
+        bat = replace(AL, inertia_cm_kgm2=inertia)
+        return best_v1(bat, PAPER, al)[1] - 42.59
+
+    exact, paper = corked_bats()[("cork", 10)]
+    return {
+        "cop_m": center_of_percussion(R161, HANDS_M),
+        "region_max_m": region.s_max_m, "region_min_m": region.s_min_m,
+        "region_light_max_m": region_light.s_max_m,
+        "oblique_theta1_rad": out.theta1_rad, "oblique_speed_mps": out.ball_speed_mps,
+        "oblique_paper_v1_mps": predict_oblique_paper(oblique).v1_mps,
+        "cork_J_paper": paper.inertia_cm_kgm2, "cork_J_exact": exact.inertia_cm_kgm2,
+        "cork_J_if_subtracted_pct": paper_cork_inertia_if_subtracted(exact),
+        "pivot_from_knob_m": R161.com_from_knob_m - sw.u0_mps / sw.omega0_radps,
+        "hands_u0_mps": sw.omega0_radps * (R161.com_from_knob_m - HANDS_M),
+        "al_u0_mps": al.u0_mps, "al_v1_mps": al_v1, "wood_v1_mps": wood_v1,
+        "wood_v1_light_ball_mps": wood_v1_light, "e_needed": e_needed,
+        "J_ratio_needed": optimize.brentq(al_short, AL.inertia_cm_kgm2,
+                                          50 * AL.inertia_cm_kgm2) / AL.inertia_cm_kgm2,
+        "t_al_s": PLATE_TO_RUBBER_M / al_v1, "t_wood_s": PLATE_TO_RUBBER_M / wood_v1,
+    }
