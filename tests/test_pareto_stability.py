@@ -83,3 +83,17 @@ def test_out_of_the_box_catches_no_more_than_the_tunnelling_bound(tmp_path):
     for name in adapters.names():
         changed = knobs[(knobs.engine == name) & knobs.change.str.contains(" = ")]
         assert len(changed) == 2 * len(defaults.knobs(name))
+
+
+def test_cheapest_setting_reaches_its_target_and_nothing_sound_is_cheaper():
+    table = pd.DataFrame({"engine": ["a", "a", "b", "b"], "family": ["f"] * 4,
+                          "dt_s": [1e-3, 1e-4, 1e-3, 1e-4],
+                          "max_rel_err": [2e-3, 2e-5, 5e-4, 5e-6],
+                          "wall_per_collision_s": [1e-5, 1e-4, 3e-5, 3e-4],
+                          "all_ok": [True, True, False, True]})
+    best = pareto.cheapest(table, targets=(1e-2, 1e-3, 1e-6)).set_index(["target", "engine"])
+    # b at 1e-3 s is cheap and accurate enough but not sound: never chosen
+    assert best.loc[(1e-2, "any"), "setting"] == "f, dt = 0.001 s"
+    assert best.loc[(1e-2, "any"), "winner"] == "a"
+    assert best.loc[(1e-3, "any"), "winner"] == "a" and best.loc[(1e-3, "b"), "max_rel_err"] == 5e-6
+    assert best.loc[(1e-6, "any"), "setting"] == "none reaches it"
