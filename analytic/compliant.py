@@ -38,8 +38,8 @@ def restitution_of_damping_ratio(zeta: float) -> float:
 def damping_ratio_for(e: float) -> float:
     """Inverse of ``restitution_of_damping_ratio`` (zeta for a target e in (0, 1])."""
     _checks.in_range("e", e, 0.0, 1.0, lo_open=True)
-    if e == 1.0:
-        return 0.0
+    if 1.0 - e < 1e-8:  # e = 1 - 2a/3 + O(a^2): exact to float precision here, where e(a) is flat
+        return 1.5 * (1.0 - e) / speed_mps
     return optimize.brentq(lambda z: restitution_of_damping_ratio(z) - e, 0.0, 1 / math.sqrt(2) - 1e-12,
                            xtol=1e-15, rtol=4 * np.finfo(float).eps)
 
@@ -141,8 +141,8 @@ def hunt_crossley_restitution(dissipation_spm: float, speed_mps: float) -> float
     a - ln(1 + a) = -e a - ln(1 - e a), a = d v0 (from m u du / (1 + d u) = -k x^n dx
     integrated over the whole contact; independent of k, n and the mass)."""
     a = dissipation_spm * speed_mps
-    if a == 0.0:
-        return 1.0
+    if a < 1e-8:  # e = 1 - 2a/3 + O(a^2), exact to float precision; the root-find cancels here
+        return 1.0 - 2.0 * a / 3.0
     lhs = a - math.log1p(a)
     # in u = -ln(1 - e a) > 0: exp(-u) - 1 + u = lhs, one root in [0, lhs + 1]
     u = optimize.brentq(lambda u: math.expm1(-u) + u - lhs, 0.0, lhs + 1.0,
@@ -157,8 +157,8 @@ def hunt_crossley_dissipation(e: float, speed_mps: float) -> float:
     speeds its e follows the law."""
     _checks.in_range("e", e, 0.0, 1.0, lo_open=True)
     _checks.positive("speed_mps", speed_mps)
-    if e == 1.0:
-        return 0.0
+    if 1.0 - e < 1e-8:  # e = 1 - 2a/3 + O(a^2): exact to float precision here, where e(a) is flat
+        return 1.5 * (1.0 - e) / speed_mps
     # e(a) falls from 1 at a = 0 towards 1/a: the root lies below a = 2/e + 1
     a = optimize.brentq(lambda a: hunt_crossley_restitution(a, 1.0) - e, 0.0, 2.0 / e + 1.0,
                         xtol=1e-15, rtol=4 * np.finfo(float).eps)
