@@ -144,8 +144,9 @@ def hunt_crossley_restitution(dissipation_spm: float, speed_mps: float) -> float
     if a < 1e-8:  # e = 1 - 2a/3 + O(a^2), exact to float precision; the root-find cancels here
         return 1.0 - 2.0 * a / 3.0
     lhs = a - math.log1p(a)
-    # in u = -ln(1 - e a) > 0: exp(-u) - 1 + u = lhs, one root in [0, lhs + 1]
-    u = optimize.brentq(lambda u: math.expm1(-u) + u - lhs, 0.0, lhs + 1.0,
+    # in u = -ln(1 - e a) > 0: exp(-u) - 1 + u = lhs, one root in [0, lhs + 1] (bracketed to
+    # lhs + 2: at lhs + 1 the sign can round away when exp(-u) underflows against 1)
+    u = optimize.brentq(lambda u: math.expm1(-u) + u - lhs, 0.0, lhs + 2.0,
                         xtol=1e-300, rtol=4 * np.finfo(float).eps)
     return -math.expm1(-u) / a
 
