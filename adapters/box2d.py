@@ -1,0 +1,306 @@
+"""Box2D v3 adapter (pyb2d3 0.11.1, Box2D's 3.1 API, single precision): the planar scene maps one
+to one, as in pymunk.
+
+The bat is a dynamic body with a capsule shape from s_min to s_max (body origin at the COM), the
+ball one with a circle; the shapes' own density first sets the mass, so that Box2D computes the
+body extents its continuous collision needs (a mass set on a shapeless body leaves them at zero,
+box2d #1009), then ``mass_data`` overwrites it with the scene's mass, COM and rotational inertia
+(about the COM, as b2Body_SetMassData stores it), which ``mass_properties`` reads back: in
+float32, so 0.871 kg reads back as 0.8709999919 (relative 9e-9 to 6e-8 off the scene's values).
+
+Traps this adapter handles (measured on the R161 bat unless said otherwise):
+- restitution is the larger of the two shapes' values (bat 0.6 and ball 0.5 bounce at 0.600000,
+  either way round), so the bat gets 0 and the ball e;
+- restitution is dropped below ``restitution_threshold`` (1 m/s by default: a 0.99 m/s central
+  impact separates at 1.5e-8 of its approach speed, a 1.01 m/s one at 0.4999999); the reference
+  sets it to 0; the bounce is an impulse after the sub-steps that restores -e times the relative
+  normal velocity stored when the step began (box2d #1094: with forces acting during the step
+  that is not the approach speed; none act during our impacts);
+- ``maximum_linear_speed`` clamps every body (400 m/s by default, above our 80 m/s; the reference
+  lifts it to 1e4 m/s so that a blow-up shows as it is);
+- speculative contact: a manifold is made as soon as the gap is below 4 linear slops (2 cm, a
+  compile-time constant) and resolves the impact in the step in which the bodies meet, with the
+  normal and anchors of that step's start: the swinging bat's normal is then a step's turn
+  (omega dt) off, which leaves an error first order in dt (the paper's swing at s = 0.1 m, contact
+  on a step boundary: omega1 off by 0.073, 0.0067, 0.00066 rad/s at dt = 1e-4, 1e-5, 1e-6 s, half
+  that mid-step). Box2D's own "touching" includes these speculative points, and pyb2d3 exposes no
+  per-body contact data, so ``in_contact`` reports whether the ball's velocity changed in the last
+  step: only the bat's contact acts on the ball;
+- rotation: each sub-step turns a body by atan(omega h), not omega h (b2IntegrateRotation
+  normalises q + omega h q'); at 1/60 s with 4 sub-steps the swinging bat meets the ball 6 mrad
+  behind, which puts omega1 0.13 rad/s off at s = 0.1 m (0.033 with 8, 0.0081 with 16 sub-steps).
+  ``b2MakeRot`` approximates cos/sin (1.7e-3 rad off) and ``b2Rot_GetAngle`` atan2 (2.7e-5 rad
+  off): the adapter builds and reads rotations from cos/sin itself;
+- the hands' revolute joint is soft (60 Hz, damping ratio 2 in Box2D 3.1, fixed: pyb2d3 does not
+  bind b2Joint_SetConstraintTuning), and its drift is first order in the sub-step h: after a 0.1 s
+  hinged swing at dt = 1e-4 s the bat's omega is 0.26% low with 1 sub-step and its angle 8.4 mrad
+  ahead (3.3, 1.8, 0.92, 0.48 mrad with 4, 8, 16, 32 sub-steps);
+- float32 positions and rotations: a sub-step adds v h to a coordinate whose ulp is 6e-8 m, so
+  many tiny sub-steps lose a long motion (a 0.1 s swing at dt = 1e-6 s with 8 or 16 sub-steps
+  leaves the bat where the ball misses it); ``max_sub_step_s`` adds sub-steps only where the
+  step is long;
+- contacts (with their warm-start impulses) outlive ``set_transform``: ``set_state`` disables and
+  re-enables both bodies, which destroys them (b2Body_Disable), so that no impulse of one impact
+  can warm-start the next (in the cases measured the stale impulse happened to cancel within the
+  first step, so a used engine gave a fresh one's bits even without it);
+- sleeping is off (a body at rest would fall asleep) and gravity zero; friction is 0;
+- out of the box (1/60 s, 4 sub-steps) the ball tunnels: a step's travel (about 1 m) dwarfs the
+  2 cm speculative margin, and time of impact between two dynamic bodies needs ``bullet``, which
+  does not save the mid-step contact either (measured: tunnelled both ways).
+The soft contact (contact_hertz, contact_damping_ratio, contact push speed) moves only positions:
+the relax iterations and the restitution impulse set the velocities (the paper's swing at s = 0.1
+gives the same bits with 30 or 1e4 Hz, damping ratio 10 or 1, push speed 3 or 100 m/s).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from analytic import Ball, Bat
+from analytic import _checks
+
+from ._record import EngineRecord, Integrator, KnobFamily, RestitutionRule, import_engine
+from .base import BodyLoad, Engine, MassProperties, Reading, Settings
+
+
+@dataclass(frozen=True, kw_only=True)
+class Box2dSettings(Settings):
+    """Box2D's knobs (None: keep the engine's own default). ``sub_steps``: sub-steps per step,
+    raised where needed so that none lasts longer than ``max_sub_step_s`` (s; None: no bound);
+    ``contact_hertz`` (Hz) and ``contact_damping_ratio``: the soft contact's stiffness and
+    damping in the sub-steps' overlap correction; ``contact_push_mps`` (m/s): the cap on the
+    speed that correction pushes overlapping bodies apart with; ``restitution_threshold_mps``
+    (m/s): approach speeds below it do not bounce; ``maximum_linear_speed_mps`` (m/s): the
+    speed every body is clamped to; ``continuous``: time of impact against static bodies;
+    ``bullet``: the ball also does time of impact against the (dynamic) bat."""
+
+    sub_steps: int = 4
+    max_sub_step_s: float | None = None
+    contact_hertz: float | None = None
+    contact_damping_ratio: float | None = None
+    contact_push_mps: float | None = None
+    restitution_threshold_mps: float | None = None
+    maximum_linear_speed_mps: float | None = None
+    continuous: bool = True
+    bullet: bool = False
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        _checks.integer("sub_steps", self.sub_steps, 1, 10_000)
+        if self.max_sub_step_s is not None:
+            _checks.positive("max_sub_step_s", self.max_sub_step_s)
+        for name in ("contact_hertz", "contact_damping_ratio", "contact_push_mps",
+                     "restitution_threshold_mps"):
+            if getattr(self, name) is not None:
+                _checks.non_negative(name, getattr(self, name))
+        if self.maximum_linear_speed_mps is not None:
+            _checks.positive("maximum_linear_speed_mps", self.maximum_linear_speed_mps)
+        for name in ("continuous", "bullet"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name}={getattr(self, name)!r} is not a bool; allowed: "
+                                 "True, False")
+
+    @property
+    def sub_step_count(self) -> int:
+        """The sub-steps each step takes: ``sub_steps``, more if ``max_sub_step_s`` asks."""
+        if self.max_sub_step_s is None:
+            return self.sub_steps
+        # (1 - 1e-12): a step of exactly k bounds takes k sub-steps despite division noise
+        return max(self.sub_steps, math.ceil(self.dt_s / self.max_sub_step_s * (1 - 1e-12)))
+
+
+RECORD = EngineRecord(
+    name="box2d", package="pyb2d3", import_name="pyb2d3", extra="box2d",
+    profiles={
+        # Fidelity: a 1 us step, because the speculative contact resolves an impact with the
+        # geometry of its step's start, an error first order in dt (module docstring): a fuzz
+        # draw that meets the cylinder's very end sliding at 11.6 m/s is off by 0.27, 0.029 and
+        # 0.0029 m/s in v1 at dt = 1e-4, 1e-5, 1e-6 s (its float32 tolerance is 0.029). One
+        # sub-step at 1 us, more where a study coarsens the step, so that none exceeds 5 us:
+        # the sub-step h sets the atan(omega h) turn (at 1/60 s, 4 sub-steps leave omega1 0.13
+        # rad/s off at s = 0.1 m, 5 us sub-steps 4e-5) and the soft hinge's drift (the bat
+        # released after a 0.1 s swing at dt = 1e-4 s: angle 3.3 mrad off with 4 sub-steps,
+        # 0.76 with 5 us ones), while float32 positions forbid many tiny ones (16 sub-steps at
+        # 1 us leave the swung bat so far off that the ball misses it; 1 sub-step: 1.8e-5 rad).
+        # No restitution threshold; the speed clamp lifted. The soft-contact values stay
+        # Box2D's: they move no velocity (module docstring).
+        "reference": Box2dSettings(dt_s=1e-6, sub_steps=1, max_sub_step_s=5e-6,
+                                   restitution_threshold_mps=0.0, maximum_linear_speed_mps=1e4),
+        # Out of the box: the 1/60 s step and 4 sub-steps that box2d.h recommends for
+        # b2World_Step, every world value left to Box2D, the contact instant mid-step as in any
+        # unaligned simulation.
+        "default": Box2dSettings(dt_s=1 / 60, sub_steps=4, contact_phase=0.5),
+    },
+    color="tab:red", marker="D",
+    speed_accuracy=(
+        KnobFamily(label="sub-steps of at most 5 us (reference)", quick=True),
+        KnobFamily(label="1 sub-step", overrides=(("sub_steps", 1), ("max_sub_step_s", None))),
+        KnobFamily(label="4 sub-steps (Box2D's)",
+                   overrides=(("sub_steps", 4), ("max_sub_step_s", None))),
+    ),
+    # One sub-step per step: the semi-implicit Euler step is then dt (with n sub-steps it is
+    # dt/n), whose first-order terms the swing study and tests/test_dynamics.py derive.
+    integrators=(Integrator(label="semi-implicit Euler, 1 sub-step",
+                            overrides=(("sub_steps", 1), ("max_sub_step_s", None))),),
+    precision="float32",
+    restitution_rule=RestitutionRule.MAX,
+    threshold_setting="restitution_threshold_mps",
+    # All four read back from a fresh b2DefaultWorldDef; the push speed (3 m/s) is not exposed
+    # by pyb2d3 and moves no velocity here, so it is neither quoted nor measurable.
+    engine_defaults={"contact_hertz": 30.0, "contact_damping_ratio": 10.0,
+                     "restitution_threshold_mps": 1.0, "maximum_linear_speed_mps": 400.0},
+)
+b2 = import_engine(RECORD)
+
+
+def _rot(angle: float):
+    """A Box2D rotation from cos/sin in double precision (b2MakeRot approximates them)."""
+    q = b2.Rot()
+    q.c, q.s = math.cos(angle), math.sin(angle)
+    return q
+
+
+class Box2dEngine(Engine):
+    """Box2D v3 behind the common contract."""
+
+    record = RECORD
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        d = b2.WorldDef()
+        return {"contact_hertz": d.contact_hertz, "contact_damping_ratio": d.contact_damping_ratio,
+                "restitution_threshold_mps": d.restitution_threshold,
+                "maximum_linear_speed_mps": d.maximum_linear_speed}
+
+    def __init__(self, settings: Box2dSettings, *, name: str | None = None) -> None:
+        super().__init__(settings, name=name)
+        self._world = None
+        self._joint = None
+        self._load: tuple[float, float, float] | None = None
+
+    def close(self) -> None:
+        if self._world is not None:
+            self._world.destroy()
+            self._world = None
+            self.scene = None
+
+    def build_scene(self, bat: Bat, ball: Ball) -> None:
+        st = self.settings
+        self.close()
+        given = {"restitution_threshold": st.restitution_threshold_mps,
+                 "maximum_linear_speed": st.maximum_linear_speed_mps,
+                 "contact_hertz": st.contact_hertz,
+                 "contact_damping_ratio": st.contact_damping_ratio}
+        world = b2.World(gravity=(0.0, 0.0),
+                         **{k: v for k, v in given.items() if v is not None})
+        world.sleeping_enabled = False
+        world.continuous_enabled = st.continuous
+        if st.contact_push_mps is not None:
+            wd = b2.WorldDef()
+            world.set_contact_tuning(
+                wd.contact_hertz if st.contact_hertz is None else st.contact_hertz,
+                wd.contact_damping_ratio if st.contact_damping_ratio is None
+                else st.contact_damping_ratio, st.contact_push_mps)
+        self._world = world
+        self._sub_steps = st.sub_step_count
+        self._joint = None
+        self._anchor = world.create_static_body(position=(0.0, 0.0))
+        self._bat = world.create_dynamic_body(position=(0.0, 0.0), enable_sleep=False)
+        self._ball = world.create_dynamic_body(position=(0.0, 1.0), enable_sleep=False,
+                                               is_bullet=st.bullet)
+        sd = b2.ShapeDef()
+        sd.density = 1.0
+        sd.update_body_mass = True  # shapes set the extents continuous collision uses
+        sd.enable_contact_events = False
+        mat = b2.SurfaceMaterial()
+        mat.friction = 0.0
+        mat.restitution = 1.0
+        sd.material = mat
+        self._bat_shape = self._bat.create_capsule_shape(
+            sd, b2.capsule((bat.s_min_m, 0.0), (bat.s_max_m, 0.0), bat.radius_m))
+        self._ball_shape = self._ball.create_circle_shape(sd, b2.circle((0.0, 0.0),
+                                                                        ball.radius_m))
+        for body, mass, inertia in ((self._bat, bat.mass_kg, bat.inertia_cm_kgm2),
+                                    (self._ball, ball.mass_kg, ball.inertia_kgm2)):
+            md = b2.MassData()
+            md.mass, md.center, md.rotational_inertia = mass, (0.0, 0.0), inertia
+            body.mass_data = md
+        self._v_before: tuple[float, float, float] | None = None
+
+    def mass_properties(self) -> MassProperties:
+        bat, ball = self._bat.mass_data, self._ball.mass_data
+        cap = self._bat.shapes[0].capsule
+        knob_x = cap.center1.x - cap.radius
+        return MassProperties(
+            bat_mass_kg=bat.mass, bat_com_from_knob_m=bat.center.x - knob_x,
+            bat_inertia_kgm2=bat.rotational_inertia, ball_mass_kg=ball.mass,
+            ball_inertia_kgm2=ball.rotational_inertia)
+
+    def set_restitution(self, e: float) -> None:
+        self.set_body_restitution(bat=0.0, ball=e)  # Box2D takes the larger of the two
+
+    def set_body_restitution(self, *, bat: float, ball: float) -> None:
+        super().set_body_restitution(bat=bat, ball=ball)
+        self._bat_shape.restitution, self._ball_shape.restitution = bat, ball
+
+    def set_state(self, r: Reading) -> None:
+        for body in (self._ball, self._bat):
+            body.enabled = False  # destroys the pair's contact (its warm-start impulse)
+            body.enabled = True
+        self._bat.set_transform((r.bat_x, r.bat_y), _rot(r.bat_angle))
+        self._bat.linear_velocity = (r.bat_vx, r.bat_vy)
+        self._bat.angular_velocity = r.bat_w
+        self._ball.set_transform((r.ball_x, r.ball_y), _rot(0.0))
+        self._ball.linear_velocity = (r.ball_vx, r.ball_vy)
+        self._ball.angular_velocity = r.ball_w
+        self._v_before = None
+
+    def set_load(self, load: BodyLoad | None) -> None:
+        self._load = None if load is None else (load.force_n, load.angle_rad,
+                                                load.torque_about_com_nm)
+
+    def pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
+        jd = b2.RevoluteJointDef()
+        jd.body_a, jd.body_b = self._anchor, self._bat
+        jd.local_anchor_a = pivot_xy_m
+        jd.local_anchor_b = (pivot_from_com_m, 0.0)
+        jd.collide_connected = False
+        self._joint = self._world.create_joint(jd)
+
+    def unpin(self) -> None:
+        if self._joint is not None:
+            self._joint.destroy()
+            self._joint = None
+
+    def step(self) -> None:
+        if self._load is not None:
+            f, q, torque = self._load
+            rot = self._bat.rotation
+            angle = math.atan2(rot.s, rot.c) + q
+            self._bat.apply_force_to_center((f * math.cos(angle), f * math.sin(angle)))
+            self._bat.apply_torque(torque)
+        v = self._ball.linear_velocity
+        self._v_before = (v.x, v.y, self._ball.angular_velocity)
+        # One force per step: Box2D applies it in every sub-step in the world direction it has
+        # at the step's start.
+        self._world.step(self.settings.dt_s, self._sub_steps)
+
+    def read(self) -> Reading:
+        ball, bat = self._ball, self._bat
+        bp, bv = ball.position, ball.linear_velocity
+        cp, cv = bat.position, bat.linear_velocity
+        rot = bat.rotation
+        return Reading(bp.x, bp.y, bv.x, bv.y, ball.angular_velocity, cp.x, cp.y,
+                       math.atan2(rot.s, rot.c), cv.x, cv.y, bat.angular_velocity)
+
+    def in_contact(self) -> bool:
+        # Only the bat's contact acts on the ball: a contact impulse in the last step changed
+        # its velocity (Box2D's own "touching" includes speculative points up to 2 cm apart).
+        if self._v_before is None:
+            return False
+        v = self._ball.linear_velocity
+        return (v.x, v.y, self._ball.angular_velocity) != self._v_before
+
+
+ENGINE = Box2dEngine
