@@ -33,9 +33,9 @@ from .base import (BodyLoad, Engine, MassProperties, Reading, SceneMismatch, Set
                    SimOutcome, Status, SwingPlan, start_reading, swing_case)
 
 ENTRY_POINT_GROUP = "batsim.engines"
-#: Colours for engines whose record names none (plug-ins), in registry order.
-PALETTE = ("tab:purple", "tab:brown", "tab:pink", "tab:gray", "tab:olive", "tab:cyan",
-           "tab:red", "tab:blue", "tab:orange", "tab:green")
+#: Colours for engines whose record names none (plug-ins), in registry order: none of them a
+#: built-in's (blue, orange, green, purple, brown, red, black).
+PALETTE = ("tab:pink", "tab:gray", "tab:olive", "tab:cyan", "gold", "teal", "navy", "magenta")
 _NOT_ENGINES = frozenset({"base"})
 
 

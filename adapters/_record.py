@@ -77,6 +77,10 @@ class Integrator:
     label: str
     overrides: tuple[tuple[str, Any], ...] = ()
     order: int = 1
+    #: How the hands' hinge error shrinks with dt: 2 for a pivot re-projected every step (a
+    #: relative (omega dt)^2), 1 for a soft joint whose drift is corrected at a fixed rate
+    #: (Box2D's 60 Hz joints).
+    hinge_order: int = 2
 
 
 @dataclass(frozen=True, kw_only=True)

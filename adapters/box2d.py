@@ -141,8 +141,11 @@ RECORD = EngineRecord(
     ),
     # One sub-step per step: the semi-implicit Euler step is then dt (with n sub-steps it is
     # dt/n), whose first-order terms the swing study and tests/test_dynamics.py derive.
+    # Its joints are soft (60 Hz, damping ratio 2, compile-time constants pyb2d3 cannot change):
+    # the hinge drifts at first order in the step.
     integrators=(Integrator(label="semi-implicit Euler, 1 sub-step",
-                            overrides=(("sub_steps", 1), ("max_sub_step_s", None))),),
+                            overrides=(("sub_steps", 1), ("max_sub_step_s", None)),
+                            hinge_order=1),),
     precision="float32",
     restitution_rule=RestitutionRule.MAX,
     threshold_setting="restitution_threshold_mps",
@@ -152,6 +155,9 @@ RECORD = EngineRecord(
                      "restitution_threshold_mps": 1.0, "maximum_linear_speed_mps": 400.0},
 )
 b2 = import_engine(RECORD)
+#: Box2D's speculative distance, 4 linear slops of 5 mm (compile-time, with 1 length unit = 1 m):
+#: a pair closer than this gets a contact; the stability map's theory and a test measure it.
+SPECULATIVE_M = 0.02
 
 
 def _rot(angle: float):
@@ -165,6 +171,10 @@ class Box2dEngine(Engine):
     """Box2D v3 behind the common contract."""
 
     record = RECORD
+
+    @classmethod
+    def speculative_margin_m(cls, settings: Box2dSettings) -> float:
+        return SPECULATIVE_M
 
     @classmethod
     def read_back_defaults(cls) -> dict:

@@ -170,6 +170,10 @@ class RapierEngine(Engine):
     record = RECORD
 
     @classmethod
+    def speculative_margin_m(cls, settings: RapierSettings) -> float:
+        return settings.prediction_distance_m
+
+    @classmethod
     def read_back_defaults(cls) -> dict:
         p = rapier.IntegrationParameters()
         unit = p.length_unit

@@ -117,7 +117,10 @@ def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarr
         speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * bat.length_m
 
         def seen_late(phase: float) -> float:
-            delta = st.overlap_m + phase * v_c * st.dt_s
+            # a speculative contact is solved from the geometry at the start of the step that
+            # closes it: as far off as the gap it had then (up to the margin, or a whole step)
+            early = min(cls.speculative_margin_m(st), v_c * st.dt_s)
+            delta = st.overlap_m + max(phase * v_c * st.dt_s, early)
             slide = (reach * abs(case.omega0_radps) + tangential) * delta / v_c
             # the same delay turns the normal by omega0 delta / v_c, so the impulse, (1 + e)
             # times the approach along it, takes in that share of the tangential speed

@@ -134,7 +134,7 @@ def test_hinged_torque(name, integrator, engines):
     got = engines(name, integrator).run_motion(BAT, drive, T)
     ref = motion(BAT, drive, got.t_s)
     w, alpha = ref.omega_radps, ref.omega_radps / got.t_s
-    hinge = HINGE_K * (w * DT) ** 2
+    hinge = HINGE_K * (w * DT) ** integrator.hinge_order
     assert abs(got.omega_radps - w) <= hinge * w + _round(w, name)
     first = 0.0 if integrator.order >= 2 else 0.5 * alpha * got.t_s * DT
     assert abs(_wrap(got.angle_rad - ref.angle_rad)) <= first * 1.01 + hinge * ref.angle_rad \
@@ -167,7 +167,8 @@ def test_swing_into_impact(name):
         ref = predict(case)
         t_r = plan.steps * DT
         d_theta = 0.5 * swing.torque_nm / BAT.inertia_about(0.1) * t_r * DT
-        assert abs(out.release_angle_rad - plan.angle_release_rad) <= 1.01 * d_theta
+        assert abs(out.release_angle_rad - plan.angle_release_rad) <= 1.01 * d_theta \
+            + _round(plan.angle_release_rad, name)
         slide = (reach + abs(s)) * d_theta
         nearby = np.linspace(max(s - slide, BAT.s_min_m), min(s + slide, BAT.s_max_m), 21)
         spread = max(abs(predict(replace(case, s_m=float(x))).v1_mps - ref.v1_mps)

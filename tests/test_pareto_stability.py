@@ -42,7 +42,9 @@ def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
     ref = cells[cells["map"].str.endswith("reference")]
     assert len(ref) == len(adapters.names()) * len(stability.QUICK["steps"]) \
         * len(stability.QUICK["speeds"])
-    pd.testing.assert_series_equal(ref.fraction_ok, ref.theory_fraction_caught,
+    # caught: the engine resolved the contact soundly (ok, inaccurate or unjudged); whether it
+    # did so accurately is the map's colour, not the tunnelling bound
+    pd.testing.assert_series_equal(ref.fraction_caught, ref.theory_fraction_caught,
                                    check_names=False)
     # and the map is not trivially all-ok or all-failed: both sides of the bound are sampled
     assert ref.fraction_ok.min() < 0.5 < ref.fraction_ok.max()
