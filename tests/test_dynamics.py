@@ -156,22 +156,32 @@ def test_swing_into_impact(name):
 
     from adapters import swing_case
 
+    from analytic import compliant
+    from experiments import _verdict
+
     swing = HingedSwing.for_omega(BAT, 32.0)
     eng = adapters.load(name, dt_s=DT)
     reach = BAT.radius_m + presets.BASEBALL.radius_m
+    # a compliant contact is judged against its own law, within the judge's bound for it
+    lawful = eng.contact_law(eng.settings, 0.5) is not None
+
+    def predict_(case):
+        return compliant.predict(case, eng.contact_law(eng.settings, case.e)) if lawful \
+            else predict(case)
+
     for s in (-0.3, -0.1, 0.08, 0.2):
         case, plan = swing_case(BAT, presets.BASEBALL, s_m=s, v0_mps=46.9, e=0.5, swing=swing,
                                 settings=eng.settings)
         out = eng.simulate(case, swing=plan)
         assert out.ok
-        ref = predict(case)
+        ref = predict_(case)
         t_r = plan.steps * DT
         d_theta = 0.5 * swing.torque_nm / BAT.inertia_about(0.1) * t_r * DT
         assert abs(out.release_angle_rad - plan.angle_release_rad) <= 1.01 * d_theta \
             + _round(plan.angle_release_rad, name)
         slide = (reach + abs(s)) * d_theta
         nearby = np.linspace(max(s - slide, BAT.s_min_m), min(s + slide, BAT.s_max_m), 21)
-        spread = max(abs(predict(replace(case, s_m=float(x))).v1_mps - ref.v1_mps)
+        spread = max(abs(predict_(replace(case, s_m=float(x))).v1_mps - ref.v1_mps)
                      for x in nearby)
         # the engine's omega at release: the hinge's relative (omega dt)^2 error
         w = plan.omega_release_radps
@@ -179,5 +189,6 @@ def test_swing_into_impact(name):
         assert d_omega <= HINGE_K * (w * DT) ** 2 * w + _round(w, name)
         oblique = (case.v0_mps + abs(ref.v1_mps)) * d_theta**2
         spin = (1 + ref.q) * (swing.arm_m(BAT) + abs(s)) * d_omega
-        assert abs(out.v1_mps - ref.v1_mps) <= 2 * (spread + oblique + spin)
+        law_tol = _verdict.soft_judgement(case, out)[1] if lawful else 0.0
+        assert abs(out.v1_mps - ref.v1_mps) <= 2 * (spread + oblique + spin) + law_tol
     eng.close()

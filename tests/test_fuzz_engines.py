@@ -1,5 +1,6 @@
 """Fuzz: every engine at its reference profile, over random impacts, lands within the tolerance
-each row is judged against (experiments._verdict) of the rigid-body answer.
+each row is judged against (experiments._verdict) of the rigid-body answer, or, for a compliant
+contact, of its own contact law.
 
 The tolerance is derived, not fitted (rounding at the engine's precision, the contact foot's
 slide while the turning bat is first seen overlap_m deep); if it were too tight, or an engine
@@ -54,7 +55,10 @@ def test_every_engine_is_within_its_tolerance(case):
             for n in ENGINES]
     table = _grid.table(_runner.Runner().fire(jobs), "reference")
     still_on = (table.status == "no_separation") & (table.rigid_end == "time_limit")
-    bad = table[(table.status != "ok") & ~still_on]
+    # a compliant contact is judged against its law only where the law's single contact is the
+    # whole episode (experiments._verdict.soft_judgement); elsewhere it is unjudged, and sound
+    beyond_law = (table.status == "unjudged") & table.v1_law_mps.notna()
+    bad = table[(table.status != "ok") & ~still_on & ~beyond_law]
     assert bad.empty, bad[["engine", "status", "v1_abs_err_mps", "v1_tol_mps", "rigid_impacts",
                            "rigid_sustained_s", "rigid_end"]].to_string()
 

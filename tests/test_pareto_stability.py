@@ -38,9 +38,13 @@ def test_stability_outputs(stability_out):
 
 
 def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
+    # The bound is a rigid contact's, first seen at one depth and resolved in that step; a
+    # compliant one (Drake's) takes many steps, and a coarse step may miss it between readings.
     cells = pd.read_csv(stability_out / "stability_cells.csv")
-    ref = cells[cells["map"].str.endswith("reference")]
-    assert len(ref) == len(adapters.names()) * len(stability.QUICK["steps"]) \
+    rigid = [n for n in adapters.names() if adapters.engine_class(n).converges_to(
+        adapters.settings_for(n)) is adapters.ContactReference.RIGID_IMPULSE]
+    ref = cells[cells["map"].isin([f"{n} reference" for n in rigid])]
+    assert len(ref) == len(rigid) * len(stability.QUICK["steps"]) \
         * len(stability.QUICK["speeds"])
     # caught: the engine resolved the contact soundly (ok, inaccurate or unjudged); whether it
     # did so accurately is the map's colour, not the tunnelling bound
