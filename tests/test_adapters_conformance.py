@@ -229,11 +229,18 @@ def test_law_conformance(law_engine, e):
     # restitution), across the barrel for a still bat and the paper's swing.
     from experiments import _verdict
 
+    # Near the barrel's end the ball slides onto the cap during the contact, which the law's
+    # infinite cylinder does not model: those points are unjudged (NaN), the rest must pass.
     engine = law_engine
     for kw in (SWING, dict(v0_mps=40.0)):
+        judged = 0
         for s in S_GRID:
             case = ImpactCase(bat=R161, ball=BALL, s_m=float(s), e=e, **kw)
             out = engine.simulate(case)
             assert out.status is adapters.Status.OK, (out.status, s)
             want, allowed = _verdict.soft_judgement(case, out)
+            if math.isnan(allowed):
+                continue
+            judged += 1
             assert abs(out.v1_mps - want) <= allowed, (out.v1_mps, want, allowed, s)
+        assert judged >= len(S_GRID) - 2

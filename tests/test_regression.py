@@ -32,10 +32,13 @@ def test_agreement_does_not_regress(baseline, engine):
         rows = _grid.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
     # ok, or still touching at the budget where the rigid bodies are too (e = 0 near the COM)
     still_on = (rows.status == "no_separation") & (rows.rigid_end == "time_limit")
-    assert ((rows.status == "ok") | still_on).all(), rows.status.value_counts().to_dict()
+    # a compliant contact beyond its law's single contact is unjudged (experiments._verdict)
+    beyond_law = (rows.status == "unjudged") & rows.v1_law_mps.notna()
+    assert ((rows.status == "ok") | still_on | beyond_law).all(), \
+        rows.status.value_counts().to_dict()
     rows = rows[rows.status == "ok"]
     allowed = spec["engines"][engine]["max_abs_err_mps"]
-    worst = rows.v1_abs_err_mps.max()
+    worst = rows[spec["engines"][engine].get("error_column", "v1_abs_err_mps")].max()
     assert worst <= allowed, f"{engine}: max |dv1| {worst:.3e} m/s > allowed {allowed:.3e} m/s"
 
 
