@@ -218,8 +218,8 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
     """(v1 of the engine's own contact law, allowed |v1 engine - v1 law|) for an engine whose
     contact converges to a continuous law; (NaN, NaN) for a rigid contact; (v1 law, NaN),
     unjudged, where the law's answer or the bound does not apply. The tolerance is the leading
-    error of a first-order step through a contact of duration t_c: its restitution comes out
-    off by about e (pi dt / t_c) / 3 (measured -5.0e-3 at w = 3000 rad/s, dt = 1e-5), e the
+    error of the engine's step through a contact of duration t_c: its restitution comes out off
+    by e times ``Engine.law_restitution_error`` (semi-implicit Euler: (pi/3) dt/t_c), e the
     law's own restitution at this impact (it moves with speed for Hunt-Crossley), which moves
     v1 by v_c / (1 + r) per unit e, r = m (1/M + s^2/J); LAW_SAFETY times that, plus rounding.
     ``analytic.compliant.predict`` follows one contact of an infinite cylinder: where the
@@ -242,7 +242,8 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
             or not bat.s_min_m + slide <= case.s_m <= bat.s_max_m - slide):
         return ref.v1_mps, math.nan
     r = ball.mass_kg * (1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
-    de = max(case.e, e_law) * math.pi * o.settings.dt_s / (3.0 * t_c)
+    cls = adapters.engine_class(o.engine)
+    de = max(case.e, e_law) * cls.law_restitution_error(o.settings, o.settings.dt_s / t_c)
     speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * bat.length_m
     rounding = ROUND_OPS * adapters.record(o.engine).eps * speed
     return ref.v1_mps, LAW_SAFETY * v_c / (1 + r) * de + rounding

@@ -7,8 +7,10 @@ A still R161 is hit at s = 0.1 m with e = 1 (so any spurious energy shows) by ba
 step ((k + 1/2)/K). Theory: the contact is seen ``phase * v * dt`` deep; past R = r_ball + r_bat
 the ball's centre is beyond the bat's axis, the normal flips and the ball is pushed through. So a
 step catches every phase while v dt < R, and a fraction R/(v dt) of them above (THEORY_* below).
-An engine with a soft contact (its record's ``soft_contact``) gets its own map: time step x
-stiffness w at 40 m/s, where an undamped spring lets the ball sink v/w deep (through the bat
+An engine whose contact converges to a Hunt-Crossley law (Drake) gets a map of time step x
+closing speed at e = 0.5 judged against that law, with the law's own limits drawn: the rebound
+speed bound 1/d and the contact time. An engine with a soft contact (its record's
+``soft_contact``) gets its own map: time step x stiffness w at 40 m/s, where an undamped spring lets the ball sink v/w deep (through the bat
 when w < v/R) and Euler is unstable for w dt > 2 (this map uses e = 0.5: at e = 1 every
 discretized spring gains a little energy).
 Writes stability.csv, stability_cells.csv, stability.json, stability.png, stability_energy.png
@@ -26,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 import adapters
-from analytic import ImpactCase, presets
+from analytic import ImpactCase, compliant, presets
 
 from . import _cli, _grid, _runner
 from ._io import figure_png, json_bytes, provenance
@@ -88,6 +90,22 @@ def map_jobs(engine: str, profile: str, steps, speeds, k: int, extra: dict | Non
     return jobs, meta
 
 
+#: Hunt-Crossley contacts get a map over time step x closing speed at this e (mapped at the
+#: engine's stated speed), judged against their own law.
+HC_E = 0.5
+
+
+def hunt_crossley_law(engine: str):
+    """The Hunt-Crossley law an engine's reference contact converges to at HC_E, or None."""
+    law = adapters.engine_class(engine).contact_law(adapters.settings_for(engine), HC_E)
+    return law if isinstance(law, compliant.HuntCrossley) else None
+
+
+def hc_label(engine: str) -> str:
+    d = hunt_crossley_law(engine).dissipation_spm
+    return f"{engine} Hunt-Crossley (e = {HC_E:g} mapped, d = {d:.3f} s/m)"
+
+
 def soft_label(engine: str) -> str:
     return f"{engine} soft"
 
@@ -135,7 +153,8 @@ def heatmap(ax, cells: pd.DataFrame, x: str, y: str, title: str):
     return im
 
 
-def chart_maps(cells: pd.DataFrame, steps, speeds, margins: dict[str, float] | None = None):
+def chart_maps(cells: pd.DataFrame, steps, speeds, margins: dict[str, float] | None = None,
+               laws: dict | None = None):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -149,9 +168,12 @@ def chart_maps(cells: pd.DataFrame, steps, speeds, margins: dict[str, float] | N
     dts = np.geomspace(min(steps) / 3, max(steps) * 3, 100)
     for ax, name in zip(axes.flat, maps):
         im = heatmap(ax, cells[cells["map"] == name], "dt_s", "v0_mps", name)
-        ax.plot(dts, REACH_M / dts, "k--", lw=1.2, label="v dt = r_ball + r_bat")
-        ax.plot(dts, 2 * REACH_M / dts, "k:", lw=1,
-                label="v dt = 2 (r_ball + r_bat): half the phases")
+        if name in (laws or {}):
+            _draw_hunt_crossley(ax, laws[name], sorted(cells.v0_mps.unique()))
+        else:
+            ax.plot(dts, REACH_M / dts, "k--", lw=1.2, label="v dt = r_ball + r_bat")
+            ax.plot(dts, 2 * REACH_M / dts, "k:", lw=1,
+                    label="v dt = 2 (r_ball + r_bat): half the phases")
         margin = (margins or {}).get(name, 0.0)
         if margin > 0.0:
             ax.plot(dts, (REACH_M + margin) / dts, color="tab:blue", ls="-.", lw=1.2,
@@ -175,6 +197,18 @@ def chart_maps(cells: pd.DataFrame, steps, speeds, margins: dict[str, float] | N
                  "most common failure (T tunnelled, E energy gained, P penetration, N non-finite, "
                  "I inaccurate, S no separation)", fontsize=9)
     return fig
+
+
+def _draw_hunt_crossley(ax, law, speeds) -> None:
+    """Where a Hunt-Crossley contact's own law stops answering the question: its rebound cannot
+    exceed 1/d (e < 1/(d v), Drake #19320), and a step longer than the contact can pass over
+    it between two readings (the contact time t_c(v) from ``analytic.compliant``)."""
+    ax.axhline(1.0 / law.dissipation_spm, color="tab:purple", ls="-.", lw=1.4,
+               label="Hunt-Crossley: v = 1/d, above it the rebound stays below 1/d")
+    t_c = [compliant.predict(ImpactCase(bat=BAT, ball=BALL, s_m=S_M, v0_mps=v, e=HC_E),
+                             law).contact_duration_s for v in speeds]
+    ax.plot(t_c, speeds, color="k", ls="--", lw=1.2,
+            label="dt = contact time t_c(v) (compliant contact)")
 
 
 def chart_soft(cells: pd.DataFrame, steps, omegas, name: str):
@@ -262,6 +296,15 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
             j, m = map_jobs(engine, profile, steps, speeds, k)
             jobs += j
             meta += m
+    laws = {}  # map -> the Hunt-Crossley law its engine's contact converges to
+    for engine in args.engine:
+        law = hunt_crossley_law(engine)
+        if law is not None:
+            j, m = map_jobs(engine, "reference", steps, speeds, k, e=HC_E,
+                            label=hc_label(engine))
+            jobs += j
+            meta += m
+            laws[hc_label(engine)] = law
     for engine in args.engine:
         rec = adapters.record(engine)
         if rec.soft_contact is None:
@@ -292,7 +335,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     import matplotlib.pyplot as plt
 
     map_margin = dict(zip(table["map"], margins))
-    figs = {"stability.png": chart_maps(cells, steps, speeds, map_margin),
+    figs = {"stability.png": chart_maps(cells, steps, speeds, map_margin, laws),
             "stability_energy.png": chart_energy(table)}
     for name, cells_soft in soft.groupby("map", sort=False):
         figs[f"stability_{name.replace(' ', '_')}.png"] = chart_soft(cells_soft, steps, omegas,
@@ -306,9 +349,11 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         index=False, float_format="%.6g", lineterminator="\n").encode()
     files["stability.json"] = json_bytes({"quick": args.quick, "phases": k,
                                           "elapsed_s": elapsed, "provenance": provenance()})
-    ref = cells[cells["map"].str.endswith("reference")]
+    rigid = [f"{n} reference" for n in args.engine if adapters.engine_class(n).converges_to(
+        adapters.settings_for(n)) is adapters.ContactReference.RIGID_IMPULSE]
+    ref = cells[cells["map"].isin(rigid)]
     match = (ref.fraction_caught == ref.theory_fraction_caught).mean()
-    return files, (f"reference maps: the fraction of contacts caught equals theory in "
+    return files, (f"rigid reference maps: the fraction of contacts caught equals theory in "
                    f"{match:.1%} of cells\n{len(table)} impacts in {elapsed:.1f} s")
 
 

@@ -16,6 +16,7 @@
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import sys
 import time
@@ -136,8 +137,8 @@ def chart_scenes(table: pd.DataFrame):
 
     scenes = list(dict.fromkeys(table.scene))
     methods = list(dict.fromkeys(table.method))
-    colors = dict(zip(methods, plt.cm.tab10.colors))
-    markers = dict(zip(methods, "osv^Dpx*"))
+    colors = dict(zip(methods, itertools.cycle(plt.cm.tab20.colors)))
+    markers = dict(zip(methods, itertools.cycle("osv^Dpx*<>hP")))
     fig, axes = plt.subplots(len(QUANTITIES), len(scenes), figsize=(3.3 * len(scenes), 9.5),
                              sharex=True, layout="constrained")
     for col, scene in enumerate(scenes):

@@ -32,7 +32,8 @@ def test_stability_outputs(stability_out):
     q = stability.QUICK
     per_map = len(q["steps"]) * len(q["speeds"]) * q["phases"]
     soft = [n for n in adapters.names() if adapters.record(n).soft_contact is not None]
-    assert len(rows) == 2 * len(adapters.names()) * per_map \
+    hunt_crossley = [n for n in adapters.names() if stability.hunt_crossley_law(n) is not None]
+    assert len(rows) == (2 * len(adapters.names()) + len(hunt_crossley)) * per_map \
         + len(soft) * len(q["omegas"]) * len(q["steps"]) * q["phases"]
     assert set(rows.status) <= {s.value for s in adapters.Status}
 
@@ -52,6 +53,17 @@ def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
                                    check_names=False)
     # and the map is not trivially all-ok or all-failed: both sides of the bound are sampled
     assert ref.fraction_ok.min() < 0.5 < ref.fraction_ok.max()
+
+
+def test_hunt_crossley_map_is_judged_against_its_law(stability_out):
+    # A Hunt-Crossley contact's map (dt x closing speed) is judged against its own law: with
+    # several readings per contact (dt below a tenth of t_c, ~1.2 ms here) every phase is ok.
+    rows = pd.read_csv(stability_out / "stability.csv")
+    for name in adapters.names():
+        if stability.hunt_crossley_law(name) is None:
+            continue
+        fine = rows[(rows["map"] == stability.hc_label(name)) & (rows.dt_s <= 1e-4)]
+        assert len(fine) and (fine.status == "ok").all(), fine.status.value_counts()
 
 
 def test_soft_contact_sinks_through_below_v_over_r(stability_out):
