@@ -38,8 +38,8 @@ def restitution_of_damping_ratio(zeta: float) -> float:
 def damping_ratio_for(e: float) -> float:
     """Inverse of ``restitution_of_damping_ratio`` (zeta for a target e in (0, 1])."""
     _checks.in_range("e", e, 0.0, 1.0, lo_open=True)
-    if 1.0 - e < 1e-8:  # e = 1 - 2a/3 + O(a^2): exact to float precision here, where e(a) is flat
-        return 1.5 * (1.0 - e) / speed_mps
+    if e == 1.0:
+        return 0.0
     return optimize.brentq(lambda z: restitution_of_damping_ratio(z) - e, 0.0, 1 / math.sqrt(2) - 1e-12,
                            xtol=1e-15, rtol=4 * np.finfo(float).eps)
 

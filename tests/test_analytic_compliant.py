@@ -81,6 +81,14 @@ def test_hunt_crossley_dissipation_inverts_the_restitution(e, v):
     assert d * v <= 2 / e + 1  # below the bracket's top: e -> 1/a as a grows
 
 
+@given(e=st.floats(1e-3, 1.0))
+def test_damping_ratio_inverts_the_spring_damper_restitution(e):
+    # zeta for e, put back through the Schwager-Poeschel e(zeta), gives e (brentq to float
+    # precision; e = 1 is the undamped spring, zeta = 0)
+    zeta = compliant.damping_ratio_for(e)
+    assert compliant.restitution_of_damping_ratio(zeta) == pytest.approx(e, rel=1e-9)
+
+
 def test_stiffening_linear_contact_converges_to_impulse_theory_at_half_order():
     # The paper's swing at s = 0.1 m, zeta fixed for e = 0.5: the contact lasts ~ 1/sqrt(k),
     # during which the bat turns (omega0 t_c); the rigid answer is the limit and the error
