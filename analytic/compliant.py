@@ -23,7 +23,7 @@ from .model import ImpactCase, Outcome
 
 
 def restitution_of_damping_ratio(zeta: float) -> float:
-    """e of a linear spring-damper contact released when its force reaches zero (zeta < 1/sqrt 2).
+    """e of a linear spring-damper contact released when its force reaches zero (any zeta >= 0).
 
     x'' + 2 zeta w x' + w^2 x = 0 from x = 0, x' = -v: the force k x + b x' first vanishes at
     w_d t = pi - arctan(2 zeta sqrt(1 - zeta^2) / (1 - 2 zeta^2)), where x'/v = -e with
@@ -31,8 +31,14 @@ def restitution_of_damping_ratio(zeta: float) -> float:
     (T. Schwager and T. Poeschel, Phys. Rev. E 57, 650 (1998); the familiar exp(-zeta pi /
     sqrt(1-zeta^2)) assumes release at x = 0 and gives e too large.)
     """
-    root = math.sqrt(1.0 - zeta * zeta)
-    return math.exp(-zeta / root * (math.pi - math.atan2(2 * zeta * root, 1 - 2 * zeta * zeta)))
+    if zeta < 1.0:  # atan2 carries the formula through zeta = 1/sqrt 2 (their second case)
+        root = math.sqrt(1.0 - zeta * zeta)
+        return math.exp(-zeta / root * (math.pi - math.atan2(2 * zeta * root,
+                                                             1 - 2 * zeta * zeta)))
+    if zeta == 1.0:  # critically damped: the limit of both sides
+        return math.exp(-2.0)
+    s = math.sqrt(zeta * zeta - 1.0)  # overdamped: the same released at zero force
+    return math.exp(-zeta / s * math.atanh(2 * zeta * s / (2 * zeta * zeta - 1)))
 
 
 def damping_ratio_for(e: float) -> float:
@@ -40,7 +46,11 @@ def damping_ratio_for(e: float) -> float:
     _checks.in_range("e", e, 0.0, 1.0, lo_open=True)
     if e == 1.0:
         return 0.0
-    return optimize.brentq(lambda z: restitution_of_damping_ratio(z) - e, 0.0, 1 / math.sqrt(2) - 1e-12,
+    # e falls from 1 (zeta = 0) through e^-2 (critical) towards 0: bracket by doubling
+    hi = 1.0
+    while restitution_of_damping_ratio(hi) > e:
+        hi *= 2.0
+    return optimize.brentq(lambda z: restitution_of_damping_ratio(z) - e, 0.0, hi,
                            xtol=1e-15, rtol=4 * np.finfo(float).eps)
 
 

@@ -76,7 +76,7 @@ def test_restitution_threshold_drops_e(name):
 def test_spring_damper_restitution_formula_against_ode():
     # Integrate x'' = -2 zeta x' - x from x = 0, x' = -1 until the force x + 2 zeta x' returns to
     # zero; e = final speed. rtol 1e-12 in solve_ivp bounds the comparison at ~1e-10.
-    for zeta in (0.05, 0.2553, 0.5):
+    for zeta in (0.05, 0.2553, 0.5, 0.9, 1.0, 1.5, 4.0):  # under-, critically and overdamped
         def rhs(t, y, z=zeta):
             return [y[1], -2 * z * y[1] - y[0]]
 

@@ -84,7 +84,7 @@ def test_hunt_crossley_dissipation_inverts_the_restitution(e, v):
 @given(e=st.floats(1e-3, 1.0))
 def test_damping_ratio_inverts_the_spring_damper_restitution(e):
     # zeta for e, put back through the Schwager-Poeschel e(zeta), gives e (brentq to float
-    # precision; e = 1 is the undamped spring, zeta = 0)
+    # precision; e = 1 is the undamped spring, zeta = 0; e < e^-2 is overdamped)
     zeta = compliant.damping_ratio_for(e)
     assert compliant.restitution_of_damping_ratio(zeta) == pytest.approx(e, rel=1e-9)
 
