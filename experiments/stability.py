@@ -7,7 +7,7 @@ A still R161 is hit at s = 0.1 m with e = 1 (so any spurious energy shows) by ba
 step ((k + 1/2)/K). Theory: the contact is seen ``phase * v * dt`` deep; past R = r_ball + r_bat
 the ball's centre is beyond the bat's axis, the normal flips and the ball is pushed through. So a
 step catches every phase while v dt < R, and a fraction R/(v dt) of them above (THEORY_* below).
-An engine whose contact converges to a Hunt-Crossley law (Drake) gets a map of time step x
+An engine whose contact converges to a Hunt-Crossley law gets a map of time step x
 closing speed at e = 0.5 judged against that law, with the law's own limits drawn: the rebound
 speed bound 1/d and the contact time. An engine with a soft contact (its record's
 ``soft_contact``) gets its own map: time step x stiffness w at 40 m/s, where an undamped spring lets the ball sink v/w deep (through the bat
@@ -201,7 +201,7 @@ def chart_maps(cells: pd.DataFrame, steps, speeds, margins: dict[str, float] | N
 
 def _draw_hunt_crossley(ax, law, speeds) -> None:
     """Where a Hunt-Crossley contact's own law stops answering the question: its rebound cannot
-    exceed 1/d (e < 1/(d v), Drake #19320), and a step longer than the contact can pass over
+    exceed 1/d (e < 1/(d v)), and a step longer than the contact can pass over
     it between two readings (the contact time t_c(v) from ``analytic.compliant``)."""
     ax.axhline(1.0 / law.dissipation_spm, color="tab:purple", ls="-.", lw=1.4,
                label="Hunt-Crossley: v = 1/d, above it the rebound stays below 1/d")

@@ -40,7 +40,7 @@ def test_stability_outputs(stability_out):
 
 def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
     # The bound is a rigid contact's, first seen at one depth and resolved in that step; a
-    # compliant one (Drake's) takes many steps, and a coarse step may miss it between readings.
+    # compliant one takes many steps, and a coarse step may miss it between readings.
     cells = pd.read_csv(stability_out / "stability_cells.csv")
     rigid = [n for n in adapters.names() if adapters.engine_class(n).converges_to(
         adapters.settings_for(n)) is adapters.ContactReference.RIGID_IMPULSE]
