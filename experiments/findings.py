@@ -103,8 +103,8 @@ def sweet_spot_section(engines: tuple[str, ...]):
     end = A.R161.s_barrel_end_m
     lo_cm, hi_cm = A.from_end_cm(A.R161, region.s_hi_m), A.from_end_cm(A.R161, region.s_lo_m)
     russell = (12.7, 17.8)
-    outside = (min(hi_cm, max(lo_cm, russell[1])) - lo_cm) / (hi_cm - lo_cm) \
-        if lo_cm < russell[1] else 1.0
+    # the share of our region (lo_cm..hi_cm from the end) beyond Russell's far edge
+    outside = (hi_cm - max(lo_cm, russell[1])) / (hi_cm - lo_cm)
     paper_zone = table.iloc[0]
     text = f"""## 1. Where is the sweet spot?
 
