@@ -542,7 +542,7 @@ def engine_section(checks: pd.DataFrame, engines: tuple[str, ...]) -> str:
         rows.append({"engine": name,
                      "judged against": "its own contact law" if law else "rigid theory",
                      "ok": f"{int((d.status == 'ok').sum())}/{len(d)}",
-                     "worst |v1 - reference| (m/s)": float(err.max()),
+                     "worst abs(v1 - reference) (m/s)": float(err.max()),
                      "v1 - rigid theory, worst (m/s)": float(d.v1_abs_err_mps.abs().max())})
     table = pd.DataFrame(rows)
     detail = checks[["swing", "bat", "swing model", "engine", "v1_analytic_mps", "v1_engine_mps",
