@@ -174,10 +174,11 @@ def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(tmp_path):
                                 check=True)
         kept = {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()}
         env = {**os.environ, "BATSIM_QUIET": "0", "PYTHONUNBUFFERED": "1"}
-        proc = subprocess.Popen([sys.executable, *args, "--engine", name, "--points", "200",
+        proc = subprocess.Popen([sys.executable, *args, "--engine", name, "--points", "600",
                                  "--force"], cwd=ROOT, env=env, stdout=subprocess.PIPE,
                                 stderr=subprocess.PIPE, text=True)
-        time.sleep(3.5)  # past the imports, inside the swings (200 impacts take ~8 s)
+        # past the imports (a few s on a busy machine), inside the swings (600 take 20 s or more)
+        time.sleep(6.0)
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=120)
         assert proc.returncode == 130, (name, before.returncode, err[-2000:])
