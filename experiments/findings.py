@@ -91,6 +91,16 @@ def _plt():
     return plt
 
 
+def _along_the_barrel(ax, title: str) -> None:
+    """Axes of v1 against the distance from the barrel end (the end on the right)."""
+    ax.invert_xaxis()
+    ax.set_xlabel("impact point, distance from the barrel end (cm)")
+    ax.set_ylabel("batted-ball speed v1 (m/s)")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+
+
 # -- 1. sweet spot -------------------------------------------------------------------------------
 
 def sweet_spot_section(engines: tuple[str, ...]):
@@ -357,12 +367,7 @@ swing weight are limited. MLB's wood-only rule is a different rule, not a BBCOR 
             ax.plot(A.from_end_cm(bat, s), batted_ball_speed(
                 bat, A.BALL, s, v0_mps=sc.v0_mps, u0_mps=sw.u0_mps,
                 omega0_radps=sw.omega0_radps, e=e), ls, color=color, label=f"{label}, e = {e}")
-    ax.invert_xaxis()
-    ax.set_xlabel("impact point, distance from the barrel end (cm)")
-    ax.set_ylabel("batted-ball speed v1 (m/s)")
-    ax.set_title("paper's swing carried over with n = 0.27", fontsize=9)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
+    _along_the_barrel(ax, "paper's swing carried over with n = 0.27")
     ax = axes[1]
     fr = np.linspace(0.4, 1.2, 33)
     for sc, color in zip(A.SCENARIOS, ("tab:blue", "tab:red")):
@@ -452,12 +457,7 @@ experiments.sweep --reference compliant --law hertz` puts both along any bat).
         d = A.from_end_cm(A.R161, r.s_m)
         ax.plot(d, r.v1_rigid_mps, "-", color=color, label=f"{sc.label}: rigid, e = 0.5")
         ax.plot(d, r.v1_compliant_mps, "--", color=color, label=f"{sc.label}: compliant ball")
-    ax.invert_xaxis()
-    ax.set_xlabel("impact point, distance from the barrel end (cm)")
-    ax.set_ylabel("batted-ball speed v1 (m/s)")
-    ax.set_title("rigid theory vs the compliant ball along the barrel", fontsize=9)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
+    _along_the_barrel(ax, "rigid theory vs the compliant ball along the barrel")
     return text, {"findings_ball.png": fig}, {"paper": p, "mlb": m}
 
 

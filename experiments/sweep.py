@@ -296,7 +296,7 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
     f = sweep.firing
     engines = list(table.engine.unique())
     fig, (top, strip, bottom) = plt.subplots(
-        3, 1, figsize=(8, 7.5 + 0.25 * len(engines)), sharex=True,
+        3, 1, figsize=(11, 7.5 + 0.25 * len(engines)), sharex=True,
         gridspec_kw={"height_ratios": [3, 0.35 + 0.2 * len(engines), 2]})
     s = np.linspace(f.bat.s_min_m, f.bat.s_max_m, 400)
     s = s[f.v0_mps * np.cos(f.theta_rad) + f.u0_mps + f.omega0_radps * s > 0.0]  # approaching
@@ -318,10 +318,10 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
         any_ok |= bool(ok.any())
         mark, color = style[name].marker, style[name].color
         within = int((df.status == "ok").sum())
+        others = "".join(f", {v} {k}" for k, v in df.status[ok & (df.status != "ok")]
+                         .value_counts().items())
         top.plot(df.s_m[ok], df.v1_engine_mps[ok], mark, ms=5, mfc="none",
-                 color=color, label=f"{name} ({within}/{len(df)} ok"
-                                    + (f", {ok.sum() - within} inaccurate)" if ok.sum() > within
-                                       else ")"))
+                 color=color, label=f"{name} ({within}/{len(df)} ok{others})")
         if (~ok).any():  # no trustworthy v1: kept off the v1 axis
             statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
             as_rigid = int(((df.status == "no_separation") & (df.rigid_end == "time_limit")).sum())
@@ -350,19 +350,20 @@ def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
                  (marks["cop_m"], 0.3), xycoords=("data", "axes fraction"), rotation=90,
                  color="tab:purple", fontsize=8, ha="left")
     top.set_ylabel("batted-ball speed v1 (m/s)")
-    top.set_title(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:.4g} m/s, "
+    fig.suptitle(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:.4g} m/s, "
                   f"omega0 = {f.omega0_radps:g} rad/s, e = {f.e:g}; profile {sweep.profile}"
                   + (f", dt = {sweep.dt_s:g} s" if sweep.dt_s else "")
                   + (f"\nswung in the engine about the hands ({f.hands_from_knob_m:g} m from the "
                      f"knob) by {f.swing.torque_nm:.1f} N m over {f.swing.angle_rad:.3g} rad"
                      if f.swing else ""), fontsize=10)
-    top.legend(fontsize=8, loc="lower center")
+    # legends beside the panels, never over the points
+    top.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     top.grid(alpha=0.3)
     bottom.set_ylabel("|v1 engine - v1 rigid| (m/s)\nline: each row's tolerance")
     bottom.set_xlabel("impact point s from the COM toward the barrel (m)")
     bottom.grid(alpha=0.3, which="both")
     if any_ok:
-        bottom.legend(fontsize=8)
+        bottom.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     else:
         bottom.text(0.5, 0.5, "no ok impacts", transform=bottom.transAxes, ha="center")
     fig.tight_layout()
