@@ -1,18 +1,21 @@
-"""Engine adapters behind one contract, loaded by name. Importing this package loads no engine.
+"""Engines by name: the registry. Importing it, listing engines and reading their records load
+no engine; an engine is imported when an adapter is made (``load``, ``create``).
 
     import adapters
-    adapters.names()                                               # every registered engine
-    adapters.record("mujoco").color                                # an engine's facts
-    eng = adapters.load("mujoco")                                  # profile="reference"
-    eng = adapters.load("pybullet", profile="default", dt_s=1e-4)  # override any setting
-    out = eng.simulate(case)                                       # an adapters.SimOutcome
+    adapters.names()                                    # every registered engine
+    adapters.record("mujoco").color                     # an engine's facts (adapters.record)
+    adapters.available(), adapters.missing()            # installed or not (without importing)
+    eng = adapters.load("pybullet", profile="default", dt_s=1e-4)   # an adapter, any override
 
-Engines are registered two ways, the same to the rest of the harness:
-- built in: every module of this package not named ``base`` or ``_*`` is an engine whose name is
-  the module's name and whose adapter class is the module's ``ENGINE``;
+Engines are registered three ways, the same to the rest of the harness:
+- built in: every subpackage of this package is an engine named after it; its ``__init__``
+  declares ``RECORD`` (and imports no engine), its ``adapter`` module the adapter class;
 - plug-ins: an installed distribution declaring, in its pyproject.toml,
-  ``[project.entry-points."batsim.engines"]`` ``NAME = "module:Class"``; the entry point's name
-  is the engine's name (it may not be a built-in's).
+  ``[project.entry-points."batsim.engines"]`` ``NAME = "module:RECORD"``; the entry point's name
+  is the engine's name (it may not be a built-in's);
+- in this process: ``register(record)`` (an adapter under development, before it is packaged).
+The interface an adapter implements is ``adapters.interface``; ``experiments.core.check_engine``
+checks one.
 """
 
 from __future__ import annotations
@@ -20,23 +23,23 @@ from __future__ import annotations
 import dataclasses
 import functools
 import importlib
+import importlib.util
 import pkgutil
 import sys
 from importlib import metadata
 from pathlib import Path
 from types import MappingProxyType
 
-from ._record import (PROFILES, ContactReference, EngineNotInstalled, EngineRecord, Integrator,
-                      KnobFamily,
-                      RestitutionRule, import_engine)
-from .base import (BodyLoad, Engine, MassProperties, Reading, SceneMismatch, Settings,
-                   SimOutcome, Status, SwingPlan, start_reading, swing_case)
+from .interface import (STATE_FIELDS, BatchedEngine, Engine, Hands, MassProperties, Scene,
+                        State)
+from .record import (PROFILES, ContactReference, EngineNotInstalled, EngineRecord, Integrator,
+                     KnobFamily, RestitutionRule, Settings, import_engine)
 
 ENTRY_POINT_GROUP = "batsim.engines"
 #: Colours for engines whose record names none (plug-ins), in registry order: none of them a
 #: built-in's (blue, orange, green, purple, brown, red, black).
 PALETTE = ("tab:pink", "tab:gray", "tab:olive", "tab:cyan", "gold", "teal", "navy", "magenta")
-_NOT_ENGINES = frozenset({"base"})
+_REGISTERED: dict[str, EngineRecord] = {}
 
 
 class PluginConflict(ValueError):
@@ -45,11 +48,12 @@ class PluginConflict(ValueError):
 
 @functools.cache
 def _registry() -> MappingProxyType:
-    """Engine name -> "module:attribute" of its adapter class; built-ins first, by name."""
+    """Engine name -> where its record is: "module:RECORD" (or the record itself, registered in
+    this process); built-ins first, by name, then plug-ins, then registered ones."""
     here = Path(__file__).parent
-    found = {m.name: f"{__name__}.{m.name}:ENGINE" for m in pkgutil.iter_modules([str(here)])
-             if not m.name.startswith("_") and m.name not in _NOT_ENGINES}
-    builtins = dict(sorted(found.items()))
+    builtins = {m.name: f"{__name__}.{m.name}:RECORD"
+                for m in sorted(pkgutil.iter_modules([str(here)]), key=lambda m: m.name)
+                if m.ispkg}
     plugins: dict[str, str] = {}
     for ep in sorted(metadata.entry_points(group=ENTRY_POINT_GROUP), key=lambda e: e.name):
         dist = ep.dist.name if ep.dist is not None else "an unknown distribution"
@@ -63,45 +67,35 @@ def _registry() -> MappingProxyType:
                 f"plug-in engine {ep.name!r} is declared twice ({plugins[ep.name]} and "
                 f"{ep.value} from {dist}); allowed: one entry point per name")
         plugins[ep.name] = ep.value
-    return MappingProxyType({**builtins, **plugins})
+    return MappingProxyType({**builtins, **plugins, **_REGISTERED})
 
 
 def reload_plugins() -> None:
-    """Forget the registry so that the next call looks for entry points again."""
+    """Forget what the registry found, so that the next call looks for entry points again."""
     importlib.invalidate_caches()
     _registry.cache_clear()
     record.cache_clear()
-    missing.cache_clear()
-    available.cache_clear()
+
+
+def register(rec: EngineRecord) -> None:
+    """Register an engine in this process under ``rec.name`` (for an adapter under development;
+    a packaged one declares an entry point). Raises PluginConflict for a name already taken."""
+    if rec.name in _registry() and _REGISTERED.get(rec.name) is not rec:
+        raise PluginConflict(f"engine {rec.name!r} is registered already; allowed: a name that "
+                             f"is not one of {', '.join(names())}")
+    _REGISTERED[rec.name] = rec
+    reload_plugins()
+
+
+def unregister(name: str) -> None:
+    """Forget an engine registered with ``register``."""
+    _REGISTERED.pop(name, None)
+    reload_plugins()
 
 
 def names() -> tuple[str, ...]:
     """Registered engine names: built-ins by name, then plug-ins by name."""
     return tuple(_registry())
-
-
-def loaded() -> tuple[str, ...]:
-    """Registered engines whose adapter (and so engine) this process has imported."""
-    return tuple(n for n, target in _registry().items() if target.split(":")[0] in sys.modules)
-
-
-@functools.cache
-def available() -> tuple[str, ...]:
-    """Registered engines whose package is installed (checking imports each engine), in
-    registry order; ``missing()`` says why the others are not."""
-    return tuple(n for n in names() if n not in missing())
-
-
-@functools.cache
-def missing() -> MappingProxyType:
-    """Registered engine name -> its install hint, for engines whose package is not installed."""
-    out = {}
-    for n in names():
-        try:
-            engine_class(n)
-        except EngineNotInstalled as err:
-            out[n] = str(err)
-    return MappingProxyType(out)
 
 
 def _check_name(name: str) -> str:
@@ -110,37 +104,74 @@ def _check_name(name: str) -> str:
     return name
 
 
-def engine_class(name: str) -> type[Engine]:
-    """The adapter class for ``name``, importing its engine now (EngineNotInstalled if missing)."""
-    target = _registry()[_check_name(name)]
-    module_name, attr = target.split(":")
-    try:
-        module = importlib.import_module(module_name)
-    except EngineNotInstalled:
-        raise
-    except ModuleNotFoundError as err:
-        raise EngineNotInstalled(f"engine {name!r} ({target}) could not be imported: {err}; "
-                                 "allowed: an installed plug-in") from err
-    cls = getattr(module, attr)
-    if not (isinstance(cls, type) and issubclass(cls, Engine)):
-        raise TypeError(f"engine {name!r}: {target} is not an adapters.Engine subclass")
-    return cls
-
-
 @functools.cache
 def record(name: str) -> EngineRecord:
-    """The engine's record, named as registered and with a plot colour filled in."""
-    rec = engine_class(name).record
+    """The engine's record, named as registered and with a plot colour filled in (imports the
+    module that declares it, never the engine)."""
+    target = _registry()[_check_name(name)]
+    rec = target if isinstance(target, EngineRecord) else _load_target(name, target)
+    if not isinstance(rec, EngineRecord):
+        raise TypeError(f"engine {name!r}: {target} is not an adapters.EngineRecord")
     changes = {}
-    if rec.name != name:  # a plug-in reusing an adapter under its own name gets its own style
+    if rec.name != name:  # a plug-in reusing a record under its own name gets its own style
         changes = {"name": name, "color": None}
-    if (changes.get("color", rec.color)) is None:
+    if changes.get("color", rec.color) is None:
         changes["color"] = PALETTE[names().index(name) % len(PALETTE)]
     return dataclasses.replace(rec, **changes) if changes else rec
 
 
+def _load_target(name: str, target: str):
+    module_name, attr = target.split(":")
+    try:
+        return getattr(importlib.import_module(module_name), attr)
+    except ModuleNotFoundError as err:
+        raise EngineNotInstalled(f"engine {name!r} ({target}) could not be imported: {err}; "
+                                 "allowed: an installed plug-in") from err
+
+
+def _installed(rec: EngineRecord) -> bool:
+    top = rec.import_name.split(".")[0]
+    if top in sys.modules:
+        return sys.modules[top] is not None
+    return importlib.util.find_spec(top) is not None
+
+
+def available() -> tuple[str, ...]:
+    """Registered engines whose package is installed (found, not imported), in registry order;
+    ``missing()`` says why the others are not."""
+    return tuple(n for n in names() if _installed(record(n)))
+
+
+def missing() -> MappingProxyType:
+    """Registered engine name -> its install hint, for engines whose package is not installed."""
+    return MappingProxyType({n: record(n).install_hint for n in names()
+                             if not _installed(record(n))})
+
+
+def loaded() -> tuple[str, ...]:
+    """Registered engines whose adapter (and so engine) this process has imported."""
+    return tuple(n for n in names() if record(n).adapter.split(":")[0] in sys.modules)
+
+
+def engine_class(name: str) -> type[Engine] | type[BatchedEngine]:
+    """The adapter class for ``name``, importing its engine now (EngineNotInstalled if missing)."""
+    rec = record(name)
+    if not _installed(rec):
+        raise EngineNotInstalled(rec.install_hint)
+    cls = _load_target(name, rec.adapter)
+    if not (isinstance(cls, type) and issubclass(cls, (Engine, BatchedEngine))):
+        raise TypeError(f"engine {name!r}: {rec.adapter} is not an adapters.Engine or "
+                        "adapters.BatchedEngine subclass")
+    return cls
+
+
+def is_batched(name: str) -> bool:
+    """Whether the engine's adapter steps many worlds in one call (imports the engine)."""
+    return issubclass(engine_class(name), BatchedEngine)
+
+
 def settings_for(name: str, profile: str = "reference", **overrides) -> Settings:
-    """The named profile's settings for an engine, with any field overridden."""
+    """The named profile's settings for an engine, with any field overridden (validated)."""
     rec = record(name)
     if profile not in rec.profiles:
         raise ValueError(f"profile={profile!r} is unknown; allowed: {', '.join(rec.profiles)}")
@@ -153,18 +184,19 @@ def settings_for(name: str, profile: str = "reference", **overrides) -> Settings
     return dataclasses.replace(base, **overrides)
 
 
-def create(name: str, settings: Settings) -> Engine:
-    """An engine adapter with these settings."""
-    return engine_class(name)(settings, name=name)
+def create(name: str, settings: Settings) -> Engine | BatchedEngine:
+    """An adapter of this engine with these settings (imports the engine)."""
+    return engine_class(name)(settings)
 
 
-def load(name: str, profile: str = "reference", **overrides) -> Engine:
-    """An engine adapter with the named profile's settings, any of them overridden."""
+def load(name: str, profile: str = "reference", **overrides) -> Engine | BatchedEngine:
+    """An adapter with the named profile's settings, any of them overridden."""
     return create(name, settings_for(name, profile, **overrides))
 
 
-__all__ = ["BodyLoad", "ContactReference", "ENTRY_POINT_GROUP", "Engine", "EngineNotInstalled",
-           "EngineRecord", "Integrator", "KnobFamily", "MassProperties", "PROFILES", "PluginConflict",
-           "Reading", "RestitutionRule", "SceneMismatch", "Settings", "SimOutcome", "Status",
-           "SwingPlan", "available", "create", "engine_class", "import_engine", "load", "loaded", "missing", "names", "record",
-           "reload_plugins", "settings_for", "start_reading", "swing_case"]
+__all__ = ["BatchedEngine", "ContactReference", "ENTRY_POINT_GROUP", "Engine",
+           "EngineNotInstalled", "EngineRecord", "Hands", "Integrator", "KnobFamily",
+           "MassProperties", "PROFILES", "PluginConflict", "RestitutionRule", "STATE_FIELDS",
+           "Scene", "Settings", "State", "available", "create", "engine_class",
+           "import_engine", "is_batched", "load", "loaded", "missing", "names", "record",
+           "register", "reload_plugins", "settings_for", "unregister"]

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, optimize
 
-from . import _checks
+from . import checks
 from .model import ImpactCase, Outcome
 
 
@@ -43,7 +43,7 @@ def restitution_of_damping_ratio(zeta: float) -> float:
 
 def damping_ratio_for(e: float) -> float:
     """Inverse of ``restitution_of_damping_ratio`` (zeta for a target e in (0, 1])."""
-    _checks.in_range("e", e, 0.0, 1.0, lo_open=True)
+    checks.in_range("e", e, 0.0, 1.0, lo_open=True)
     if e == 1.0:
         return 0.0
     # e falls from 1 (zeta = 0) through e^-2 (critical) towards 0: bracket by doubling
@@ -67,8 +67,8 @@ class LinearSpringDamper:
     damping_nspm: float
 
     def __post_init__(self) -> None:
-        _checks.positive("stiffness_npm", self.stiffness_npm)
-        _checks.non_negative("damping_nspm", self.damping_nspm)
+        checks.positive("stiffness_npm", self.stiffness_npm)
+        checks.non_negative("damping_nspm", self.damping_nspm)
 
     def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         return self.stiffness_npm * x_m + self.damping_nspm * rate_mps
@@ -90,9 +90,9 @@ class HuntCrossley:
     dissipation_spm: float
 
     def __post_init__(self) -> None:
-        _checks.positive("stiffness", self.stiffness)
-        _checks.in_range("exponent", self.exponent, 1.0, 2.0)
-        _checks.non_negative("dissipation_spm", self.dissipation_spm)
+        checks.positive("stiffness", self.stiffness)
+        checks.in_range("exponent", self.exponent, 1.0, 2.0)
+        checks.non_negative("dissipation_spm", self.dissipation_spm)
 
     def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         return self.stiffness * x_m**self.exponent * (1.0 + self.dissipation_spm * rate_mps)
@@ -117,8 +117,8 @@ class ContactSpaceSpringDamper:
     damping_ratio: float
 
     def __post_init__(self) -> None:
-        _checks.positive("omega_radps", self.omega_radps)
-        _checks.non_negative("damping_ratio", self.damping_ratio)
+        checks.positive("omega_radps", self.omega_radps)
+        checks.non_negative("damping_ratio", self.damping_ratio)
 
     def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         w = self.omega_radps
@@ -166,8 +166,8 @@ def hunt_crossley_dissipation(e: float, speed_mps: float) -> float:
     with restitution ``e`` (the inverse of ``hunt_crossley_restitution``; e in (0, 1]). How an
     engine without a restitution parameter (Drake) is given one e at one stated speed: at other
     speeds its e follows the law."""
-    _checks.in_range("e", e, 0.0, 1.0, lo_open=True)
-    _checks.positive("speed_mps", speed_mps)
+    checks.in_range("e", e, 0.0, 1.0, lo_open=True)
+    checks.positive("speed_mps", speed_mps)
     if 1.0 - e < 1e-8:  # e = 1 - 2a/3 + O(a^2): exact to float precision here, where e(a) is flat
         return 1.5 * (1.0 - e) / speed_mps
     # e(a) falls from 1 at a = 0 towards 1/a: the root lies below a = 2/e + 1

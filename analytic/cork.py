@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from . import _checks
+from . import checks
 from .model import Bat
 
 
@@ -25,10 +25,10 @@ class Hole:
 
     def check_fits(self, bat: Bat) -> None:
         """Raise ValueError if the hole is not a finite, non-negative, fitting cylinder."""
-        _checks.in_range("hole_radius_m", self.radius_m, 0.0, bat.radius_m, lo_open=True)
-        _checks.in_range("hole_depth_m", self.depth_m, 0.0, bat.length_m, lo_open=True)
-        _checks.non_negative("fill_density_kgm3", self.fill_density_kgm3)
-        _checks.non_negative("wood_density_kgm3", self.wood_density_kgm3)
+        checks.in_range("hole_radius_m", self.radius_m, 0.0, bat.radius_m, lo_open=True)
+        checks.in_range("hole_depth_m", self.depth_m, 0.0, bat.length_m, lo_open=True)
+        checks.non_negative("fill_density_kgm3", self.fill_density_kgm3)
+        checks.non_negative("wood_density_kgm3", self.wood_density_kgm3)
 
     @property
     def volume_m3(self) -> float:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate
 
-from . import _checks
+from . import checks
 from .model import Bat
 
 #: solve_ivp tolerances for the reference: relative, and absolute (the state is of order 1).
@@ -44,20 +44,20 @@ class Drive:
     pivot_from_knob_m: float | None = None
 
     def __post_init__(self) -> None:
-        _checks.finite("force_n", self.force_n)
-        _checks.finite("force_angle_rad", self.force_angle_rad)
-        _checks.finite("torque_nm", self.torque_nm)
+        checks.finite("force_n", self.force_n)
+        checks.finite("force_angle_rad", self.force_angle_rad)
+        checks.finite("torque_nm", self.torque_nm)
         if self.force_at_from_knob_m is not None:
-            _checks.finite("force_at_from_knob_m", self.force_at_from_knob_m)
+            checks.finite("force_at_from_knob_m", self.force_at_from_knob_m)
         if self.pivot_from_knob_m is not None:
-            _checks.finite("pivot_from_knob_m", self.pivot_from_knob_m)
+            checks.finite("pivot_from_knob_m", self.pivot_from_knob_m)
 
     def check(self, bat: Bat) -> None:
         """Raise ValueError unless the load point and the pivot lie on the bat."""
         for name in ("force_at_from_knob_m", "pivot_from_knob_m"):
             x = getattr(self, name)
             if x is not None:
-                _checks.in_range(name, x, 0.0, bat.length_m)
+                checks.in_range(name, x, 0.0, bat.length_m)
         if self.pivot_from_knob_m is not None and self.pivot_from_knob_m == bat.com_from_knob_m:
             raise ValueError(f"pivot_from_knob_m={self.pivot_from_knob_m!r} is the COM: a hinge "
                              "there carries no load; allowed: any other point of the bat")
@@ -105,7 +105,7 @@ def motion(bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0) -> Motion
     """The state at ``t_s`` from rest at ``angle_rad``: closed form where one exists, else the
     reference integration (``motion_integrated``)."""
     drive.check(bat)
-    _checks.non_negative("t_s", t_s)
+    checks.non_negative("t_s", t_s)
     if not has_closed_form(bat, drive):
         return motion_integrated(bat, drive, t_s, angle_rad)
     if drive.pivot_from_knob_m is not None:
@@ -179,9 +179,9 @@ class HingedSwing:
     angle_rad: float = math.pi / 2
 
     def __post_init__(self) -> None:
-        _checks.positive("torque_nm", self.torque_nm)
-        _checks.in_range("angle_rad", self.angle_rad, 0.0, 2 * math.pi, lo_open=True)
-        _checks.non_negative("hands_from_knob_m", self.hands_from_knob_m)
+        checks.positive("torque_nm", self.torque_nm)
+        checks.in_range("angle_rad", self.angle_rad, 0.0, 2 * math.pi, lo_open=True)
+        checks.non_negative("hands_from_knob_m", self.hands_from_knob_m)
 
     def drive(self) -> Drive:
         """The swing as a Drive: the torque, hinged at the hands."""
@@ -189,7 +189,7 @@ class HingedSwing:
 
     def arm_m(self, bat: Bat) -> float:
         """d = x_cm - x_hands (m)."""
-        _checks.in_range("hands_from_knob_m", self.hands_from_knob_m, 0.0, bat.com_from_knob_m,
+        checks.in_range("hands_from_knob_m", self.hands_from_knob_m, 0.0, bat.com_from_knob_m,
                          hi_open=True)
         return bat.com_from_knob_m - self.hands_from_knob_m
 
@@ -210,7 +210,7 @@ class HingedSwing:
     def for_omega(cls, bat: Bat, omega0_radps: float, *, hands_from_knob_m: float = 0.1,
                   angle_rad: float = math.pi / 2) -> HingedSwing:
         """The torque that brings ``bat`` to omega0 over ``angle_rad``: I_p omega0^2/(2 theta)."""
-        _checks.positive("omega0_radps", omega0_radps)
+        checks.positive("omega0_radps", omega0_radps)
         torque = bat.inertia_about(hands_from_knob_m) * omega0_radps**2 / (2 * angle_rad)
         return cls(torque_nm=torque, hands_from_knob_m=hands_from_knob_m, angle_rad=angle_rad)
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _checks
+from . import checks
 from .model import Ball, Bat, ImpactCase, Outcome
 
 
@@ -102,13 +102,13 @@ def predict_arrays(
     tables of many impacts. Raises ValueError if any point is off the bat, any value out of
     range, or any pair does not approach (closing speed <= 0)."""
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
-    s = _checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
-    v0n = _checks.array_in_range("v0_mps", v0_mps, 0.0) \
-        * np.cos(_checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2))
-    u0n = _checks.array_in_range("u0_mps", u0_mps) \
-        * np.cos(_checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2))
-    w0 = _checks.array_in_range("omega0_radps", omega0_radps)
-    hands = _checks.array_in_range("hands_from_knob_m", hands_from_knob_m, 0.0, bat.length_m)
+    s = checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
+    v0n = checks.array_in_range("v0_mps", v0_mps, 0.0) \
+        * np.cos(checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2))
+    u0n = checks.array_in_range("u0_mps", u0_mps) \
+        * np.cos(checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2))
+    w0 = checks.array_in_range("omega0_radps", omega0_radps)
+    hands = checks.array_in_range("hands_from_knob_m", hands_from_knob_m, 0.0, bat.length_m)
     vc = v0n + u0n + w0 * s
     if np.any(vc <= 0.0):
         bad = np.broadcast_to(s, vc.shape)[vc <= 0.0].flat[0]
@@ -116,7 +116,7 @@ def predict_arrays(
             f"closing speed <= 0 at s_m={bad!r}: the bodies do not approach; "
             "allowed: v0*cos(theta) + u0*cos(phi) + omega0*s > 0"
         )
-    P = _normal_impulse(m, M, J, s, vc, _checks.array_in_range("e", e, 0.0, 1.0))
+    P = _normal_impulse(m, M, J, s, vc, checks.array_in_range("e", e, 0.0, 1.0))
     return {"v1_mps": -v0n + P / m, "u1_mps": u0n - P / M, "omega1_radps": w0 - P * s / J,
             "impulse_ns": P, "hand_dv_mps": -P * (1.0 / M + s * (hands - bat.com_from_knob_m) / J)}
 
@@ -126,8 +126,8 @@ def collision_efficiency(bat: Bat, ball: Ball, s_m: ArrayLike, e: ArrayLike = 0.
 
     q is the batted-ball speed per unit pitch speed off a bat at rest: v1 = q v0.
     """
-    s = _checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
-    ee = _checks.array_in_range("e", e, 0.0, 1.0)
+    s = checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
+    ee = checks.array_in_range("e", e, 0.0, 1.0)
     r = ball.mass_kg * (1.0 / bat.mass_kg + s * s / bat.inertia_cm_kgm2)
     return (ee - r) / (1.0 + r)
 
@@ -149,11 +149,11 @@ def sweet_spot(
     The second form is used: it has no cancellation and gives s* = 0 at omega0 = 0. s* may lie
     beyond the barrel end; then v1 is largest at the end of the bat.
     """
-    v0 = _checks.array_in_range("v0_mps", v0_mps, 0.0)
-    u0 = _checks.array_in_range("u0_mps", u0_mps)
-    w0 = _checks.array_in_range("omega0_radps", omega0_radps)
-    th = _checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2)
-    ph = _checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2)
+    v0 = checks.array_in_range("v0_mps", v0_mps, 0.0)
+    u0 = checks.array_in_range("u0_mps", u0_mps)
+    w0 = checks.array_in_range("omega0_radps", omega0_radps)
+    th = checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2)
+    ph = checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2)
     A = v0 * np.cos(th) + u0 * np.cos(ph)
     if np.any(A <= 0.0):
         raise ValueError(
@@ -221,7 +221,7 @@ def sweet_zone(
     With c = (1 + e)/m, T = v_target + v0 and k = 1/m + 1/M, v1(s) = v_target reads
     (T/J) s^2 - c omega0 s + (T k - c A) = 0; its two roots bound the zone. Not clipped to the bat.
     """
-    _checks.in_range("fraction", fraction, 0.0, 1.0, lo_open=True)
+    checks.in_range("fraction", fraction, 0.0, 1.0, lo_open=True)
     s_best = hittable_sweet_spot(bat, ball, v0_mps, u0_mps, omega0_radps)
     v_max = float(batted_ball_speed(bat, ball, s_best, v0_mps=v0_mps, u0_mps=u0_mps,
                                     omega0_radps=omega0_radps, e=e))
@@ -243,7 +243,7 @@ def center_of_percussion(bat: Bat, pivot_from_knob_m: float = 0.1) -> float:
     it is the impact point that leaves the pivot point's velocity unchanged: dv_h = 0 in
     ``predict``. A pivot at the COM has no COP.
     """
-    x_p = _checks.in_range("pivot_from_knob_m", pivot_from_knob_m, 0.0, bat.length_m)
+    x_p = checks.in_range("pivot_from_knob_m", pivot_from_knob_m, 0.0, bat.length_m)
     d = bat.com_from_knob_m - x_p
     if d == 0.0:
         raise ValueError(
@@ -278,7 +278,7 @@ def predict_oblique_paper(
     """
     bat, ball = case.bat, case.ball
     m, M, J, s = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2, case.s_m
-    r = bat.radius_m + ball.radius_m if arm_m is None else _checks.positive("arm_m", arm_m)
+    r = bat.radius_m + ball.radius_m if arm_m is None else checks.positive("arm_m", arm_m)
     th = case.theta_rad
     num = J * M * (1.0 + case.e) * (case.u0n_mps + case.v0n_mps + case.omega0_radps * s)
     den = (J * m + J * M + m * M * s * s) * math.cos(th)

@@ -10,11 +10,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import _checks
+from . import checks
 
 
 def _vec3(name: str, x: ArrayLike) -> np.ndarray:
-    a = _checks.array_in_range(name, x)
+    a = checks.array_in_range(name, x)
     if a.shape != (3,):
         raise ValueError(f"{name} has shape {a.shape}; allowed: a 3-vector")
     return a
@@ -34,8 +34,8 @@ class RigidBody3D:
     omega_radps: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def __post_init__(self) -> None:
-        _checks.positive("mass_kg", self.mass_kg)
-        inertia = _checks.array_in_range("inertia_kgm2", self.inertia_kgm2)
+        checks.positive("mass_kg", self.mass_kg)
+        inertia = checks.array_in_range("inertia_kgm2", self.inertia_kgm2)
         if inertia.shape != (3, 3):
             raise ValueError(f"inertia_kgm2 has shape {inertia.shape}; allowed: 3x3")
         scale = np.max(np.abs(inertia))
@@ -85,7 +85,7 @@ def impulse_3d(
     if norm == 0.0:
         raise ValueError("normal is the zero vector; allowed: a non-zero 3-vector")
     n = n / norm
-    _checks.in_range("e", e, 0.0, 1.0)
+    checks.in_range("e", e, 0.0, 1.0)
     v_rel = float(n @ (a.point_velocity(r_a) - b.point_velocity(r_b)))
     if not v_rel < 0.0:
         raise ValueError(f"relative normal velocity v_rel={v_rel!r} m/s: the bodies do not "

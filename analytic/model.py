@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from . import _checks
+from . import checks
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -36,13 +36,13 @@ class Bat:
     inertia_axial_kgm2: float | None = None
 
     def __post_init__(self) -> None:
-        _checks.positive("length_m", self.length_m)
-        _checks.in_range("radius_m", self.radius_m, 0.0, self.length_m / 2, lo_open=True)
-        _checks.positive("mass_kg", self.mass_kg)
-        _checks.in_range("com_from_knob_m", self.com_from_knob_m, 0.0, self.length_m)
-        _checks.positive("inertia_cm_kgm2", self.inertia_cm_kgm2)
+        checks.positive("length_m", self.length_m)
+        checks.in_range("radius_m", self.radius_m, 0.0, self.length_m / 2, lo_open=True)
+        checks.positive("mass_kg", self.mass_kg)
+        checks.in_range("com_from_knob_m", self.com_from_knob_m, 0.0, self.length_m)
+        checks.positive("inertia_cm_kgm2", self.inertia_cm_kgm2)
         if self.inertia_axial_kgm2 is not None:
-            _checks.positive("inertia_axial_kgm2", self.inertia_axial_kgm2)
+            checks.positive("inertia_axial_kgm2", self.inertia_axial_kgm2)
 
     @property
     def axial_inertia_kgm2(self) -> float:
@@ -69,7 +69,7 @@ class Bat:
     def inertia_about(self, pivot_from_knob_m: float) -> float:
         """Transverse moment of inertia (kg m^2) about a pivot on the axis (parallel axes):
         I_p = J_cm + M (x_cm - x_p)^2."""
-        x_p = _checks.in_range("pivot_from_knob_m", pivot_from_knob_m, 0.0, self.length_m)
+        x_p = checks.in_range("pivot_from_knob_m", pivot_from_knob_m, 0.0, self.length_m)
         return self.inertia_cm_kgm2 + self.mass_kg * (self.com_from_knob_m - x_p) ** 2
 
     @property
@@ -79,7 +79,7 @@ class Bat:
 
     def check_s(self, s_m: float, name: str = "s_m") -> float:
         """Return ``s_m`` if it lies on the bat (between knob and barrel end), else raise."""
-        return _checks.in_range(name, s_m, -self.com_from_knob_m, self.s_barrel_end_m)
+        return checks.in_range(name, s_m, -self.com_from_knob_m, self.s_barrel_end_m)
 
     def corked(
         self,
@@ -110,8 +110,8 @@ class Ball:
     radius_m: float
 
     def __post_init__(self) -> None:
-        _checks.positive("mass_kg", self.mass_kg)
-        _checks.positive("radius_m", self.radius_m)
+        checks.positive("mass_kg", self.mass_kg)
+        checks.positive("radius_m", self.radius_m)
 
     @property
     def inertia_kgm2(self) -> float:
@@ -143,14 +143,14 @@ class ImpactCase:
 
     def __post_init__(self) -> None:
         self.bat.check_s(self.s_m)
-        _checks.non_negative("v0_mps", self.v0_mps)
-        _checks.finite("u0_mps", self.u0_mps)
-        _checks.finite("omega0_radps", self.omega0_radps)
-        _checks.in_range("e", self.e, 0.0, 1.0)
-        _checks.in_range("theta_rad", self.theta_rad, -math.pi / 2, math.pi / 2, lo_open=True,
+        checks.non_negative("v0_mps", self.v0_mps)
+        checks.finite("u0_mps", self.u0_mps)
+        checks.finite("omega0_radps", self.omega0_radps)
+        checks.in_range("e", self.e, 0.0, 1.0)
+        checks.in_range("theta_rad", self.theta_rad, -math.pi / 2, math.pi / 2, lo_open=True,
                          hi_open=True)
-        _checks.in_range("phi_rad", self.phi_rad, -math.pi / 2, math.pi / 2)
-        _checks.in_range("hands_from_knob_m", self.hands_from_knob_m, 0.0, self.bat.length_m)
+        checks.in_range("phi_rad", self.phi_rad, -math.pi / 2, math.pi / 2)
+        checks.in_range("hands_from_knob_m", self.hands_from_knob_m, 0.0, self.bat.length_m)
         vc = self.closing_speed_mps
         if not vc > 0.0:
             raise ValueError(

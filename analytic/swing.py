@@ -17,7 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import Enum
 
-from . import _checks
+from . import checks
 from .model import Bat
 
 MEASURED_EXPONENT = 0.27  #: n in swing speed ~ I^-n (Cross & Bower 2006, J. Sports Sci. 24, 23)
@@ -57,7 +57,7 @@ def swing_for(
     I is taken about ``pivot_from_knob_m`` (the knob by default, the usual 'swing weight').
     """
     model = SwingModel(model)
-    _checks.in_range("exponent", exponent, 0.0, 2.0)
+    checks.in_range("exponent", exponent, 0.0, 2.0)
     if model is SwingModel.CONSTANT_FORCE:
         return Swing(u0_mps=reference.u0_mps * reference_bat.mass_kg / bat.mass_kg,
                      omega0_radps=reference.omega0_radps)

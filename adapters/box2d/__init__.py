@@ -1,4 +1,4 @@
-"""Box2D v3 adapter (pyb2d3 0.11.1, Box2D's 3.1 API, single precision): the planar scene maps one
+"""Box2D v3 (pyb2d3 0.11.1, Box2D's 3.1 API, single precision): the planar scene maps one
 to one, as in pymunk.
 
 The bat is a dynamic body with a capsule shape from s_min to s_max (body origin at the COM), the
@@ -57,11 +57,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from analytic import Ball, Bat
-from analytic import _checks
+from analytic import checks
 
-from ._record import EngineRecord, Integrator, KnobFamily, RestitutionRule, import_engine
-from .base import BodyLoad, Engine, MassProperties, Reading, Settings
+from ..record import EngineRecord, Integrator, KnobFamily, RestitutionRule, Settings
+
+#: Box2D's speculative distance, 4 linear slops of 5 mm (compile-time, with 1 length unit = 1 m):
+#: a pair closer than this gets a contact; the stability map's theory and a test measure it.
+SPECULATIVE_M = 0.02
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -87,15 +89,15 @@ class Box2dSettings(Settings):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        _checks.integer("sub_steps", self.sub_steps, 1, 10_000)
+        checks.integer("sub_steps", self.sub_steps, 1, 10_000)
         if self.max_sub_step_s is not None:
-            _checks.positive("max_sub_step_s", self.max_sub_step_s)
+            checks.positive("max_sub_step_s", self.max_sub_step_s)
         for name in ("contact_hertz", "contact_damping_ratio", "contact_push_mps",
                      "restitution_threshold_mps"):
             if getattr(self, name) is not None:
-                _checks.non_negative(name, getattr(self, name))
+                checks.non_negative(name, getattr(self, name))
         if self.maximum_linear_speed_mps is not None:
-            _checks.positive("maximum_linear_speed_mps", self.maximum_linear_speed_mps)
+            checks.positive("maximum_linear_speed_mps", self.maximum_linear_speed_mps)
         for name in ("continuous", "bullet"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name}={getattr(self, name)!r} is not a bool; allowed: "
@@ -110,8 +112,12 @@ class Box2dSettings(Settings):
         return max(self.sub_steps, math.ceil(self.dt_s / self.max_sub_step_s * (1 - 1e-12)))
 
 
+    def speculative_margin_m(self) -> float:
+        return SPECULATIVE_M
+
 RECORD = EngineRecord(
-    name="box2d", package="pyb2d3", import_name="pyb2d3", extra="box2d",
+    name="box2d", adapter="adapters.box2d.adapter:Box2dEngine", package="pyb2d3",
+    import_name="pyb2d3", extra="box2d",
     profiles={
         # Fidelity: a 1 us step, because the speculative contact resolves an impact with the
         # geometry of its step's start, an error first order in dt (module docstring): a fuzz
@@ -153,164 +159,5 @@ RECORD = EngineRecord(
     # by pyb2d3 and moves no velocity here, so it is neither quoted nor measurable.
     engine_defaults={"contact_hertz": 30.0, "contact_damping_ratio": 10.0,
                      "restitution_threshold_mps": 1.0, "maximum_linear_speed_mps": 400.0},
+    step_cost_s=2e-6,
 )
-b2 = import_engine(RECORD)
-#: Box2D's speculative distance, 4 linear slops of 5 mm (compile-time, with 1 length unit = 1 m):
-#: a pair closer than this gets a contact; the stability map's theory and a test measure it.
-SPECULATIVE_M = 0.02
-
-
-def _rot(angle: float):
-    """A Box2D rotation from cos/sin in double precision (b2MakeRot approximates them)."""
-    q = b2.Rot()
-    q.c, q.s = math.cos(angle), math.sin(angle)
-    return q
-
-
-class Box2dEngine(Engine):
-    """Box2D v3 behind the common contract."""
-
-    record = RECORD
-
-    @classmethod
-    def speculative_margin_m(cls, settings: Box2dSettings) -> float:
-        return SPECULATIVE_M
-
-    @classmethod
-    def read_back_defaults(cls) -> dict:
-        d = b2.WorldDef()
-        return {"contact_hertz": d.contact_hertz, "contact_damping_ratio": d.contact_damping_ratio,
-                "restitution_threshold_mps": d.restitution_threshold,
-                "maximum_linear_speed_mps": d.maximum_linear_speed}
-
-    def __init__(self, settings: Box2dSettings, *, name: str | None = None) -> None:
-        super().__init__(settings, name=name)
-        self._world = None
-        self._joint = None
-        self._load: tuple[float, float, float] | None = None
-
-    def close(self) -> None:
-        if self._world is not None:
-            self._world.destroy()
-            self._world = None
-            self.scene = None
-
-    def build_scene(self, bat: Bat, ball: Ball) -> None:
-        st = self.settings
-        self.close()
-        given = {"restitution_threshold": st.restitution_threshold_mps,
-                 "maximum_linear_speed": st.maximum_linear_speed_mps,
-                 "contact_hertz": st.contact_hertz,
-                 "contact_damping_ratio": st.contact_damping_ratio}
-        world = b2.World(gravity=(0.0, 0.0),
-                         **{k: v for k, v in given.items() if v is not None})
-        world.sleeping_enabled = False
-        world.continuous_enabled = st.continuous
-        if st.contact_push_mps is not None:
-            wd = b2.WorldDef()
-            world.set_contact_tuning(
-                wd.contact_hertz if st.contact_hertz is None else st.contact_hertz,
-                wd.contact_damping_ratio if st.contact_damping_ratio is None
-                else st.contact_damping_ratio, st.contact_push_mps)
-        self._world = world
-        self._sub_steps = st.sub_step_count
-        self._joint = None
-        self._anchor = world.create_static_body(position=(0.0, 0.0))
-        self._bat = world.create_dynamic_body(position=(0.0, 0.0), enable_sleep=False)
-        self._ball = world.create_dynamic_body(position=(0.0, 1.0), enable_sleep=False,
-                                               is_bullet=st.bullet)
-        sd = b2.ShapeDef()
-        sd.density = 1.0
-        sd.update_body_mass = True  # shapes set the extents continuous collision uses
-        sd.enable_contact_events = False
-        mat = b2.SurfaceMaterial()
-        mat.friction = 0.0
-        mat.restitution = 1.0
-        sd.material = mat
-        self._bat_shape = self._bat.create_capsule_shape(
-            sd, b2.capsule((bat.s_min_m, 0.0), (bat.s_max_m, 0.0), bat.radius_m))
-        self._ball_shape = self._ball.create_circle_shape(sd, b2.circle((0.0, 0.0),
-                                                                        ball.radius_m))
-        for body, mass, inertia in ((self._bat, bat.mass_kg, bat.inertia_cm_kgm2),
-                                    (self._ball, ball.mass_kg, ball.inertia_kgm2)):
-            md = b2.MassData()
-            md.mass, md.center, md.rotational_inertia = mass, (0.0, 0.0), inertia
-            body.mass_data = md
-        self._v_before: tuple[float, float, float] | None = None
-
-    def mass_properties(self) -> MassProperties:
-        bat, ball = self._bat.mass_data, self._ball.mass_data
-        cap = self._bat.shapes[0].capsule
-        knob_x = cap.center1.x - cap.radius
-        return MassProperties(
-            bat_mass_kg=bat.mass, bat_com_from_knob_m=bat.center.x - knob_x,
-            bat_inertia_kgm2=bat.rotational_inertia, ball_mass_kg=ball.mass,
-            ball_inertia_kgm2=ball.rotational_inertia)
-
-    def set_restitution(self, e: float) -> None:
-        self.set_body_restitution(bat=0.0, ball=e)  # Box2D takes the larger of the two
-
-    def set_body_restitution(self, *, bat: float, ball: float) -> None:
-        super().set_body_restitution(bat=bat, ball=ball)
-        self._bat_shape.restitution, self._ball_shape.restitution = bat, ball
-
-    def set_state(self, r: Reading) -> None:
-        for body in (self._ball, self._bat):
-            body.enabled = False  # destroys the pair's contact (its warm-start impulse)
-            body.enabled = True
-        self._bat.set_transform((r.bat_x, r.bat_y), _rot(r.bat_angle))
-        self._bat.linear_velocity = (r.bat_vx, r.bat_vy)
-        self._bat.angular_velocity = r.bat_w
-        self._ball.set_transform((r.ball_x, r.ball_y), _rot(0.0))
-        self._ball.linear_velocity = (r.ball_vx, r.ball_vy)
-        self._ball.angular_velocity = r.ball_w
-        self._v_before = None
-
-    def set_load(self, load: BodyLoad | None) -> None:
-        self._load = None if load is None else (load.force_n, load.angle_rad,
-                                                load.torque_about_com_nm)
-
-    def pin(self, pivot_from_com_m: float, pivot_xy_m: tuple[float, float]) -> None:
-        jd = b2.RevoluteJointDef()
-        jd.body_a, jd.body_b = self._anchor, self._bat
-        jd.local_anchor_a = pivot_xy_m
-        jd.local_anchor_b = (pivot_from_com_m, 0.0)
-        jd.collide_connected = False
-        self._joint = self._world.create_joint(jd)
-
-    def unpin(self) -> None:
-        if self._joint is not None:
-            self._joint.destroy()
-            self._joint = None
-
-    def step(self) -> None:
-        if self._load is not None:
-            f, q, torque = self._load
-            rot = self._bat.rotation
-            angle = math.atan2(rot.s, rot.c) + q
-            self._bat.apply_force_to_center((f * math.cos(angle), f * math.sin(angle)))
-            self._bat.apply_torque(torque)
-        v = self._ball.linear_velocity
-        self._v_before = (v.x, v.y, self._ball.angular_velocity)
-        # One force per step: Box2D applies it in every sub-step in the world direction it has
-        # at the step's start.
-        self._world.step(self.settings.dt_s, self._sub_steps)
-
-    def read(self) -> Reading:
-        ball, bat = self._ball, self._bat
-        bp, bv = ball.position, ball.linear_velocity
-        cp, cv = bat.position, bat.linear_velocity
-        rot = bat.rotation
-        return Reading(bp.x, bp.y, bv.x, bv.y, ball.angular_velocity, cp.x, cp.y,
-                       math.atan2(rot.s, rot.c), cv.x, cv.y, bat.angular_velocity)
-
-    def in_contact(self) -> bool:
-        # Only the bat's contact acts on the ball: a contact impulse in the last step changed
-        # its velocity (Box2D's own "touching" includes speculative points up to 2 cm apart).
-        if self._v_before is None:
-            return False
-        v = self._ball.linear_velocity
-        return (v.x, v.y, self._ball.angular_velocity) != self._v_before
-
-
-ENGINE = Box2dEngine

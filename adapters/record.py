@@ -1,27 +1,30 @@
-"""What the harness knows about an engine: one record, declared by the engine's adapter module.
+"""What the harness knows about an engine, readable without importing the engine.
 
-Experiments and tests read engine facts only from here (through ``adapters.record(name)``): the
-install hint, the version, the profiles, the plot style, the knob grid of the speed-vs-accuracy
-study, the integrators of the swing study, the float precision the tolerances derive from, and
-the reference its contact converges to. A new engine brings its record and nothing else.
+Each engine declares one ``EngineRecord`` and a ``Settings`` subclass (its knobs) in a module
+that imports no engine; the record names the adapter class (``adapter = "module:Class"``),
+imported only when an impact is fired. Experiments and tests read engine facts only from here
+(through ``adapters.record(name)``): the install hint, the version, the profiles, the plot style,
+the knob grid of the speed-vs-accuracy study, the integrators of the swing study, the float
+precision the tolerances derive from; the settings say which contact model they converge to.
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import importlib
+import math
 import os
 import sys
 from dataclasses import dataclass, field
 from enum import Enum
 from importlib import metadata
 from types import MappingProxyType, ModuleType
-from typing import TYPE_CHECKING, Any, Iterator, Mapping
+from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .base import Settings
+from analytic import checks
 
 #: Profiles every engine must offer: tuned for fidelity, and the engine's own defaults.
 PROFILES = ("reference", "default")
@@ -38,6 +41,62 @@ class ContactReference(str, Enum):
     LINEAR_SPRING_DAMPER = "linear spring-damper"  #: x'' = -b x' - k x in the contact coordinate
     #: F = k x^n (1 + d x'): a penalty force with Hunt-Crossley dissipation (analytic.compliant)
     HUNT_CROSSLEY = "Hunt-Crossley"
+
+
+@dataclass(frozen=True, kw_only=True)
+class Settings:
+    """Knobs common to every engine; each engine's settings class extends it with its own.
+
+    ``dt_s``: time step (s). ``contact_phase``: where in a step the true contact instant falls,
+    0 = on a step boundary (the harness's exact placement), 0.5 = mid-step (what an unaligned
+    simulation meets on average). ``overlap_m``: overlap at the first step that sees the contact
+    (m). ``approach_steps``: free steps before contact. ``max_contact_s``: an impact episode
+    (first contact to its end, as ``analytic.collide`` ends it) longer than this is reported
+    ``no_separation`` (s); 0.1 s covers every plastic impact on the barrel of our bats but those
+    where the ball rides the bat near its COM for longer (the rigid episode too then).
+
+    The methods say what contact these settings make; an engine whose contact is not a rigid
+    impulse, or is solved ahead of touching, overrides them.
+    """
+
+    dt_s: float
+    contact_phase: float = 0.0
+    overlap_m: float = 1e-9
+    approach_steps: int = 2
+    max_contact_s: float = 0.1
+
+    def __post_init__(self) -> None:
+        checks.positive("dt_s", self.dt_s)
+        checks.in_range("contact_phase", self.contact_phase, 0.0, 1.0, hi_open=True)
+        checks.non_negative("overlap_m", self.overlap_m)
+        checks.integer("approach_steps", self.approach_steps, 1, 1000)
+        checks.positive("max_contact_s", self.max_contact_s)
+
+    def as_dict(self) -> dict:
+        """Flat dict of every setting, for tables and provenance."""
+        return dataclasses.asdict(self)
+
+    def contact_reference(self) -> ContactReference:
+        """The continuous model the contact converges to as the step shrinks."""
+        return ContactReference.RIGID_IMPULSE
+
+    def contact_law(self, e: float):
+        """The continuous contact law (``analytic.compliant``) the contact converges to at
+        restitution ``e``, or None for a rigid contact."""
+        return None
+
+    def law_restitution_error(self, dt_over_contact: float) -> float:
+        """The relative error of the restitution a step of ``dt_over_contact`` contact times
+        leaves in a compliant contact (its leading term; the judge allows a multiple of it).
+        Semi-implicit Euler through a spring-damper: (pi/3) dt/t_c (measured -5.0e-3 for MuJoCo
+        at w = 3000 rad/s, dt = 1e-5 s, against 5.2e-3 from the formula)."""
+        return math.pi / 3.0 * dt_over_contact
+
+    def speculative_margin_m(self) -> float:
+        """The gap (m) below which the engine already solves a contact (speculative contact):
+        such a contact is solved from the geometry at the start of the step that closes it, up
+        to a whole step early; 0 for engines that see a contact once the bodies overlap."""
+        return 0.0
 
 
 class RestitutionRule(str, Enum):
@@ -87,23 +146,26 @@ class Integrator:
 class EngineRecord:
     """Everything the harness knows about one engine.
 
-    ``package``: the PyPI distribution that provides it, ``import_name`` the module it imports
-    (they differ, e.g. Box2D vs box2d), ``extra`` the batsim extra that installs it (None: a
-    core dependency). ``profiles``: at least PROFILES; the ``default`` profile is the engine out
-    of the box (its own time step and solver values). ``color``/``marker``: plot style (None:
-    one from the registry's palette). ``speed_accuracy``: its knob families besides the two
-    profiles. ``integrators``: label -> settings overrides for the swing study. ``precision``:
-    the float type it computes in ("float64" or "float32"). ``restitution_rule``: how it
-    combines two bodies' restitution; ``threshold_setting``: the settings field of its
-    restitution velocity threshold, if it has one. ``soft_contact``: the overrides that switch
-    it to a spring-damper contact, if it has one, whose natural frequency (rad/s) is the settings
-    field ``stiffness_setting`` (the stability study maps it). ``engine_defaults``: the
-    engine's own out-of-the-box values of settings fields (what the README quotes), each read
-    back from the engine (``Engine.read_back_defaults``) or, where the engine does not report
-    it, measured: a test pins both.
+    ``adapter``: "module:Class" of its adapter (an ``adapters.interface`` Engine or
+    BatchedEngine), imported only to fire. ``package``: the PyPI distribution that provides the
+    engine, ``import_name`` the module it imports (they differ, e.g. sapien vs physx), ``extra``
+    the batsim extra that installs it (None: a core dependency). ``profiles``: at least
+    PROFILES; the ``default`` profile is the engine out of the box (its own time step and
+    solver values). ``color``/``marker``: plot style (None: one from the registry's palette).
+    ``speed_accuracy``: its knob families besides the two profiles. ``integrators``: for the
+    swing study (empty: the engine cannot drive the bat). ``precision``: the float type it
+    computes in ("float64" or "float32"). ``restitution_rule``: how it combines two bodies'
+    restitution; ``threshold_setting``: the settings field of its restitution velocity
+    threshold, if any. ``soft_contact``: the overrides that switch it to a spring-damper
+    contact, if it has one, whose natural frequency (rad/s) is the settings field
+    ``stiffness_setting``. ``engine_defaults``: the engine's own out-of-the-box values of
+    settings fields (what the README quotes), each read back (``read_back_defaults``) or
+    measured: a test pins both. ``step_cost_s``: the rough wall time of one reference step
+    (s, from ``experiments.bench_engines``), for run-time estimates only.
     """
 
     name: str
+    adapter: str
     package: str
     import_name: str
     extra: str | None = None
@@ -113,12 +175,12 @@ class EngineRecord:
     speed_accuracy: tuple[KnobFamily, ...] = ()
     integrators: tuple[Integrator, ...] = (Integrator(label="semi-implicit Euler"),)
     precision: str = "float64"
-    converges_to: ContactReference = ContactReference.RIGID_IMPULSE
     restitution_rule: RestitutionRule = RestitutionRule.PRODUCT
     threshold_setting: str | None = None
     soft_contact: Mapping[str, Any] | None = None
     stiffness_setting: str | None = None
     engine_defaults: Mapping[str, Any] = field(default_factory=dict)
+    step_cost_s: float = 1e-5
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]
@@ -127,11 +189,15 @@ class EngineRecord:
                              f"profiles that include {', '.join(PROFILES)}")
         if self.precision not in ("float64", "float32"):
             raise ValueError(f"precision={self.precision!r} is unknown; allowed: float64, float32")
+        if ":" not in self.adapter:
+            raise ValueError(f"adapter={self.adapter!r} is not 'module:Class'; allowed: the "
+                             "adapter class's module and name, joined by ':'")
         object.__setattr__(self, "profiles", MappingProxyType(dict(self.profiles)))
         object.__setattr__(self, "engine_defaults", MappingProxyType(dict(self.engine_defaults)))
         if (self.soft_contact is None) != (self.stiffness_setting is None):
             raise ValueError(f"engine {self.name!r}: soft_contact and stiffness_setting go "
                              "together; allowed: both or neither")
+        checks.positive("step_cost_s", self.step_cost_s)
 
     @property
     def eps(self) -> float:
@@ -144,6 +210,11 @@ class EngineRecord:
         target = f"'batsim[{self.extra}]'" if self.extra else self.package
         return (f"engine {self.name!r} needs the package {self.package!r}: pip install {target}  "
                 "(or `make test`, which installs every engine)")
+
+    @property
+    def drives_bat(self) -> bool:
+        """Whether the engine can swing the bat (its adapter implements ``set_drive``)."""
+        return bool(self.integrators)
 
     def version(self) -> str:
         """The installed version of the engine's package."""

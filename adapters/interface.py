@@ -1,0 +1,222 @@
+"""The engine interface: everything an engine adapter implements, on one page.
+
+An engine is two things, kept apart so that the harness can read about an engine without
+importing it (``--engine`` validation, charts, tolerances):
+
+- a **record** (``adapters.record.EngineRecord``, in a module that imports no engine): its name,
+  package, profiles (instances of its ``Settings`` subclass), plot style, knobs and precision,
+  and ``adapter = "module:Class"``, where the adapter lives;
+- an **adapter class**, one of the two forms below, which imports the engine.
+
+The harness does the rest the same way for every engine (``experiments.core``): it places the
+bodies from the analytic free motion so that contact happens at the intended point, steps until
+the impact episode is over, classifies it and judges it. An adapter only builds, sets, steps
+and reads. It holds no state from one impact to the next that could change the next one's bits:
+``set_state`` forgets every contact the engine remembers (warm starts, cached impulses).
+
+**Single-world form** (``Engine``): one world at a time; the harness loops over impacts. Seven
+members: ``record``, ``build``, ``mass_properties``, ``set_state``, ``step``, ``read`` and
+``in_contact`` (plus ``__init__(settings)``, inherited). Optional: ``set_drive`` (the hands:
+without it the engine sits out the swing studies), ``failed``, ``set_body_restitution``,
+``close`` and ``read_back_defaults``.
+
+**Batched form** (``BatchedEngine``): the same members over ``n`` independent worlds at once,
+arrays in and arrays out, one row per world in ``STATE_FIELDS`` order.
+
+Frame and units: the world frame is the contact frame at the contact instant: x along the bat
+(knob to barrel), y from the bat toward the ball, rotation about z; every body stays in the x-y
+plane. SI units; the bat's position is its centre of mass (COM), its velocity the COM's.
+Check an adapter with ``experiments.core.check_engine`` before you use it.
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar, NamedTuple, Sequence
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from analytic import Ball, Bat
+
+    from .record import EngineRecord, Settings
+
+
+class State(NamedTuple):
+    """Both bodies at one instant, world frame (m, m/s, rad, rad/s). Build it with keywords."""
+
+    ball_x_m: float
+    ball_y_m: float
+    ball_vx_mps: float
+    ball_vy_mps: float
+    ball_omega_radps: float
+    bat_x_m: float
+    bat_y_m: float
+    bat_angle_rad: float
+    bat_vx_mps: float
+    bat_vy_mps: float
+    bat_omega_radps: float
+
+
+#: Column order of a batch of states (an array of shape (n, 11)).
+STATE_FIELDS = State._fields
+
+
+@dataclass(frozen=True, kw_only=True)
+class Scene:
+    """What an engine builds: the bat (a capsule with SET mass, COM and inertia about the COM,
+    axis from ``bat.s_min_m`` to ``bat.s_max_m`` along x from the COM), the ball (a sphere) and
+    the coefficient of restitution ``e`` their contact must have (mapped onto whatever the
+    engine offers). No gravity, no friction, nothing else."""
+
+    bat: Bat
+    ball: Ball
+    e: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class MassProperties:
+    """What an engine holds for the two bodies. Units: kg, m (COM from the knob), kg m^2 (the
+    moment of inertia about z through each body's COM)."""
+
+    bat_mass_kg: float
+    bat_com_from_knob_m: float
+    bat_inertia_kgm2: float
+    ball_mass_kg: float
+    ball_inertia_kgm2: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class Hands:
+    """The bat driven during a swing: a force ``force_n`` (N) at ``angle_rad`` to the bat's axis,
+    turning with the bat, applied ``arm_m`` (m) from the COM along the axis (barrel side
+    positive), plus a torque ``torque_nm`` (N m) about z; and, unless ``pivot_from_com_m`` is
+    None, the axis point that far from the COM (m) hinged to the world point ``pivot_xy_m`` (m)
+    by the engine's own releasable joint."""
+
+    force_n: float = 0.0
+    angle_rad: float = 0.0
+    arm_m: float = 0.0
+    torque_nm: float = 0.0
+    pivot_from_com_m: float | None = None
+    pivot_xy_m: tuple[float, float] = (0.0, 0.0)
+
+    @property
+    def torque_about_com_nm(self) -> float:
+        """torque + arm f sin(angle): the force moved to the COM plus its moment (N m)."""
+        return self.torque_nm + self.arm_m * self.force_n * math.sin(self.angle_rad)
+
+
+class Engine(abc.ABC):
+    """An engine that steps one world at a time (the single-world form)."""
+
+    #: Everything the harness knows about the engine (``adapters.record.EngineRecord``).
+    record: ClassVar[EngineRecord]
+
+    def __init__(self, settings: Settings) -> None:
+        self.settings = settings
+
+    @abc.abstractmethod
+    def build(self, scene: Scene) -> None:
+        """Create (or re-create) the world holding ``scene``: the bat and the ball with exactly
+        their mass properties, their contact bouncing with ``scene.e``."""
+
+    @abc.abstractmethod
+    def mass_properties(self) -> MassProperties:
+        """Read back what the engine holds for both bodies (the harness compares it with the
+        scene before any impact)."""
+
+    @abc.abstractmethod
+    def set_state(self, state: State) -> None:
+        """Put both bodies at these positions and velocities and forget any contact the engine
+        remembers from before."""
+
+    @abc.abstractmethod
+    def step(self) -> None:
+        """Advance the world by one time step, ``settings.dt_s``."""
+
+    @abc.abstractmethod
+    def read(self) -> State:
+        """Both bodies now (COM positions and velocities)."""
+
+    @abc.abstractmethod
+    def in_contact(self) -> bool:
+        """True if the engine holds an active bat-ball contact after the last step (one that
+        acts: not a speculative contact between bodies still apart that exerted nothing)."""
+
+    def set_drive(self, hands: Hands | None) -> None:
+        """Drive the bat with ``hands`` on every following step; None: let go (remove the loads
+        and release the hinge). Optional: an engine without it does not run swings."""
+        raise NotImplementedError(f"{type(self).__name__} cannot drive the bat")
+
+    def failed(self) -> bool:
+        """True if the engine met a numerical failure since the last ``set_state`` (NaN, inf,
+        a solver that gave up, a blow-up it caught and perhaps reset its state after).
+        Optional: the harness also catches non-finite states and states that jump."""
+        return False
+
+    def set_body_restitution(self, *, bat: float, ball: float) -> None:
+        """Set each body's own restitution value, for an engine that combines two (the record's
+        ``restitution_rule``); a test pins the rule with it. Optional."""
+        raise NotImplementedError(f"{type(self).__name__} has no per-body restitution")
+
+    def close(self) -> None:
+        """Release engine resources (connections, worlds). Optional."""
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        """The engine's own values of settings fields, as a fresh engine reports them (the
+        record's ``engine_defaults`` quotes them; a test compares). Optional."""
+        return {}
+
+
+class BatchedEngine(abc.ABC):
+    """An engine that steps ``n`` independent worlds in one call (the batched form). Arrays in,
+    arrays out: states are float arrays of shape (n, 11) in ``STATE_FIELDS`` order."""
+
+    record: ClassVar[EngineRecord]
+
+    def __init__(self, settings: Settings) -> None:
+        self.settings = settings
+
+    @abc.abstractmethod
+    def build(self, scene: Scene, worlds: int) -> None:
+        """Create ``worlds`` copies of the world holding ``scene``."""
+
+    @abc.abstractmethod
+    def mass_properties(self) -> MassProperties:
+        """Read back the mass properties every world holds."""
+
+    @abc.abstractmethod
+    def set_state(self, states: np.ndarray) -> None:
+        """Put every world in its state (row) and forget every contact remembered."""
+
+    @abc.abstractmethod
+    def step(self) -> None:
+        """Advance every world by ``settings.dt_s``."""
+
+    @abc.abstractmethod
+    def read(self) -> np.ndarray:
+        """Every world's state, shape (n, 11)."""
+
+    @abc.abstractmethod
+    def in_contact(self) -> np.ndarray:
+        """Per world, whether an active bat-ball contact acted in the last step: bool (n,)."""
+
+    def set_drive(self, hands: Sequence[Hands] | None) -> None:
+        """Drive each world's bat with its ``Hands`` (one per world); None: let go."""
+        raise NotImplementedError(f"{type(self).__name__} cannot drive the bat")
+
+    def failed(self) -> np.ndarray | None:
+        """Per world, a numerical failure since the last ``set_state`` (bool (n,)), or None."""
+        return None
+
+    def close(self) -> None:
+        """Release engine resources."""
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        """As ``Engine.read_back_defaults``."""
+        return {}

@@ -1,0 +1,125 @@
+"""MuJoCo: two free bodies, a capsule bat and a sphere ball, no gravity, no friction.
+
+MuJoCo has no restitution parameter: contacts are soft constraints shaped by ``solref`` and
+``solimp``. The adapter maps the target e in one of three ways (``contact_model``):
+- ``impulse``: solref = (0, -(1+e)/dt) in MuJoCo's direct (-stiffness, -damping) form, constant
+  impedance and exact constraint diagonals (``diagexact``): in one Euler step the reference
+  acceleration -(1+e) v_n/dt reverses the normal velocity exactly as Newton's law asks.
+- ``soft``: a spring-damper, solref = (-k, -b) with k = w^2 and b = 2 zeta w, zeta chosen so
+  that a linear spring-damper released when its force reaches zero bounces with e
+  (``damping_ratio_for``). With constant impedance and ``diagexact`` the contact's normal
+  coordinate obeys x'' = -b x' - k x whatever the masses and whatever d (measured: e = 0.49995
+  at w = 3000 rad/s, dt = 1e-7 s for every d in 0.5..0.99). Needs w*dt << 1, and the finite
+  contact time while the bat turns makes it approximate.
+- ``native``: solref/solimp as given (MuJoCo's defaults in the ``default`` profile): e is not
+  mapped at all, which is what an untuned model gets.
+Free-joint velocities: qvel[0:3] is the world velocity of the body frame (put at the COM) and
+qvel[3:6] the angular velocity in the body frame (= world for rotation about z).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from analytic import checks
+from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
+
+from ..record import (ContactReference, EngineRecord, Integrator, KnobFamily, RestitutionRule,
+                      Settings)
+
+INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
+CONTACT_MODELS = ("impulse", "soft", "native")
+DEFAULT_SOLREF = (0.02, 1.0)                       # MuJoCo's documented defaults
+DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
+
+
+@dataclass(frozen=True, kw_only=True)
+class MujocoSettings(Settings):
+    """MuJoCo's knobs. ``integrator`` one of INTEGRATORS; ``contact_model`` one of
+    CONTACT_MODELS; ``soft_omega_radps`` the soft contact's natural frequency w (rad/s);
+    ``impedance`` the constant solimp d for impulse/soft; ``solref``/``solimp`` used as given by
+    the native model; ``diagexact`` exact constraint diagonals; ``iterations``/``tolerance`` of
+    the Newton solver; ``speculative`` MuJoCo's speculative contacts (margin ahead of touching);
+    ``hinge_solref`` of the hands' releasable connect constraint (None: (2 dt, 1), the stiffest
+    MuJoCo recommends)."""
+
+    integrator: str = "Euler"
+    contact_model: str = "impulse"
+    soft_omega_radps: float = 3000.0
+    impedance: float = 0.99
+    solref: tuple[float, float] = DEFAULT_SOLREF
+    solimp: tuple[float, float, float, float, float] = DEFAULT_SOLIMP
+    diagexact: bool = True
+    iterations: int = 100
+    tolerance: float = 1e-8
+    speculative: bool = False
+    hinge_solref: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.integrator not in INTEGRATORS:
+            raise ValueError(f"integrator={self.integrator!r} is unknown; allowed: "
+                             f"{', '.join(INTEGRATORS)}")
+        if self.contact_model not in CONTACT_MODELS:
+            raise ValueError(f"contact_model={self.contact_model!r} is unknown; allowed: "
+                             f"{', '.join(CONTACT_MODELS)}")
+        checks.positive("soft_omega_radps", self.soft_omega_radps)
+        checks.in_range("impedance", self.impedance, 0.0001, 0.9999)
+        checks.integer("iterations", self.iterations, 1, 10_000)
+        checks.non_negative("tolerance", self.tolerance)
+
+    def contact_reference(self) -> ContactReference:
+        # impulse: one Euler step reverses the normal velocity as Newton's law asks; soft: a
+        # spring-damper acting on the contact coordinate; native: untuned, judged as impulse
+        if self.contact_model == "soft":
+            return ContactReference.LINEAR_SPRING_DAMPER
+        return ContactReference.RIGID_IMPULSE
+
+    def contact_law(self, e: float):
+        # soft: solref (-w^2, -2 zeta w) acts on J qacc, in contact space (package docstring)
+        if self.contact_model != "soft":
+            return None
+        return ContactSpaceSpringDamper(omega_radps=self.soft_omega_radps,
+                                        damping_ratio=damping_ratio_for(max(e, 1e-9)))
+
+
+SOFT_OMEGAS_RADPS = (1000.0, 3000.0, 10000.0)  # soft-contact stiffnesses of the speed study
+
+
+def _speed_accuracy() -> tuple[KnobFamily, ...]:
+    """Impulse and soft contact under each integrator (Euler and RK4 with w = 3000 in --quick)."""
+    out = []
+    for integrator in ("Euler", "implicitfast", "RK4"):
+        quick = integrator != "implicitfast"
+        out.append(KnobFamily(label=f"impulse, {integrator}", quick=quick,
+                              overrides=(("integrator", integrator),)))
+        out += [KnobFamily(label=f"soft w={w:g}, {integrator}", quick=quick and w == 3000.0,
+                           overrides=(("integrator", integrator), ("contact_model", "soft"),
+                                      ("soft_omega_radps", w))) for w in SOFT_OMEGAS_RADPS]
+    return tuple(out)
+
+
+RECORD = EngineRecord(
+    name="mujoco", adapter="adapters.mujoco.adapter:MujocoEngine", package="mujoco",
+    import_name="mujoco",
+    profiles={
+        # Fidelity to the impulse model: a 10 us step (contact tilt while the bat turns stays
+        # ~1e-10), Euler (the impulse mapping is exact for one explicit step), impulse contact.
+        "reference": MujocoSettings(dt_s=1e-5, integrator="Euler", contact_model="impulse",
+                                    impedance=0.99, diagexact=True),
+        # Out of the box: 2 ms step, Euler, solref (0.02, 1), default solimp, no diagexact; the
+        # contact instant falls mid-step as it would in an unaligned simulation.
+        "default": MujocoSettings(dt_s=0.002, integrator="Euler", contact_model="native",
+                                  diagexact=False, contact_phase=0.5),
+    },
+    color="tab:green", marker="^",
+    speed_accuracy=_speed_accuracy(),
+    integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
+                                 order=4 if name == "RK4" else 1)
+                      for name in ("Euler", "implicitfast", "RK4")),
+    restitution_rule=RestitutionRule.MAPPED,
+    soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
+    engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
+                     "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler"},
+    step_cost_s=3e-6,
+)

@@ -1,0 +1,169 @@
+"""The MuJoCo adapter (see the package docstring for the contact mappings and their traps)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from analytic import Ball, Bat
+from analytic.compliant import damping_ratio_for
+
+from ..interface import Engine, Hands, MassProperties, Scene, State
+from ..record import import_engine
+from . import INTEGRATORS, RECORD
+
+mujoco = import_engine(RECORD)
+# MuJoCo's own warning handler prints and appends to MUJOCO_LOG.TXT in the working directory;
+# the adapter reads the warning counters instead (``failed``), so the text is dropped.
+mujoco.set_mju_user_warning(lambda text: None)
+#: Warnings that mean the state blew up. MuJoCo resets the state after them, and with it the
+#: counters, before it counts the warning again: so a counter reads 1 however many blow-ups
+#: came before; ``set_state`` zeroes them and any count since is a failure.
+BLOW_UPS = tuple(int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS,
+                                  mujoco.mjtWarning.mjWARN_BADQVEL,
+                                  mujoco.mjtWarning.mjWARN_BADQACC))
+
+
+def _mjcf(bat: Bat, ball: Ball) -> str:
+    """The scene as MJCF: body frames at the COMs, mass properties set explicitly."""
+    a, b = bat.s_min_m, bat.s_max_m
+    ib = ball.inertia_kgm2
+    return f"""<mujoco model="bat_ball">
+  <compiler angle="radian" inertiafromgeom="false"/>
+  <option gravity="0 0 0"/>
+  <default><geom condim="1" friction="0 0 0" margin="0" gap="0"/></default>
+  <worldbody>
+    <body name="bat">
+      <freejoint name="bat"/>
+      <inertial pos="0 0 0" mass="{bat.mass_kg!r}"
+                diaginertia="{bat.axial_inertia_kgm2!r} {bat.inertia_cm_kgm2!r} {bat.inertia_cm_kgm2!r}"/>
+      <geom name="bat" type="capsule" fromto="{a!r} 0 0 {b!r} 0 0" size="{bat.radius_m!r}"/>
+      <site name="load" pos="0 0 0"/>
+    </body>
+    <body name="ball" pos="0 1 0">
+      <freejoint name="ball"/>
+      <inertial pos="0 0 0" mass="{ball.mass_kg!r}" diaginertia="{ib!r} {ib!r} {ib!r}"/>
+      <geom name="ball" type="sphere" size="{ball.radius_m!r}"/>
+    </body>
+  </worldbody>
+  <equality><connect name="hands" body1="bat" anchor="0 0 0" active="false"/></equality>
+  <actuator>
+    <motor name="fx" site="load" gear="1 0 0 0 0 0"/>
+    <motor name="fy" site="load" gear="0 1 0 0 0 0"/>
+    <motor name="tz" site="load" gear="0 0 0 0 0 1"/>
+  </actuator>
+</mujoco>"""
+
+
+class MujocoEngine(Engine):
+    """MuJoCo behind the single-world interface."""
+
+    record = RECORD
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        m = mujoco.MjModel.from_xml_string(
+            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
+        return {"solref": tuple(m.geom_solref[0].tolist()),
+                "solimp": tuple(m.geom_solimp[0].tolist()), "iterations": int(m.opt.iterations),
+                "tolerance": float(m.opt.tolerance), "dt_s": float(m.opt.timestep),
+                "integrator": next(i for i in INTEGRATORS if m.opt.integrator
+                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}"))}
+
+    def build(self, scene: Scene) -> None:
+        st = self.settings
+        m = mujoco.MjModel.from_xml_string(_mjcf(scene.bat, scene.ball))
+        m.opt.timestep = st.dt_s
+        m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
+        m.opt.iterations = st.iterations
+        m.opt.tolerance = st.tolerance
+        if st.diagexact:
+            m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_DIAGEXACT
+        if st.speculative:
+            m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_SPECULATIVE
+        self.model, self.data = m, mujoco.MjData(m)
+        self._bat_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "bat")
+        self._ball_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")
+        self._bat_geom = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "bat")
+        self._qpos, self._qvel = self.data.qpos, self.data.qvel
+        self._site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "load")
+        m.site_sameframe[self._site] = 0  # else kinematics ignores site_pos set at run time
+        m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
+        m.geom_solref[:], m.geom_solimp[:] = self._contact(scene.e)
+
+    def _contact(self, e: float) -> tuple[tuple, tuple]:
+        """solref and solimp that make the contact bounce with e (the package docstring)."""
+        st = self.settings
+        d = st.impedance
+        if st.contact_model == "impulse":
+            return (0.0, -(1.0 + e) / st.dt_s), (d, d, 0.001, 0.5, 2.0)
+        if st.contact_model == "soft":
+            w, zeta = st.soft_omega_radps, damping_ratio_for(max(e, 1e-9))
+            return (-w * w, -2.0 * zeta * w), (d, d, 0.001, 0.5, 2.0)
+        return st.solref, st.solimp
+
+    def mass_properties(self) -> MassProperties:
+        m = self.model
+
+        def tensor(body: int) -> np.ndarray:
+            rot = np.zeros(9)
+            mujoco.mju_quat2Mat(rot, m.body_iquat[body])
+            rot = rot.reshape(3, 3)
+            return rot @ np.diag(m.body_inertia[body]) @ rot.T
+
+        g = self._bat_geom
+        knob_x = m.geom_pos[g][0] - m.geom_size[g][1] - m.geom_size[g][0]
+        return MassProperties(
+            bat_mass_kg=float(m.body_mass[self._bat_id]),
+            bat_com_from_knob_m=float(m.body_ipos[self._bat_id][0] - knob_x),
+            bat_inertia_kgm2=float(tensor(self._bat_id)[2, 2]),
+            ball_mass_kg=float(m.body_mass[self._ball_id]),
+            ball_inertia_kgm2=float(tensor(self._ball_id)[2, 2]),
+        )
+
+    def set_state(self, state: State) -> None:
+        data = self.data
+        data.time = 0.0
+        data.qacc_warmstart[:] = 0.0
+        for w in BLOW_UPS:
+            data.warning[w].number = 0
+        half = 0.5 * state.bat_angle_rad
+        self._qpos[:] = (state.bat_x_m, state.bat_y_m, 0.0, math.cos(half), 0.0, 0.0,
+                         math.sin(half), state.ball_x_m, state.ball_y_m, 0.0, 1.0, 0.0, 0.0, 0.0)
+        self._qvel[:] = (state.bat_vx_mps, state.bat_vy_mps, 0.0, 0.0, 0.0,
+                         state.bat_omega_radps, state.ball_vx_mps, state.ball_vy_mps, 0.0, 0.0,
+                         0.0, state.ball_omega_radps)
+
+    def set_drive(self, hands: Hands | None) -> None:
+        # Site actuators act in the bat's frame and are evaluated at every integrator stage;
+        # the hands are a connect equality: eq_data[0:3] the anchor in the bat's frame, [3:6]
+        # the point in the world's.
+        if hands is None:
+            self.data.ctrl[:] = 0.0
+            self.data.eq_active[0] = 0
+            return
+        if hands.pivot_from_com_m is not None:
+            self.model.eq_data[0][:6] = (hands.pivot_from_com_m, 0.0, 0.0, *hands.pivot_xy_m,
+                                         0.0)
+            self.data.eq_active[0] = 1
+        self.model.site_pos[self._site] = (hands.arm_m, 0.0, 0.0)
+        q = hands.angle_rad
+        self.data.ctrl[:] = (hands.force_n * math.cos(q), hands.force_n * math.sin(q),
+                             hands.torque_nm)
+
+    def step(self) -> None:
+        mujoco.mj_step(self.model, self.data)
+
+    def read(self) -> State:
+        q, v = self._qpos.tolist(), self._qvel.tolist()  # Python floats: cheaper downstream
+        return State(ball_x_m=q[7], ball_y_m=q[8], ball_vx_mps=v[6], ball_vy_mps=v[7],
+                     ball_omega_radps=v[11], bat_x_m=q[0], bat_y_m=q[1],
+                     bat_angle_rad=2.0 * math.atan2(q[6], q[3]), bat_vx_mps=v[0],
+                     bat_vy_mps=v[1], bat_omega_radps=v[5])
+
+    def in_contact(self) -> bool:
+        return self.data.ncon > 0
+
+    def failed(self) -> bool:
+        return any(self.data.warning[w].number for w in BLOW_UPS)

@@ -1,0 +1,151 @@
+"""The PyBullet adapter (see the package docstring for the scene and its traps)."""
+
+from __future__ import annotations
+
+import math
+
+from ..interface import Engine, Hands, MassProperties, Scene, State
+from ..record import import_engine
+from . import ENGINE_PARAMETERS, RECORD
+
+pb = import_engine(RECORD)
+
+
+class PybulletEngine(Engine):
+    """PyBullet behind the single-world interface."""
+
+    record = RECORD
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        client = pb.connect(pb.DIRECT)
+        try:
+            got = pb.getPhysicsEngineParameters(physicsClientId=client)
+        finally:
+            pb.disconnect(physicsClientId=client)
+        return {"solver_iterations": got["numSolverIterations"], "dt_s": got["fixedTimeStep"]}
+
+    def __init__(self, settings) -> None:
+        super().__init__(settings)
+        self._client: int | None = None
+        self._load: tuple[float, float, float] | None = None
+        self._joint: int | None = None
+
+    def close(self) -> None:
+        if self._client is not None:
+            pb.disconnect(physicsClientId=self._client)
+            self._client = None
+
+    def __del__(self) -> None:
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: the module may be gone already
+            pass
+
+    def build(self, scene: Scene) -> None:
+        st, bat, ball = self.settings, scene.bat, scene.ball
+        if self._client is None:
+            self._client = pb.connect(pb.DIRECT)
+        c = self._client
+        pb.resetSimulation(physicsClientId=c)
+        self._joint = self._load = None
+        pb.setGravity(0, 0, 0, physicsClientId=c)
+        params = {kw: getattr(st, name) for name, kw in ENGINE_PARAMETERS.items()
+                  if getattr(st, name) is not None}
+        pb.setPhysicsEngineParameter(fixedTimeStep=st.dt_s, numSubSteps=0, physicsClientId=c,
+                                     **params)
+        a, b = bat.s_min_m, bat.s_max_m
+        along_x = pb.getQuaternionFromEuler([0.0, math.pi / 2, 0.0])  # capsules lie along z
+        bat_shape = pb.createCollisionShape(pb.GEOM_CAPSULE, radius=bat.radius_m, height=b - a,
+                                            collisionFramePosition=[(a + b) / 2, 0.0, 0.0],
+                                            collisionFrameOrientation=along_x, physicsClientId=c)
+        ball_shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=ball.radius_m,
+                                             physicsClientId=c)
+        self._bat = pb.createMultiBody(bat.mass_kg, bat_shape, physicsClientId=c)
+        self._ball = pb.createMultiBody(ball.mass_kg, ball_shape, basePosition=[0.0, 1.0, 0.0],
+                                        physicsClientId=c)
+        ib = ball.inertia_kgm2
+        inertia = {self._bat: [bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, bat.inertia_cm_kgm2],
+                   self._ball: [ib, ib, ib]}
+        for body, mass in ((self._bat, bat.mass_kg), (self._ball, ball.mass_kg)):
+            extra = {}
+            if st.max_joint_velocity_radps is not None:
+                extra["maxJointVelocity"] = st.max_joint_velocity_radps
+            if st.ccd_swept_sphere_radius > 0.0:
+                extra["ccdSweptSphereRadius"] = st.ccd_swept_sphere_radius
+            pb.changeDynamics(body, -1, mass=mass, localInertiaDiagonal=inertia[body],
+                              lateralFriction=0.0, spinningFriction=0.0, rollingFriction=0.0,
+                              linearDamping=0.0, angularDamping=0.0, restitution=1.0,
+                              physicsClientId=c, **extra)
+        self.set_body_restitution(bat=1.0, ball=scene.e)  # Bullet multiplies the two
+
+    def mass_properties(self) -> MassProperties:
+        c = self._client
+        bat = pb.getDynamicsInfo(self._bat, -1, physicsClientId=c)
+        ball = pb.getDynamicsInfo(self._ball, -1, physicsClientId=c)
+        shape = pb.getCollisionShapeData(self._bat, -1, physicsClientId=c)[0]
+        height, radius = shape[3][0], shape[3][1]
+        knob_x = shape[5][0] - height / 2 - radius
+        return MassProperties(
+            bat_mass_kg=bat[0], bat_com_from_knob_m=bat[3][0] - knob_x,
+            bat_inertia_kgm2=bat[2][2], ball_mass_kg=ball[0], ball_inertia_kgm2=ball[2][2],
+        )
+
+    def set_body_restitution(self, *, bat: float, ball: float) -> None:
+        for body, value in ((self._bat, bat), (self._ball, ball)):
+            pb.changeDynamics(body, -1, restitution=value, physicsClientId=self._client)
+
+    def set_state(self, state: State) -> None:
+        c = self._client
+        half = 0.5 * state.bat_angle_rad
+        pb.resetBasePositionAndOrientation(self._bat, [state.bat_x_m, state.bat_y_m, 0.0],
+                                           [0.0, 0.0, math.sin(half), math.cos(half)],
+                                           physicsClientId=c)
+        pb.resetBaseVelocity(self._bat, [state.bat_vx_mps, state.bat_vy_mps, 0.0],
+                             [0.0, 0.0, state.bat_omega_radps], physicsClientId=c)
+        pb.resetBasePositionAndOrientation(self._ball, [state.ball_x_m, state.ball_y_m, 0.0],
+                                           [0.0, 0.0, 0.0, 1.0], physicsClientId=c)
+        pb.resetBaseVelocity(self._ball, [state.ball_vx_mps, state.ball_vy_mps, 0.0],
+                             [0.0, 0.0, state.ball_omega_radps], physicsClientId=c)
+
+    def set_drive(self, hands: Hands | None) -> None:
+        if hands is None:
+            self._load = None
+            if self._joint is not None:
+                pb.removeConstraint(self._joint, physicsClientId=self._client)
+                self._joint = None
+            return
+        if hands.pivot_from_com_m is not None:
+            self._joint = pb.createConstraint(
+                self._bat, -1, -1, -1, pb.JOINT_POINT2POINT, [0.0, 0.0, 0.0],
+                [hands.pivot_from_com_m, 0.0, 0.0], [*hands.pivot_xy_m, 0.0],
+                physicsClientId=self._client)
+        self._load = (hands.force_n, hands.angle_rad, hands.torque_about_com_nm)
+
+    def step(self) -> None:
+        c = self._client
+        if self._load is not None:
+            f, q, torque = self._load  # force through the COM + its constant torque
+            pos, (_, _, qz, qw) = pb.getBasePositionAndOrientation(self._bat, physicsClientId=c)
+            angle = 2.0 * math.atan2(qz, qw) + q
+            pb.applyExternalForce(self._bat, -1, [f * math.cos(angle), f * math.sin(angle), 0.0],
+                                  pos, pb.WORLD_FRAME, physicsClientId=c)
+            pb.applyExternalTorque(self._bat, -1, [0.0, 0.0, torque], pb.WORLD_FRAME,
+                                   physicsClientId=c)
+        pb.stepSimulation(physicsClientId=c)
+
+    def read(self) -> State:
+        c = self._client
+        (bx, by, _), _ = pb.getBasePositionAndOrientation(self._ball, physicsClientId=c)
+        (bvx, bvy, _), (_, _, bw) = pb.getBaseVelocity(self._ball, physicsClientId=c)
+        (cx, cy, _), (_, _, qz, qw) = pb.getBasePositionAndOrientation(self._bat,
+                                                                       physicsClientId=c)
+        (cvx, cvy, _), (_, _, cw) = pb.getBaseVelocity(self._bat, physicsClientId=c)
+        return State(ball_x_m=bx, ball_y_m=by, ball_vx_mps=bvx, ball_vy_mps=bvy,
+                     ball_omega_radps=bw, bat_x_m=cx, bat_y_m=cy,
+                     bat_angle_rad=2.0 * math.atan2(qz, qw), bat_vx_mps=cvx, bat_vy_mps=cvy,
+                     bat_omega_radps=cw)
+
+    def in_contact(self) -> bool:
+        points = pb.getContactPoints(self._bat, self._ball, physicsClientId=self._client)
+        return any(pt[8] < 0.0 or pt[9] > 0.0 for pt in points)

@@ -1,0 +1,66 @@
+"""pymunk (Chipmunk2D): the planar scene maps one to one.
+
+The bat is a Body with SET mass and moment, its origin at the COM, carrying a Segment shape (a
+capsule) with no mass of its own; the ball a Body with a Circle. Restitution is the product of the
+two shapes' ``elasticity`` (bat 1, ball e). Chipmunk resolves penetration with separate bias
+velocities, so ``collision_slop``/``collision_bias`` do not touch the outgoing velocities; there
+are no swept collisions (Chipmunk2D #212). ``body.velocity`` is the COM's velocity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from analytic import checks
+
+from ..record import EngineRecord, KnobFamily, RestitutionRule, Settings
+
+# pymunk.Space() defaults (length unit: m here), as Chipmunk computes them, in single precision:
+# 0.1f, and pow(1 - 0.1f, 60) for the bias; the record's engine_defaults and a test pin them.
+CHIPMUNK_SLOP = 0.10000000149011612
+CHIPMUNK_BIAS = 0.0017970074436457143
+
+
+@dataclass(frozen=True, kw_only=True)
+class PymunkSettings(Settings):
+    """Chipmunk's knobs: solver ``iterations``; ``collision_slop`` (m) of allowed overlap;
+    ``collision_bias``, the fraction of overlap left after 1 s of correction;
+    ``joint_error_bias``, the same for the hands' pivot joint (0: corrected fully every step)."""
+
+    iterations: int = 10
+    collision_slop: float = CHIPMUNK_SLOP
+    collision_bias: float = CHIPMUNK_BIAS
+    joint_error_bias: float = CHIPMUNK_BIAS
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        checks.integer("iterations", self.iterations, 1, 10_000)
+        checks.non_negative("collision_slop", self.collision_slop)
+        checks.in_range("collision_bias", self.collision_bias, 0.0, 1.0)
+        checks.in_range("joint_error_bias", self.joint_error_bias, 0.0, 1.0)
+
+
+RECORD = EngineRecord(
+    name="pymunk", adapter="adapters.pymunk.adapter:PymunkEngine", package="pymunk",
+    import_name="pymunk",
+    profiles={
+        # Chipmunk's own solver values are already exact for one frictionless contact (a single
+        # constraint is solved in the first iteration); fidelity only needs a short step
+        # (10 us: the contact normal tilts by omega*dt while the bat turns) and aligned contact.
+        # The hands' pivot is corrected fully every step (joint_error_bias 0): the hinge's drift
+        # is then second order (6e-8 of omega after a 0.1 s swing at 10 us) instead of first.
+        "reference": PymunkSettings(dt_s=1e-5, joint_error_bias=0.0),
+        # Out of the box: the 1/60 s step of pymunk's examples, Chipmunk's defaults, the contact
+        # instant mid-step as in any unaligned simulation.
+        "default": PymunkSettings(dt_s=1 / 60, contact_phase=0.5),
+    },
+    color="tab:blue", marker="o",
+    speed_accuracy=(KnobFamily(label="iterations 1", overrides=(("iterations", 1),)),
+                    KnobFamily(label="iterations 10", overrides=(("iterations", 10),),
+                               quick=True),
+                    KnobFamily(label="iterations 100", overrides=(("iterations", 100),))),
+    restitution_rule=RestitutionRule.PRODUCT,
+    engine_defaults={"iterations": 10, "collision_slop": CHIPMUNK_SLOP,
+                     "collision_bias": CHIPMUNK_BIAS, "joint_error_bias": CHIPMUNK_BIAS},
+    step_cost_s=1e-6,
+)
