@@ -21,7 +21,7 @@ from analytic import (MEASURED_EXPONENT, Bat, ImpactCase, Swing, SwingModel, bat
                       center_of_percussion, compliant, corked_bat_paper, hittable_sweet_spot,
                       predict, presets, sweet_spot, sweet_zone, swing_for)
 
-from . import _grid, _runner
+from .core import fire as _fire, tables as _grid, runner as _runner
 
 R161, AL, BALL = presets.R161, presets.EASTON31, presets.BASEBALL
 E = presets.E_WOOD
@@ -344,7 +344,7 @@ def engine_checks(runner: _runner.Runner, engines: tuple[str, ...]) -> pd.DataFr
                 cases.append(ImpactCase(bat=bat, ball=BALL, s_m=s, v0_mps=sc.v0_mps,
                                         u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps, e=E))
                 labels.append((sc.label, name, m.value))
-    jobs = [_runner.Job(engine=n, settings=adapters.settings_for(n), case=c)
+    jobs = [_fire.Job(engine=n, settings=adapters.settings_for(n), case=c)
             for n in engines for c in cases]
     table = _grid.table(runner.fire(jobs), "reference").drop(columns=["bat"])
     meta = pd.DataFrame([lab for _ in engines for lab in labels],

@@ -16,10 +16,11 @@ import argparse
 import math
 import sys
 
-from . import (_cli, bench_analytic, bench_engines, calibrate_soft, defaults, findings, pareto,
+from . import (bench_analytic, bench_engines, calibrate_soft, defaults, findings, pareto,
                stability, swing)
+from .core import cli as _cli
 from . import sweep as sweep_cmd
-from ._io import atomic_write_many, json_bytes, provenance
+from .core.io import atomic_write_many, json_bytes, provenance
 
 #: name -> sweep command-line options (R161, 41 points, the paper's pitch).
 BASELINES = {

@@ -17,8 +17,8 @@ import numpy as np
 
 from analytic import batted_ball_speed, presets
 
-from . import _cli
-from ._io import json_bytes, provenance
+from .core import cli as _cli
+from .core.io import json_bytes, provenance
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -26,13 +26,17 @@ import time
 
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 import adapters
+from adapters import Scene
 from analytic import presets
 
-from . import _cli, _grid, _runner
-from ._io import ROOT, figure_png, json_bytes, provenance
+from .core import cli as _cli, runner as _runner, tables as _grid
+from .core.fire import hosted
+from .core.placement import start_state
+from .core.io import ROOT, figure_png, json_bytes, provenance
 
 
 def per_collision(name: str, firing: _grid.Firing, repeats: int) -> dict:
@@ -42,7 +46,7 @@ def per_collision(name: str, firing: _grid.Firing, repeats: int) -> dict:
     runner = _runner.Runner()
     _grid.table(runner.fire(jobs[:1]), "bench")  # build the scene outside the timing
     harness, walls, bares, steps = [], [], [], []
-    eng = _runner.engine(name, settings)
+    host = hosted(name, settings)
     for _ in range(repeats):
         t0 = time.perf_counter()
         fired = runner.fire(jobs)
@@ -51,11 +55,11 @@ def per_collision(name: str, firing: _grid.Firing, repeats: int) -> dict:
         for f in fired:
             walls.append(f.outcome.wall_s)
             steps.append(f.outcome.steps)
-            eng.set_restitution(f.case.e)
-            eng.set_state(adapters.start_reading(f.case, settings)[0])
+            batch = host.batch(Scene(bat=f.case.bat, ball=f.case.ball, e=f.case.e), 1)
+            batch.set_state(np.array([start_state(f.case, settings)[0]]))
             t0 = time.perf_counter()
             for _ in range(f.outcome.steps):
-                eng.step()
+                batch.step()
             bares.append(time.perf_counter() - t0)
     runner.close()
     per, bare = statistics.median(harness), statistics.median(bares)

@@ -19,7 +19,7 @@ import pandas as pd
 import adapters
 from analytic import ImpactCase, presets
 
-from . import _cli, _runner
+from .core import fire as _fire, cli as _cli, runner as _runner
 
 TARGETS = (0.3, 0.5, 0.8, 1.0)
 SPEEDS_MPS = (5.0, 20.0, 40.0, 80.0)
@@ -28,7 +28,7 @@ STEPS_S = (1e-5, 1e-6, 1e-7)
 OMEGA_RADPS = 3000.0
 
 
-def jobs(engine: str) -> list[_runner.Job]:
+def jobs(engine: str) -> list[_fire.Job]:
     """Every (step, bat mass, target e, speed) for one engine's soft contact."""
     rec = adapters.record(engine)
     out = []
@@ -37,7 +37,7 @@ def jobs(engine: str) -> list[_runner.Job]:
                                          **{rec.stiffness_setting: OMEGA_RADPS})
         for mass in MASSES_KG:
             bat = replace(presets.R161, name=f"r161@{mass}kg", mass_kg=mass)
-            out += [_runner.Job(engine=engine, settings=settings, case=ImpactCase(
+            out += [_fire.Job(engine=engine, settings=settings, case=ImpactCase(
                 bat=bat, ball=presets.BASEBALL, s_m=0.0, v0_mps=v0, e=e))
                 for e in TARGETS for v0 in SPEEDS_MPS]
     return out

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ._grid import TIMING_COLUMNS
+from .core.tables import TIMING_COLUMNS
 
 KEYS = ["engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad"]
 
@@ -74,7 +74,7 @@ def compare_tables(old_path: Path, new_path: Path, out=sys.stdout) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from ._cli import Parser
+    from .core.cli import Parser
 
     p = Parser(prog="python -m experiments.compare", description=__doc__.splitlines()[0])
     p.add_argument("old", type=Path)

@@ -28,8 +28,8 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from . import _cli, _grid, _runner
-from ._io import json_bytes, provenance
+from .core import cli as _cli, tables as _grid, runner as _runner
+from .core.io import json_bytes, provenance
 
 S_M = tuple(np.linspace(-0.2, 0.2, 9))
 REF_DT_S = 1e-5

@@ -22,8 +22,8 @@ import adapters
 from analytic import MEASURED_EXPONENT, SwingModel, batted_ball_speed, center_of_percussion
 
 from . import _answers as A
-from . import _cli
-from ._io import figure_png, provenance
+from .core import cli as _cli
+from .core.io import figure_png, provenance
 
 REFS = {
     "cross2009": "R. Cross, \"Mechanics of swinging a bat\", Am. J. Phys. 77, 36 (2009): the R161 "

@@ -29,8 +29,9 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from . import _cli, _grid, _runner
-from ._io import figure_png, json_bytes, provenance
+from .core.judge import Status
+from .core import cli as _cli, tables as _grid, runner as _runner
+from .core.io import figure_png, json_bytes, provenance
 
 STEPS_S = (1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 2e-3, 1 / 240, 1 / 60)
 QUICK_STEPS_S = (1e-5, 1e-4, 2e-3, 1 / 240, 1 / 60)
@@ -108,7 +109,7 @@ def evaluate(runner: _runner.Runner, settings: list[tuple[str, adapters.Settings
             "wall_per_collision_s": statistics.median(w for r in runs for w in r.wall_s),
             "steps_median": float(df.steps.median()),
             "impacts": len(df),
-            **{f"n_{s.value}": int(counts.get(s.value, 0)) for s in adapters.Status},
+            **{f"n_{s.value}": int(counts.get(s.value, 0)) for s in Status},
             "all_ok": bool(len(ok) == len(df)),
         })
     return out
@@ -226,7 +227,7 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
         dt = adapters.record(name).profiles["default"].dt_s
         for _, d in df[(df.family == DEFAULT_FAMILY) & np.isclose(df.dt_s, dt)].iterrows():
             verdict = (f"max error {d.max_rel_err:.1e}" if d.all_ok else
-                       ", ".join(f"{s.value} {d[f'n_{s.value}']}" for s in adapters.Status
+                       ", ".join(f"{s.value} {d[f'n_{s.value}']}" for s in Status
                                  if d[f"n_{s.value}"]))
             notes.append((colors[name], f"{name} out of the box (dt = {dt:.3g} s): {verdict}"))
     # the notes under the axes, the legend to the right: nothing over the data

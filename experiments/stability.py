@@ -30,8 +30,9 @@ import pandas as pd
 import adapters
 from analytic import ImpactCase, compliant, presets
 
-from . import _cli, _grid, _runner
-from ._io import figure_png, json_bytes, provenance
+from .core import cli as _cli, judge, tables as _grid
+from .core import fire as _fire
+from .core.io import figure_png, json_bytes, provenance
 
 BAT, BALL = presets.R161, presets.BASEBALL
 REACH_M = BAT.radius_m + BALL.radius_m
@@ -54,23 +55,15 @@ LETTERS = {"tunnelled": "T", "non_finite": "N", "energy_gained": "E", "penetrati
            "inaccurate": "I", "no_separation": "S"}
 
 
-def phases(k: int) -> np.ndarray:
-    """Contact phases (k + 1/2)/K, k = 0..K-1: an even sample of where in a step contact falls."""
-    return (np.arange(k) + 0.5) / k
-
-
 def theory_fraction_caught(v_mps: float, dt_s: float, k: int, overlap_m: float = 1e-9,
                            speculative_m: float = 0.0) -> float:
-    """Fraction of the K phases whose first-seen overlap phase*v*dt + overlap stays below R, or
-    whose gap at the start of the contact's step, (1 - phase)*v*dt - overlap, is within the
-    engine's speculative margin (it solves the contact in that step)."""
-    p = phases(k)
-    return float(np.mean((p * v_mps * dt_s + overlap_m < REACH_M)
-                         | ((1 - p) * v_mps * dt_s - overlap_m < speculative_m)))
+    """Fraction of the K phases a rigid contact is caught at (``judge.caught_in_theory``)."""
+    return float(np.mean(judge.caught_in_theory(v_mps, dt_s, judge.phases(k), REACH_M,
+                                                overlap_m, speculative_m)))
 
 
 def map_jobs(engine: str, profile: str, steps, speeds, k: int, extra: dict | None = None,
-             e: float = 1.0, label: str | None = None) -> tuple[list[_runner.Job], list[dict]]:
+             e: float = 1.0, label: str | None = None) -> tuple[list[_fire.Job], list[dict]]:
     """The jobs of one map (every step x phase x speed) and, for each, its coordinates."""
     jobs, meta = [], []
     base = adapters.settings_for(engine, profile, **(extra or {}))
@@ -78,11 +71,11 @@ def map_jobs(engine: str, profile: str, steps, speeds, k: int, extra: dict | Non
     stiffness = (extra or {}).get(rec.stiffness_setting, np.nan) if rec.stiffness_setting \
         else np.nan
     for dt in steps:
-        for phase in phases(k):
+        for phase in judge.phases(k):
             settings = replace(base, dt_s=float(dt), contact_phase=float(phase),
                                max_contact_s=BUDGET_S)
             for v in speeds:
-                jobs.append(_runner.Job(engine=engine, settings=settings, case=ImpactCase(
+                jobs.append(_fire.Job(engine=engine, settings=settings, case=ImpactCase(
                     bat=BAT, ball=BALL, s_m=S_M, v0_mps=v, e=e)))
                 meta.append({"map": label or f"{engine} {profile}", "engine": engine,
                              "profile": profile, "dt_s": float(dt), "v0_mps": v,
@@ -97,7 +90,7 @@ HC_E = 0.5
 
 def hunt_crossley_law(engine: str):
     """The Hunt-Crossley law an engine's reference contact converges to at HC_E, or None."""
-    law = adapters.engine_class(engine).contact_law(adapters.settings_for(engine), HC_E)
+    law = adapters.settings_for(engine).contact_law(HC_E)
     return law if isinstance(law, compliant.HuntCrossley) else None
 
 
@@ -322,7 +315,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     table["peak_penetration_m"] = fired.peak_penetration_m.to_numpy()
     table["ke_ratio"] = (fired.ke_after_j / fired.ke_before_j).to_numpy()
     table["v1_rel_err"] = fired.v1_rel_err.to_numpy()
-    margins = [adapters.engine_class(j.engine).speculative_margin_m(j.settings) for j in jobs]
+    margins = [j.settings.speculative_margin_m() for j in jobs]
     table["theory_fraction_caught"] = [theory_fraction_caught(v, dt, k, speculative_m=m)
                                        for v, dt, m in zip(table.v0_mps, table.dt_s, margins)]
     is_soft = table.soft_omega_radps.notna()
@@ -349,8 +342,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         index=False, float_format="%.6g", lineterminator="\n").encode()
     files["stability.json"] = json_bytes({"quick": args.quick, "phases": k,
                                           "elapsed_s": elapsed, "provenance": provenance()})
-    rigid = [f"{n} reference" for n in args.engine if adapters.engine_class(n).converges_to(
-        adapters.settings_for(n)) is adapters.ContactReference.RIGID_IMPULSE]
+    rigid = [f"{n} reference" for n in args.engine if adapters.settings_for(n).contact_reference()
+             is adapters.ContactReference.RIGID_IMPULSE]
     ref = cells[cells["map"].isin(rigid)]
     match = (ref.fraction_caught == ref.theory_fraction_caught).mean()
     return files, (f"rigid reference maps: the fraction of contacts caught equals theory in "

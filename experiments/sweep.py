@@ -26,8 +26,8 @@ import adapters
 from analytic import Bat, batted_ball_speed, compliant, predict, presets
 from analytic.dynamics import HingedSwing
 
-from . import _cli, _grid, _runner
-from ._io import figure_png, json_bytes, provenance
+from .core import cli as _cli, tables as _grid, runner as _runner
+from .core.io import figure_png, json_bytes, provenance
 
 FLOAT_FORMAT = "%.12g"
 

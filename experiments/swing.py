@@ -29,8 +29,9 @@ from analytic import (SwingModel, batted_ball_speed, hittable_sweet_spot, preset
                       swing_for)
 from analytic.dynamics import Drive, motion, state_array
 
-from . import _cli, _runner
-from ._io import figure_png, json_bytes, provenance
+from .core import cli as _cli, runner as _runner
+from .core.fire import run_motion
+from .core.io import figure_png, json_bytes, provenance
 
 T_END_S = 0.1
 STEPS_S = (1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6)
@@ -65,14 +66,13 @@ def wrap(a: float) -> float:
 def method_rows(engine: str, integrator: adapters.Integrator, dt: float) -> list[dict]:
     """Every scene in one engine with one integrator and time step, against closed form."""
     bat = presets.R161
-    eng = _runner.engine(engine, adapters.settings_for(engine, dt_s=dt,
-                                                       **dict(integrator.overrides)))
+    settings = adapters.settings_for(engine, dt_s=dt, **dict(integrator.overrides))
     label = engine if len(adapters.record(engine).integrators) == 1 \
         else f"{engine} {integrator.label}"
     rows = []
     for name, drive in SCENES.items():
         t0 = time.perf_counter()
-        got = eng.run_motion(bat, drive, T_END_S)
+        got = run_motion(engine, settings, bat, drive, T_END_S)
         wall = time.perf_counter() - t0
         ref = motion(bat, drive, got.t_s)  # round(T/dt) steps: compare at n dt
         err = state_array(got) - state_array(ref)

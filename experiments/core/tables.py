@@ -1,7 +1,8 @@
 """A grid of impact points, the tidy table of fired impacts, and locating marks on engine data.
 
 Shared by the sweep, the studies, the benchmarks and the regression test, so every table is made
-one way. The impacts themselves run through ``experiments._runner``.
+one way: each row judged (``judge``) against the answer that applies. The impacts themselves run
+through ``experiments.core.runner``.
 """
 
 from __future__ import annotations
@@ -18,7 +19,9 @@ import adapters
 from analytic import Bat, ImpactCase, center_of_percussion, predict_arrays, presets, sweet_spot
 from analytic.dynamics import HingedSwing
 
-from . import _runner, _verdict
+from . import judge
+from .fire import Fired, Job, fire_jobs
+from .judge import MEASURED
 
 #: Columns of a sweep table, in order. Units are in the names.
 COLUMNS = (
@@ -31,10 +34,6 @@ COLUMNS = (
     "contact_duration_s", "peak_penetration_m", "steps", "wall_s",
 )
 TIMING_COLUMNS = ("wall_s",)
-#: Statuses whose v1 is a measurement (the engine's impact was sound): errors are taken over
-#: them. ``ok`` rows matched the rigid answer within their tolerance, ``inaccurate`` did not,
-#: ``unjudged`` ones (soft contacts) have no tolerance against it.
-MEASURED = ("ok", "inaccurate", "unjudged")
 #: Extra columns of a sweep whose bat is swung in the engine before each impact.
 SWING_COLUMNS = ("release_omega_engine_radps", "release_omega_analytic_radps",
                  "release_angle_err_rad")
@@ -65,9 +64,9 @@ class Firing:
     def cases(self) -> list[ImpactCase]:
         return [self.case(s) for s in self.s_m]
 
-    def jobs(self, engine: str, settings: adapters.Settings) -> list[_runner.Job]:
+    def jobs(self, engine: str, settings: adapters.Settings) -> list[Job]:
         """One job per grid point for an engine."""
-        return [_runner.Job(engine=engine, settings=settings, case=c, swing=self.swing)
+        return [Job(engine=engine, settings=settings, case=c, swing=self.swing)
                 for c in self.cases()]
 
 
@@ -88,11 +87,11 @@ def grid(bat: Bat, points: int, s_min_m: float | None = None,
     return tuple(float(x) for x in np.linspace(lo, hi, points))
 
 
-def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
+def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
     """The tidy table of fired impacts, one row per impact in order: the case, the rigid-body
     answer (``analytic.collide``'s whole episode, followed as long as the engine's budget; the
     single impulse beside it), the engine's outcome, their difference and the tolerance it is
-    judged against (experiments._verdict): a sound impact outside it gets the status
+    judged against (``judge``): a sound impact outside it gets the status
     ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too."""
     cases = [f.case for f in fired]
     outs = [f.outcome for f in fired]
@@ -106,25 +105,16 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
         impulse[idx] = predict_arrays(bat, ball, **{f: np.array([getattr(c, f) for c in cs]) for f in (
             "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad",
             "hands_from_knob_m")})["v1_mps"]
-    rigid = [_verdict.rigid(c, o.settings.max_contact_s) for c, o in zip(cases, outs)]
+    rigid = [judge.rigid(c, o.settings.max_contact_s) for c, o in zip(cases, outs)]
     ref = {k: np.array([getattr(r, k) for r in rigid])
            for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
     v1 = np.array([o.v1_mps for o in outs])
     err = np.abs(v1 - ref["v1_mps"])
-    tol = _verdict.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
-    law = np.array([_verdict.soft_judgement(c, o) for c, o in zip(cases, outs)]).reshape(-1, 2)
+    tol = judge.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
+    law = np.array([judge.soft_judgement(c, o) for c, o in zip(cases, outs)]).reshape(-1, 2)
     law_err = np.abs(v1 - law[:, 0])
-
-    def judged(i: int, o) -> str:
-        if not o.ok:
-            return o.status.value
-        if not math.isnan(tol[i]):
-            return "ok" if err[i] <= tol[i] else "inaccurate"
-        if not math.isnan(law[i, 1]):
-            return "ok" if law_err[i] <= law[i, 1] else "inaccurate"
-        return "unjudged"
-
-    status = [judged(i, o) for i, o in enumerate(outs)]
+    status = [judge.verdict(o.status.value, err[i], tol[i], law_err[i], law[i, 1])
+              for i, o in enumerate(outs)]
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
     cols = {
@@ -145,7 +135,8 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
         "hand_dv_analytic_mps": ref["hand_dv_mps"],
         "hand_dv_engine_mps": [o.hand_dv_mps for o in outs],
         "ke_before_j": [o.ke_before_j for o in outs], "ke_after_j": [o.ke_after_j for o in outs],
-        "status": status,
+        "status": status, "episode_end": [o.ended for o in outs],
+        "ball_side_end_m": [o.ball_side_m for o in outs],
         "contact_duration_s": [o.contact_duration_s for o in outs],
         "peak_penetration_m": [o.peak_penetration_m for o in outs],
         "steps": [o.steps for o in outs], "wall_s": [o.wall_s for o in outs],
@@ -160,9 +151,8 @@ def table(fired: Sequence[_runner.Fired], profile: str) -> pd.DataFrame:
 
 def _engine_value(name: str, settings: adapters.Settings, firing: Firing, s: float,
                   field: str) -> float:
-    job = _runner.Job(engine=name, settings=settings, case=firing.case(float(s)),
-                      swing=firing.swing)
-    out = _runner.fire_job(job).outcome
+    job = Job(engine=name, settings=settings, case=firing.case(float(s)), swing=firing.swing)
+    out = fire_jobs([job])[0].outcome
     return getattr(out, field) if out.ok else math.nan  # simulate's verdict: sound
 
 

@@ -30,7 +30,9 @@ a swing in the engine) its integrator's angle error can move v1 by.
   tilt creates: LINGER_STEPS steps of |v_t - u_t| omega0 dt - e v_c.
 An impact the engine reports sound (status ok) is kept ok only within this tolerance of the
 rigid-body answer; otherwise its status is ``inaccurate``. Engines whose contact converges to
-another model than the rigid impulse (soft contacts) are not judged here (NaN tolerance).
+another model than the rigid impulse (soft contacts) are judged against that model instead
+(``soft_judgement``). Every tolerance of the harness is a named constant here, with its reason:
+the tests import them rather than restate them.
 """
 
 from __future__ import annotations
@@ -38,12 +40,41 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import replace
+from enum import Enum
 
 import numpy as np
 
 import adapters
-from adapters.base import OFF_SPAN_STEPS
 from analytic import CollisionEpisode, ImpactCase, collide, compliant, predict_arrays
+
+
+class Status(str, Enum):
+    """How a fired impact ended. Only ``ok`` rows matched the answer that applies."""
+
+    OK = "ok"
+    #: The ball's centre ended beyond the bat's axis: it passed through (contact seen or not)
+    TUNNELLED = "tunnelled"
+    #: No contact was seen when it was due and the ball did not pass through the bat either
+    NO_CONTACT = "no_contact"
+    #: NaN or inf in the state, a failure the engine reported (a blow-up it caught and perhaps
+    #: reset its state after, a solver that gave up), or a state that jumped (a silent reset)
+    NON_FINITE = "non_finite"
+    ENERGY_GAINED = "energy_gained"  #: kinetic energy after > before (beyond rounding)
+    PENETRATION = "penetration"      #: deeper than r_ball + r_bat at some step
+    NO_SEPARATION = "no_separation"  #: the episode outlasted the settings' max_contact_s
+    UNSUPPORTED = "unsupported"      #: the engine cannot do what the impact needs (a swing)
+    #: Sound, but v1 misses the answer that applies (rigid theory or the engine's own contact
+    #: law) by more than the row's tolerance
+    INACCURATE = "inaccurate"
+    #: Sound, but no answer applies that the harness can judge it against (a soft contact
+    #: beyond its law's single contact, or stepped too coarsely for the law's bound)
+    UNJUDGED = "unjudged"
+
+
+#: Statuses whose v1 is a measurement (the engine's impact was sound): errors are taken over
+#: them. ``ok`` rows matched their answer within tolerance, ``inaccurate`` did not, ``unjudged``
+#: have none.
+MEASURED = (Status.OK.value, Status.INACCURATE.value, Status.UNJUDGED.value)
 
 ROUND_OPS = 1e4      #: float operations of an impact, each within eps
 GEOM_SAFETY = 10.0   #: covers the factors of order 1 the slide estimate neglects
@@ -52,14 +83,47 @@ FD_STEP_M = 1e-6     #: finite-difference step for dv1/ds (m)
 CURVATURE_STEP_M = 1e-3  #: step for d2v1/ds2 (m): v1(s) is a smooth rational function
 #: Steps a contact may stay active after its impulse (PyBullet measured 1.16 at e = 0)
 LINGER_STEPS = 2
+#: While touching, the ball may stay past the cylinder's end for this many steps before the
+#: episode ends 'left_cylinder' (an impulse at the grid's very end is seen there for its 1-3
+#: steps; a ball sliding off the end in sustained contact is stopped after them).
+OFF_SPAN_STEPS = 3
+#: Slack on the hittable range: L - r - x_cm rounds to within a few ulps of the intended value.
+HITTABLE_SLACK_M = 1e-12
+#: Relative tolerance of the mass read-back: engines store mass properties in float64 and some
+#: derive them through a rotation or an eigen-decomposition, which costs a few ulps.
+MASS_CHECK_REL = 1e-9
+#: Single-precision engines store them in float32 (0.871 kg reads back 9e-9 off): this many of
+#: their ulps, where that is more.
+MASS_CHECK_ULPS = 8
+#: Kinetic energy may grow by this fraction before ``energy_gained``: float64 rounding over
+#: thousands of steps stays far below it, the defects we look for (+1% and more) far above.
+ENERGY_GAIN_REL = 1e-6
+#: In a float32 engine rounding alone moves the energy by a few 1e-6 (PhysX at e = 1: up to
+#: 2.5e-6): this many of its ulps, where that is more (1.2e-5 for float32).
+ENERGY_GAIN_ULPS = 100
+#: Between two readings k steps apart a body's centre moves at most k dt times its larger speed
+#: (its speed is monotone through one contact), twice that here, plus this many contact reaches
+#: (r_ball + r_bat): a position correction pushes apart by less than one reach, a reset of the
+#: state (MuJoCo puts a blown-up world back at its model's pose) moves the ball ~1 m.
+JUMP_REACHES = 2.0
 
 
-def _derivatives(cases) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Single-impulse v1 at each case's s, |dv1/ds| (central difference over FD_STEP_M, kept on
-    the cylinder) and |d2v1/ds2| (over CURVATURE_STEP_M): one vectorized prediction per bat and
-    ball for all rows and all five points."""
+def mass_allowance(eps: float) -> float:
+    """Relative difference allowed between the mass properties set and read back."""
+    return max(MASS_CHECK_REL, MASS_CHECK_ULPS * eps)
+
+
+def energy_allowance(eps: float) -> float:
+    """Relative kinetic-energy gain allowed before ``energy_gained``."""
+    return max(ENERGY_GAIN_REL, ENERGY_GAIN_ULPS * eps)
+
+
+def _derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The single impulse's ``field`` at each case's s, its |d/ds| (central difference over
+    FD_STEP_M, kept on the cylinder) and |d2/ds2| (over CURVATURE_STEP_M): one vectorized
+    prediction per bat and ball for all rows and all five points."""
     n = len(cases)
-    v1, slope, curvature = np.empty(n), np.empty(n), np.empty(n)
+    value, slope, curvature = np.empty(n), np.empty(n), np.empty(n)
     groups: dict[tuple, list[int]] = {}
     for i, c in enumerate(cases):
         groups.setdefault((c.bat, c.ball), []).append(i)
@@ -74,11 +138,11 @@ def _derivatives(cases) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         points = np.column_stack([lo, hi, s3])  # rows x 5
         kw = {f: np.repeat([getattr(c, f) for c in cs], 5).reshape(-1, 5) for f in (
             "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad")}
-        v = predict_arrays(bat, ball, s_m=points, **kw)["v1_mps"]
-        v1[idx] = v[:, 3]
+        v = predict_arrays(bat, ball, s_m=points, **kw)[field]
+        value[idx] = v[:, 3]
         slope[idx] = np.abs(v[:, 1] - v[:, 0]) / (hi - lo)
         curvature[idx] = np.abs(v[:, 2] - 2 * v[:, 3] + v[:, 4]) / h**2
-    return v1, slope, curvature
+    return value, slope, curvature
 
 
 def _lingering(case: ImpactCase, dt_s: float, tangential_mps: float) -> float:
@@ -90,6 +154,16 @@ def _lingering(case: ImpactCase, dt_s: float, tangential_mps: float) -> float:
     return LINGER_STEPS * max(0.0, per_step - case.e * case.closing_speed_mps)
 
 
+def _tangential(case: ImpactCase) -> float:
+    """The relative tangential speed of the approach (m/s)."""
+    return abs(case.v0_mps * math.sin(case.theta_rad) - case.u0_mps * math.sin(case.phi_rad))
+
+
+def _speed(case: ImpactCase) -> float:
+    """The impact's speed scale for rounding: v0 + |u0| + |omega0| L (m/s)."""
+    return case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * case.bat.length_m
+
+
 @functools.lru_cache(maxsize=1 << 16)
 def rigid(case: ImpactCase, max_episode_s: float) -> CollisionEpisode:
     """The rigid-body answer an engine's impact is judged against: the whole episode, followed
@@ -98,52 +172,83 @@ def rigid(case: ImpactCase, max_episode_s: float) -> CollisionEpisode:
     return collide(case, max_episode_s=max_episode_s)
 
 
+def single_impulse_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
+                             slope: float, curvature: float, scale_mps: float | None = None
+                             ) -> float:
+    """Allowed |engine - single impulse| of an output whose |d/ds| and |d2/ds2| are given:
+    ROUND_OPS eps times ``scale_mps`` (default the impact's speed scale) for rounding, the
+    slide of a contact seen late (a speculative one up to a step early), and what a lingering
+    contact adds."""
+    st = settings
+    v_c = case.closing_speed_mps
+    reach = case.bat.radius_m + case.ball.radius_m
+    tangential = _tangential(case)
+    # a speculative contact is solved from the geometry at the start of the step that closes
+    # it: as far off as the gap it had then (up to the margin, or a whole step)
+    early = min(st.speculative_margin_m(), v_c * st.dt_s)
+    delta = st.overlap_m + max(st.contact_phase * v_c * st.dt_s, early)
+    slide = (reach * abs(case.omega0_radps) + tangential) * delta / v_c
+    # the same delay turns the normal by omega0 delta / v_c, so the impulse, (1 + e) times the
+    # approach along it, takes in that share of the tangential speed
+    leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * delta / v_c
+    seen_late = GEOM_SAFETY * (slope * slide + 0.5 * curvature * slide**2 + leak)
+    scale = _speed(case) if scale_mps is None else scale_mps
+    return ROUND_OPS * eps * scale + seen_late + _lingering(case, st.dt_s, tangential)
+
+
 def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarray:
     """Allowed |v1 engine - v1 rigid| per impact (m/s; NaN where not judged)."""
     out = np.full(len(cases), math.nan)
     v1, slopes, curvatures = _derivatives(cases)
     for i, (case, o, w_r, ep) in enumerate(zip(cases, outcomes, release_omega_radps,
                                                rigid_episodes)):
-        rec = adapters.record(o.engine)
-        cls = adapters.engine_class(o.engine)
-        if cls.converges_to(o.settings) is not adapters.ContactReference.RIGID_IMPULSE:
+        st = o.settings
+        if st.contact_reference() is not adapters.ContactReference.RIGID_IMPULSE:
             continue
-        bat, ball, st = case.bat, case.ball, o.settings
-        slope, curvature = slopes[i], curvatures[i]
-        v_c = case.closing_speed_mps
-        reach = bat.radius_m + ball.radius_m
-        tangential = abs(case.v0_mps * math.sin(case.theta_rad)
-                         - case.u0_mps * math.sin(case.phi_rad))
-        speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * bat.length_m
-
-        def seen_late(phase: float) -> float:
-            # a speculative contact is solved from the geometry at the start of the step that
-            # closes it: as far off as the gap it had then (up to the margin, or a whole step)
-            early = min(cls.speculative_margin_m(st), v_c * st.dt_s)
-            delta = st.overlap_m + max(phase * v_c * st.dt_s, early)
-            slide = (reach * abs(case.omega0_radps) + tangential) * delta / v_c
-            # the same delay turns the normal by omega0 delta / v_c, so the impulse, (1 + e)
-            # times the approach along it, takes in that share of the tangential speed
-            leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * delta / v_c
-            return GEOM_SAFETY * (slope * slide + 0.5 * curvature * slide**2 + leak)
-
+        eps = adapters.record(o.engine).eps
         if ep.impacts > 1 or ep.sustained_contact_s > 0.0:
-            out[i] = _episode_tolerance(case, ep, o, w_r, speed * ROUND_OPS * rec.eps, v1[i])
+            out[i] = _episode_tolerance(case, ep, o, w_r, _speed(case) * ROUND_OPS * eps, v1[i])
             continue
-        tol = ROUND_OPS * rec.eps * speed + seen_late(st.contact_phase) \
-            + _lingering(case, st.dt_s, tangential)
+        tol = single_impulse_tolerance(case, st, eps, slopes[i], curvatures[i])
         if math.isfinite(w_r):
-            d_theta = 0.5 * abs(w_r) * st.dt_s
-            d_omega = HINGE_K * (w_r * st.dt_s) ** 2 * abs(w_r)
-            r = ball.mass_kg * (1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
-            q = (case.e - r) / (1 + r)
-            arm = bat.com_from_knob_m - case.hands_from_knob_m
-            swing_slide = (reach + abs(case.s_m)) * d_theta
-            tol += 2 * (slope * swing_slide + 0.5 * curvature * swing_slide**2
-                        + (case.v0_mps + abs(v1[i])) * d_theta**2
-                        + (1 + q) * (abs(arm) + abs(case.s_m)) * d_omega)
+            tol += _swing_terms(case, st.dt_s, w_r, v1[i], slopes[i], curvatures[i])
         out[i] = tol
     return out
+
+
+def _swing_terms(case: ImpactCase, dt_s: float, w_r: float, v1: float, slope: float,
+                 curvature: float) -> float:
+    """After a swing in the engine (first-order integrators): the release angle's slide and
+    tilt and the hinge's omega error, twice their sum (module docstring)."""
+    bat, ball = case.bat, case.ball
+    reach = bat.radius_m + ball.radius_m
+    d_theta = 0.5 * abs(w_r) * dt_s
+    d_omega = HINGE_K * (w_r * dt_s) ** 2 * abs(w_r)
+    r = ball.mass_kg * (1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
+    q = (case.e - r) / (1 + r)
+    arm = bat.com_from_knob_m - case.hands_from_knob_m
+    swing_slide = (reach + abs(case.s_m)) * d_theta
+    return 2 * (slope * swing_slide + 0.5 * curvature * swing_slide**2
+                + (case.v0_mps + abs(v1)) * d_theta**2
+                + (1 + q) * (abs(arm) + abs(case.s_m)) * d_omega)
+
+
+def tangential_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
+                         impulse_ns: float, mass_kg: float) -> float:
+    """Allowed error of a tangential velocity after a frictionless impact: rounding, and the
+    normal tilted by the bat's turn omega0 delta / v_c when the contact is seen, which leaks
+    the impulse P/mass times that tilt into it."""
+    tilt = abs(case.omega0_radps) * settings.overlap_m / case.closing_speed_mps
+    return ROUND_OPS * eps * case.v0_mps + GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt
+
+
+def output_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
+                     field: str) -> float:
+    """``single_impulse_tolerance`` of one output of ``analytic.predict`` (v1_mps, u1_mps or
+    omega1_radps: its rounding scaled to rad/s by 1/L) for a case fired once."""
+    _, slope, curvature = _derivatives([case], field)
+    scale = _speed(case) / case.bat.length_m if field == "omega1_radps" else None
+    return single_impulse_tolerance(case, settings, eps, slope[0], curvature[0], scale)
 
 
 def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
@@ -156,8 +261,7 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
     bat, ball, st = case.bat, case.ball, o.settings
     reach = bat.radius_m + ball.radius_m
     v_c = case.closing_speed_mps
-    tangential = abs(case.v0_mps * math.sin(case.theta_rad)
-                     - case.u0_mps * math.sin(case.phi_rad))
+    tangential = _tangential(case)
 
     def delay(phase: float) -> float:
         return (st.overlap_m + phase * v_c * st.dt_s) / v_c
@@ -203,13 +307,13 @@ LAW_SAFETY = 2.0
 
 @functools.lru_cache(maxsize=1 << 12)
 def law_answer(case: ImpactCase, law) -> compliant.CompliantOutcome:
-    """The answer of the continuous contact law a soft engine declares (``Engine.contact_law``).
+    """The answer of the continuous contact law a soft engine declares (``Settings.contact_law``).
     Cached: the studies fire one case and law at many steps and phases."""
     return compliant.predict(case, law)
 
 
 #: The leading-order bound below holds while the step's restitution error is small: where the
-#: engine's own estimate (``Engine.law_restitution_error``) exceeds this, the step is too coarse
+#: engine's own estimate (``Settings.law_restitution_error``) exceeds this, the step is too coarse
 #: for it (an implicit step of 8% of a contact was 2.6 m/s off and "within" a 13 m/s bound), and
 #: the row is left unjudged.
 LAW_MAX_REL_ERROR = 0.05
@@ -220,25 +324,23 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
     contact converges to a continuous law; (NaN, NaN) for a rigid contact; (v1 law, NaN),
     unjudged, where the law's answer or the bound does not apply. The tolerance is the leading
     error of the engine's step through a contact of duration t_c: its restitution comes out off
-    by e times ``Engine.law_restitution_error`` (semi-implicit Euler: (pi/3) dt/t_c), e the
+    by e times ``Settings.law_restitution_error`` (semi-implicit Euler: (pi/3) dt/t_c), e the
     law's own restitution at this impact (it moves with speed for Hunt-Crossley), which moves
     v1 by v_c / (1 + r) per unit e, r = m (1/M + s^2/J); LAW_SAFETY times that, plus rounding.
     ``analytic.compliant.predict`` follows one contact of an infinite cylinder: where the
     rigid episode at the law's e holds more (re-contacts, a sustained slide), or the ball slides
     past the cylinder's end during the contact, its answer is not the engine's, and the row is
     unjudged; so is a step whose estimated restitution error exceeds LAW_MAX_REL_ERROR."""
-    law = adapters.engine_class(o.engine).contact_law(o.settings, case.e)
+    law = o.settings.contact_law(case.e)
     if law is None:
         return math.nan, math.nan
     ref = law_answer(case, law)
     bat, ball = case.bat, case.ball
     v_c, t_c = case.closing_speed_mps, ref.contact_duration_s
-    rel_err = adapters.engine_class(o.engine).law_restitution_error(o.settings,
-                                                                    o.settings.dt_s / t_c)
+    rel_err = o.settings.law_restitution_error(o.settings.dt_s / t_c)
     e_law = (ref.v1_mps - ref.u1_mps - ref.omega1_radps * case.s_m) / v_c
     reach = bat.radius_m + ball.radius_m
-    tangential = abs(case.v0_mps * math.sin(case.theta_rad) - case.u0_mps * math.sin(case.phi_rad))
-    slide = (tangential + reach * abs(case.omega0_radps)) * t_c
+    slide = (_tangential(case) + reach * abs(case.omega0_radps)) * t_c
     episode = rigid(replace(case, e=min(max(e_law, 0.0), 1.0)), o.settings.max_contact_s)
     if (rel_err > LAW_MAX_REL_ERROR or episode.impacts > 1
             or episode.sustained_contact_s > 0.0
@@ -246,6 +348,37 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
         return ref.v1_mps, math.nan
     r = ball.mass_kg * (1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
     de = max(case.e, e_law) * rel_err
-    speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * bat.length_m
-    rounding = ROUND_OPS * adapters.record(o.engine).eps * speed
+    rounding = ROUND_OPS * adapters.record(o.engine).eps * _speed(case)
     return ref.v1_mps, LAW_SAFETY * v_c / (1 + r) * de + rounding
+
+
+def verdict(status: str, err_mps: float, tol_mps: float, law_err_mps: float,
+            law_tol_mps: float) -> str:
+    """The final status of a fired impact: a failure stays what it is; a sound impact is ``ok``
+    within the tolerance of the answer that applies (rigid theory where ``tol_mps`` is finite,
+    else the engine's own contact law where ``law_tol_mps`` is), ``inaccurate`` outside it, and
+    ``unjudged`` where neither applies."""
+    if status != Status.OK.value:
+        return status
+    if not math.isnan(tol_mps):
+        return Status.OK.value if err_mps <= tol_mps else Status.INACCURATE.value
+    if not math.isnan(law_tol_mps):
+        return Status.OK.value if law_err_mps <= law_tol_mps else Status.INACCURATE.value
+    return Status.UNJUDGED.value
+
+
+def phases(k: int) -> np.ndarray:
+    """Contact phases (k + 1/2)/K, k = 0..K-1: an even sample of where in a step contact falls."""
+    return (np.arange(k) + 0.5) / k
+
+
+def caught_in_theory(v_mps: float, dt_s: float, phase: np.ndarray | float, reach_m: float,
+                     overlap_m: float = 1e-9, speculative_m: float = 0.0) -> np.ndarray:
+    """The tunnelling bound: whether a rigid contact at this closing speed, step and phase is
+    caught. It is first seen ``phase v dt + overlap`` deep, and handled iff that stays below
+    the reach r_ball + r_bat (past it the ball's centre is beyond the bat's axis); or its gap
+    at the start of the contact's step, ``(1 - phase) v dt - overlap``, is within the engine's
+    speculative margin (it is then solved in that step)."""
+    p = np.asarray(phase, dtype=float)
+    return ((p * v_mps * dt_s + overlap_m < reach_m)
+            | ((1 - p) * v_mps * dt_s - overlap_m < speculative_m))

@@ -3,6 +3,7 @@
     with Runner(workers=2) as runner:                    # or scheduler="local" / "tcp://host:8786"
         fired = runner.fire([Job(engine=name, settings=s, case=c) for c in cases])
 
+(``experiments.core.fire`` fires them in a process.)
 Serial, local processes (``workers`` > 1) and a Dask cluster (``scheduler``) give the same rows:
 an adapter holds no state from one impact to the next, so where an impact runs cannot change
 its bits. The first impact always runs here; it times the work, and the rest goes to the workers
@@ -14,17 +15,13 @@ from __future__ import annotations
 
 import math
 import multiprocessing
-import threading
 import time
-from collections import OrderedDict
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
-from typing import Any, Callable, Iterable, NamedTuple, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import adapters
-from adapters import swing_case
-from analytic import ImpactCase
-from analytic.dynamics import HingedSwing
+
+from .fire import Fired, Job, close_engines, fire_jobs, forget_engines
 
 #: Below this much estimated work (s) the rest of a run stays in this process: starting workers
 #: and shipping the work costs more than it saves.
@@ -32,89 +29,8 @@ MIN_PARALLEL_S = 0.25
 #: Target wall time of one chunk of impacts sent to a worker (s): long against the ~1 ms a Dask
 #: task costs, short enough that two workers finish together.
 CHUNK_S = 0.02
-#: Engines kept alive per process (one per engine and settings), oldest closed first.
-ENGINE_CACHE = 8
-
-
-@dataclass(frozen=True, kw_only=True)
-class Job:
-    """One impact to fire: which engine, with which settings, and, with ``swing``, the bat swung
-    about the hands in the engine first (the case is then re-planned for the engine's step)."""
-
-    engine: str
-    settings: adapters.Settings
-    case: ImpactCase
-    swing: HingedSwing | None = None
-
-
-class Fired(NamedTuple):
-    """A fired job: the case as simulated (re-planned under a swing), the engine's outcome, and
-    with a swing the analytic omega and angle at release (rad/s, rad; NaN without)."""
-
-    case: ImpactCase
-    outcome: adapters.SimOutcome
-    release_omega_radps: float
-    release_angle_rad: float
-
-
-_ENGINES: OrderedDict[tuple[str, adapters.Settings], adapters.Engine] = OrderedDict()
-#: Set by the SIGINT handler of experiments._cli.main_guard. Python code that an engine calls
-#: back (pymunk's velocity functions) swallows the KeyboardInterrupt raised there, so every
-#: impact checks this flag once it is done.
-INTERRUPTED = threading.Event()
-
-
-def engine(name: str, settings: adapters.Settings) -> adapters.Engine:
-    """This process's engine for ``name`` and ``settings`` (made once, reused: adapters are
-    stateless between impacts)."""
-    key = (name, settings)
-    if key in _ENGINES:
-        _ENGINES.move_to_end(key)
-        return _ENGINES[key]
-    while len(_ENGINES) >= ENGINE_CACHE:
-        _ENGINES.popitem(last=False)[1].close()
-    made = _ENGINES[key] = adapters.create(name, settings)
-    return made
-
-
-def close_engines() -> None:
-    """Close every engine this process holds."""
-    while _ENGINES:
-        _ENGINES.popitem()[1].close()
-
-
-def fire_job(job: Job, eng: adapters.Engine | None = None) -> Fired:
-    """Fire one job in this process (on ``eng`` if given: this job's engine)."""
-    eng = eng or engine(job.engine, job.settings)
-    if job.swing is None:
-        fired = Fired(job.case, eng.simulate(job.case), math.nan, math.nan)
-    else:
-        c = job.case
-        case, plan = swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
-                                swing=job.swing, settings=eng.settings)
-        fired = Fired(case, eng.simulate(case, swing=plan), plan.omega_release_radps,
-                      plan.angle_release_rad)
-    if INTERRUPTED.is_set():
-        raise KeyboardInterrupt
-    return fired
-
-
-def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> list[Fired]:
-    """Fire a chunk of jobs in this process (the unit of work a worker receives), looking the
-    engine up once per run of jobs that share it."""
-    out, last, eng = [], None, None
-    for job in jobs:
-        if last is None or job.settings is not last.settings or job.engine != last.engine:
-            eng, last = engine(job.engine, job.settings), job
-        out.append(fire_job(job, eng))
-        if tick is not None:
-            tick(1)
-    return out
-
-
-def _forget_engines() -> None:
-    """In a forked worker: drop the copies of the parent's engines (they are the parent's)."""
-    _ENGINES.clear()
+#: How long a scheduler address may take to answer (s) before the run is refused.
+CONNECT_TIMEOUT_S = 8.0
 
 
 def _import_engines(names: Sequence[str]) -> None:
@@ -175,7 +91,7 @@ class Runner:
                 # fork: the workers inherit the imported engines and the registry (plug-ins too)
                 self._pool = ProcessPoolExecutor(self.workers,
                                                  mp_context=multiprocessing.get_context("fork"),
-                                                 initializer=_forget_engines)
+                                                 initializer=forget_engines)
             return self._pool.map(fn, items)
         futures = self._dask().map(fn, items, pure=False)
         return (f.result() for f in futures)
@@ -215,7 +131,7 @@ class Runner:
         if not jobs:
             return []
         t0 = time.perf_counter()
-        out = [fire_job(jobs[0])]
+        out = fire_jobs(jobs[:1])
         self._tick(1)
         per_job = time.perf_counter() - t0
         rest = jobs[1:]
@@ -255,4 +171,16 @@ def _dask_client(scheduler: str, workers: int):
         client = Client(cluster)
         client._batsim_cluster = cluster
         return client
-    return Client(scheduler)
+    return connect(scheduler)
+
+
+def connect(address: str, timeout_s: float = CONNECT_TIMEOUT_S):
+    """A Client of the Dask scheduler at ``address``; OSError (one line) if it does not answer
+    within ``timeout_s``."""
+    from dask.distributed import Client
+
+    try:
+        return Client(address, timeout=timeout_s)
+    except (OSError, TimeoutError) as err:
+        raise OSError(f"no Dask scheduler answered at {address} within {timeout_s:g} s "
+                      f"({type(err).__name__})") from None

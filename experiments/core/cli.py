@@ -2,7 +2,7 @@
 
 Options spelled the same everywhere:
     --engine NAME[,NAME...]|all   engines from the registry (built-ins and plug-ins)
-    --workers N / --scheduler     how the impacts run (experiments._runner)
+    --workers N / --scheduler     how the impacts run (experiments.core.runner)
     --out DIR  --name STEM  --force
                                   a run's files go to DIR/STEM (default runs/<experiment>-<the
                                   options that differ from the defaults>); an existing run is
@@ -34,8 +34,8 @@ from typing import Callable
 
 import adapters
 
-from . import _runner
-from ._io import ROOT, make_public
+from . import fire, runner as _runner
+from .io import ROOT, make_public
 
 RUNS = ROOT / "runs"
 RESULTS = ROOT / "results"
@@ -280,7 +280,7 @@ def shown(path: Path) -> str:
 def main_guard(run: Callable[[], int]) -> int:
     """Run a command's body; Ctrl-C (anywhere, engine callbacks included) exits 130 and leaves
     every earlier file as it was, since nothing is renamed into place before the end."""
-    _runner.INTERRUPTED.clear()
+    fire.INTERRUPTED.clear()
     previous = signal.getsignal(signal.SIGINT)
     in_main = threading.current_thread() is threading.main_thread()
     if in_main:
@@ -298,7 +298,7 @@ def main_guard(run: Callable[[], int]) -> int:
 def _on_sigint(signum, frame) -> None:
     # Raised where the signal lands; if that is inside an engine's callback, which swallows it,
     # the flag stops the run when the impact is done.
-    _runner.INTERRUPTED.set()
+    fire.INTERRUPTED.set()
     raise KeyboardInterrupt
 
 

@@ -1,0 +1,345 @@
+"""``check_engine``: every conformance check of the test suite, for any registered engine.
+
+    from experiments.core import check_engine
+    report = check_engine("myengine")      # registered: built in, an entry point, or register()
+    print(report)                          # one line per check: ok / FAILED and what it saw
+    report.raise_if_failed()
+
+Checks against closed form only (each engine within its bound of theory implies any two within
+twice that of each other). Each states the equation it checks; every tolerance comes from
+``judge``. An engine whose reference contact is a rigid impulse is held to rigid theory; one
+whose contact converges to a continuous law (``Settings.contact_law``) to that law.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, replace
+from typing import Callable
+
+import numpy as np
+from scipy import optimize
+
+import adapters
+from adapters import ContactReference, Scene
+from analytic import ImpactCase, center_of_percussion, predict, presets
+from analytic.dynamics import HingedSwing
+
+from . import judge
+from .fire import (Hosted, Job, SceneMismatch, check_mass_properties, fire_group, fire_jobs,
+                   hosted)
+from .judge import Status
+
+R161, BALL = presets.R161, presets.BASEBALL
+S_GRID = tuple(float(s) for s in np.linspace(-0.2, 0.25, 10))
+SWING = dict(v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0)
+
+
+class CheckFailed(AssertionError):
+    """A check found the engine off its bound; the message says where and by how much."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class CheckResult:
+    """One check's outcome: its name, whether it passed, what it saw, how long it took (s)."""
+
+    name: str
+    passed: bool
+    detail: str
+    seconds: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class CheckReport:
+    """Every check run on one engine."""
+
+    engine: str
+    results: tuple[CheckResult, ...]
+
+    @property
+    def passed(self) -> bool:
+        return all(r.passed for r in self.results)
+
+    @property
+    def failures(self) -> tuple[CheckResult, ...]:
+        return tuple(r for r in self.results if not r.passed)
+
+    def raise_if_failed(self) -> None:
+        if not self.passed:
+            raise CheckFailed(str(self))
+
+    def __str__(self) -> str:
+        width = max(len(r.name) for r in self.results)
+        lines = [f"check_engine({self.engine!r}): {sum(r.passed for r in self.results)} of "
+                 f"{len(self.results)} checks passed"]
+        lines += [f"  {'ok' if r.passed else 'FAILED':6} {r.name:{width}}  {r.detail}"
+                  for r in self.results]
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Ctx:
+    """What a check needs: the engine's name, record and reference settings."""
+
+    name: str
+    record: adapters.EngineRecord
+    settings: adapters.Settings
+
+    @property
+    def rigid(self) -> bool:
+        return self.settings.contact_reference() is ContactReference.RIGID_IMPULSE
+
+    def fire(self, cases, settings: adapters.Settings | None = None, swing=None):
+        st = settings or self.settings
+        return [f.outcome for f in fire_jobs([Job(engine=self.name, settings=st, case=c,
+                                                  swing=swing) for c in cases])]
+
+
+def _expect(ok: bool, message: str) -> None:
+    if not ok:
+        raise CheckFailed(message)
+
+
+def _matches_theory(ctx: Ctx, cases, fields=("v1_mps", "u1_mps", "omega1_radps")) -> float:
+    """Fire ``cases``: each must be ok and every field within ``judge.output_tolerance`` of the
+    single impulse (analytic.predict). Returns the largest error in units of its tolerance."""
+    worst = 0.0
+    for case, out in zip(cases, ctx.fire(cases)):
+        _expect(out.status is Status.OK, f"s = {case.s_m:.3f} m, e = {case.e}: status "
+                                         f"{out.status.value} ({out.ended})")
+        ref = predict(case)
+        for field in fields:
+            allowed = judge.output_tolerance(case, ctx.settings, ctx.record.eps, field)
+            err = abs(getattr(out, field) - getattr(ref, field))
+            _expect(err <= allowed, f"{field} at s = {case.s_m:.3f} m: {getattr(out, field)!r} "
+                                    f"vs theory {getattr(ref, field)!r} (|diff| {err:.3g} > "
+                                    f"allowed {allowed:.3g})")
+            worst = max(worst, err / allowed)
+    return worst
+
+
+def mass_read_back(ctx: Ctx) -> str:
+    """The engine holds the mass, COM and inertia each bat was built with, and reads back a
+    changed bat as different (the read-back is the engine's, not the scene echoed)."""
+    host = hosted(ctx.name, ctx.settings)
+    for bat in (R161, R161.corked(), presets.EASTON31):
+        host.batch(Scene(bat=bat, ball=BALL, e=0.5), 1)  # builds and checks
+    got = host.adapter.mass_properties()
+    for field, changed in (("bat_mass_kg", dict(mass_kg=0.9)),
+                           ("bat_com_from_knob_m", dict(com_from_knob_m=0.5)),
+                           ("bat_inertia_kgm2", dict(inertia_cm_kgm2=0.04))):
+        try:
+            check_mass_properties(ctx.name, got, Scene(bat=replace(presets.EASTON31, **changed),
+                                                       ball=BALL, e=0.5), ctx.record.eps)
+        except SceneMismatch as err:
+            _expect(field in str(err), f"a changed {field} was reported as {err}")
+            continue
+        raise CheckFailed(f"a bat with another {field} reads back as the one built")
+    return f"3 bats within {judge.mass_allowance(ctx.record.eps):.1g} relative"
+
+
+def restitution(ctx: Ctx) -> str:
+    """Central impacts (s = 0, no turn) separate at e times the approach: (v1 - u1)/v0 = e."""
+    if not ctx.rigid:
+        return "skipped: a compliant contact's e follows its law (law_conformance)"
+    tol = judge.ROUND_OPS * ctx.record.eps
+    cases = [ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=40.0, e=e)
+             for e in (0.0, 0.3, 0.5, 1.0)]
+    for case, out in zip(cases, ctx.fire(cases)):
+        e = (out.v1_mps - out.u1_mps) / case.v0_mps
+        _expect(out.status is Status.OK and abs(e - case.e) <= tol,
+                f"e = {case.e}: measured {e!r} ({out.status.value}), allowed +-{tol:.2g}")
+    return f"e = 0, 0.3, 0.5, 1 within {tol:.1g}"
+
+
+def still_bat(ctx: Ctx) -> str:
+    """A still bat across the barrel, e = 0.5 and 1: P = (1+e) v0 / (1/m + 1/M + s^2/J)."""
+    if not ctx.rigid:
+        return "skipped: compliant contact (law_conformance)"
+    worst = _matches_theory(ctx, [ImpactCase(bat=R161, ball=BALL, s_m=s, v0_mps=40.0, e=e)
+                                  for e in (0.5, 1.0) for s in S_GRID])
+    return f"20 impacts, worst {worst:.2g} of the tolerance"
+
+
+def energy_at_e1(ctx: Ctx) -> str:
+    """e = 1 on the paper's swing: kinetic energy after = before, to rounding."""
+    if not ctx.rigid:
+        return "skipped: compliant contact"
+    out = ctx.fire([ImpactCase(bat=R161, ball=BALL, s_m=0.15, e=1.0, **SWING)])[0]
+    rel = abs(out.ke_after_j / out.ke_before_j - 1.0)
+    allowed = 10 * judge.ROUND_OPS * ctx.record.eps
+    _expect(rel <= allowed, f"KE changed by {rel:.3g} relative (allowed {allowed:.2g})")
+    return f"|dKE|/KE = {rel:.2g}"
+
+
+def swinging_bat(ctx: Ctx) -> str:
+    """The paper's swing across the barrel: v1 = q v0 + (1+q)(u0 + omega0 s)."""
+    if not ctx.rigid:
+        return "skipped: compliant contact (law_conformance)"
+    worst = _matches_theory(ctx, [ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, **SWING)
+                                  for s in S_GRID])
+    return f"10 impacts, worst {worst:.2g} of the tolerance"
+
+
+def corked_bat(ctx: Ctx) -> str:
+    """A corked bat's own M, x_cm and J go through the same impulse formula."""
+    if not ctx.rigid:
+        return "skipped: compliant contact"
+    bat = R161.corked()
+    worst = _matches_theory(ctx, [ImpactCase(bat=bat, ball=BALL, s_m=float(s), e=0.5, **SWING)
+                                  for s in np.linspace(bat.s_min_m + 0.3, bat.s_max_m, 5)])
+    return f"5 impacts, worst {worst:.2g} of the tolerance"
+
+
+def oblique(ctx: Ctx) -> str:
+    """Frictionless oblique impacts: normal parts as in a normal impact, tangential velocities
+    kept (up to the impulse leaked through the normal the turning bat tilted)."""
+    if not ctx.rigid:
+        return "skipped: compliant contact"
+    cases = [ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, theta_rad=t, phi_rad=p, **SWING)
+             for t, p in ((0.3, 0.0), (-0.4, 0.25), (0.6, -0.5)) for s in (-0.1, 0.05, 0.2)]
+    worst = _matches_theory(ctx, cases)
+    for case, out in zip(cases, ctx.fire(cases)):
+        ref = predict(case)
+        for field, mass in (("v1_t_mps", BALL.mass_kg), ("u1_t_mps", R161.mass_kg)):
+            allowed = judge.tangential_tolerance(case, ctx.settings, ctx.record.eps,
+                                                 ref.impulse_ns, mass)
+            err = abs(getattr(out, field) - getattr(ref, field))
+            _expect(err <= allowed, f"{field} at theta {case.theta_rad}: |diff| {err:.3g} > "
+                                    f"{allowed:.3g}")
+    return f"9 impacts, worst {worst:.2g} of the tolerance"
+
+
+def cop_located(ctx: Ctx) -> str:
+    """s_cop = J/(M d) is where the free bat's hand point (0.1 m from the knob) keeps its
+    velocity: found from engine data by Brent's method (xtol 1e-9 m), within 1 um of theory."""
+    if not ctx.rigid:
+        return "skipped: compliant contact"
+
+    def hand(s: float) -> float:
+        return ctx.fire([ImpactCase(bat=R161, ball=BALL, s_m=s, v0_mps=40.0, e=0.5,
+                                    hands_from_knob_m=0.1)])[0].hand_dv_mps
+
+    root = optimize.brentq(hand, 0.0, 0.2, xtol=1e-9)
+    want = center_of_percussion(R161, 0.1)
+    _expect(abs(root - want) <= 1e-6, f"COP at {root:.9f} m, theory {want:.9f} m")
+    return f"{(root - want) * 1e9:+.2g} nm from theory"
+
+
+def tunnelling_bound(ctx: Ctx) -> str:
+    """At 1 ms and 100 m/s (v dt = 1.5 R) a contact phase is caught iff theory says so
+    (``judge.caught_in_theory``: seen shallower than R = r_ball + r_bat, or within the engine's
+    speculative margin); at 1/60 s mid-step the ball tunnels. Never ok with a wrong answer."""
+    if not ctx.rigid:
+        return "skipped: a compliant contact lasts many steps (the stability study maps it)"
+    reach = R161.radius_m + BALL.radius_m
+    phases = judge.phases(8)
+    case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=100.0, e=1.0)
+    for phase in phases:
+        st = replace(ctx.settings, dt_s=1e-3, contact_phase=float(phase))
+        out = ctx.fire([case], st)[0]
+        want = bool(judge.caught_in_theory(100.0, 1e-3, phase, reach, st.overlap_m,
+                                           st.speculative_margin_m()))
+        caught = out.status.value in judge.MEASURED
+        _expect(caught == want, f"phase {phase:.3f}: {out.status.value}, theory says "
+                                f"{'caught' if want else 'missed'}")
+    coarse = replace(ctx.settings, dt_s=1 / 60, contact_phase=0.5)
+    out = ctx.fire([ImpactCase(bat=R161, ball=BALL, s_m=0.1, e=0.5, **SWING)], coarse)[0]
+    _expect(out.status is Status.TUNNELLED, f"1/60 s mid-step: {out.status.value}")
+    return "8 phases as theory; 1/60 s tunnels"
+
+
+def stateless(ctx: Ctx) -> str:
+    """After other impacts, on other bats and e (and a swing, if the engine drives the bat),
+    the same case gives the same bits on a used adapter and on a fresh one: no warm start or
+    cache leaks from one impact to the next."""
+    jobs = [Job(engine=ctx.name, settings=ctx.settings, case=ImpactCase(
+        bat=bat, ball=BALL, s_m=s, e=e, **SWING)) for bat, s, e in (
+        (R161, 0.1, 0.5), (R161, -0.2, 0.5), (R161, 0.2, 0.5), (R161, 0.0, 1.0),
+        (R161.corked(), 0.1, 0.3))]
+    if ctx.record.drives_bat:
+        jobs.append(replace(jobs[0], swing=HingedSwing.for_omega(R161, 32.0)))
+    used = fire_jobs(jobs + jobs)
+    for i, job in enumerate(jobs):
+        fresh = Hosted(ctx.name, ctx.settings)  # a new adapter, outside the process's cache
+        try:
+            want = fire_group(fresh, [job])[0].outcome
+        finally:
+            fresh.close()
+        for out in (used[i].outcome, used[i + len(jobs)].outcome):
+            got = (out.v1_mps, out.u1_mps, out.omega1_radps, out.steps)
+            expected = (want.v1_mps, want.u1_mps, want.omega1_radps, want.steps)
+            _expect(got == expected, f"impact {i}: used {got} != fresh {expected}")
+    return f"{len(jobs)} impacts, twice, bit for bit"
+
+
+def bad_settings_rejected(ctx: Ctx) -> str:
+    """Settings are validated when made: a bad value names the field and what is allowed; every
+    profile, knob family and integrator of the record is a valid setting."""
+    for overrides, piece in (({"dt_s": -1e-3}, "dt_s=-0.001 is out of range"),
+                             ({"contact_phase": 1.0}, "contact_phase=1.0 is out of range"),
+                             ({"no_such_knob": 1}, "setting 'no_such_knob' is unknown")):
+        try:
+            adapters.settings_for(ctx.name, **overrides)
+        except ValueError as err:
+            _expect(piece in str(err), f"{overrides}: {err}")
+            continue
+        raise CheckFailed(f"{overrides} was accepted")
+    for family in ctx.record.speed_accuracy:
+        adapters.settings_for(ctx.name, family.profile, **dict(family.overrides))
+    for integrator in ctx.record.integrators:
+        adapters.settings_for(ctx.name, **dict(integrator.overrides))
+    fields = {f.name for f in dataclasses.fields(ctx.settings)}
+    unknown = sorted(set(ctx.record.engine_defaults) - fields)
+    _expect(not unknown, f"engine_defaults quotes {unknown}, which are not settings")
+    return "3 bad values refused; knobs and integrators valid"
+
+
+def law_conformance(ctx: Ctx) -> str:
+    """A compliant contact matches its own law (``analytic.compliant.predict``) within the
+    judge's bound for it (``judge.soft_judgement``), still bat and paper's swing; near the
+    barrel's end the ball slides onto the cap, which the law does not model (unjudged)."""
+    if ctx.rigid:
+        return "skipped: rigid contact (held to rigid theory)"
+    judged = 0
+    for e in (0.3, 0.5, 1.0):
+        for kw in (SWING, dict(v0_mps=40.0)):
+            cases = [ImpactCase(bat=R161, ball=BALL, s_m=s, e=e, **kw) for s in S_GRID]
+            for case, out in zip(cases, ctx.fire(cases)):
+                _expect(out.status is Status.OK, f"s = {case.s_m:.3f}: {out.status.value}")
+                want, allowed = judge.soft_judgement(case, out)
+                if math.isnan(allowed):
+                    continue
+                judged += 1
+                _expect(abs(out.v1_mps - want) <= allowed,
+                        f"e = {e}, s = {case.s_m:.3f}: v1 {out.v1_mps!r} vs law {want!r} "
+                        f"(allowed {allowed:.3g})")
+    _expect(judged >= 6 * (len(S_GRID) - 2), f"only {judged} impacts judged")
+    return f"{judged} impacts within the law's bound"
+
+
+CHECKS: dict[str, Callable[[Ctx], str]] = {
+    f.__name__: f for f in (mass_read_back, bad_settings_rejected, restitution, still_bat,
+                            energy_at_e1, swinging_bat, corked_bat, oblique, cop_located,
+                            tunnelling_bound, stateless, law_conformance)}
+
+
+def run_check(name: str, check: str) -> CheckResult:
+    """One check (a key of CHECKS) on a registered engine, at its reference profile."""
+    ctx = Ctx(name=name, record=adapters.record(name), settings=adapters.settings_for(name))
+    t0 = time.perf_counter()
+    try:
+        detail, passed = CHECKS[check](ctx), True
+    except (CheckFailed, SceneMismatch, ValueError, NotImplementedError) as err:
+        detail, passed = f"{type(err).__name__}: {err}", False
+    return CheckResult(name=check, passed=passed, detail=detail,
+                       seconds=time.perf_counter() - t0)
+
+
+def check_engine(name: str, checks: tuple[str, ...] | None = None) -> CheckReport:
+    """Run every check (or those named) on a registered engine; never raises for a failed
+    check: the report says what failed and by how much."""
+    return CheckReport(engine=name, results=tuple(run_check(name, c)
+                                                  for c in (checks or tuple(CHECKS))))

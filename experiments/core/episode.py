@@ -1,0 +1,289 @@
+"""The impact episode: step a batch of worlds from their start states until each impact is over,
+then classify how it ended. One path for every engine: a single-world engine is a batch of one.
+
+An episode ends as ``analytic.collide`` ends the rigid one: the bodies apart with no contact to
+come in free flight (``analytic.collide.free_flight``), the ball off the cylinder's span, or
+``max_contact_s`` of episode spent (the budget). How it ended (``ended``) decides the status:
+'non_finite' (NaN or inf, a failure the engine reported) and 'jumped' (a state that moved more
+than its speeds allow: a silent reset) are ``non_finite``; 'passed' (no contact seen when due,
+the ball's centre beyond the bat's axis) is ``tunnelled``; 'missed' (no contact seen when due,
+the ball still on its side) is ``no_contact``; 'budget' is ``no_separation`` (or ``tunnelled``
+without a contact); after 'separated' or 'left_cylinder' the final state is checked: beyond
+the bat's axis ``tunnelled``, deeper than r_ball + r_bat at any step ``penetration``, more
+kinetic energy than before ``energy_gained``, else ``ok`` (the judge may still find it
+inaccurate).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from adapters import ContactReference, Hands, Settings, State
+from analytic import Ball, Bat, ImpactCase, Outcome
+from analytic.collide import free_flight, separates_for_good
+
+from . import geometry as g
+from .judge import JUMP_REACHES, OFF_SPAN_STEPS, Status, energy_allowance
+
+
+@dataclass(frozen=True, kw_only=True)
+class SimOutcome(Outcome):
+    """An engine's outcome: the fields of ``analytic.Outcome`` measured from the engine, plus how
+    the episode went. Units: s, m, and as in ``Outcome``; NaN where not measurable.
+
+    ``q`` is measured as (v1 - V)/(v0n + V), V = u0n + omega0 s, the inverse of
+    v1 = q v0n + (1 + q) V; ``impulse_ns`` is the ball's momentum change m (v1 + v0n).
+    ``ended``: how stepping ended (module docstring); ``ball_side_m``: the ball centre's
+    distance from the bat's axis line at the end, positive on the side it came from.
+    """
+
+    engine: str
+    status: Status
+    contact_duration_s: float
+    peak_penetration_m: float
+    steps: int
+    wall_s: float
+    settings: Settings
+    ended: str
+    ball_side_m: float
+    #: With a swing before the impact: the engine's bat at release (rad/s, rad); NaN without.
+    release_omega_radps: float = math.nan
+    release_angle_rad: float = math.nan
+
+    @property
+    def ok(self) -> bool:
+        """True when the outcome is physically sound (status ok)."""
+        return self.status is Status.OK
+
+
+class OneWorld:
+    """A single-world engine (``adapters.Engine``) as a batch of one, in Python floats."""
+
+    xp = g.SCALARS
+    n = 1
+
+    def __init__(self, engine) -> None:
+        self.engine = engine
+
+    def set_state(self, state: State) -> None:
+        self.engine.set_state(state)
+
+    def step(self) -> None:
+        self.engine.step()
+
+    def any_contact(self) -> bool:
+        return self.engine.in_contact()
+
+    def in_contact(self) -> bool:
+        return self.engine.in_contact()
+
+    def read(self) -> State:
+        return self.engine.read()
+
+    def failed(self) -> bool:
+        return self.engine.failed()
+
+    def set_drive(self, hands: Sequence[Hands] | None) -> None:
+        self.engine.set_drive(None if hands is None else hands[0])
+
+
+class ManyWorlds:
+    """A batched engine (``adapters.BatchedEngine``) over ``n`` worlds, in numpy arrays."""
+
+    xp = g.ARRAYS
+
+    def __init__(self, engine, n: int) -> None:
+        self.engine, self.n = engine, n
+
+    def set_state(self, states: np.ndarray) -> None:
+        self.engine.set_state(states)
+
+    def step(self) -> None:
+        self.engine.step()
+
+    def any_contact(self) -> bool:
+        return bool(np.any(self.engine.in_contact()))
+
+    def in_contact(self) -> np.ndarray:
+        return np.asarray(self.engine.in_contact(), dtype=bool)
+
+    def read(self) -> np.ndarray:
+        return np.asarray(self.engine.read(), dtype=float)
+
+    def failed(self) -> np.ndarray:
+        got = self.engine.failed()
+        return np.zeros(self.n, dtype=bool) if got is None else np.asarray(got, dtype=bool)
+
+    def set_drive(self, hands: Sequence[Hands] | None) -> None:
+        self.engine.set_drive(hands)
+
+
+@dataclass
+class Episodes:
+    """The end of each world's episode: how it ended, the steps it took, the state then, the
+    first and last step that saw the contact (-1: none), the deepest penetration (m), and the
+    ball centre's side of the bat's axis then (m, positive on the side it came from)."""
+
+    ended: list[str]
+    steps: list[int]
+    end: list
+    first: list[int]
+    last: list[int]
+    peak_m: list[float]
+    side_m: list[float]
+
+
+class _Stepper:
+    """Steps one batch through its episodes; what it has learnt of each world so far, in the
+    batch's namespace (``geometry.ARRAYS`` or ``geometry.SCALARS``)."""
+
+    def __init__(self, batch, bat: Bat, ball: Ball, settings: Settings) -> None:
+        self.batch, self.xp, self.bat, self.ball, self.st = batch, batch.xp, bat, ball, settings
+        xp, n = self.xp, batch.n
+        self.max_steps = settings.approach_steps + math.ceil(settings.max_contact_s
+                                                             / settings.dt_s) + 2
+        # a rigid contact slides off the cylinder's end only in sustained contact, as in
+        # collide; a soft one may be milliseconds long and slide past it within one impact
+        self.rigid = settings.contact_reference() is ContactReference.RIGID_IMPULSE
+        self.limit_m = JUMP_REACHES * (bat.radius_m + ball.radius_m)
+        self.first, self.last = xp.full(n, -1), xp.full(n, -1)
+        self.peak, self.off_steps = xp.full(n, -math.inf), xp.full(n, 0)
+        self.active, self.prev_step = xp.full(n, True), xp.full(n, 0)
+        self.check_at = [0] * n
+        self.out = Episodes(ended=[""] * n, steps=[self.max_steps] * n, end=[None] * n,
+                            first=[-1] * n, last=[-1] * n, peak_m=[math.nan] * n,
+                            side_m=[math.nan] * n)
+
+    def run(self, starts) -> Episodes:
+        """Step from ``starts`` until every world's episode is over (module docstring)."""
+        batch, xp, approach = self.batch, self.xp, self.st.approach_steps
+        self.prev = starts
+        batch.set_state(starts)
+        for step in range(1, self.max_steps + 1):
+            batch.step()
+            # Free flight before the planned contact step cannot go wrong but by a blow-up,
+            # which the final reading still catches: the state is read from that step on.
+            if step < approach and not xp.any(self.first >= 0) and not batch.any_contact():
+                continue
+            self.observe(step, batch.in_contact(), batch.read())
+            if not xp.any(self.active):
+                break
+        if xp.any(self.active):
+            self.close()
+        failed = batch.failed()
+        for i in xp.indices(failed):
+            self.out.ended[i] = "non_finite"
+        for i in range(batch.n):
+            o = self.out
+            o.first[i], o.last[i] = int(xp.row(self.first, i)), int(xp.row(self.last, i))
+            o.peak_m[i] = float(xp.row(self.peak, i))
+        return self.out
+
+    def finish(self, mask, why: str, step: int, S, side=None) -> None:
+        """End the episodes of the worlds in ``mask`` (still active) with this reading."""
+        xp, o = self.xp, self.out
+        for i in xp.indices(mask & self.active):
+            o.ended[i], o.steps[i], o.end[i] = why, step, xp.row(S, i)
+            o.side_m[i] = math.nan if side is None else float(xp.row(side, i))
+            self.active = xp.put(self.active, i, False)
+            if why in ("non_finite", "jumped"):
+                self.peak = xp.put(self.peak, i, math.nan)
+
+    def observe(self, step: int, touching, S) -> None:
+        """One step's reading: failures, the contact's first and last steps, how it ends."""
+        xp, st, no = self.xp, self.st, self.xp.not_
+        look = self.active & (touching | (self.first >= 0) | (step >= st.approach_steps))
+        finite = xp.finite(S)
+        self.finish(look & no(finite), "non_finite", step, S)
+        cols = xp.cols(S)
+        jumped = g.jumped(xp, xp.cols(self.prev), cols, (step - self.prev_step) * st.dt_s,
+                          self.limit_m)
+        self.finish(look & finite & jumped, "jumped", step, S)
+        ok = look & finite & no(jumped)
+        if not xp.any(ok):
+            return
+        self.prev = xp.where_rows(ok, S, self.prev)
+        self.prev_step = xp.where(ok, step, self.prev_step)
+        pen, apart, off_span, side = g.contact_geometry(xp, self.bat, self.ball, cols)
+        self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
+        t = ok & touching
+        self.first = xp.where(t & (self.first < 0), step, self.first)
+        self.last = xp.where(t, step, self.last)
+        self.off_steps = xp.where(t, xp.where(self.rigid & (off_span > 0.0),
+                                              self.off_steps + 1, 0), self.off_steps)
+        self.finish(t & (self.off_steps > OFF_SPAN_STEPS), "left_cylinder", step, S, side)
+        for i in xp.indices(ok & no(touching) & (self.first >= 0)):
+            why, wait = _flight_end(self.bat, self.ball, xp.row(S, i), xp.row(off_span, i),
+                                    xp.row(apart, i), (self.max_steps - step) * st.dt_s,
+                                    st.dt_s, search=step >= self.check_at[i])
+            if why:
+                self.finish(xp.put(xp.full(self.batch.n, False), i, True), why, step, S, side)
+            self.check_at[i] = max(self.check_at[i], step + wait)
+        due = ok & no(touching) & (self.first < 0) & (step > st.approach_steps + 1)
+        self.finish(due & (side <= 0.0), "passed", step, S, side)
+        self.finish(due & (side > 0.0), "missed", step, S, side)
+
+    def close(self) -> None:
+        """The budget ran out: the last reading ends every episode still going."""
+        xp = self.xp
+        S = self.batch.read()
+        finite = xp.finite(S)
+        self.finish(xp.not_(finite), "non_finite", self.max_steps, S)
+        if not xp.any(self.active):
+            return
+        pen, _, _, side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(S))
+        self.peak = xp.where(self.active, xp.maximum(self.peak, pen), self.peak)
+        self.finish(self.active, "budget", self.max_steps, S, side)
+
+
+def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts) -> Episodes:
+    """Step every world of ``batch`` (a ``OneWorld`` or ``ManyWorlds``) from its start until
+    its episode is over (module docstring)."""
+    return _Stepper(batch, bat, ball, settings).run(starts)
+
+
+def _flight_end(bat: Bat, ball: Ball, row: np.ndarray, off_span: float, apart: bool,
+                t_left_s: float, dt_s: float, search: bool) -> tuple[str, int]:
+    """After contact, with the bodies not touching: how the episode ends now ('left_cylinder'
+    or 'separated', as ``analytic.collide`` would end it from this state), or '' and the steps
+    until a free-flight search is worth repeating (it predicted a contact that far ahead). The
+    search runs only when ``search``; the cheap checks every step."""
+    if off_span > 0.0:  # collide's cylinder ends here too
+        return "left_cylinder", 0
+    if not apart:
+        return "", 0
+    reach = bat.radius_m + ball.radius_m
+    state = g.planar(row)
+    if separates_for_good(state, reach_m=reach, ball_radius_m=ball.radius_m, t_max_s=t_left_s):
+        return "separated", 0
+    if not search:
+        return "", 0
+    t, why = free_flight(state, reach_m=reach, ball_radius_m=ball.radius_m,
+                         s_min_m=bat.s_min_m, s_max_m=bat.s_max_m, t_max_s=t_left_s)
+    if why != "contact":
+        return ("left_cylinder" if why == "left_cylinder" else "separated"), 0
+    return "", max(1, int(t / dt_s) - 1)
+
+
+def classify(case: ImpactCase, ended: str, first: int, peak_m: float, side_m: float,
+             ke0: float, ke1: float, eps: float) -> Status:
+    """The status of one episode (module docstring): every physical verdict is made here."""
+    if ended in ("non_finite", "jumped"):
+        return Status.NON_FINITE
+    if ended == "passed" or (ended == "budget" and first < 0):
+        return Status.TUNNELLED
+    if ended == "missed":
+        return Status.NO_CONTACT
+    if ended == "budget":
+        return Status.NO_SEPARATION
+    if side_m <= 0.0:
+        return Status.TUNNELLED
+    if peak_m > case.bat.radius_m + case.ball.radius_m:
+        return Status.PENETRATION
+    if ke1 > ke0 * (1.0 + energy_allowance(eps)):
+        return Status.ENERGY_GAINED
+    return Status.OK

@@ -1,0 +1,118 @@
+"""Sphere against capsule, on one world or on a batch of them.
+
+A batch of states is an array of shape (n, 11), one row per world in ``adapters.STATE_FIELDS``
+order (m, m/s, rad, rad/s); one world's state is an ``adapters.State``. The functions below take
+an array namespace ``xp`` and the state's columns (``xp.cols(states)``), so the same code runs
+on a batch in numpy and on one world in Python floats (``SCALARS``): numpy's overhead per call
+on arrays of one row is ten times what an engine's step costs.
+"""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+
+from adapters import STATE_FIELDS, State
+from analytic import Ball, Bat
+from analytic.collide import PlanarState
+
+(BALL_X, BALL_Y, BALL_VX, BALL_VY, BALL_W, BAT_X, BAT_Y, BAT_ANGLE, BAT_VX, BAT_VY,
+ BAT_W) = range(len(STATE_FIELDS))
+
+
+def _finite_rows(states: np.ndarray) -> np.ndarray:
+    return np.isfinite(states).all(axis=1)
+
+
+def _indices(mask) -> np.ndarray | tuple:
+    return np.flatnonzero(mask) if mask.any() else ()
+
+
+def _with_bat(starts: np.ndarray, swung: np.ndarray) -> np.ndarray:
+    out = starts.copy()
+    out[:, BAT_X:] = swung[:, BAT_X:]
+    return out
+
+
+def _put(values: np.ndarray, i: int, value) -> np.ndarray:
+    values[i] = value
+    return values
+
+
+#: numpy over a batch: arrays of n values, n rows.
+ARRAYS = SimpleNamespace(
+    cos=np.cos, sin=np.sin, hypot=np.hypot, clip=np.clip, where=np.where, maximum=np.maximum,
+    any=np.any, not_=np.logical_not, full=np.full, put=_put,
+    where_rows=lambda mask, a, b: np.where(mask[:, None], a, b),
+    cols=lambda states: states.T, row=lambda states, i: states[i],
+    stack=lambda rows: np.array(rows, dtype=float), finite=_finite_rows, indices=_indices,
+    with_bat=_with_bat)
+
+#: Python floats for one world: a value, a bool, one State.
+SCALARS = SimpleNamespace(
+    cos=math.cos, sin=math.sin, hypot=math.hypot,
+    clip=lambda x, lo, hi: min(max(x, lo), hi), where=lambda c, a, b: a if c else b,
+    maximum=max, any=bool, not_=lambda flag: not flag, full=lambda n, value: value,
+    put=lambda value, i, new: new, where_rows=lambda flag, a, b: a if flag else b,
+    cols=lambda state: state, row=lambda state, i: state,
+    stack=lambda rows: State(*rows[0]), finite=lambda state: math.isfinite(sum(state)),
+    indices=lambda flag: (0,) if flag else (),
+    with_bat=lambda start, swung: State(*start[:BAT_X], *swung[BAT_X:]))
+
+
+def contact_geometry(xp, bat: Bat, ball: Ball, S):
+    """Per world: (penetration, separating, off_span, side) in one pass over the closest point
+    of the bat's axis; ``S`` the state's columns.
+
+    Penetration is the geometric overlap (m, negative for a gap), measured from the side the
+    ball came from: a ball whose centre has crossed the bat's axis is more than r_ball + r_bat
+    deep, however close to the axis it sits. Separating: the ball centre moves away from the
+    closest point of the bat's axis (the bat point's velocity includes the bat's spin).
+    off_span: how far the ball centre is beyond the cylinder's span along the axis (m, <= 0 on
+    it). side: the ball centre's distance from the bat's axis line, positive on the side it
+    came from (m).
+    """
+    c, s = xp.cos(S[BAT_ANGLE]), xp.sin(S[BAT_ANGLE])
+    dx, dy = S[BALL_X] - S[BAT_X], S[BALL_Y] - S[BAT_Y]
+    along = dx * c + dy * s
+    t = xp.clip(along, bat.s_min_m, bat.s_max_m)
+    nx, ny = dx - t * c, dy - t * s
+    dist = xp.hypot(nx, ny)
+    side = dy * c - dx * s
+    pen = bat.radius_m + ball.radius_m - xp.where(side > 0.0, dist, -dist)
+    w = S[BAT_W]
+    rvx = S[BALL_VX] - (S[BAT_VX] - w * t * s)
+    rvy = S[BALL_VY] - (S[BAT_VY] + w * t * c)
+    apart = (rvx * nx + rvy * ny > 0.0) & (dist != 0.0)
+    off_span = xp.maximum(bat.s_min_m - along, along - bat.s_max_m)
+    return pen, apart, off_span, side
+
+
+def kinetic_energy_j(bat: Bat, ball: Ball, S):
+    """Kinetic energy of both bodies with the scene's mass properties (J); ``S`` the columns."""
+    return 0.5 * (ball.mass_kg * (S[BALL_VX]**2 + S[BALL_VY]**2)
+                  + ball.inertia_kgm2 * S[BALL_W]**2
+                  + bat.mass_kg * (S[BAT_VX]**2 + S[BAT_VY]**2)
+                  + bat.inertia_cm_kgm2 * S[BAT_W]**2)
+
+
+def jumped(xp, before, after, elapsed_s, limit_m: float):
+    """Whether a body's centre moved farther between two readings (columns) than twice its
+    larger speed over the time between them, plus ``limit_m``: a reset of the state."""
+    out = False
+    for x, y, vx, vy in ((BALL_X, BALL_Y, BALL_VX, BALL_VY), (BAT_X, BAT_Y, BAT_VX, BAT_VY)):
+        moved = xp.hypot(after[x] - before[x], after[y] - before[y])
+        speed = xp.maximum(xp.hypot(before[vx], before[vy]), xp.hypot(after[vx], after[vy]))
+        out = out | (moved > 2.0 * speed * elapsed_s + limit_m)
+    return out
+
+
+def planar(row) -> PlanarState:
+    """One world's state as ``analytic.collide`` takes it."""
+    r = [float(v) for v in row]
+    return PlanarState(ball_x_m=r[BALL_X], ball_y_m=r[BALL_Y], ball_vx_mps=r[BALL_VX],
+                       ball_vy_mps=r[BALL_VY], bat_x_m=r[BAT_X], bat_y_m=r[BAT_Y],
+                       bat_vx_mps=r[BAT_VX], bat_vy_mps=r[BAT_VY], bat_angle_rad=r[BAT_ANGLE],
+                       bat_omega_radps=r[BAT_W])

@@ -1,0 +1,135 @@
+"""Placing the bodies: where an impact starts, so that the engine meets the contact as planned.
+
+The analytic free motion is run backwards from the contact instant: at t = 0 the bat's COM is
+at the origin with its axis along +x and the ball touches it at s (the world frame of
+``adapters.interface``). The start lies T = (approach_steps - contact_phase) dt - overlap / v_c
+before it, so that after ``approach_steps`` steps the bodies overlap by ``overlap_m`` plus
+``contact_phase`` steps of closing. With a swing, the bat is first swung from rest about the
+hands in the engine (``swing_case``), released, and meets the ball ``approach_steps`` later.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from adapters import Hands, Settings, State
+from analytic import Ball, Bat, ImpactCase, checks
+from analytic.dynamics import Drive, HingedSwing
+
+from .judge import HITTABLE_SLACK_M
+
+#: Where the ball waits while the bat swings: far from anything it could touch (m).
+PARKED_BALL_Y_M = 100.0
+
+
+def check_hittable(case: ImpactCase) -> None:
+    """Raise ValueError unless s lies on the capsule's cylinder, where the contact normal is
+    perpendicular to the axis as the impact model assumes (the caps would tilt it)."""
+    bat = case.bat
+    checks.in_range("s_m", case.s_m, bat.s_min_m - HITTABLE_SLACK_M,
+                    bat.s_max_m + HITTABLE_SLACK_M)
+
+
+def min_dt_s(case: ImpactCase, settings: Settings) -> float:
+    """The smallest step at which the start lies before the contact (T > 0): below it the
+    ``overlap_m`` the contact is first seen at takes more than ``approach_steps`` steps of
+    closing, and the bodies would start inside each other (s)."""
+    return settings.overlap_m / (case.closing_speed_mps
+                                 * (settings.approach_steps - settings.contact_phase))
+
+
+def check_placement(case: ImpactCase, settings: Settings) -> None:
+    """Raise ValueError naming dt_s and the smallest step that works when the bodies cannot be
+    placed apart before the contact (``min_dt_s``)."""
+    check_hittable(case)
+    smallest = min_dt_s(case, settings)
+    if not settings.dt_s > smallest:
+        raise ValueError(
+            f"dt_s={settings.dt_s:g} is too small to place this impact: the contact is first "
+            f"seen overlap_m={settings.overlap_m:g} m deep, {settings.approach_steps} steps after "
+            f"the start, at a closing speed of {case.closing_speed_mps:.4g} m/s; allowed: "
+            f"dt_s > {smallest:.3g} s (or a smaller overlap_m)")
+
+
+def start_state(case: ImpactCase, settings: Settings) -> tuple[State, float]:
+    """The state T seconds before contact (module docstring); returns (state, T)."""
+    bat, ball = case.bat, case.ball
+    vc = case.closing_speed_mps
+    T = (settings.approach_steps - settings.contact_phase) * settings.dt_s - settings.overlap_m / vc
+    v_t, v_n = case.v0_mps * math.sin(case.theta_rad), -case.v0n_mps
+    u_t, u_n = case.u0_mps * math.sin(case.phi_rad), case.u0n_mps
+    reach = bat.radius_m + ball.radius_m
+    return State(
+        ball_x_m=case.s_m - T * v_t, ball_y_m=reach - T * v_n, ball_vx_mps=v_t, ball_vy_mps=v_n,
+        ball_omega_radps=0.0, bat_x_m=-T * u_t, bat_y_m=-T * u_n,
+        bat_angle_rad=-T * case.omega0_radps, bat_vx_mps=u_t, bat_vy_mps=u_n,
+        bat_omega_radps=case.omega0_radps,
+    ), T
+
+
+@dataclass(frozen=True, kw_only=True)
+class SwingPlan:
+    """How to swing the bat into an impact: ``steps`` steps under ``swing.torque_nm`` about the
+    hands pinned at ``pivot_xy_m`` (world, m), from rest at ``bat_start`` (world), then release
+    (the analytic omega and angle at release: rad/s, rad)."""
+
+    swing: HingedSwing
+    steps: int
+    pivot_xy_m: tuple[float, float]
+    bat_start: State
+    omega_release_radps: float
+    angle_release_rad: float
+    dt_s: float
+
+    def hands(self, bat: Bat) -> Hands:
+        """The swing's drive as the engine applies it: the hands' torque, hinged at the hands."""
+        return hands_for(self.swing.drive(), bat, self.pivot_xy_m)
+
+
+def hands_for(drive: Drive, bat: Bat, pivot_xy_m: tuple[float, float] = (0.0, 0.0)) -> Hands:
+    """An ``analytic.dynamics.Drive`` resolved on one bat, as an engine applies it: its force
+    at its arm from the COM, its torque, and its pivot (if any) hinged at ``pivot_xy_m``."""
+    drive.check(bat)
+    pivot = None if drive.pivot_from_knob_m is None else \
+        drive.pivot_from_knob_m - bat.com_from_knob_m
+    return Hands(force_n=drive.force_n, angle_rad=drive.force_angle_rad,
+                 arm_m=drive.force_arm_m(bat), torque_nm=drive.torque_nm,
+                 pivot_from_com_m=pivot, pivot_xy_m=pivot_xy_m)
+
+
+def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
+               swing: HingedSwing, settings: Settings) -> tuple[ImpactCase, SwingPlan]:
+    """The impact that a hinged swing delivers, and the plan to simulate it in one run.
+
+    The swing lasts a whole number of steps n = round(t/dt); at release (t_r = n dt, torque off,
+    hands let go) the bat turns at omega0 = tau t_r / I_p and its COM moves at u0 = omega0 d on
+    the hands' circle. ``approach_steps`` later the free bat meets the ball at s: by then it has
+    turned omega0 T, so the impact frame sees the COM velocity tilted by phi = omega0 T (its
+    straight-line motion from release). The ball waits far away during the swing.
+    """
+    dt = settings.dt_s
+    steps = max(1, round(swing.duration_s(bat) / dt))
+    t_r = steps * dt
+    w0 = swing.omega_at(bat, t_r)
+    d = swing.arm_m(bat)
+    phi = 0.0
+    for _ in range(3):  # T depends on the closing speed, which depends on phi; converges at once
+        case = ImpactCase(bat=bat, ball=ball, s_m=s_m, v0_mps=v0_mps, u0_mps=w0 * d,
+                          omega0_radps=w0, e=e, phi_rad=phi,
+                          hands_from_knob_m=swing.hands_from_knob_m)
+        release, T = start_state(case, settings)
+        phi = w0 * T
+    case = ImpactCase(bat=bat, ball=ball, s_m=s_m, v0_mps=v0_mps, u0_mps=w0 * d, omega0_radps=w0,
+                      e=e, phi_rad=phi, hands_from_knob_m=swing.hands_from_knob_m)
+    release, _ = start_state(case, settings)
+    px = release.bat_x_m - d * math.cos(release.bat_angle_rad)
+    py = release.bat_y_m - d * math.sin(release.bat_angle_rad)
+    a0 = release.bat_angle_rad - swing.angle_swept(bat, t_r)
+    start = release._replace(
+        bat_x_m=px + d * math.cos(a0), bat_y_m=py + d * math.sin(a0), bat_angle_rad=a0,
+        bat_vx_mps=0.0, bat_vy_mps=0.0, bat_omega_radps=0.0, ball_x_m=0.0,
+        ball_y_m=PARKED_BALL_Y_M, ball_vx_mps=0.0, ball_vy_mps=0.0, ball_omega_radps=0.0)
+    return case, SwingPlan(swing=swing, steps=steps, pivot_xy_m=(px, py), bat_start=start,
+                           omega_release_radps=w0, angle_release_rad=release.bat_angle_rad,
+                           dt_s=dt)
