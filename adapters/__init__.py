@@ -30,10 +30,18 @@ from importlib import metadata
 from pathlib import Path
 from types import MappingProxyType
 
-from .interface import (STATE_FIELDS, BatchedEngine, Engine, Hands, MassProperties, Scene,
-                        State)
-from .record import (PROFILES, ContactReference, EngineNotInstalled, EngineRecord, Integrator,
-                     KnobFamily, RestitutionRule, Settings, import_engine)
+from .interface import STATE_FIELDS, BatchedEngine, Engine, Hands, MassProperties, Scene, State
+from .record import (
+    PROFILES,
+    ContactReference,
+    EngineNotInstalled,
+    EngineRecord,
+    Integrator,
+    KnobFamily,
+    RestitutionRule,
+    Settings,
+    import_engine,
+)
 
 ENTRY_POINT_GROUP = "batsim.engines"
 #: Colours for engines whose record names none (plug-ins), in registry order: none of them a

@@ -16,11 +16,12 @@ import importlib
 import math
 import os
 import sys
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from enum import Enum
 from importlib import metadata
 from types import MappingProxyType, ModuleType
-from typing import Any, Iterator, Mapping
+from typing import Any
 
 import numpy as np
 

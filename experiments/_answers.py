@@ -17,11 +17,27 @@ import pandas as pd
 from scipy import optimize
 
 import adapters
-from analytic import (MEASURED_EXPONENT, Bat, ImpactCase, Swing, SwingModel, batted_ball_speed,
-                      center_of_percussion, compliant, corked_bat_paper, hittable_sweet_spot,
-                      predict, presets, sweet_spot, sweet_zone, swing_for)
+from analytic import (
+    MEASURED_EXPONENT,
+    Bat,
+    ImpactCase,
+    Swing,
+    SwingModel,
+    batted_ball_speed,
+    center_of_percussion,
+    compliant,
+    corked_bat_paper,
+    hittable_sweet_spot,
+    predict,
+    presets,
+    sweet_spot,
+    sweet_zone,
+    swing_for,
+)
 
-from .core import fire as _fire, tables as _grid, runner as _runner
+from .core import tables
+from .core.fire import Job
+from .core.runner import Runner
 
 R161, AL, BALL = presets.R161, presets.EASTON31, presets.BASEBALL
 E = presets.E_WOOD
@@ -330,10 +346,10 @@ def rigid_vs_compliant(sc: Scenario, points: int = 41) -> pd.DataFrame:
 
 # -- engines -------------------------------------------------------------------------------------
 
-def engine_checks(runner: _runner.Runner, engines: tuple[str, ...]) -> pd.DataFrame:
+def engine_checks(runner: Runner, engines: tuple[str, ...]) -> pd.DataFrame:
     """The model's headline impacts fired in every engine (reference profile): the 1 x 10 in
     cork bat and the aluminium bat at their best points under each swing model, both swings.
-    A tidy table (``_grid.table``): each row judged against the answer its engine's contact
+    A tidy table (``tables.table``): each row judged against the answer its engine's contact
     converges to (rigid theory, or the engine's own contact law)."""
     cases, labels = [], []
     for sc in SCENARIOS:
@@ -344,9 +360,9 @@ def engine_checks(runner: _runner.Runner, engines: tuple[str, ...]) -> pd.DataFr
                 cases.append(ImpactCase(bat=bat, ball=BALL, s_m=s, v0_mps=sc.v0_mps,
                                         u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps, e=E))
                 labels.append((sc.label, name, m.value))
-    jobs = [_fire.Job(engine=n, settings=adapters.settings_for(n), case=c)
+    jobs = [Job(engine=n, settings=adapters.settings_for(n), case=c)
             for n in engines for c in cases]
-    table = _grid.table(runner.fire(jobs), "reference").drop(columns=["bat"])
+    table = tables.table(runner.fire(jobs), "reference").drop(columns=["bat"])
     meta = pd.DataFrame([lab for _ in engines for lab in labels],
                         columns=["swing", "bat", "swing model"])
     return pd.concat([meta, table], axis=1)
@@ -358,12 +374,12 @@ def engine_sweet_spots(engines: tuple[str, ...]) -> pd.DataFrame:
     rows = []
     for sc in SCENARIOS:
         s_star = sweet_spot(R161, BALL, sc.v0_mps, sc.swing.u0_mps, sc.swing.omega0_radps)
-        firing = _grid.Firing(bat=R161, s_m=(s_star,), v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
+        firing = tables.Firing(bat=R161, s_m=(s_star,), v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
                               omega0_radps=sc.swing.omega0_radps, e=E)
         bracket = (max(R161.s_min_m, s_star - 0.05), min(R161.s_max_m, s_star + 0.05))
         row = {"swing": sc.label, "s* analytic (mm from COM)": s_star * 1e3}
         for n in engines:
-            got = _grid.locate_sweet_spot(n, adapters.settings_for(n), firing, bracket)
+            got = tables.locate_sweet_spot(n, adapters.settings_for(n), firing, bracket)
             row[f"{n} - analytic (mm)"] = (got - s_star) * 1e3
         rows.append(row)
     return pd.DataFrame(rows)

@@ -16,10 +16,18 @@ import argparse
 import math
 import sys
 
-from . import (bench_analytic, bench_engines, calibrate_soft, defaults, findings, pareto,
-               stability, swing)
-from .core import cli as _cli
+from . import (
+    bench_analytic,
+    bench_engines,
+    calibrate_soft,
+    defaults,
+    findings,
+    pareto,
+    stability,
+    swing,
+)
 from . import sweep as sweep_cmd
+from .core import cli, runs
 from .core.io import atomic_write_many, json_bytes, provenance
 
 #: name -> sweep command-line options (R161, 41 points, the paper's pitch).
@@ -60,11 +68,11 @@ def parts_arg(value: str) -> tuple[str, ...]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.baselines", description=__doc__.splitlines()[0])
+    p = cli.Parser(prog="python -m experiments.baselines", description=__doc__.splitlines()[0])
     p.add_argument("--only", type=parts_arg, default=PARTS, metavar="PART[,PART...]",
                    help=f"what to regenerate (default all): {', '.join(PARTS)}")
-    _cli.add_engine(p)
-    _cli.add_runner(p)
+    cli.add_engine(p)
+    cli.add_runner(p)
     return p
 
 
@@ -92,8 +100,8 @@ def sweeps(args: argparse.Namespace) -> dict[str, bytes]:
         if f"{sweep.name}.csv" in files:
             raise RuntimeError(f"baseline {label!r} would overwrite {sweep.name}: two baselines "
                                "must differ in an option the sweep's name spells")
-        with _cli.Progress(len(sweep.firing.s_m) * len(sweep.engines), label) as bar, \
-                _cli.runner(args, bar) as runner:
+        with runs.Progress(len(sweep.firing.s_m) * len(sweep.engines), label) as bar, \
+                cli.runner(args, bar) as runner:
             table, meta = sweep_cmd.run(sweep, runner, chart=True)
         files.update(sweep_cmd.files(table, meta, sweep, stem=sweep.name))
         print(f"== {label}: {sweep.name}")
@@ -129,7 +137,7 @@ def _num(x: float, fmt: str) -> str:
 
 def study_args(module, args: argparse.Namespace) -> argparse.Namespace:
     """A study's options: the engines and the runner where it takes them, else its defaults."""
-    parser = module.build_parser()
+    parser = module.COMMAND.parser()
     dests = {a.dest for a in parser._actions}
     argv = ["--engine", ",".join(args.engine)] if "engine" in dests else []
     if "workers" in dests:
@@ -150,10 +158,10 @@ def main(argv: list[str] | None = None) -> int:
             else:
                 files, text = STUDIES[part].produce(study_args(STUDIES[part], args))
                 print(f"== {part}\n{text}")
-            atomic_write_many({_cli.RESULTS / name: data for name, data in files.items()})
+            atomic_write_many({runs.RESULTS / name: data for name, data in files.items()})
         return 0
 
-    return _cli.main_guard(body)
+    return cli.main_guard(body)
 
 
 if __name__ == "__main__":

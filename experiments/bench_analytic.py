@@ -17,18 +17,14 @@ import numpy as np
 
 from analytic import batted_ball_speed, presets
 
-from .core import cli as _cli
+from .core import cli
+from .core.cli import Command
 from .core.io import json_bytes, provenance
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.bench_analytic",
-                    description=__doc__.splitlines()[0])
-    p.add_argument("--points", type=_cli.integer(1, 10**8), default=1_000_000)
-    p.add_argument("--repeats", type=_cli.integer(1, 1000), default=15)
-    _cli.add_output(p)
-    return p
-
+def _options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--points", type=cli.integer(1, 10**8), default=1_000_000)
+    p.add_argument("--repeats", type=cli.integer(1, 1000), default=15)
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Time the vectorized v1 over the grid; the JSON and a one-line summary."""
@@ -47,8 +43,9 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         f"{args.points / med:.3g} impacts/s")
 
 
-def main(argv: list[str] | None = None) -> int:
-    return _cli.run_command(build_parser(), argv, "bench_analytic", produce)
+COMMAND = Command(name="bench_analytic", doc=__doc__, produce=produce, options=_options,
+                  engines=False, runner=False)
+main = COMMAND.main
 
 
 if __name__ == "__main__":

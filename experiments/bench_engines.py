@@ -23,7 +23,6 @@ import subprocess
 import sys
 import tempfile
 import time
-
 from pathlib import Path
 
 import numpy as np
@@ -33,24 +32,26 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
-from .core import cli as _cli, runner as _runner, tables as _grid
+from .core import cli, runs, tables
+from .core.cli import Command
 from .core.fire import hosted
-from .core.placement import start_state
 from .core.io import ROOT, figure_png, json_bytes, provenance
+from .core.placement import start_state
+from .core.runner import MIN_PARALLEL_S, Runner
 
 
-def per_collision(name: str, firing: _grid.Firing, repeats: int) -> dict:
+def per_collision(name: str, firing: tables.Firing, repeats: int) -> dict:
     """Median cost per collision, through the harness and for the bare engine, same steps."""
     settings = adapters.settings_for(name)
     jobs = firing.jobs(name, settings)
-    runner = _runner.Runner()
-    _grid.table(runner.fire(jobs[:1]), "bench")  # build the scene outside the timing
+    runner = Runner()
+    tables.table(runner.fire(jobs[:1]), "bench")  # build the scene outside the timing
     harness, walls, bares, steps = [], [], [], []
     host = hosted(name, settings)
     for _ in range(repeats):
         t0 = time.perf_counter()
         fired = runner.fire(jobs)
-        _grid.table(fired, "bench")
+        tables.table(fired, "bench")
         harness.append((time.perf_counter() - t0) / len(jobs))
         for f in fired:
             walls.append(f.outcome.wall_s)
@@ -127,16 +128,16 @@ def runner_speedups(label: str, args: list[str], repeats: int) -> dict:
     times: dict[str, list[float]] = {k: [] for k in kinds}
     warm = [j for n in plan.engines for j in plan.firing.jobs(n, adapters.settings_for(n))[:3]]
     with tempfile.TemporaryDirectory() as tmp, contextlib.ExitStack() as stack:
-        runners = {k: stack.enter_context(_runner.Runner(min_parallel_s=0.0, **kw))
+        runners = {k: stack.enter_context(Runner(min_parallel_s=0.0, **kw))
                    for k, kw in kinds.items()}
         for runner in runners.values():
             runner.fire(warm)  # start the workers, import the engines
-            runner.min_parallel_s = _runner.MIN_PARALLEL_S
+            runner.min_parallel_s = MIN_PARALLEL_S
         for _ in range(repeats):
             for key, runner in runners.items():
                 t0 = time.perf_counter()
                 table, meta = sweep_cmd.run(plan, runner, chart=True)
-                _cli.publish(Path(tmp) / key, sweep_cmd.files(table, meta, plan))
+                runs.publish(Path(tmp) / key, sweep_cmd.files(table, meta, plan))
                 times[key].append(time.perf_counter() - t0)
     out = {"label": label, "args": " ".join(args), "repeats": repeats,
            **{f"{k}_s": statistics.median(v) for k, v in times.items()},
@@ -172,25 +173,14 @@ def chart(table: pd.DataFrame):
     return fig
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.bench_engines",
-                    description=__doc__.splitlines()[0])
-    p.add_argument("--repeats", type=_cli.integer(1, 100), default=5)
-    p.add_argument("--points", type=_cli.integer(2, 10_000), default=41)
-    p.add_argument("--quick", action="store_true", help="one repeat, no runner comparison")
-    _cli.add_engine(p)
-    _cli.add_output(p)
-    return p
-
-
-def main(argv: list[str] | None = None) -> int:
-    return _cli.run_command(build_parser(), argv, "bench_engines", produce)
-
+def _options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--repeats", type=cli.integer(1, 100), default=5)
+    p.add_argument("--points", type=cli.integer(2, 10_000), default=41)
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every measurement: the files and what to print."""
     repeats = 1 if args.quick else args.repeats
-    firing = _grid.Firing(bat=presets.R161, s_m=_grid.grid(presets.R161, args.points),
+    firing = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, args.points),
                           v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
                           omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     table = pd.DataFrame([per_collision(n, firing, repeats) for n in args.engine])
@@ -223,6 +213,11 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     }
     plt.close(fig)
     return files, "\n".join(lines)
+
+
+COMMAND = Command(name="bench_engines", doc=__doc__, produce=produce, options=_options,
+                  quick="one repeat, no runner comparison", runner=False)
+main = COMMAND.main
 
 
 if __name__ == "__main__":

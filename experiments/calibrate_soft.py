@@ -19,7 +19,9 @@ import pandas as pd
 import adapters
 from analytic import ImpactCase, presets
 
-from .core import fire as _fire, cli as _cli, runner as _runner
+from .core import cli, runs
+from .core.cli import Command
+from .core.fire import Job
 
 TARGETS = (0.3, 0.5, 0.8, 1.0)
 SPEEDS_MPS = (5.0, 20.0, 40.0, 80.0)
@@ -28,7 +30,7 @@ STEPS_S = (1e-5, 1e-6, 1e-7)
 OMEGA_RADPS = 3000.0
 
 
-def jobs(engine: str) -> list[_fire.Job]:
+def jobs(engine: str) -> list[Job]:
     """Every (step, bat mass, target e, speed) for one engine's soft contact."""
     rec = adapters.record(engine)
     out = []
@@ -37,39 +39,26 @@ def jobs(engine: str) -> list[_fire.Job]:
                                          **{rec.stiffness_setting: OMEGA_RADPS})
         for mass in MASSES_KG:
             bat = replace(presets.R161, name=f"r161@{mass}kg", mass_kg=mass)
-            out += [_fire.Job(engine=engine, settings=settings, case=ImpactCase(
+            out += [Job(engine=engine, settings=settings, case=ImpactCase(
                 bat=bat, ball=presets.BASEBALL, s_m=0.0, v0_mps=v0, e=e))
                 for e in TARGETS for v0 in SPEEDS_MPS]
     return out
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.calibrate_soft",
-                    description=__doc__.splitlines()[0])
-    _cli.add_engine(p)
-    _cli.add_runner(p)
-    _cli.add_output(p)
-    return p
-
+def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    if not soft_engines(args.engine):
+        p.error(f"--engine: none of {', '.join(args.engine)} has a soft contact; allowed: "
+                + ", ".join(soft_engines(adapters.names())))
 
 def soft_engines(engines: tuple[str, ...]) -> list[str]:
     """The engines among these whose record declares a soft contact."""
     return [n for n in engines if adapters.record(n).soft_contact is not None]
 
 
-def main(argv: list[str] | None = None) -> int:
-    p = build_parser()
-    args = p.parse_args(argv)
-    if not soft_engines(args.engine):
-        p.error(f"--engine: none of {', '.join(args.engine)} has a soft contact; allowed: "
-                + ", ".join(soft_engines(adapters.names())))
-    return _cli.run_command(p, argv, "calibrate_soft", produce)
-
-
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every calibration impact of the chosen soft engines: the table and its summary."""
     todo = [j for n in soft_engines(args.engine) for j in jobs(n)]
-    with _cli.Progress(len(todo), "impacts") as bar, _cli.runner(args, bar) as runner:
+    with runs.Progress(len(todo), "impacts") as bar, cli.runner(args, bar) as runner:
         fired = runner.fire(todo)
     rows = []
     for job, (case, out, _, _) in zip(todo, fired):
@@ -88,6 +77,10 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
             + summary.to_string(float_format=lambda v: f"{v:.3e}"))
     return {"soft_calibration.csv": table.to_csv(index=False, float_format="%.10g",
                                                  lineterminator="\n").encode()}, text
+
+
+COMMAND = Command(name="calibrate_soft", doc=__doc__, produce=produce, check=_check)
+main = COMMAND.main
 
 
 if __name__ == "__main__":

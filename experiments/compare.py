@@ -8,7 +8,6 @@ if nothing but timing changed, 1 otherwise.
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 

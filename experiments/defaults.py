@@ -28,7 +28,8 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from .core import cli as _cli, tables as _grid, runner as _runner
+from .core import cli, judge, runs, tables
+from .core.cli import Command
 from .core.io import json_bytes, provenance
 
 S_M = tuple(np.linspace(-0.2, 0.2, 9))
@@ -37,8 +38,8 @@ REF_DT_S = 1e-5
 PLACEMENT = ("dt_s", "contact_phase", "overlap_m", "approach_steps", "max_contact_s")
 
 
-def firing() -> _grid.Firing:
-    return _grid.Firing(bat=presets.R161, s_m=S_M, v0_mps=presets.PAPER_PITCH_MPS,
+def firing() -> tables.Firing:
+    return tables.Firing(bat=presets.R161, s_m=S_M, v0_mps=presets.PAPER_PITCH_MPS,
                         u0_mps=presets.PAPER_SWING.u0_mps,
                         omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
 
@@ -73,29 +74,23 @@ def plans(name: str, k: int) -> list[tuple[dict, adapters.Settings]]:
     return out
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.defaults", description=__doc__.splitlines()[0])
-    p.add_argument("--phases", type=_cli.integer(2, 1000), default=64,
+def _options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--phases", type=cli.integer(2, 1000), default=64,
                    help="contact phases per point at the default step (default 64)")
-    _cli.add_engine(p)
-    _cli.add_runner(p)
-    _cli.add_output(p)
-    return p
-
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     t0 = time.perf_counter()
     f = firing()
     todo = [(name, labels, st) for name in args.engine for labels, st in plans(name, args.phases)]
     jobs = [j for name, _, st in todo for j in f.jobs(name, st)]
-    with _cli.Progress(len(jobs), "impacts") as bar, _cli.runner(args, bar) as runner:
-        table = _grid.table(runner.fire(jobs), "defaults")
+    with runs.Progress(len(jobs), "impacts") as bar, cli.runner(args, bar) as runner:
+        table = tables.table(runner.fire(jobs), "defaults")
     n = len(S_M)
     reach = presets.R161.radius_m + presets.BASEBALL.radius_m
     caught, knob_rows = [], []
     for i, (name, labels, st) in enumerate(todo):
         df = table.iloc[i * n:(i + 1) * n]
-        ok = df[df.status.isin(_grid.MEASURED)]
+        ok = df[df.status.isin(judge.MEASURED)]
         row = {"engine": name, **labels, "dt_s": st.dt_s, "impacts": n, "ok": len(ok),
                "within_tolerance": int((df.status == "ok").sum()),
                "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
@@ -129,8 +124,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     return files, text
 
 
-def main(argv: list[str] | None = None) -> int:
-    return _cli.run_command(build_parser(), argv, "defaults", produce)
+COMMAND = Command(name="defaults", doc=__doc__, produce=produce, options=_options)
+main = COMMAND.main
 
 
 if __name__ == "__main__":

@@ -18,11 +18,11 @@ import sys
 import numpy as np
 import pandas as pd
 
-import adapters
 from analytic import MEASURED_EXPONENT, SwingModel, batted_ball_speed, center_of_percussion
 
 from . import _answers as A
-from .core import cli as _cli
+from .core import cli
+from .core.cli import Command
 from .core.io import figure_png, provenance
 
 REFS = {
@@ -564,22 +564,10 @@ or for a compliant contact its own law; `ok` means within the row's stated toler
 """
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.findings", description=__doc__.splitlines()[0])
-    _cli.add_engine(p)
-    _cli.add_runner(p)
-    _cli.add_output(p)
-    return p
-
-
-def main(argv: list[str] | None = None) -> int:
-    return _cli.run_command(build_parser(), argv, "findings", produce)
-
-
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """The report and its charts."""
     engines = tuple(args.engine)
-    with _cli.runner(args) as runner:
+    with cli.runner(args) as runner:
         checks = A.engine_checks(runner, engines)
     sweet_text, sweet_figs, sweet = sweet_spot_section(engines)
     cork_text, cork_figs, cork = cork_section(checks)
@@ -628,6 +616,10 @@ rigid-bat impact model with e = 0.5 (section 4 says how a real ball changes them
                              refs])
     files["findings.md"] = body.encode()
     return files, f"findings.md and {len(figs)} charts"
+
+
+COMMAND = Command(name="findings", doc=__doc__, produce=produce)
+main = COMMAND.main
 
 
 if __name__ == "__main__":

@@ -29,9 +29,11 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from .core.judge import Status
-from .core import cli as _cli, tables as _grid, runner as _runner
+from .core import cli, judge, runs, tables
+from .core.cli import Command
 from .core.io import figure_png, json_bytes, provenance
+from .core.judge import Status
+from .core.runner import Runner
 
 STEPS_S = (1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 2e-3, 1 / 240, 1 / 60)
 QUICK_STEPS_S = (1e-5, 1e-4, 2e-3, 1 / 240, 1 / 60)
@@ -85,20 +87,20 @@ def _windowed(settings: adapters.Settings) -> adapters.Settings:
     return replace(settings, approach_steps=max(2, round(WINDOW_S / settings.dt_s)))
 
 
-def evaluate(runner: _runner.Runner, settings: list[tuple[str, adapters.Settings]], firing,
+def evaluate(runner: Runner, settings: list[tuple[str, adapters.Settings]], firing,
              repeats: int) -> list[dict]:
     """Errors and statuses of each (engine, settings) over the grid; median wall per collision
     over ``repeats`` firings of the grid (all settings go to the runner at once)."""
     jobs = [j for _ in range(repeats) for name, st in settings for j in firing.jobs(name, st)]
-    table = _grid.table(runner.fire(jobs), "pareto")
+    table = tables.table(runner.fire(jobs), "pareto")
     n = len(firing.s_m)
     per_setting = len(settings) * n
     out = []
     for k in range(len(settings)):
-        runs = [table.iloc[r * per_setting + k * n: r * per_setting + (k + 1) * n]
+        repeated = [table.iloc[r * per_setting + k * n: r * per_setting + (k + 1) * n]
                 for r in range(repeats)]
-        df = runs[-1]
-        ok = df[df.status.isin(_grid.MEASURED)]
+        df = repeated[-1]
+        ok = df[df.status.isin(judge.MEASURED)]
         counts = df.status.value_counts()
         out.append({
             "median_rel_err": float(ok.v1_rel_err.median()) if len(ok) else math.nan,
@@ -106,7 +108,7 @@ def evaluate(runner: _runner.Runner, settings: list[tuple[str, adapters.Settings
             # soft contacts: the same against the engine's own law (its discretization alone)
             "max_law_rel_err": float((ok.v1_law_err_mps / ok.v1_law_mps.abs()).max())
             if len(ok) and ok.v1_law_mps.notna().all() else math.nan,
-            "wall_per_collision_s": statistics.median(w for r in runs for w in r.wall_s),
+            "wall_per_collision_s": statistics.median(w for r in repeated for w in r.wall_s),
             "steps_median": float(df.steps.median()),
             "impacts": len(df),
             **{f"n_{s.value}": int(counts.get(s.value, 0)) for s in Status},
@@ -256,22 +258,15 @@ def _failed_y(errors: pd.Series) -> np.ndarray:
     return np.where(np.isfinite(e), np.maximum(e, FLOOR), FAILED_Y)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.pareto", description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true", help="a small grid (smoke test)")
-    p.add_argument("--repeats", type=_cli.integer(1, 100), default=None,
+def _options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--repeats", type=cli.integer(1, 100), default=None,
                    help="timing repeats per setting (default 3, 1 with --quick)")
-    _cli.add_engine(p)
-    _cli.add_runner(p)
-    _cli.add_output(p)
-    return p
-
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every setting of every chosen engine over the grid: the files and a summary."""
     repeats = args.repeats or (1 if args.quick else 3)
     s = np.linspace(-0.2, 0.25, 4 if args.quick else 10)
-    firing = _grid.Firing(bat=presets.R161, s_m=tuple(s), v0_mps=presets.PAPER_PITCH_MPS,
+    firing = tables.Firing(bat=presets.R161, s_m=tuple(s), v0_mps=presets.PAPER_PITCH_MPS,
                           u0_mps=presets.PAPER_SWING.u0_mps,
                           omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     t0 = time.perf_counter()
@@ -279,7 +274,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     aligned_settings = [(n, _windowed(adapters.settings_for(n))) for n in args.engine]
     settings = [(c.engine, c.settings()) for c in todo] + aligned_settings
     total = repeats * len(settings) * len(s)
-    with _cli.Progress(total, "impacts") as bar, _cli.runner(args, bar) as runner:
+    with runs.Progress(total, "impacts") as bar, cli.runner(args, bar) as runner:
         results = evaluate(runner, settings, firing, repeats)
     table = pd.DataFrame([{"engine": c.engine, "family": c.family, "profile": c.profile,
                            "label": c.label, "dt_s": st.dt_s, **r}
@@ -312,8 +307,9 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                    + f"\n{len(table)} settings in {elapsed:.1f} s")
 
 
-def main(argv: list[str] | None = None) -> int:
-    return _cli.run_command(build_parser(), argv, "pareto", produce)
+COMMAND = Command(name="pareto", doc=__doc__, produce=produce, options=_options,
+                  quick="a small grid (smoke test)")
+main = COMMAND.main
 
 
 if __name__ == "__main__":

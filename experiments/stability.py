@@ -30,8 +30,9 @@ import pandas as pd
 import adapters
 from analytic import ImpactCase, compliant, presets
 
-from .core import cli as _cli, judge, tables as _grid
-from .core import fire as _fire
+from .core import cli, judge, runs, tables
+from .core.cli import Command
+from .core.fire import Job
 from .core.io import figure_png, json_bytes, provenance
 
 BAT, BALL = presets.R161, presets.BASEBALL
@@ -63,7 +64,7 @@ def theory_fraction_caught(v_mps: float, dt_s: float, k: int, overlap_m: float =
 
 
 def map_jobs(engine: str, profile: str, steps, speeds, k: int, extra: dict | None = None,
-             e: float = 1.0, label: str | None = None) -> tuple[list[_fire.Job], list[dict]]:
+             e: float = 1.0, label: str | None = None) -> tuple[list[Job], list[dict]]:
     """The jobs of one map (every step x phase x speed) and, for each, its coordinates."""
     jobs, meta = [], []
     base = adapters.settings_for(engine, profile, **(extra or {}))
@@ -75,7 +76,7 @@ def map_jobs(engine: str, profile: str, steps, speeds, k: int, extra: dict | Non
             settings = replace(base, dt_s=float(dt), contact_phase=float(phase),
                                max_contact_s=BUDGET_S)
             for v in speeds:
-                jobs.append(_fire.Job(engine=engine, settings=settings, case=ImpactCase(
+                jobs.append(Job(engine=engine, settings=settings, case=ImpactCase(
                     bat=BAT, ball=BALL, s_m=S_M, v0_mps=v, e=e)))
                 meta.append({"map": label or f"{engine} {profile}", "engine": engine,
                              "profile": profile, "dt_s": float(dt), "v0_mps": v,
@@ -111,7 +112,7 @@ def summarize(rows: pd.DataFrame, x: str, y: str) -> pd.DataFrame:
 
     g = rows.groupby(["map", x, y], sort=False)
     return g.agg(fraction_ok=("status", lambda s: float(s.isin(SOUND).mean())),
-                 fraction_caught=("status", lambda s: float(s.isin(_grid.MEASURED).mean())),
+                 fraction_caught=("status", lambda s: float(s.isin(judge.MEASURED).mean())),
                  failure=("status", dominant)).reset_index()
 
 
@@ -263,19 +264,6 @@ def chart_energy(rows: pd.DataFrame):
     return fig
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.stability", description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true", help="a small grid (smoke test)")
-    _cli.add_engine(p)
-    _cli.add_runner(p)
-    _cli.add_output(p)
-    return p
-
-
-def main(argv: list[str] | None = None) -> int:
-    return _cli.run_command(build_parser(), argv, "stability", produce)
-
-
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every map for the chosen engines: the files and a summary."""
     steps = QUICK["steps"] if args.quick else STEPS_S
@@ -308,8 +296,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                             label=soft_label(engine))
             jobs += j
             meta += m
-    with _cli.Progress(len(jobs), "impacts") as bar, _cli.runner(args, bar) as runner:
-        fired = _grid.table(runner.fire(jobs), "")
+    with runs.Progress(len(jobs), "impacts") as bar, cli.runner(args, bar) as runner:
+        fired = tables.table(runner.fire(jobs), "")
     table = pd.DataFrame(meta)
     table["status"] = fired.status.to_numpy()
     table["peak_penetration_m"] = fired.peak_penetration_m.to_numpy()
@@ -348,6 +336,10 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     match = (ref.fraction_caught == ref.theory_fraction_caught).mean()
     return files, (f"rigid reference maps: the fraction of contacts caught equals theory in "
                    f"{match:.1%} of cells\n{len(table)} impacts in {elapsed:.1f} s")
+
+
+COMMAND = Command(name="stability", doc=__doc__, produce=produce, quick="a small grid (smoke test)")
+main = COMMAND.main
 
 
 if __name__ == "__main__":

@@ -15,19 +15,23 @@ import argparse
 import math
 import sys
 import time
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Callable
 
-import numpy as np
 import pandas as pd
 
 import adapters
-from analytic import Bat, batted_ball_speed, compliant, predict, presets
+from analytic import Bat, compliant, predict, presets
 from analytic.dynamics import HingedSwing
 
-from .core import cli as _cli, tables as _grid, runner as _runner
-from .core.io import figure_png, json_bytes, provenance
+from . import sweep_chart
+from .core import cli, estimate, judge, runs, tables
+from .core.estimate import duration
+from .core.fire import Job
+from .core.io import json_bytes, provenance
+from .core.placement import min_dt_s
+from .core.runner import Runner
 
 FLOAT_FORMAT = "%.12g"
 
@@ -39,10 +43,16 @@ class Sweep:
     engines: tuple[str, ...]
     profile: str
     dt_s: float | None
-    firing: _grid.Firing
+    firing: tables.Firing
     name: str
+    #: Each engine's settings: the profile's, with the time step overridden if one is given.
+    settings: Mapping[str, adapters.Settings]
     #: A compliant law (analytic.compliant.LAWS) whose prediction goes beside the rigid one.
     law: str | None = None
+
+    def jobs(self) -> list[Job]:
+        """Every impact of the sweep: each engine over the grid."""
+        return [j for n in self.engines for j in self.firing.jobs(n, self.settings[n])]
 
 
 #: The restitution of a sweep unless --e says otherwise (wood on a baseball).
@@ -63,18 +73,20 @@ MAX_POINTS = 10_000
 #: Rough cost of one impact (s) and of one table row (bytes), for that message.
 IMPACT_S = {"plain": 60e-6, "swing": 0.05}
 ROW_BYTES = 2_000
+#: Runs estimated to take longer say so before they start.
+LONG_RUN_S = 60.0
 
 
 def build_parser() -> argparse.ArgumentParser:
     swing, pitch = presets.PAPER_SWING, presets.PAPER_PITCH_MPS
-    num = _cli.number
-    p = _cli.Parser(
+    num = cli.number
+    p = cli.Parser(
         prog="python -m experiments.sweep",
         description="Fire a ball along a bat in physics engines and compare with impact theory.",
         epilog=f"bats: {', '.join(presets.BATS)}. A run goes to runs/<name>/ (sweep.csv, "
                "sweep.json, sweep.png); exit code 2 on bad input, before anything runs.",
     )
-    _cli.add_engine(p)
+    cli.add_engine(p)
     p.add_argument("--profile", choices=adapters.PROFILES, default="reference",
                    help="engine settings: tuned for fidelity, or the engine's own defaults")
     p.add_argument("--dt", type=num(0.0, 1.0, lo_open=True, unit="s"), default=None,
@@ -88,7 +100,7 @@ def build_parser() -> argparse.ArgumentParser:
             ("--wood-density", 640.0, "KGM3", "wood density (kg/m^3, default 640)")):
         p.add_argument(flag, type=num(0.0), default=None, metavar=metavar,
                        help=f"with --corked: {text}")
-    p.add_argument("--points", type=_cli.integer(2, 10**12), default=41,
+    p.add_argument("--points", type=cli.integer(2, 10**12), default=41,
                    help=f"impact points over the hittable length (2..{MAX_POINTS})")
     p.add_argument("--s-range", type=num(), nargs=2, default=None, metavar=("MIN", "MAX"),
                    help="part of the bat to sweep, m from the COM (default: all of it)")
@@ -110,8 +122,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="hands (pivot) from the knob, for --swing and the COP")
     p.add_argument("--swing-angle", type=num(0.0, 2 * math.pi, lo_open=True, unit="rad"),
                    default=math.pi / 2, metavar="RAD")
-    _cli.add_runner(p)
-    _cli.add_output(p)
+    p.add_argument("--budget-h", type=cli.number(0.0, lo_open=True, unit="h"), default=1.0,
+                   metavar="HOURS", help="refuse a run estimated to take longer (default 1 h)")
+    cli.add_runner(p)
+    cli.add_output(p)
     p.add_argument("--reference", choices=("rigid", "compliant"), default="rigid",
                    help="compliant: also predict every impact under a contact law (--law) and "
                         "put it beside the rigid answer (columns v1_compliant_mps, "
@@ -132,6 +146,39 @@ HOLE = {"hole_radius": ("hole_radius_m", 0.0127), "hole_depth": ("hole_depth_m",
 
 def sweep_from_args(args: argparse.Namespace) -> Sweep:
     """Validate every option together (ValueError names the problem) and build the sweep."""
+    bat = _bat(args)
+    if args.law is not None and args.reference != "compliant":
+        raise ValueError(f"--law {args.law} without --reference compliant does nothing; "
+                         "allowed: add --reference compliant, or leave --law out")
+    law = (args.law or "hertz") if args.reference == "compliant" else None
+    if args.points > MAX_POINTS:
+        per = IMPACT_S["swing" if args.swing else "plain"] * len(args.engine)
+        raise ValueError(
+            f"--points {args.points} is too many: about {duration(args.points * per)} and "
+            f"{args.points * len(args.engine) * ROW_BYTES / 1e6:.3g} MB; allowed: "
+            f"2..{MAX_POINTS} ({MAX_POINTS} take about {duration(MAX_POINTS * per)})")
+    s = tables.grid(bat, args.points, *(args.s_range or (None, None)))
+    swing, u0 = _swing(args, bat)
+    firing = tables.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=u0, omega0_radps=args.omega0,
+                           e=args.e, theta_rad=args.theta, hands_from_knob_m=args.hands,
+                           swing=swing)
+    cases = firing.cases()  # every impact validated before anything runs
+    dt = {} if args.dt is None else {"dt_s": args.dt}
+    settings = {n: adapters.settings_for(n, args.profile, **dt) for n in args.engine}
+    need = max(min_dt_s(c, st) for c in cases for st in settings.values())
+    if not all(st.dt_s > need for st in settings.values()):
+        raise ValueError(f"--dt {args.dt:g} is too small to place these impacts (the contact, "
+                         "first seen overlap_m deep after approach_steps steps, would start "
+                         f"inside the bat); allowed: --dt > {need:.3g} s")
+    name = default_name(runs.engine_label(args.engine), args.profile, args.dt,
+                        presets.BATS[args.bat], args.corked, args.u0 == 0 and args.omega0 == 0,
+                        args.swing, args.e) + (f"_{law}" if law else "")
+    return Sweep(engines=args.engine, profile=args.profile, dt_s=args.dt, firing=firing,
+                 name=name, law=law, settings=settings)
+
+
+def _bat(args: argparse.Namespace) -> Bat:
+    """The bat the options ask for (corked if asked, with the hole options)."""
     bat = presets.BATS[args.bat]
     given = [k for k in HOLE if getattr(args, k) is not None]
     if given and not args.corked:
@@ -141,71 +188,58 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     if args.corked:
         bat = bat.corked(**{field: default if getattr(args, k) is None else getattr(args, k)
                             for k, (field, default) in HOLE.items()})
-    engines = args.engine
-    if args.law is not None and args.reference != "compliant":
-        raise ValueError(f"--law {args.law} without --reference compliant does nothing; "
-                         "allowed: add --reference compliant, or leave --law out")
-    law = (args.law or "hertz") if args.reference == "compliant" else None
-    if args.points > MAX_POINTS:
-        per = IMPACT_S["swing" if args.swing else "plain"] * len(engines)
-        raise ValueError(
-            f"--points {args.points} is too many: about {_duration(args.points * per)} and "
-            f"{args.points * len(engines) * ROW_BYTES / 1e6:.3g} MB; allowed: 2..{MAX_POINTS} "
-            f"({MAX_POINTS} take about {_duration(MAX_POINTS * per)})")
-    s = _grid.grid(bat, args.points, *(args.s_range or (None, None)))
+    return bat
+
+
+def _swing(args: argparse.Namespace, bat: Bat) -> tuple[HingedSwing | None, float]:
+    """The hinged swing (None without --swing) and the bat's nominal u0 (m/s)."""
     hands_max = bat.com_from_knob_m if args.swing else bat.length_m
     if not args.hands < hands_max:
         raise ValueError(f"--hands {args.hands!r} m is not allowed for '{bat.name}'; allowed: 0 "
                          f"<= --hands < {hands_max:g} m from the knob ("
                          + ("the hands must be on the knob side of the COM to swing it)"
                             if args.swing else "on the bat)"))
-    swing, u0 = None, args.u0
-    if args.swing:
-        if args.theta != 0.0:
-            raise ValueError(f"--swing with --theta {args.theta!r}: not supported; allowed: "
-                             "--theta 0 with --swing")
-        swing = HingedSwing.for_omega(bat, args.omega0, hands_from_knob_m=args.hands,
-                                      angle_rad=args.swing_angle)
-        u0 = args.omega0 * swing.arm_m(bat)
-    firing = _grid.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=u0, omega0_radps=args.omega0,
-                          e=args.e, theta_rad=args.theta, hands_from_knob_m=args.hands,
-                          swing=swing)
-    firing.cases()  # every impact validated before anything runs
-    for name in engines:
-        adapters.settings_for(name, args.profile, **({} if args.dt is None else {"dt_s": args.dt}))
-    name = default_name(_cli.engine_label(engines), args.profile, args.dt,
-                        presets.BATS[args.bat], args.corked, args.u0 == 0 and args.omega0 == 0,
-                        args.swing, args.e) + (f"_{law}" if law else "")
-    return Sweep(engines=engines, profile=args.profile, dt_s=args.dt, firing=firing, name=name,
-                 law=law)
+    if not args.swing:
+        return None, args.u0
+    if args.theta != 0.0:
+        raise ValueError(f"--swing with --theta {args.theta!r}: not supported; allowed: "
+                         "--theta 0 with --swing")
+    swing = HingedSwing.for_omega(bat, args.omega0, hands_from_knob_m=args.hands,
+                                  angle_rad=args.swing_angle)
+    return swing, args.omega0 * swing.arm_m(bat)
 
 
-def _duration(seconds: float) -> str:
-    for unit, size in (("days", 86400), ("h", 3600), ("min", 60)):
-        if seconds >= size:
-            return f"{seconds / size:.3g} {unit}"
-    return f"{seconds:.3g} s"
+def check_cost(sweep: Sweep, budget_h: float) -> float:
+    """The run's estimated wall time (s, ``core.estimate``); ValueError if over ``budget_h``."""
+    per_engine = estimate.run_s(sweep.jobs())
+    total = sum(per_engine.values())
+    if total > budget_h * 3600.0:
+        worst = max(per_engine, key=per_engine.get)
+        each = per_engine[worst] / len(sweep.firing.s_m)
+        raise ValueError(
+            f"this sweep would take about {duration(total)} ({worst}: {duration(each)} an "
+            f"impact), over --budget-h {budget_h:g}; allowed: a run within the budget (a "
+            "coarser --dt, fewer --points or engines), or a larger --budget-h")
+    return total
 
 
-def run(sweep: Sweep, runner: _runner.Runner | None = None, *, locate: bool = True,
+def run(sweep: Sweep, runner: Runner | None = None, *, locate: bool = True,
         chart: bool = False) -> tuple[pd.DataFrame, dict]:
     """Fire every engine over the grid; return the table and a per-engine summary. With
     ``chart`` the summary's "png" holds the chart, drawn while the workers locate the marks."""
-    runner = runner or _runner.Runner()
-    settings = {n: _grid.with_dt(adapters.settings_for(n, sweep.profile), sweep.dt_s)
-                for n in sweep.engines}
-    jobs = [j for n in sweep.engines for j in sweep.firing.jobs(n, settings[n])]
+    runner = runner or Runner()
+    settings = sweep.settings
     t0 = time.perf_counter()
-    table = _grid.table(runner.fire(jobs), sweep.profile)
+    table = tables.table(runner.fire(sweep.jobs()), sweep.profile)
     if sweep.law:
         table = with_compliant(table, sweep.firing, sweep.law)
     elapsed = time.perf_counter() - t0
-    marks = _grid.analytic_marks(sweep.firing)
+    marks = tables.analytic_marks(sweep.firing)
     summary = {n: _summarize(table[table.engine == n]) for n in sweep.engines}
     located = _locate(runner, sweep.firing, settings, table, marks) if locate else lambda: {}
     meta = {"analytic": marks, "engines": summary, "fire_s": elapsed}
     if chart:
-        meta["png"] = render(table, sweep, marks)
+        meta["png"] = sweep_chart.render(table, sweep, marks)
     for (name, key), value in located().items():
         summary[name][key] = value
     for n in sweep.engines:
@@ -214,7 +248,7 @@ def run(sweep: Sweep, runner: _runner.Runner | None = None, *, locate: bool = Tr
     return table, meta
 
 
-def with_compliant(table: pd.DataFrame, firing: _grid.Firing, law: str) -> pd.DataFrame:
+def with_compliant(table: pd.DataFrame, firing: tables.Firing, law: str) -> pd.DataFrame:
     """The table with the compliant prediction of every impact beside the rigid one:
     v1_compliant_mps, v1_rigid_minus_compliant_mps (m/s), compliant_contact_s (s),
     compliant_peak_force_n (N), compliant_bat_turn_rad (rad): one integration per grid point.
@@ -240,7 +274,7 @@ def with_compliant(table: pd.DataFrame, firing: _grid.Firing, law: str) -> pd.Da
 
 
 def _summarize(df: pd.DataFrame) -> dict:
-    ok = df[df.status.isin(_grid.MEASURED)]
+    ok = df[df.status.isin(judge.MEASURED)]
     return {
         "impacts": len(df),
         "status_counts": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
@@ -259,115 +293,20 @@ def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
     side by side; returns a function that waits for {(engine, summary key): value}."""
     calls, keys = [], []
     for name, df in table.groupby("engine", sort=False):
-        if not df.status.isin(_grid.MEASURED).all():
+        if not df.status.isin(judge.MEASURED).all():
             continue
-        bracket = _grid.bracket_around(df.s_m, df.v1_engine_mps, "max")
+        bracket = tables.bracket_around(df.s_m, df.v1_engine_mps, "max")
         if bracket is not None and bracket[0] < marks["sweet_spot_m"] < bracket[1]:
-            calls.append((_grid.locate_sweet_spot, (name, settings[name], firing, bracket)))
+            calls.append((tables.locate_sweet_spot, (name, settings[name], firing, bracket)))
             keys.append((name, "sweet_spot_engine_m"))
-        bracket = _grid.bracket_around(df.s_m, df.hand_dv_engine_mps, "root")
+        bracket = tables.bracket_around(df.s_m, df.hand_dv_engine_mps, "root")
         if bracket is not None:
-            calls.append((_grid.locate_cop, (name, settings[name], firing, bracket)))
+            calls.append((tables.locate_cop, (name, settings[name], firing, bracket)))
             keys.append((name, "cop_engine_m"))
     # a bounded Brent search takes ~10-25 simulations of about the grid's median cost
     estimate = 25 * len(calls) * float(table.wall_s.median())
     pending = runner.submit_all(calls, estimate)
     return lambda: dict(zip(keys, pending()))
-
-
-def render(table: pd.DataFrame, sweep: Sweep, marks: dict) -> bytes:
-    """The chart as PNG bytes."""
-    import matplotlib.pyplot as plt
-
-    fig = plot(table, sweep, marks)
-    png = figure_png(fig)
-    plt.close(fig)
-    return png
-
-
-def plot(table: pd.DataFrame, sweep: Sweep, marks: dict):
-    """v1 along the bat: analytic curve, each engine's points, sweet spot and COP; a strip of
-    failed impacts (no trustworthy v1, so kept off the v1 axis), one row per engine; errors."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    f = sweep.firing
-    engines = list(table.engine.unique())
-    fig, (top, strip, bottom) = plt.subplots(
-        3, 1, figsize=(11, 7.5 + 0.25 * len(engines)), sharex=True,
-        gridspec_kw={"height_ratios": [3, 0.35 + 0.2 * len(engines), 2]})
-    s = np.linspace(f.bat.s_min_m, f.bat.s_max_m, 400)
-    s = s[f.v0_mps * np.cos(f.theta_rad) + f.u0_mps + f.omega0_radps * s > 0.0]  # approaching
-    top.plot(s, batted_ball_speed(f.bat, presets.BASEBALL, s, v0_mps=f.v0_mps, u0_mps=f.u0_mps,
-                                  omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
-             color="black", lw=1.5, label="single impulse (where the bodies approach)")
-    one = table.drop_duplicates("s_m")
-    if "v1_compliant_mps" in one:
-        top.plot(one.s_m, one.v1_compliant_mps, "--", color="tab:brown", lw=1.5,
-                 label=f"compliant contact ({sweep.law}), at the grid")
-    if ((one.rigid_impacts > 1) | (one.rigid_sustained_s > 0)).any():
-        top.plot(one.s_m, one.v1_analytic_mps, "-", color="tab:gray", lw=2.5, alpha=0.6,
-                 zorder=0, label="rigid episode (re-contacts, sustained contact), at the grid")
-    style = {n: adapters.record(n) for n in table.engine.unique()}
-    floor = 1e-16
-    any_ok = False
-    for i, (name, df) in enumerate(table.groupby("engine", sort=False)):
-        ok = df.status.isin(_grid.MEASURED)
-        any_ok |= bool(ok.any())
-        mark, color = style[name].marker, style[name].color
-        within = int((df.status == "ok").sum())
-        others = "".join(f", {v} {k}" for k, v in df.status[ok & (df.status != "ok")]
-                         .value_counts().items())
-        top.plot(df.s_m[ok], df.v1_engine_mps[ok], mark, ms=5, mfc="none",
-                 color=color, label=f"{name} ({within}/{len(df)} ok{others})")
-        if (~ok).any():  # no trustworthy v1: kept off the v1 axis
-            statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
-            as_rigid = int(((df.status == "no_separation") & (df.rigid_end == "time_limit")).sum())
-            if as_rigid:
-                statuses += f" ({as_rigid} still in contact in rigid theory too)"
-            strip.plot(df.s_m[~ok], np.full((~ok).sum(), i), "x", ms=6, color=color,
-                       label=f"{name} failed: {statuses}")
-        bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), mark,
-                        ms=5, mfc="none", color=color, label=name)
-        bottom.semilogy(df.s_m, df.v1_tol_mps, "-", lw=0.8, color=color, alpha=0.6)
-    strip.set_yticks(range(len(engines)), engines, fontsize=7)
-    strip.set_ylim(-0.7, len(engines) - 0.3)
-    strip.set_ylabel("failed", fontsize=8)
-    if strip.get_legend_handles_labels()[0]:
-        strip.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
-    else:
-        strip.text(0.5, 0.5, "no failed impacts", transform=strip.transAxes, ha="center",
-                   va="center", fontsize=8)
-    for ax in (top, strip, bottom):
-        ax.axvline(marks["sweet_spot_m"], color="tab:red", ls="--", lw=1)
-        ax.axvline(marks["cop_m"], color="tab:purple", ls=":", lw=1.2)
-    top.annotate(f"sweet spot {marks['sweet_spot_m'] * 1e3:.1f} mm", (marks["sweet_spot_m"], 0.3),
-                 xycoords=("data", "axes fraction"), rotation=90, color="tab:red", fontsize=8,
-                 ha="right")
-    top.annotate(f"COP (hands {f.hands_from_knob_m} m) {marks['cop_m'] * 1e3:.1f} mm",
-                 (marks["cop_m"], 0.3), xycoords=("data", "axes fraction"), rotation=90,
-                 color="tab:purple", fontsize=8, ha="left")
-    top.set_ylabel("batted-ball speed v1 (m/s)")
-    fig.suptitle(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:.4g} m/s, "
-                  f"omega0 = {f.omega0_radps:g} rad/s, e = {f.e:g}; profile {sweep.profile}"
-                  + (f", dt = {sweep.dt_s:g} s" if sweep.dt_s else "")
-                  + (f"\nswung in the engine about the hands ({f.hands_from_knob_m:g} m from the "
-                     f"knob) by {f.swing.torque_nm:.1f} N m over {f.swing.angle_rad:.3g} rad"
-                     if f.swing else ""), fontsize=10)
-    # legends beside the panels, never over the points
-    top.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    top.grid(alpha=0.3)
-    bottom.set_ylabel("|v1 engine - v1 rigid| (m/s)\nline: each row's tolerance")
-    bottom.set_xlabel("impact point s from the COM toward the barrel (m)")
-    bottom.grid(alpha=0.3, which="both")
-    if any_ok:
-        bottom.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    else:
-        bottom.text(0.5, 0.5, "no ok impacts", transform=bottom.transAxes, ha="center")
-    fig.tight_layout()
-    return fig
 
 
 def print_compliant(table: pd.DataFrame, law: str) -> None:
@@ -407,7 +346,7 @@ def print_summary(meta: dict) -> None:
 
 def files(table: pd.DataFrame, meta: dict, sweep: Sweep, stem: str = "sweep") -> dict[str, bytes]:
     """The sweep's CSV, JSON sidecar (summary, configuration, provenance) and PNG, by name."""
-    png = meta.get("png") or render(table, sweep, meta["analytic"])
+    png = meta.get("png") or sweep_chart.render(table, sweep, meta["analytic"])
     sidecar = {k: v for k, v in meta.items() if k != "png"}
     return {
         f"{stem}.csv": table.to_csv(index=False, float_format=FLOAT_FORMAT,
@@ -431,25 +370,28 @@ def main(argv: list[str] | None = None) -> int:
         return compare_tables(*args.compare)
     try:
         sweep = sweep_from_args(args)
+        cost = check_cost(sweep, args.budget_h)
     except ValueError as err:
         parser.error(str(err))
-    target = _cli.run_dir(parser, args, "sweep")
-    return _cli.main_guard(lambda: _run_and_publish(sweep, args, parser, target))
+    target = runs.run_dir(parser, args, "sweep")
+    if cost > LONG_RUN_S:
+        print(f"estimated: about {duration(cost)}", file=sys.stderr)
+    return cli.main_guard(lambda: _run_and_publish(sweep, args, parser, target))
 
 
 def _run_and_publish(sweep: Sweep, args, parser, target: Path) -> int:
     t0 = time.perf_counter()
-    with _cli.Progress(len(sweep.firing.s_m) * len(sweep.engines), "impacts") as bar, \
-            _cli.runner(args, bar) as runner:
+    with runs.Progress(len(sweep.firing.s_m) * len(sweep.engines), "impacts") as bar, \
+            cli.runner(args, bar) as runner:
         table, meta = run(sweep, runner, locate=not args.no_locate, chart=True)
-    meta["configuration"] = _cli.configuration(parser, args)
-    _cli.publish(target, files(table, meta, sweep))
+    meta["configuration"] = runs.configuration(parser, args)
+    runs.publish(target, files(table, meta, sweep))
     print_summary(meta)
     if sweep.law:
         print_compliant(table, sweep.law)
-    print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> {_cli.shown(target)}/")
+    print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> {runs.shown(target)}/")
     print("compare two runs: python -m experiments.compare "
-          f"{_cli.shown(target)}/sweep.csv OTHER_RUN/sweep.csv")
+          f"{runs.shown(target)}/sweep.csv OTHER_RUN/sweep.csv")
     return 0
 
 

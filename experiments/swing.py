@@ -25,13 +25,21 @@ import numpy as np
 import pandas as pd
 
 import adapters
-from analytic import (SwingModel, batted_ball_speed, hittable_sweet_spot, presets, sweet_spot,
-                      swing_for)
+from analytic import (
+    SwingModel,
+    batted_ball_speed,
+    hittable_sweet_spot,
+    presets,
+    sweet_spot,
+    swing_for,
+)
 from analytic.dynamics import Drive, motion, state_array
 
-from .core import cli as _cli, runner as _runner
+from .core import cli
+from .core.cli import Command
 from .core.fire import run_motion
 from .core.io import figure_png, json_bytes, provenance
+from .core.runner import Runner
 
 T_END_S = 0.1
 STEPS_S = (1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6)
@@ -85,7 +93,7 @@ def method_rows(engine: str, integrator: adapters.Integrator, dt: float) -> list
     return rows
 
 
-def scene_errors(runner: _runner.Runner, engines: tuple[str, ...], steps) -> pd.DataFrame:
+def scene_errors(runner: Runner, engines: tuple[str, ...], steps) -> pd.DataFrame:
     """Every engine x integrator (from its record) x time step, run side by side."""
     calls = [(method_rows, (engine, integrator, dt)) for engine in engines
              for integrator in adapters.record(engine).integrators for dt in steps]
@@ -226,23 +234,10 @@ def chart_models(table: pd.DataFrame):
     return fig
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = _cli.Parser(prog="python -m experiments.swing", description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true", help="two time steps only (smoke test)")
-    _cli.add_engine(p)
-    _cli.add_runner(p)
-    _cli.add_output(p)
-    return p
-
-
-def main(argv: list[str] | None = None) -> int:
-    return _cli.run_command(build_parser(), argv, "swing", produce)
-
-
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """The scenes in every chosen engine and integrator, and the swing-model table."""
     t0 = time.perf_counter()
-    with _cli.runner(args) as runner:
+    with cli.runner(args) as runner:
         table = scene_errors(runner, args.engine, QUICK_STEPS_S if args.quick else STEPS_S)
     fits = orders(table)
     models = swing_models()
@@ -264,6 +259,10 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         index="bat", columns="model", values="v1_max_mps", sort=False).to_string(
         float_format=lambda v: f"{v:.2f}")
     return files, text
+
+
+COMMAND = Command(name="swing", doc=__doc__, produce=produce, quick="two time steps only (smoke test)")
+main = COMMAND.main
 
 
 if __name__ == "__main__":

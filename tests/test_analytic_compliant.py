@@ -10,10 +10,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from analytic import Bat, ImpactCase, predict, presets
-from analytic import compliant
-from analytic.compliant import (BASEBALL_HERTZ, HuntCrossley, LinearSpringDamper,
-                                hunt_crossley_restitution, restitution_of_damping_ratio)
+from analytic import Bat, ImpactCase, compliant, predict, presets
+from analytic.compliant import (
+    BASEBALL_HERTZ,
+    HuntCrossley,
+    LinearSpringDamper,
+    hunt_crossley_restitution,
+    restitution_of_damping_ratio,
+)
 
 from .conftest import cases
 

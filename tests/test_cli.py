@@ -12,8 +12,20 @@ from pathlib import Path
 import pytest
 
 import adapters
-from experiments import (_cli, baselines, bench_analytic, bench_engines, calibrate_soft, compare,
-                         defaults, findings, pareto, stability, sweep, swing)
+from experiments import (
+    _cli,
+    baselines,
+    bench_analytic,
+    bench_engines,
+    calibrate_soft,
+    compare,
+    defaults,
+    findings,
+    pareto,
+    stability,
+    sweep,
+    swing,
+)
 from experiments._io import ROOT
 
 COMMANDS = {"sweep": sweep, "pareto": pareto, "stability": stability, "swing": swing,

@@ -155,7 +155,6 @@ def test_swing_into_impact(name):
     from dataclasses import replace
 
     from adapters import swing_case
-
     from analytic import compliant
     from experiments import _verdict
 

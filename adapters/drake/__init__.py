@@ -49,11 +49,21 @@ import math
 from dataclasses import dataclass
 
 from analytic import checks
-from analytic.compliant import (HuntCrossley, LinearSpringDamper, damping_ratio_for,
-                                hunt_crossley_dissipation)
+from analytic.compliant import (
+    HuntCrossley,
+    LinearSpringDamper,
+    damping_ratio_for,
+    hunt_crossley_dissipation,
+)
 
-from ..record import (ContactReference, EngineRecord, Integrator, KnobFamily, RestitutionRule,
-                      Settings)
+from ..record import (
+    ContactReference,
+    EngineRecord,
+    Integrator,
+    KnobFamily,
+    RestitutionRule,
+    Settings,
+)
 
 #: Discrete contact approximations (Drake's DiscreteContactApproximation) and "continuous" (an
 #: error-controlled integrator driving a continuous plant).

@@ -11,15 +11,31 @@ from ..record import import_engine
 from . import RECORD, dissipation_spm
 
 pydrake = import_engine(RECORD)
-from pydrake.geometry import (AddCompliantHydroelasticProperties,  # noqa: E402
-                              AddContactMaterial, AddRigidHydroelasticProperties, Capsule,
-                              DefaultProximityProperties, ProximityProperties, RoleAssign, Sphere)
+from pydrake.geometry import (  # noqa: E402
+    AddCompliantHydroelasticProperties,
+    AddContactMaterial,
+    AddRigidHydroelasticProperties,
+    Capsule,
+    DefaultProximityProperties,
+    ProximityProperties,
+    RoleAssign,
+    Sphere,
+)
 from pydrake.math import RigidTransform, RotationMatrix  # noqa: E402
 from pydrake.multibody.math import SpatialForce  # noqa: E402
-from pydrake.multibody.plant import (AddMultibodyPlant, CoulombFriction,  # noqa: E402
-                                     ExternallyAppliedSpatialForce, MultibodyPlantConfig)
-from pydrake.multibody.tree import (FixedOffsetFrame, PrismaticJoint,  # noqa: E402
-                                   RevoluteJoint, RotationalInertia, SpatialInertia)
+from pydrake.multibody.plant import (  # noqa: E402
+    AddMultibodyPlant,
+    CoulombFriction,
+    ExternallyAppliedSpatialForce,
+    MultibodyPlantConfig,
+)
+from pydrake.multibody.tree import (  # noqa: E402
+    FixedOffsetFrame,
+    PrismaticJoint,
+    RevoluteJoint,
+    RotationalInertia,
+    SpatialInertia,
+)
 from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator  # noqa: E402
 from pydrake.systems.framework import DiagramBuilder  # noqa: E402
 

@@ -24,8 +24,14 @@ from dataclasses import dataclass
 from analytic import checks
 from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
-from ..record import (ContactReference, EngineRecord, Integrator, KnobFamily, RestitutionRule,
-                      Settings)
+from ..record import (
+    ContactReference,
+    EngineRecord,
+    Integrator,
+    KnobFamily,
+    RestitutionRule,
+    Settings,
+)
 
 INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
 CONTACT_MODELS = ("impulse", "soft", "native")

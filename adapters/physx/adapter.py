@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import math
 import warnings
-from typing import Iterator
+from collections.abc import Iterator
 
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine

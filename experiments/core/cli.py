@@ -1,27 +1,23 @@
-"""The command-line convention every experiment follows, and where its files go.
+"""The command-line convention every experiment follows.
 
 Options spelled the same everywhere:
     --engine NAME[,NAME...]|all   engines from the registry (built-ins and plug-ins)
     --workers N / --scheduler     how the impacts run (experiments.core.runner)
     --out DIR  --name STEM  --force
-                                  a run's files go to DIR/STEM (default runs/<experiment>-<the
-                                  options that differ from the defaults>); an existing run is
-                                  never overwritten (a default name gets a .2, .3 ... suffix;
-                                  --force replaces). results/ is written only by
-                                  python -m experiments.baselines.
+                                  where a run's files go (experiments.core.runs)
 Every option is checked before any simulation runs or any file is touched: a bad one exits 2
-with one line naming the option, the value and what is allowed. --help only prints. Progress
-goes to stderr (a bar on a terminal, a line every few seconds otherwise; none with
-BATSIM_QUIET=1). Ctrl-C stops a run with exit 130 and leaves every earlier file as it was.
+with one line naming the option, the value and what is allowed (an unwritable --out and a
+--scheduler that does not answer within seconds included). --help only prints. Progress goes
+to stderr (a bar on a terminal, a line every few seconds otherwise; none with BATSIM_QUIET=1).
+Ctrl-C stops a run with exit 130 and leaves every earlier file as it was.
+
+A study is a ``Command``: its name, the options it adds, and ``produce(args) -> (files, text)``.
 """
 
 from __future__ import annotations
 
 import argparse
-import hashlib
-import json
 import math
-import os
 import re
 import shutil
 import signal
@@ -29,21 +25,18 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 import adapters
 
-from . import fire, runner as _runner
-from .io import ROOT, make_public
+from . import fire
+from . import runner as _runner
+from .runs import RESULTS, RUNS, Progress, publish, run_dir, shown
 
-RUNS = ROOT / "runs"
-RESULTS = ROOT / "results"
 MAX_WORKERS = 64
-#: Options that say how or where a run goes, not what it computes: left out of run names.
-NOT_IN_NAME = frozenset({"help", "out", "name", "force", "workers", "scheduler", "compare"})
 STEM = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._=+,-]{0,99}$")
-PROGRESS_EVERY_S = 5.0
 
 
 class Parser(argparse.ArgumentParser):
@@ -131,11 +124,9 @@ def engines_arg(value: str) -> tuple[str, ...]:
         raise argparse.ArgumentTypeError(
             f"{value!r}: {bad[0] if bad else 'no engine'} is not an engine; allowed: all, or a "
             f"comma-separated list of {', '.join(known)}")
-    for name in picked:
-        try:
-            adapters.engine_class(name)
-        except adapters.EngineNotInstalled as err:
-            raise argparse.ArgumentTypeError(str(err)) from None
+    for name in picked:  # found or not, without importing it
+        if name in adapters.missing():
+            raise argparse.ArgumentTypeError(adapters.missing()[name])
     return picked
 
 
@@ -149,7 +140,8 @@ def stem_arg(value: str) -> str:
 
 
 def directory_arg(value: str) -> Path:
-    """A directory that exists or can be made, writable, outside results/."""
+    """A directory that exists or can be made, writable (tried, not assumed: a root user's
+    os.access says yes to /proc), outside results/."""
     path = Path(value).expanduser().resolve()
     if path == RESULTS or RESULTS in path.parents:
         raise argparse.ArgumentTypeError(
@@ -160,10 +152,26 @@ def directory_arg(value: str) -> Path:
         probe = probe.parent
     if not probe.is_dir():
         raise argparse.ArgumentTypeError(f"{value!r}: {probe} is a file; allowed: a directory")
-    if not os.access(probe, os.W_OK | os.X_OK):
-        raise argparse.ArgumentTypeError(f"{value!r}: {probe} is not writable; allowed: a "
-                                         "directory you can write to")
+    try:
+        shutil.rmtree(tempfile.mkdtemp(dir=probe, prefix=".batsim-probe-"))
+    except OSError as err:
+        raise argparse.ArgumentTypeError(
+            f"{value!r}: {probe} is not writable ({err.strerror or type(err).__name__}); "
+            "allowed: a directory you can write to") from None
     return path
+
+
+def scheduler_arg(value: str) -> str:
+    """'local', or the address of a Dask scheduler that answers now (within
+    ``runner.CONNECT_TIMEOUT_S``): refused at once otherwise, whatever the job's size."""
+    if value == "local":
+        return value
+    try:
+        _runner.connect(value).close()
+    except (OSError, ValueError, TypeError) as err:
+        raise argparse.ArgumentTypeError(f"{value!r}: {err}; allowed: 'local', or the address "
+                                         "of a running scheduler (tcp://host:8786)") from None
+    return value
 
 
 # -- the shared options ---------------------------------------------------------------------
@@ -180,7 +188,7 @@ def add_runner(p: argparse.ArgumentParser) -> None:
     p.add_argument("--workers", type=integer(1, MAX_WORKERS), default=1, metavar="N",
                    help="local processes to spread impacts over (used when the work pays for "
                         "them)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+    p.add_argument("--scheduler", type=scheduler_arg, default=None, metavar="ADDRESS",
                    help="run impacts on a Dask cluster: its scheduler address (tcp://host:8786) "
                         "or 'local' for a LocalCluster of --workers processes")
 
@@ -192,89 +200,6 @@ def add_output(p: argparse.ArgumentParser) -> None:
                    help="the run's directory name (default: the experiment and every option "
                         "that differs from its default, or a short hash of them)")
     p.add_argument("--force", action="store_true", help="replace an existing run of that name")
-
-
-def engine_label(engines: tuple[str, ...]) -> str:
-    """'all' for every installed engine, else the names joined by '+' (for file names)."""
-    return "all" if engines == adapters.available() else "+".join(engines)
-
-
-def configuration(p: argparse.ArgumentParser, args: argparse.Namespace) -> dict:
-    """Every option that decides what a run computes, with its value (for names and JSON)."""
-    return {a.dest: _plain(getattr(args, a.dest)) for a in p._actions
-            if a.dest not in NOT_IN_NAME and a.dest != argparse.SUPPRESS}
-
-
-def _plain(v):
-    if isinstance(v, tuple) and v == adapters.available():
-        return "all"
-    if isinstance(v, (tuple, list)):
-        return ",".join(map(str, v))
-    return v.as_posix() if isinstance(v, Path) else v
-
-
-def run_name(p: argparse.ArgumentParser, args: argparse.Namespace, experiment: str) -> str:
-    """<experiment>-<option=value...> for the options that differ from their defaults, or
-    <experiment>-<8-hex hash of the whole configuration> when that is too long."""
-    conf = configuration(p, args)
-    defaults = {a.dest: _plain(a.default) for a in p._actions if a.dest in conf}
-    parts = []
-    for key, value in conf.items():
-        if value == defaults[key]:
-            continue
-        parts.append(key if value is True else f"{key}={value:g}" if isinstance(value, float)
-                     else f"{key}={value}")
-    label = re.sub(r"[^A-Za-z0-9._=+,-]", "", "_".join(parts)) or "defaults"
-    if len(label) > 60:
-        label = hashlib.sha1(json.dumps(conf, sort_keys=True, default=str).encode()).hexdigest()[:8]
-    return f"{experiment}-{label}"
-
-
-def run_dir(p: argparse.ArgumentParser, args: argparse.Namespace, experiment: str) -> Path:
-    """Where this run's files go (not created yet). An explicit --name that exists is an error
-    without --force; a default name that exists gets the first free .2, .3 ... suffix."""
-    if args.name is not None:
-        target = args.out / args.name
-        if target.exists() and not args.force:
-            p.error(f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
-                    "another --name")
-        return target
-    base = args.out / run_name(p, args, experiment)
-    if args.force or not base.exists():
-        return base
-    n = 2
-    while (args.out / f"{base.name}.{n}").exists():
-        n += 1
-    return args.out / f"{base.name}.{n}"
-
-
-def publish(target: Path, files: dict[str, bytes]) -> Path:
-    """Write a run's files into ``target`` as a whole: all of them into a new directory beside
-    it, then renamed into place (an existing run there is replaced only after that)."""
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp"))
-    old = None
-    try:
-        for name, data in files.items():
-            (tmp / name).write_bytes(data)
-        make_public(tmp, directory=True)
-        if target.exists():
-            old = target.with_name(f".{target.name}.old-{os.getpid()}")
-            os.replace(target, old)
-        os.replace(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        if old is not None and not target.exists():
-            os.replace(old, target)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-    return target
-
-
-def shown(path: Path) -> str:
-    """A path as the user would type it from the project root."""
-    return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
 
 
 def main_guard(run: Callable[[], int]) -> int:
@@ -302,66 +227,61 @@ def _on_sigint(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
-def run_command(p: argparse.ArgumentParser, argv: list[str] | None, experiment: str,
-                produce: Callable[[argparse.Namespace], tuple[dict[str, bytes], str]]) -> int:
-    """The main of a study: parse and check every option, pick the run directory, then
-    produce the files (and the text to print) and publish them as a whole."""
-    args = p.parse_args(argv)
-    target = run_dir(p, args, experiment)
+@dataclass(frozen=True, kw_only=True)
+class Command:
+    """A study run from the command line: ``python -m experiments.<name>``.
 
-    def body() -> int:
-        t0 = time.perf_counter()
-        files, text = produce(args)
-        publish(target, files)
-        if text:
-            print(text)
-        print(f"{experiment}: {time.perf_counter() - t0:.1f} s -> {shown(target)}/")
-        return 0
+    ``produce(args)`` returns the run's files (name -> bytes) and the text to print;
+    ``options(parser)`` adds the study's own options; ``check(parser, args)`` refuses option
+    combinations before any work (``parser.error``). The shared options come with ``engines``,
+    ``runner`` and ``output``; ``quick`` is the help of a --quick flag, if the study has one.
+    """
 
-    return main_guard(body)
+    name: str
+    doc: str
+    produce: Callable[[argparse.Namespace], tuple[dict[str, bytes], str]]
+    options: Callable[[argparse.ArgumentParser], None] | None = None
+    check: Callable[[argparse.ArgumentParser, argparse.Namespace], None] | None = None
+    quick: str | None = None
+    engines: bool = True
+    runner: bool = True
+    output: bool = True
 
+    def parser(self) -> Parser:
+        """The command's parser: its own options, then the shared ones."""
+        p = Parser(prog=f"python -m experiments.{self.name}",
+                   description=self.doc.strip().splitlines()[0])
+        if self.quick:
+            p.add_argument("--quick", action="store_true", help=self.quick)
+        if self.options:
+            self.options(p)
+        if self.engines:
+            add_engine(p)
+        if self.runner:
+            add_runner(p)
+        if self.output:
+            add_output(p)
+        return p
 
-# -- progress -------------------------------------------------------------------------------
+    def main(self, argv: list[str] | None = None) -> int:
+        """Parse and check every option, pick the run directory, then produce the files (and
+        the text to print) and publish them as a whole."""
+        p = self.parser()
+        args = p.parse_args(argv)
+        if self.check:
+            self.check(p, args)
+        target = run_dir(p, args, self.name)
 
-def quiet() -> bool:
-    """No progress output (BATSIM_QUIET=1, as the tests set)."""
-    return os.environ.get("BATSIM_QUIET", "") not in ("", "0")
+        def body() -> int:
+            t0 = time.perf_counter()
+            files, text = self.produce(args)
+            publish(target, files)
+            if text:
+                print(text)
+            print(f"{self.name}: {time.perf_counter() - t0:.1f} s -> {shown(target)}/")
+            return 0
 
-
-class Progress:
-    """Progress of a count on stderr: a bar on a terminal, else a line every few seconds, to
-    pass to a Runner as ``progress``."""
-
-    def __init__(self, total: int, desc: str, unit: str = "impacts") -> None:
-        self.total, self.desc, self.unit = total, desc, unit
-        self.done = 0
-        self.t0 = self.last = time.perf_counter()
-        self.bar = None
-        if not quiet() and sys.stderr.isatty():
-            from tqdm import tqdm
-
-            self.bar = tqdm(total=total, desc=desc, unit=unit.rstrip("s"), leave=False)
-
-    def __call__(self, n: int) -> None:
-        self.done += n
-        if self.bar is not None:
-            self.bar.update(n)
-            return
-        now = time.perf_counter()
-        if quiet() or now - self.last < PROGRESS_EVERY_S:
-            return
-        self.last = now
-        frac = self.done / self.total if self.total else 1.0
-        left = (now - self.t0) * (1 - frac) / frac if frac > 0 else math.nan
-        print(f"{self.desc}: {self.done}/{self.total} {self.unit} ({frac:.0%}), "
-              f"{now - self.t0:.0f} s, about {left:.0f} s left", file=sys.stderr, flush=True)
-
-    def __enter__(self) -> Progress:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        if self.bar is not None:
-            self.bar.close()
+        return main_guard(body)
 
 
 def runner(args: argparse.Namespace, progress: Progress | None = None) -> _runner.Runner:

@@ -15,10 +15,9 @@ import math
 import threading
 import time
 from collections import OrderedDict
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, NamedTuple, Sequence
-
-import numpy as np
+from typing import NamedTuple
 
 import adapters
 from adapters import BatchedEngine, MassProperties, Scene, Settings, State
@@ -28,8 +27,14 @@ from analytic.dynamics import HingedSwing, MotionState
 from . import geometry as g
 from .episode import ManyWorlds, OneWorld, SimOutcome, classify, step_episodes
 from .judge import Status, mass_allowance
-from .placement import (PARKED_BALL_Y_M, SwingPlan, check_placement, hands_for, start_state,
-                        swing_case)
+from .placement import (
+    PARKED_BALL_Y_M,
+    SwingPlan,
+    check_placement,
+    hands_for,
+    start_state,
+    swing_case,
+)
 
 #: Engines kept alive per process (one per engine and settings), oldest closed first.
 ENGINE_CACHE = 8

@@ -16,8 +16,9 @@ from __future__ import annotations
 import math
 import multiprocessing
 import time
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any
 
 import adapters
 

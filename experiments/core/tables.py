@@ -8,8 +8,8 @@ through ``experiments.core.runner``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
-from typing import Iterable, Sequence
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -21,7 +21,6 @@ from analytic.dynamics import HingedSwing
 
 from . import judge
 from .fire import Fired, Job, fire_jobs
-from .judge import MEASURED
 
 #: Columns of a sweep table, in order. Units are in the names.
 COLUMNS = (
@@ -208,8 +207,3 @@ def bracket_around(s: Iterable[float], values: Iterable[float], kind: str) -> tu
         return float(s[max(i - 1, 0)]), float(s[min(i + 1, len(s) - 1)])
     change = np.nonzero(np.sign(v[:-1]) * np.sign(v[1:]) <= 0)[0]
     return (float(s[change[0]]), float(s[change[0] + 1])) if len(change) else None
-
-
-def with_dt(settings: adapters.Settings, dt_s: float | None) -> adapters.Settings:
-    """Settings with the time step overridden when one is given."""
-    return settings if dt_s is None else replace(settings, dt_s=dt_s)

@@ -1,0 +1,70 @@
+"""What a run will cost, before it starts: steps per impact times each engine's step cost.
+
+An impact takes ``approach_steps`` steps to reach the contact, the contact's own steps (one for
+a rigid impulse; the rigid episode's sliding time, or a compliant law's contact time, over dt)
+and a few more until free flight proves the bodies apart; a hinged swing adds its own steps.
+The step cost is the engine record's ``step_cost_s`` (measured by ``experiments.bench_engines``),
+and each impact adds the harness's own ``OVERHEAD_S``. The estimate is for warning a user
+before hours of work, not a benchmark: it is good to a factor of a few.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from collections.abc import Sequence
+
+import adapters
+from analytic import ImpactCase
+
+from . import judge
+from .fire import Job
+
+#: The harness's own cost per impact (s): placement, classification, the table's row.
+OVERHEAD_S = 1e-4
+#: Steps after the contact until free flight proves the bodies apart.
+AFTER_CONTACT_STEPS = 3
+#: Impacts per engine whose episodes are integrated to estimate the contact's length.
+SAMPLES = 5
+
+
+def contact_s(case: ImpactCase, settings: adapters.Settings) -> float:
+    """How long the contact lasts in the model the engine converges to (s): its law's contact
+    time for a compliant contact, the rigid episode's for a rigid one (0 for one impulse)."""
+    law = settings.contact_law(case.e)
+    if law is not None:
+        return judge.law_answer(case, law).contact_duration_s
+    episode = judge.rigid(case, settings.max_contact_s)
+    return episode.sustained_contact_s if episode.impacts == 1 else episode.episode_s
+
+
+def impact_steps(job: Job, contact_time_s: float) -> float:
+    """Steps one impact takes (module docstring), with a contact lasting ``contact_time_s``."""
+    st = job.settings
+    steps = st.approach_steps + max(1.0, contact_time_s / st.dt_s) + AFTER_CONTACT_STEPS
+    if job.swing is not None:
+        steps += job.swing.duration_s(job.case.bat) / st.dt_s
+    return min(steps, st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2)
+
+
+def run_s(jobs: Sequence[Job]) -> dict[str, float]:
+    """Estimated wall time (s) of firing ``jobs``, per engine, from a sample of each engine's
+    impacts (their mean contact time stands for all of them)."""
+    by_engine: dict[str, list[Job]] = defaultdict(list)
+    for job in jobs:
+        by_engine[job.engine].append(job)
+    out = {}
+    for name, mine in by_engine.items():
+        sample = mine[:: max(1, len(mine) // SAMPLES)][:SAMPLES]
+        contact = sum(contact_s(j.case, j.settings) for j in sample) / len(sample)
+        cost = adapters.record(name).step_cost_s
+        out[name] = sum(impact_steps(j, contact) * cost + OVERHEAD_S for j in mine)
+    return out
+
+
+def duration(seconds: float) -> str:
+    """A duration as a person reads it: 42 s, 6.1 min, 3.2 h, 4.5 days."""
+    for unit, size in (("days", 86400), ("h", 3600), ("min", 60)):
+        if seconds >= size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
