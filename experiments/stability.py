@@ -53,7 +53,7 @@ BUDGET_S = 0.02
 #: Sound impacts: ok, or unjudged (a soft contact, not judged against rigid theory)
 SOUND = ("ok", "unjudged")
 LETTERS = {"tunnelled": "T", "non_finite": "N", "energy_gained": "E", "penetration": "P",
-           "inaccurate": "I", "no_separation": "S"}
+           "inaccurate": "I", "no_separation": "S", "no_contact": "C", "unsupported": "U"}
 
 
 def theory_fraction_caught(v_mps: float, dt_s: float, k: int, overlap_m: float = 1e-9,
@@ -187,9 +187,9 @@ def chart_maps(cells: pd.DataFrame, steps, speeds, margins: dict[str, float] | N
             legend.setdefault(lab, h)
     fig.legend(legend.values(), legend.keys(), loc="outside lower center", ncol=2, fontsize=8)
     fig.colorbar(im, ax=axes, shrink=0.8, label="fraction of contact phases ok")
+    letters = ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in LETTERS.items())
     fig.suptitle("Outcome over time step x closing speed (still R161, s = 0.1 m, e = 1); letters: "
-                 "most common failure (T tunnelled, E energy gained, P penetration, N non-finite, "
-                 "I inaccurate, S no separation)", fontsize=9)
+                 f"most common failure ({letters})", fontsize=9)
     return fig
 
 

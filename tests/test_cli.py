@@ -13,7 +13,6 @@ import pytest
 
 import adapters
 from experiments import (
-    _cli,
     baselines,
     bench_analytic,
     bench_engines,
@@ -26,7 +25,8 @@ from experiments import (
     sweep,
     swing,
 )
-from experiments._io import ROOT
+from experiments.core import runs
+from experiments.core.io import ROOT
 
 COMMANDS = {"sweep": sweep, "pareto": pareto, "stability": stability, "swing": swing,
             "calibrate_soft": calibrate_soft, "findings": findings, "baselines": baselines,
@@ -126,13 +126,13 @@ def test_bad_inputs_exit_2_with_one_line_before_any_work(tmp_path, capsys):
 
 @pytest.mark.parametrize("command", sorted(COMMANDS))
 def test_help_only_prints(command, capsys, tmp_path):
-    runs = sorted(_cli.RUNS.glob("*")) if _cli.RUNS.exists() else []
+    before = sorted(runs.RUNS.glob("*")) if runs.RUNS.exists() else []
     results = {p: p.stat().st_mtime_ns for p in (ROOT / "results").iterdir()}
     with pytest.raises(SystemExit) as exit_:
         COMMANDS[command].main(["--help"])
     assert exit_.value.code == 0
     assert "usage:" in capsys.readouterr().out
-    assert (sorted(_cli.RUNS.glob("*")) if _cli.RUNS.exists() else []) == runs
+    assert (sorted(runs.RUNS.glob("*")) if runs.RUNS.exists() else []) == before
     assert {p: p.stat().st_mtime_ns for p in (ROOT / "results").iterdir()} == results
 
 
@@ -154,9 +154,9 @@ def test_runs_never_overwrite_each_other(tmp_path):
 @pytest.mark.parametrize("umask,mode", [(0o022, 0o644), (0o027, 0o640), (0o077, 0o600)])
 def test_files_follow_the_umask(tmp_path, umask, mode):
     # A run's files and the committed ones get 0666 & ~umask, as any program's files do.
-    code = ("import sys; from pathlib import Path; from experiments import _cli, _io; "
-            "p = Path(sys.argv[1]); _cli.publish(p / 'run', {'a.txt': b'x'}); "
-            "_io.atomic_write_bytes(p / 'b.txt', b'y')")
+    code = ("import sys; from pathlib import Path; from experiments.core import io, runs; "
+            "p = Path(sys.argv[1]); runs.publish(p / 'run', {'a.txt': b'x'}); "
+            "io.atomic_write_bytes(p / 'b.txt', b'y')")
     subprocess.run([sys.executable, "-c", code, str(tmp_path)], cwd=ROOT, check=True,
                    preexec_fn=lambda: os.umask(umask))
     for path in (tmp_path / "run" / "a.txt", tmp_path / "b.txt"):

@@ -11,8 +11,9 @@ Engine side, each tolerance from the integrator's order and dt (T = 0.1 s, dt = 
   |v''| = (f/M) |omega| <= (f/M) |alpha| T; RK4's global error ~ T max|v^(5)| dt^4 / 2880 with
   |v^(5)| <= (f/M) (|alpha| T)^4 (times 10 for the neglected terms);
 - the hinge: a pivot re-projected once per step leaves a relative error of order (omega dt)^2 in
-  omega. Its constant depends on the engine's joint solver and is not derived: HINGE_K = 4
-  is an empirical bound over the constants measured (0.05 for MuJoCo Euler to 3.7 for RK4).
+  omega. Its constant depends on the engine's joint solver and is not derived: the judge's
+  HINGE_K = 4 is an empirical bound over the constants measured (0.05 for MuJoCo Euler to 3.7
+  for RK4).
 Rounding: ROUND = 8 eps n max(|value|, 1) over n steps, eps the engine's unit roundoff.
 """
 
@@ -25,13 +26,16 @@ import pytest
 from scipy import special
 
 import adapters
-from analytic import predict, presets
+from analytic import compliant, predict, presets
 from analytic.dynamics import Drive, HingedSwing, motion, motion_integrated, state_array
+from experiments.core import Job, fire_jobs, judge
+from experiments.core.fire import run_motion
+from experiments.core.judge import HINGE_K
+from experiments.core.placement import swing_case
 
 BAT = presets.R161
 T, DT = 0.1, 1e-4
 N = round(T / DT)
-HINGE_K = 4.0
 METHODS = [(n, i) for n in adapters.names() for i in adapters.record(n).integrators]
 IDS = [f"{n}-{i.label}" for n, i in METHODS]
 
@@ -74,18 +78,10 @@ def test_turning_force_obeys_impulse_momentum(q):
     assert got.vy_mps == pytest.approx(vy, rel=1e-9, abs=1e-10)
 
 
-@pytest.fixture
-def engines():
-    """Engines made by a test, closed after it (PyBullet holds a client connection)."""
-    made = []
-
-    def make(name, integrator):
-        made.append(adapters.load(name, dt_s=DT, **dict(integrator.overrides)))
-        return made[-1]
-
-    yield make
-    for eng in made:
-        eng.close()
+def _moved(name: str, integrator, drive: Drive):
+    """The bat driven alone for T in the engine with this integrator at DT."""
+    settings = adapters.settings_for(name, dt_s=DT, **dict(integrator.overrides))
+    return run_motion(name, settings, BAT, drive, T)
 
 
 @pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
@@ -93,9 +89,8 @@ def engines():
                                    Drive(force_n=100.0, force_at_from_knob_m=0.0,
                                          force_angle_rad=math.pi / 2)],
                          ids=["torque", "knob-force-90"])
-def test_constant_alpha_scenes(name, integrator, drive, engines):
-    eng = engines(name, integrator)
-    got = eng.run_motion(BAT, drive, T)
+def test_constant_alpha_scenes(name, integrator, drive):
+    got = _moved(name, integrator, drive)
     ref = motion(BAT, drive, got.t_s)
     alpha = drive.torque_about_com_nm(BAT) / BAT.inertia_cm_kgm2
     # omega exact; theta off by alpha T dt/2 (Euler family) or exact (RK4)
@@ -116,10 +111,10 @@ def test_constant_alpha_scenes(name, integrator, drive, engines):
 
 
 @pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
-def test_translation_without_turning(name, integrator, engines):
+def test_translation_without_turning(name, integrator):
     # Force through the COM: v = f t / M exactly for every method; the body never turns.
     drive = Drive(force_n=100.0, force_angle_rad=1.0)
-    got = engines(name, integrator).run_motion(BAT, drive, T)
+    got = _moved(name, integrator, drive)
     ref = motion(BAT, drive, got.t_s)
     assert math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps) \
         <= _round(ref.vx_mps, name)
@@ -127,11 +122,11 @@ def test_translation_without_turning(name, integrator, engines):
 
 
 @pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
-def test_hinged_torque(name, integrator, engines):
+def test_hinged_torque(name, integrator):
     # omega(t) = tau t / I_p about the hands; first-order angle term plus the hinge's
     # (omega dt)^2 relative error.
     drive = Drive(torque_nm=72.8, pivot_from_knob_m=0.1)
-    got = engines(name, integrator).run_motion(BAT, drive, T)
+    got = _moved(name, integrator, drive)
     ref = motion(BAT, drive, got.t_s)
     w, alpha = ref.omega_radps, ref.omega_radps / got.t_s
     hinge = HINGE_K * (w * DT) ** integrator.hinge_order
@@ -141,7 +136,7 @@ def test_hinged_torque(name, integrator, engines):
         + _round(ref.angle_rad, name)
 
 
-@pytest.mark.parametrize("name", adapters.names())
+@pytest.mark.parametrize("name", [n for n in adapters.names() if adapters.record(n).drives_bat])
 def test_swing_into_impact(name):
     # One run: swing about the hands, release, impact. The swing leaves the bat turned by
     # d_theta = alpha t_r dt/2 at release (the first-order term above), and the hinge leaves
@@ -154,25 +149,21 @@ def test_swing_into_impact(name):
     # Bound: 2 x their sum, the 2 for the neglected cross terms.
     from dataclasses import replace
 
-    from adapters import swing_case
-    from analytic import compliant
-    from experiments import _verdict
-
     swing = HingedSwing.for_omega(BAT, 32.0)
-    eng = adapters.load(name, dt_s=DT)
+    st = adapters.settings_for(name, dt_s=DT)
     reach = BAT.radius_m + presets.BASEBALL.radius_m
     # a compliant contact is judged against its own law, within the judge's bound for it
-    lawful = eng.contact_law(eng.settings, 0.5) is not None
+    lawful = st.contact_law(0.5) is not None
 
     def predict_(case):
-        return compliant.predict(case, eng.contact_law(eng.settings, case.e)) if lawful \
-            else predict(case)
+        return compliant.predict(case, st.contact_law(case.e)) if lawful else predict(case)
 
     for s in (-0.3, -0.1, 0.08, 0.2):
-        case, plan = swing_case(BAT, presets.BASEBALL, s_m=s, v0_mps=46.9, e=0.5, swing=swing,
-                                settings=eng.settings)
-        out = eng.simulate(case, swing=plan)
-        assert out.ok
+        nominal, plan = swing_case(BAT, presets.BASEBALL, s_m=s, v0_mps=46.9, e=0.5,
+                                   swing=swing, settings=st)
+        fired = fire_jobs([Job(engine=name, settings=st, case=nominal, swing=swing)])[0]
+        case, out = fired.case, fired.outcome
+        assert case == nominal and out.ok, (s, out.status, out.ended)
         ref = predict_(case)
         t_r = plan.steps * DT
         d_theta = 0.5 * swing.torque_nm / BAT.inertia_about(0.1) * t_r * DT
@@ -188,6 +179,5 @@ def test_swing_into_impact(name):
         assert d_omega <= HINGE_K * (w * DT) ** 2 * w + _round(w, name)
         oblique = (case.v0_mps + abs(ref.v1_mps)) * d_theta**2
         spin = (1 + ref.q) * (swing.arm_m(BAT) + abs(s)) * d_omega
-        law_tol = _verdict.soft_judgement(case, out)[1] if lawful else 0.0
+        law_tol = judge.soft_judgement(case, out)[1] if lawful else 0.0
         assert abs(out.v1_mps - ref.v1_mps) <= 2 * (spread + oblique + spin) + law_tol
-    eng.close()

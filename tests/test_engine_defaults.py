@@ -9,6 +9,7 @@ import pytest
 
 import adapters
 from analytic import ImpactCase, presets
+from experiments.core import Job, fire_jobs
 
 CASES = [(name, field, value) for name in adapters.names()
          for field, value in adapters.record(name).engine_defaults.items()]
@@ -25,12 +26,11 @@ def _impacts(name: str, **overrides) -> list[tuple[float, float]]:
     for phase in (0.0, 0.5):
         settings = adapters.settings_for(name, "default", dt_s=1e-5, contact_phase=phase,
                                          **overrides)
-        eng = adapters.create(name, settings)
         for s in (-0.2, 0.05, 0.2):
-            o = eng.simulate(ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=s,
-                                        v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5))
+            o = fire_jobs([Job(engine=name, settings=settings, case=ImpactCase(
+                bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=46.9, u0_mps=17.87,
+                omega0_radps=32.0, e=0.5))])[0].outcome
             out.append((o.v1_mps, o.omega1_radps))
-        eng.close()
     return out
 
 

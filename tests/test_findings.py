@@ -16,7 +16,8 @@ import pytest
 import adapters
 from analytic import SwingModel, batted_ball_speed, presets
 from experiments import _answers as A
-from experiments import _runner, findings
+from experiments import findings
+from experiments.core import Runner
 
 #: brentq roots are asked to 1e-10 in the exponent and closed forms are exact to a few ulps
 ROOT_TOL = 1e-8
@@ -113,7 +114,7 @@ def test_audit_numbers_restated():
 
 
 def test_every_engine_confirms_the_headline_impacts():
-    with _runner.Runner() as runner:
+    with Runner() as runner:
         checks = A.engine_checks(runner, adapters.names())
     assert set(checks.engine) == set(adapters.names())
     assert (checks.status == "ok").all(), checks[checks.status != "ok"][

@@ -1,5 +1,5 @@
 """Fuzz: every engine at its reference profile, over random impacts, lands within the tolerance
-each row is judged against (experiments._verdict) of the rigid-body answer, or, for a compliant
+each row is judged against (experiments.core.judge) of the rigid-body answer, or, for a compliant
 contact, of its own contact law.
 
 The tolerance is derived, not fitted (rounding at the engine's precision, the contact foot's
@@ -12,19 +12,24 @@ are kept at 20 m/s and above, the bat-ball regime (slow pitches and swings give 
 this test found an engine that holds a slow contact on a fast-turning bat for about 25 steps and
 misses v1 by 0.73 m/s (v_c 1-5 m/s with omega0 40-48 rad/s; reported, not yet diagnosed);
 a 1500-draw run found it once above 20 m/s too (v_c 22 m/s, omega0 44 rad/s, s = 0, an oblique
-bat, e = 0.53: 0.39 m/s off after 1526 steps, the other engines within 4e-7).
+bat, e = 0.53: 0.39 m/s off after 1526 steps, the other engines within 4e-7). Another draw
+found an engine that misses a long plastic slide by more than its float32 allowance, however
+small the step (s = 0, v0 = 1, u0 = 31 m/s, omega0 = -31.25 rad/s, e = 0: the ball rides the
+bat for 95 ms and slides off its end; 0.16, 0.10, 0.14 m/s off at dt = 3e-5, 1e-5, 3e-6 s
+against a 0.094 m/s tolerance at 1e-5, where the other float32 engines converge to 0.003 and
+0.018 m/s; reported, not yet diagnosed).
 """
 
 from __future__ import annotations
 
 import math
 
-from hypothesis import given, settings
+from hypothesis import given, seed, settings
 from hypothesis import strategies as st
 
 import adapters
 from analytic import ImpactCase, presets
-from experiments import _grid, _runner
+from experiments.core import Job, Runner, tables
 
 ENGINES = adapters.names()
 MIN_CLOSING_MPS = 20.0
@@ -45,18 +50,25 @@ def impacts(draw) -> ImpactCase:
                       phi_rad=phi)
 
 
-# derandomize: CI draws the same 60 impacts every run, so a rare engine defect found by a long
-# exploration (1500 draws by hand) cannot make CI flaky; what such runs find is pinned below
-# as explicit cases, or reported (the PyBullet slow-contact defect in the module docstring).
-@settings(max_examples=60, deadline=None, derandomize=True)
+#: CI draws the same 60 impacts every run, so a rare engine defect found by a long exploration
+#: (1500 draws by hand) cannot make CI flaky; what such runs find is pinned below as explicit
+#: cases, or reported (the defects in the module docstring). The seed is the one derandomize
+#: took from this test's source as it stood when the draws were first made: fixed here, so
+#: that editing the test no longer changes which impacts CI fires.
+FUZZ_SEED = int("2854912894427551916355026813104932745314755663703456825604648569410385391"
+                "9911088644224227363740352016727941935740046")
+
+
+@seed(FUZZ_SEED)
+@settings(max_examples=60, deadline=None, database=None)
 @given(case=impacts())
 def test_every_engine_is_within_its_tolerance(case):
-    jobs = [_runner.Job(engine=n, settings=adapters.settings_for(n), case=case)
+    jobs = [Job(engine=n, settings=adapters.settings_for(n), case=case)
             for n in ENGINES]
-    table = _grid.table(_runner.Runner().fire(jobs), "reference")
+    table = tables.table(Runner().fire(jobs), "reference")
     still_on = (table.status == "no_separation") & (table.rigid_end == "time_limit")
     # a compliant contact is judged against its law only where the law's single contact is the
-    # whole episode (experiments._verdict.soft_judgement); elsewhere it is unjudged, and sound
+    # whole episode (experiments.core.judge.soft_judgement); elsewhere it is unjudged, and sound
     beyond_law = (table.status == "unjudged") & table.v1_law_mps.notna()
     bad = table[(table.status != "ok") & ~still_on & ~beyond_law]
     assert bad.empty, bad[["engine", "status", "v1_abs_err_mps", "v1_tol_mps", "rigid_impacts",

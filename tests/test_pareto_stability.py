@@ -13,6 +13,7 @@ import pytest
 
 import adapters
 from experiments import pareto, stability
+from experiments.core import Status
 
 
 @pytest.fixture(scope="module")
@@ -35,15 +36,15 @@ def test_stability_outputs(stability_out):
     hunt_crossley = [n for n in adapters.names() if stability.hunt_crossley_law(n) is not None]
     assert len(rows) == (2 * len(adapters.names()) + len(hunt_crossley)) * per_map \
         + len(soft) * len(q["omegas"]) * len(q["steps"]) * q["phases"]
-    assert set(rows.status) <= {s.value for s in adapters.Status}
+    assert set(rows.status) <= {s.value for s in Status}
 
 
 def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
     # The bound is a rigid contact's, first seen at one depth and resolved in that step; a
     # compliant one takes many steps, and a coarse step may miss it between readings.
     cells = pd.read_csv(stability_out / "stability_cells.csv")
-    rigid = [n for n in adapters.names() if adapters.engine_class(n).converges_to(
-        adapters.settings_for(n)) is adapters.ContactReference.RIGID_IMPULSE]
+    rigid = [n for n in adapters.names() if adapters.settings_for(n).contact_reference()
+             is adapters.ContactReference.RIGID_IMPULSE]
     ref = cells[cells["map"].isin([f"{n} reference" for n in rigid])]
     assert len(ref) == len(rigid) * len(stability.QUICK["steps"]) \
         * len(stability.QUICK["speeds"])

@@ -14,8 +14,9 @@ import pandas as pd
 import pytest
 
 import adapters
-from experiments import _grid, _runner, sweep
-from experiments._io import ROOT
+from experiments import sweep
+from experiments.core import Runner, tables
+from experiments.core.io import ROOT
 
 THRESHOLDS = json.loads((ROOT / "results" / "thresholds.json").read_text())
 CASES = [(base, engine) for base, spec in THRESHOLDS["baselines"].items()
@@ -27,12 +28,12 @@ def test_agreement_does_not_regress(baseline, engine):
     spec = THRESHOLDS["baselines"][baseline]
     args = sweep.build_parser().parse_args(spec["options"])
     plan = sweep.sweep_from_args(args)
-    settings = _grid.with_dt(adapters.settings_for(engine, plan.profile), plan.dt_s)
-    with _runner.Runner() as runner:
-        rows = _grid.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
+    settings = plan.settings[engine]
+    with Runner() as runner:
+        rows = tables.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
     # ok, or still touching at the budget where the rigid bodies are too (e = 0 near the COM)
     still_on = (rows.status == "no_separation") & (rows.rigid_end == "time_limit")
-    # a compliant contact beyond its law's single contact is unjudged (experiments._verdict)
+    # a compliant contact beyond its law's single contact is unjudged (experiments.core.judge)
     beyond_law = (rows.status == "unjudged") & rows.v1_law_mps.notna()
     assert ((rows.status == "ok") | still_on | beyond_law).all(), \
         rows.status.value_counts().to_dict()
@@ -49,9 +50,9 @@ def test_committed_baselines_are_what_the_code_produces(baseline, engine):
     # last printed digit), and the status. A table left from older code, or edited, fails here.
     spec = THRESHOLDS["baselines"][baseline]
     plan = sweep.sweep_from_args(sweep.build_parser().parse_args(spec["options"]))
-    settings = _grid.with_dt(adapters.settings_for(engine, plan.profile), plan.dt_s)
-    with _runner.Runner() as runner:
-        fresh = _grid.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
+    settings = plan.settings[engine]
+    with Runner() as runner:
+        fresh = tables.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
     committed = pd.read_csv(ROOT / "results" / f"{baseline}.csv")
     committed = committed[committed.engine == engine].iloc[::5].reset_index(drop=True)
     assert list(fresh.status) == list(committed.status)

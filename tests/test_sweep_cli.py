@@ -10,9 +10,11 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
+import adapters
 from analytic import presets
-from experiments import _grid, _runner, compare, sweep
-from experiments._io import ROOT
+from experiments import compare, sweep, sweep_chart
+from experiments.core import Runner, tables
+from experiments.core.io import ROOT
 
 
 def _run(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
@@ -23,7 +25,7 @@ def _run(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
 def test_help_lists_engines_and_bats():
     res = _run("--help")
     assert res.returncode == 0
-    for name in (*_grid.adapters.names(), *presets.BATS):
+    for name in (*adapters.names(), *presets.BATS):
         assert name in res.stdout
 
 
@@ -31,10 +33,10 @@ def test_outputs_are_written_and_reproducible(tmp_path):
     args = ["--engine", "all", "--points", "5", "--out", str(tmp_path)]
     assert sweep.main([*args, "--name", "a"]) == 0
     assert sweep.main([*args, "--name", "b"]) == 0
-    a = pd.read_csv(tmp_path / "a" / "sweep.csv").drop(columns=list(_grid.TIMING_COLUMNS))
-    b = pd.read_csv(tmp_path / "b" / "sweep.csv").drop(columns=list(_grid.TIMING_COLUMNS))
+    a = pd.read_csv(tmp_path / "a" / "sweep.csv").drop(columns=list(tables.TIMING_COLUMNS))
+    b = pd.read_csv(tmp_path / "b" / "sweep.csv").drop(columns=list(tables.TIMING_COLUMNS))
     pd.testing.assert_frame_equal(a, b, check_exact=True)
-    assert list(a.columns) == [c for c in _grid.COLUMNS if c not in _grid.TIMING_COLUMNS]
+    assert list(a.columns) == [c for c in tables.COLUMNS if c not in tables.TIMING_COLUMNS]
     assert {p.name for p in (tmp_path / "a").iterdir()} == {"sweep.csv", "sweep.json",
                                                              "sweep.png"}
     assert compare.compare_tables(tmp_path / "a" / "sweep.csv", tmp_path / "b" / "sweep.csv") == 0
@@ -48,7 +50,7 @@ def test_interrupted_run_leaves_previous_results(tmp_path, monkeypatch):
     def interrupted(*a, **k):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(sweep, "plot", interrupted)  # dies after the CSV was prepared
+    monkeypatch.setattr(sweep_chart, "plot", interrupted)  # dies after the CSV was prepared
     assert sweep.main([*args, "--force"]) == 130
     assert {p.name: p.read_bytes() for p in (tmp_path / "t").iterdir()} == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["t"]  # no temporary left behind
@@ -65,18 +67,18 @@ def sweep_plan():
 
 def _rows(plans, **runner_kw) -> pd.DataFrame:
     # min_parallel_s = 0: every chunk goes to the workers, however cheap
-    with _runner.Runner(min_parallel_s=0.0, **runner_kw) as runner:
-        tables = [sweep.run(plan, runner, locate=False)[0] for plan in plans]
-    cols = [c for c in tables[0].columns if c not in _grid.TIMING_COLUMNS]
+    with Runner(min_parallel_s=0.0, **runner_kw) as runner:
+        runs = [sweep.run(plan, runner, locate=False)[0] for plan in plans]
+    cols = [c for c in runs[0].columns if c not in tables.TIMING_COLUMNS]
     return pd.concat([t[[c for c in t.columns if c in cols or c.startswith("release")]]
-                      for t in tables], ignore_index=True)
+                      for t in runs], ignore_index=True)
 
 
 def test_runners_give_identical_rows(sweep_plan):
     # Serial, two local processes and a Dask LocalCluster of two: the same rows, bit for bit,
     # in the same order, for every engine (adapters hold no state between impacts).
     serial = _rows(sweep_plan)
-    assert set(serial.engine) == set(_grid.adapters.names())
+    assert set(serial.engine) == set(adapters.names())
     for kw in ({"workers": 2}, {"workers": 2, "scheduler": "local"}):
         pd.testing.assert_frame_equal(serial, _rows(sweep_plan, **kw), check_exact=True)
 

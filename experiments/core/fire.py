@@ -11,6 +11,7 @@ runner's business (``experiments.core.runner``).
 
 from __future__ import annotations
 
+import atexit
 import math
 import threading
 import time
@@ -135,6 +136,10 @@ def close_engines() -> None:
     """Close every adapter this process holds."""
     while _HOSTED:
         _HOSTED.popitem()[1].close()
+
+
+# at exit, while the engines' own modules are still there to free their worlds
+atexit.register(close_engines)
 
 
 def forget_engines() -> None:

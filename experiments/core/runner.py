@@ -31,7 +31,7 @@ MIN_PARALLEL_S = 0.25
 #: task costs, short enough that two workers finish together.
 CHUNK_S = 0.02
 #: How long a scheduler address may take to answer (s) before the run is refused.
-CONNECT_TIMEOUT_S = 8.0
+CONNECT_TIMEOUT_S = 5.0
 
 
 def _import_engines(names: Sequence[str]) -> None:

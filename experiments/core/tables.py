@@ -30,7 +30,8 @@ COLUMNS = (
     "v1_law_err_mps", "v1_law_tol_mps",
     "u1_analytic_mps", "u1_engine_mps", "omega1_analytic_radps", "omega1_engine_radps",
     "hand_dv_analytic_mps", "hand_dv_engine_mps", "ke_before_j", "ke_after_j", "status",
-    "contact_duration_s", "peak_penetration_m", "steps", "wall_s",
+    "episode_end", "ball_side_end_m", "contact_duration_s", "peak_penetration_m", "steps",
+    "wall_s",
 )
 TIMING_COLUMNS = ("wall_s",)
 #: Extra columns of a sweep whose bat is swung in the engine before each impact.
