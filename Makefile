@@ -1,4 +1,4 @@
-# Two commands on a fresh machine: `make sweep` (the main job) and `make test`.
+# Two commands on a fresh machine: `make sweep` (the main job) and `make test` (ruff, then pytest).
 # Each creates $(VENV) on first use (or anew if another Python made it) and installs the
 # project with the versions pinned in constraints.txt. Another Python:
 #   make test PYTHON=python3.13 VENV=.venv-3.13
@@ -25,7 +25,9 @@ $(STAMP): pyproject.toml constraints.txt | check-python
 	$(PY) -m pip install --quiet -c constraints.txt -e '.[test]'
 	touch $(STAMP)
 
+# the linter first (rules in pyproject.toml), then the suite
 test: check-python $(STAMP)
+	$(PY) -m ruff check .
 	$(PY) -m pytest -q
 
 sweep: check-python $(STAMP)

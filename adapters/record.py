@@ -93,6 +93,12 @@ class Settings:
         at w = 3000 rad/s, dt = 1e-5 s, against 5.2e-3 from the formula)."""
         return math.pi / 3.0 * dt_over_contact
 
+    def untuned_contact_s(self) -> float | None:
+        """How long a contact lasts when the engine's contact is not tuned to any model (its
+        own soft constraint, say), for estimating a run's cost; None: as long as in the model
+        it converges to."""
+        return None
+
     def speculative_margin_m(self) -> float:
         """The gap (m) below which the engine already solves a contact (speculative contact):
         such a contact is solved from the geometry at the start of the step that closes it, up

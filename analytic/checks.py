@@ -69,5 +69,6 @@ def array_in_range(name: str, values, lo: float = -math.inf, hi: float = math.in
     bad = ~np.isfinite(a) | (a < lo) | (a > hi)
     if np.any(bad):
         x = a[bad].flat[0]
-        raise ValueError(f"{name} contains {x!r}; allowed: finite values with {lo:g} <= {name} <= {hi:g}")
+        raise ValueError(f"{name} contains {x!r}; "
+                         f"allowed: finite values with {lo:g} <= {name} <= {hi:g}")
     return a

@@ -69,7 +69,8 @@ class CollisionEpisode(Outcome):
     """The rigid-body outcome of the whole episode (fields of ``Outcome``, at its end) and how it
     went: ``impacts`` impulses, ``sustained_contact_s`` (s) of sliding contact and the largest
     contact force in it, ``peak_sustained_force_n`` (N; 0 without), ``episode_s`` (s) from the
-    first contact to the end (to the last separation when ``separates_for_good`` proves it), ``ended``: 'separated', 'left_cylinder' or 'time_limit', and
+    first contact to the end (to the last separation when ``separates_for_good`` proves it),
+    ``ended``: 'separated', 'left_cylinder' or 'time_limit', and
     ``end_state`` (contact frame at the first contact)."""
 
     impacts: int

@@ -69,7 +69,8 @@ class Drive:
 
     def torque_about_com_nm(self, bat: Bat) -> float:
         """tau + r f sin(q): constant, because the force turns with the bat (N m)."""
-        return self.torque_nm + self.force_arm_m(bat) * self.force_n * math.sin(self.force_angle_rad)
+        arm_m = self.force_arm_m(bat)
+        return self.torque_nm + arm_m * self.force_n * math.sin(self.force_angle_rad)
 
 
 @dataclass(frozen=True, kw_only=True)

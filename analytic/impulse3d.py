@@ -59,7 +59,7 @@ class RigidBody3D:
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class Impulse3D:
-    """Result of ``impulse_3d``: the impulse magnitude j (N s, along n on A) and both bodies after."""
+    """Result of ``impulse_3d``: the impulse magnitude j (N s, along n on A), both bodies after."""
 
     j_ns: float
     a: RigidBody3D

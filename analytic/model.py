@@ -89,7 +89,7 @@ class Bat:
         fill_density_kgm3: float = 200.0,
         wood_density_kgm3: float = 640.0,
     ) -> Bat:
-        """This bat with a hole drilled from the barrel end and filled (exact; see analytic.cork)."""
+        """This bat with a hole drilled from the barrel end and filled (exact: analytic.cork)."""
         from .cork import corked_bat
 
         return corked_bat(

@@ -52,7 +52,7 @@ def swing_for(
     pivot_from_knob_m: float = 0.0,
     exponent: float = MEASURED_EXPONENT,
 ) -> Swing:
-    """The swing a batter gives ``bat`` under ``model``, if he gives ``reference_bat`` ``reference``.
+    """The swing a batter gives ``bat`` under ``model`` if he gives ``reference_bat`` ``reference``.
 
     I is taken about ``pivot_from_knob_m`` (the knob by default, the usual 'swing weight').
     """
@@ -62,7 +62,8 @@ def swing_for(
         return Swing(u0_mps=reference.u0_mps * reference_bat.mass_kg / bat.mass_kg,
                      omega0_radps=reference.omega0_radps)
     power = 0.5 if model is SwingModel.CONSTANT_TORQUE else exponent
-    k = (reference_bat.inertia_about(pivot_from_knob_m) / bat.inertia_about(pivot_from_knob_m)) ** power
+    ratio = reference_bat.inertia_about(pivot_from_knob_m) / bat.inertia_about(pivot_from_knob_m)
+    k = ratio ** power
     shift = bat.com_from_knob_m - reference_bat.com_from_knob_m
     return Swing(u0_mps=k * (reference.u0_mps + reference.omega0_radps * shift),
                  omega0_radps=k * reference.omega0_radps)

@@ -6,7 +6,9 @@
   thresholds.json (what the regression test allows) and summary.md;
 - the studies, each into its usual file names: pareto, stability, swing, defaults,
   calibrate_soft, findings, bench_analytic, bench_engines (run the benchmarks on a quiet
-  machine).
+  machine);
+- report: results/report.md, written from the files above as they are in results/ (so it runs
+  last, whatever order --only names the parts in).
 Each part's files are written together, atomically; an interrupted part leaves its old files.
 """
 
@@ -23,6 +25,7 @@ from . import (
     defaults,
     findings,
     pareto,
+    report,
     stability,
     swing,
 )
@@ -41,7 +44,8 @@ BASELINES = {
 }
 STUDIES = {"pareto": pareto, "stability": stability, "swing": swing, "defaults": defaults,
            "calibrate_soft": calibrate_soft, "findings": findings,
-           "bench_analytic": bench_analytic, "bench_engines": bench_engines}
+           "bench_analytic": bench_analytic, "bench_engines": bench_engines,
+           "report": report}  # the report reads the others' files: last
 PARTS = ("sweeps", *STUDIES)
 #: The regression test may see errors up to FACTOR times the baseline's (see thresholds.json).
 FACTOR = 10.0
@@ -51,7 +55,8 @@ THRESHOLD_RULE = (
     "|v1 engine - v1 analytic| (for a compliant contact: |v1 engine - v1 of its own contact law|, "
     "error_column) exceeds max_abs_err_mps = FACTOR x the baseline's largest error "
     "(at least 1e-12 m/s). The engines are deterministic, so an unchanged engine reproduces the "
-    "baseline's digits; FACTOR = 10 absorbs last-digit changes across versions and platforms, while "
+    "baseline's digits; FACTOR = 10 absorbs last-digit changes across versions and platforms, "
+    "while "
     "the smallest structural defect we know (a contact seen one step late, ~3e-5 relative at "
     "dt = 1e-5 s) is over 1000x larger than the reference profile's errors."
 )
@@ -64,7 +69,7 @@ def parts_arg(value: str) -> tuple[str, ...]:
         raise argparse.ArgumentTypeError(f"{value!r}: {bad[0] if bad else 'nothing'} is not a "
                                          f"part; allowed: a comma-separated list of "
                                          f"{', '.join(PARTS)}")
-    return picked
+    return tuple(p for p in PARTS if p in picked)  # in PARTS order: the report last
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -89,8 +94,9 @@ def sweeps(args: argparse.Namespace) -> dict[str, bytes]:
              "Errors over ok impacts, against rigid theory; a compliant contact is judged "
              "against its own contact law instead (the law column, over the impacts it judges); "
              "sweet spot and COP located from engine data, as offsets from theory.", "",
-             "| baseline | engine | statuses | max abs err v1 (m/s) | median (m/s) | max err vs its "
-             "own contact law (m/s) | sweet spot offset (mm) | COP offset (mm) | median us/impact |",
+             "| baseline | engine | statuses | max abs err v1 (m/s) | median (m/s) "
+             "| max err vs its own contact law (m/s) | sweet spot offset (mm) | COP offset (mm) "
+             "| median us/impact |",
              "|---|---|---|---|---|---|---|---|---|"]
     thresholds = {"rule": THRESHOLD_RULE, "factor": FACTOR, "baselines": {}}
     engines = ",".join(args.engine)

@@ -22,7 +22,8 @@ def check_table(path: Path) -> None:
     """Raise ValueError unless ``path`` is a readable sweep table (a CSV with the key columns)."""
     path = Path(path)
     if not path.is_file():
-        raise ValueError(f"{str(path)!r} is not a file; allowed: a sweep table (sweep.csv of a run)")
+        raise ValueError(f"{str(path)!r} is not a file; "
+                         "allowed: a sweep table (sweep.csv of a run)")
     try:
         columns = pd.read_csv(path, nrows=0).columns
     except (UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError, OSError) as err:
@@ -65,8 +66,8 @@ def compare_tables(old_path: Path, new_path: Path, out=sys.stdout) -> int:
         for which in ("old", "new"):
             ok = df[df[f"status_{which}"] == "ok"]
             if len(ok):
-                print(f"{engine} max |v1 err| {which}: {ok[f'v1_abs_err_mps_{which}'].max():.3e} m/s",
-                      file=out)
+                worst = ok[f"v1_abs_err_mps_{which}"].max()
+                print(f"{engine} max |v1 err| {which}: {worst:.3e} m/s", file=out)
     if not changed:
         print("no change apart from timing", file=out)
     return 1 if changed else 0

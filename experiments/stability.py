@@ -10,9 +10,9 @@ step catches every phase while v dt < R, and a fraction R/(v dt) of them above (
 An engine whose contact converges to a Hunt-Crossley law gets a map of time step x
 closing speed at e = 0.5 judged against that law, with the law's own limits drawn: the rebound
 speed bound 1/d and the contact time. An engine with a soft contact (its record's
-``soft_contact``) gets its own map: time step x stiffness w at 40 m/s, where an undamped spring lets the ball sink v/w deep (through the bat
-when w < v/R) and Euler is unstable for w dt > 2 (this map uses e = 0.5: at e = 1 every
-discretized spring gains a little energy).
+``soft_contact``) gets its own map: time step x stiffness w at 40 m/s, where an undamped
+spring lets the ball sink v/w deep (through the bat when w < v/R) and Euler is unstable for
+w dt > 2 (this map uses e = 0.5: at e = 1 every discretized spring gains a little energy).
 Writes stability.csv, stability_cells.csv, stability.json, stability.png, stability_energy.png
 and stability_<engine>_soft.png into the run directory.
 """
@@ -213,7 +213,8 @@ def chart_soft(cells: pd.DataFrame, steps, omegas, name: str):
 
     fig, ax = plt.subplots(figsize=(7.5, 5.8), layout="constrained")
     im = heatmap(ax, cells, "dt_s", "soft_omega_radps",
-                 f"{name} contact at {SOFT_SPEED_MPS:g} m/s (e = {SOFT_E:g}): fraction of phases ok\n"
+                 f"{name} contact at {SOFT_SPEED_MPS:g} m/s (e = {SOFT_E:g}): "
+                 "fraction of phases ok\n"
                  "(judged against its own contact law, not rigid theory)")
     dts = np.geomspace(min(steps) / 3, max(steps) * 3, 100)
     ax.plot(dts, 2 / dts, "k--", label="w dt = 2 (Euler stability)")
@@ -264,6 +265,51 @@ def chart_energy(rows: pd.DataFrame):
     return fig
 
 
+def charts(table: pd.DataFrame, cells: pd.DataFrame, soft: pd.DataFrame, axes,
+           map_margin: dict, laws: dict) -> dict[str, bytes]:
+    """The maps, the energy chart and each soft contact's map, as PNG bytes by file name;
+    ``axes``: (steps, speeds, omegas)."""
+    import matplotlib.pyplot as plt
+
+    steps, speeds, omegas = axes
+    figs = {"stability.png": chart_maps(cells, steps, speeds, map_margin, laws),
+            "stability_energy.png": chart_energy(table)}
+    for name, cells_soft in soft.groupby("map", sort=False):
+        figs[f"stability_{name.replace(' ', '_')}.png"] = chart_soft(cells_soft, steps, omegas,
+                                                                      name)
+    files = {name: figure_png(fig) for name, fig in figs.items()}
+    for fig in figs.values():
+        plt.close(fig)
+    return files
+
+
+def all_jobs(engines: tuple[str, ...], steps, speeds, k: int, omegas):
+    """Every map's impacts: each engine's two profiles, its Hunt-Crossley law map and its
+    soft-contact map where it has them; with the rows' metadata and the laws by map."""
+    jobs, meta, laws = [], [], {}
+
+    def add(j, m) -> None:
+        jobs.extend(j)
+        meta.extend(m)
+
+    for profile in adapters.PROFILES:
+        for engine in engines:
+            add(*map_jobs(engine, profile, steps, speeds, k))
+    for engine in engines:
+        law = hunt_crossley_law(engine)
+        if law is not None:
+            add(*map_jobs(engine, "reference", steps, speeds, k, e=HC_E,
+                          label=hc_label(engine)))
+            laws[hc_label(engine)] = law
+    for engine in engines:
+        rec = adapters.record(engine)
+        for w in omegas if rec.soft_contact is not None else ():
+            add(*map_jobs(engine, "reference", steps, (SOFT_SPEED_MPS,), k,
+                          {**rec.soft_contact, rec.stiffness_setting: w}, e=SOFT_E,
+                          label=soft_label(engine)))
+    return jobs, meta, laws
+
+
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every map for the chosen engines: the files and a summary."""
     steps = QUICK["steps"] if args.quick else STEPS_S
@@ -271,31 +317,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     k = QUICK["phases"] if args.quick else PHASES
     omegas = QUICK["omegas"] if args.quick else SOFT_OMEGAS
     t0 = time.perf_counter()
-    jobs, meta = [], []
-    for profile in adapters.PROFILES:
-        for engine in args.engine:
-            j, m = map_jobs(engine, profile, steps, speeds, k)
-            jobs += j
-            meta += m
-    laws = {}  # map -> the Hunt-Crossley law its engine's contact converges to
-    for engine in args.engine:
-        law = hunt_crossley_law(engine)
-        if law is not None:
-            j, m = map_jobs(engine, "reference", steps, speeds, k, e=HC_E,
-                            label=hc_label(engine))
-            jobs += j
-            meta += m
-            laws[hc_label(engine)] = law
-    for engine in args.engine:
-        rec = adapters.record(engine)
-        if rec.soft_contact is None:
-            continue
-        for w in omegas:
-            j, m = map_jobs(engine, "reference", steps, (SOFT_SPEED_MPS,), k,
-                            {**rec.soft_contact, rec.stiffness_setting: w}, e=SOFT_E,
-                            label=soft_label(engine))
-            jobs += j
-            meta += m
+    jobs, meta, laws = all_jobs(args.engine, steps, speeds, k, omegas)
     with runs.Progress(len(jobs), "impacts") as bar, cli.runner(args, bar) as runner:
         fired = tables.table(runner.fire(jobs), "")
     table = pd.DataFrame(meta)
@@ -313,17 +335,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                                        zip(cells["map"], cells.dt_s, cells.v0_mps)]
     soft = summarize(table[is_soft], "dt_s", "soft_omega_radps")
     elapsed = time.perf_counter() - t0
-    import matplotlib.pyplot as plt
-
-    map_margin = dict(zip(table["map"], margins))
-    figs = {"stability.png": chart_maps(cells, steps, speeds, map_margin, laws),
-            "stability_energy.png": chart_energy(table)}
-    for name, cells_soft in soft.groupby("map", sort=False):
-        figs[f"stability_{name.replace(' ', '_')}.png"] = chart_soft(cells_soft, steps, omegas,
-                                                                      name)
-    files = {name: figure_png(fig) for name, fig in figs.items()}
-    for fig in figs.values():
-        plt.close(fig)
+    files = charts(table, cells, soft, (steps, speeds, omegas), dict(zip(table["map"], margins)),
+                   laws)
     files["stability.csv"] = table.to_csv(index=False, float_format="%.6g",
                                           lineterminator="\n").encode()
     files["stability_cells.csv"] = pd.concat([cells, soft]).to_csv(

@@ -77,6 +77,18 @@ ROW_BYTES = 2_000
 LONG_RUN_S = 60.0
 
 
+def _add_cork(p: argparse.ArgumentParser) -> None:
+    """--corked and the hole it drills."""
+    p.add_argument("--corked", action="store_true", help="drill and fill the barrel end")
+    for flag, metavar, text in (
+            ("--hole-radius", "M", "hole radius (m, default 0.0127)"),
+            ("--hole-depth", "M", "hole depth (m, default 0.254)"),
+            ("--fill-density", "KGM3", "cork 200 (default), rubber 1100, hollow 0"),
+            ("--wood-density", "KGM3", "wood density (kg/m^3, default 640)")):
+        p.add_argument(flag, type=cli.number(0.0), default=None, metavar=metavar,
+                       help=f"with --corked: {text}")
+
+
 def build_parser() -> argparse.ArgumentParser:
     swing, pitch = presets.PAPER_SWING, presets.PAPER_PITCH_MPS
     num = cli.number
@@ -92,14 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--dt", type=num(0.0, 1.0, lo_open=True, unit="s"), default=None,
                    metavar="S", help="override the profile's time step (s)")
     p.add_argument("--bat", choices=list(presets.BATS), default="r161")
-    p.add_argument("--corked", action="store_true", help="drill and fill the barrel end")
-    for flag, default, metavar, text in (
-            ("--hole-radius", 0.0127, "M", "hole radius (m, default 0.0127)"),
-            ("--hole-depth", 0.254, "M", "hole depth (m, default 0.254)"),
-            ("--fill-density", 200.0, "KGM3", "cork 200 (default), rubber 1100, hollow 0"),
-            ("--wood-density", 640.0, "KGM3", "wood density (kg/m^3, default 640)")):
-        p.add_argument(flag, type=num(0.0), default=None, metavar=metavar,
-                       help=f"with --corked: {text}")
+    _add_cork(p)
     p.add_argument("--points", type=cli.integer(2, 10**12), default=41,
                    help=f"impact points over the hittable length (2..{MAX_POINTS})")
     p.add_argument("--s-range", type=num(), nargs=2, default=None, metavar=("MIN", "MAX"),

@@ -25,51 +25,21 @@ def render(table: pd.DataFrame, sweep, marks: dict) -> bytes:
 
 def plot(table: pd.DataFrame, sweep, marks: dict):
     """v1 along the bat for a ``sweep.Sweep``: analytic curve, each engine's points, sweet spot
-    and COP; a strip of failed impacts (no trustworthy v1, so kept off the v1 axis), one row per engine; errors."""
+    and COP; a strip of failed impacts (no trustworthy v1, so kept off the v1 axis), one row
+    per engine; errors."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    f = sweep.firing
     engines = list(table.engine.unique())
     fig, (top, strip, bottom) = plt.subplots(
         3, 1, figsize=(11, 7.5 + 0.25 * len(engines)), sharex=True,
         gridspec_kw={"height_ratios": [3, 0.35 + 0.2 * len(engines), 2]})
-    s = np.linspace(f.bat.s_min_m, f.bat.s_max_m, 400)
-    s = s[f.v0_mps * np.cos(f.theta_rad) + f.u0_mps + f.omega0_radps * s > 0.0]  # approaching
-    top.plot(s, batted_ball_speed(f.bat, presets.BASEBALL, s, v0_mps=f.v0_mps, u0_mps=f.u0_mps,
-                                  omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
-             color="black", lw=1.5, label="single impulse (where the bodies approach)")
-    one = table.drop_duplicates("s_m")
-    if "v1_compliant_mps" in one:
-        top.plot(one.s_m, one.v1_compliant_mps, "--", color="tab:brown", lw=1.5,
-                 label=f"compliant contact ({sweep.law}), at the grid")
-    if ((one.rigid_impacts > 1) | (one.rigid_sustained_s > 0)).any():
-        top.plot(one.s_m, one.v1_analytic_mps, "-", color="tab:gray", lw=2.5, alpha=0.6,
-                 zorder=0, label="rigid episode (re-contacts, sustained contact), at the grid")
-    style = {n: adapters.record(n) for n in table.engine.unique()}
-    floor = 1e-16
+    _theory(top, table, sweep)
     any_ok = False
     for i, (name, df) in enumerate(table.groupby("engine", sort=False)):
-        ok = df.status.isin(judge.MEASURED)
-        any_ok |= bool(ok.any())
-        mark, color = style[name].marker, style[name].color
-        within = int((df.status == "ok").sum())
-        others = "".join(f", {v} {k}" for k, v in df.status[ok & (df.status != "ok")]
-                         .value_counts().items())
-        top.plot(df.s_m[ok], df.v1_engine_mps[ok], mark, ms=5, mfc="none",
-                 color=color, label=f"{name} ({within}/{len(df)} ok{others})")
-        if (~ok).any():  # no trustworthy v1: kept off the v1 axis
-            statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
-            as_rigid = int(((df.status == "no_separation") & (df.rigid_end == "time_limit")).sum())
-            if as_rigid:
-                statuses += f" ({as_rigid} still in contact in rigid theory too)"
-            strip.plot(df.s_m[~ok], np.full((~ok).sum(), i), "x", ms=6, color=color,
-                       label=f"{name} failed: {statuses}")
-        bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), mark,
-                        ms=5, mfc="none", color=color, label=name)
-        bottom.semilogy(df.s_m, df.v1_tol_mps, "-", lw=0.8, color=color, alpha=0.6)
+        any_ok |= _engine(top, strip, bottom, i, adapters.record(name), df)
     strip.set_yticks(range(len(engines)), engines, fontsize=7)
     strip.set_ylim(-0.7, len(engines) - 0.3)
     strip.set_ylabel("failed", fontsize=8)
@@ -78,22 +48,7 @@ def plot(table: pd.DataFrame, sweep, marks: dict):
     else:
         strip.text(0.5, 0.5, "no failed impacts", transform=strip.transAxes, ha="center",
                    va="center", fontsize=8)
-    for ax in (top, strip, bottom):
-        ax.axvline(marks["sweet_spot_m"], color="tab:red", ls="--", lw=1)
-        ax.axvline(marks["cop_m"], color="tab:purple", ls=":", lw=1.2)
-    top.annotate(f"sweet spot {marks['sweet_spot_m'] * 1e3:.1f} mm", (marks["sweet_spot_m"], 0.3),
-                 xycoords=("data", "axes fraction"), rotation=90, color="tab:red", fontsize=8,
-                 ha="right")
-    top.annotate(f"COP (hands {f.hands_from_knob_m} m) {marks['cop_m'] * 1e3:.1f} mm",
-                 (marks["cop_m"], 0.3), xycoords=("data", "axes fraction"), rotation=90,
-                 color="tab:purple", fontsize=8, ha="left")
-    top.set_ylabel("batted-ball speed v1 (m/s)")
-    fig.suptitle(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:.4g} m/s, "
-                  f"omega0 = {f.omega0_radps:g} rad/s, e = {f.e:g}; profile {sweep.profile}"
-                  + (f", dt = {sweep.dt_s:g} s" if sweep.dt_s else "")
-                  + (f"\nswung in the engine about the hands ({f.hands_from_knob_m:g} m from the "
-                     f"knob) by {f.swing.torque_nm:.1f} N m over {f.swing.angle_rad:.3g} rad"
-                     if f.swing else ""), fontsize=10)
+    _marks(fig, (top, strip, bottom), sweep, marks)
     # legends beside the panels, never over the points
     top.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     top.grid(alpha=0.3)
@@ -106,3 +61,65 @@ def plot(table: pd.DataFrame, sweep, marks: dict):
         bottom.text(0.5, 0.5, "no ok impacts", transform=bottom.transAxes, ha="center")
     fig.tight_layout()
     return fig
+
+
+def _theory(top, table: pd.DataFrame, sweep) -> None:
+    """The single impulse's curve, and the compliant and rigid-episode answers at the grid."""
+    f = sweep.firing
+    s = np.linspace(f.bat.s_min_m, f.bat.s_max_m, 400)
+    s = s[f.v0_mps * np.cos(f.theta_rad) + f.u0_mps + f.omega0_radps * s > 0.0]  # approaching
+    top.plot(s, batted_ball_speed(f.bat, presets.BASEBALL, s, v0_mps=f.v0_mps, u0_mps=f.u0_mps,
+                                  omega0_radps=f.omega0_radps, e=f.e, theta_rad=f.theta_rad),
+             color="black", lw=1.5, label="single impulse (where the bodies approach)")
+    one = table.drop_duplicates("s_m")
+    if "v1_compliant_mps" in one:
+        top.plot(one.s_m, one.v1_compliant_mps, "--", color="tab:brown", lw=1.5,
+                 label=f"compliant contact ({sweep.law}), at the grid")
+    if ((one.rigid_impacts > 1) | (one.rigid_sustained_s > 0)).any():
+        top.plot(one.s_m, one.v1_analytic_mps, "-", color="tab:gray", lw=2.5, alpha=0.6,
+                 zorder=0, label="rigid episode (re-contacts, sustained contact), at the grid")
+
+
+def _engine(top, strip, bottom, row: int, rec, df: pd.DataFrame) -> bool:
+    """One engine's points: v1 where measured, a cross on the strip's ``row`` where not, the
+    errors and tolerances; whether any v1 was measured."""
+    floor = 1e-16
+    name, mark, color = rec.name, rec.marker, rec.color
+    ok = df.status.isin(judge.MEASURED)
+    within = int((df.status == "ok").sum())
+    others = "".join(f", {v} {k}" for k, v in df.status[ok & (df.status != "ok")]
+                     .value_counts().items())
+    top.plot(df.s_m[ok], df.v1_engine_mps[ok], mark, ms=5, mfc="none",
+             color=color, label=f"{name} ({within}/{len(df)} ok{others})")
+    if (~ok).any():  # no trustworthy v1: kept off the v1 axis
+        statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
+        as_rigid = int(((df.status == "no_separation") & (df.rigid_end == "time_limit")).sum())
+        if as_rigid:
+            statuses += f" ({as_rigid} still in contact in rigid theory too)"
+        strip.plot(df.s_m[~ok], np.full((~ok).sum(), row), "x", ms=6, color=color,
+                   label=f"{name} failed: {statuses}")
+    bottom.semilogy(df.s_m[ok], np.maximum(df.v1_abs_err_mps[ok], floor), mark,
+                    ms=5, mfc="none", color=color, label=name)
+    bottom.semilogy(df.s_m, df.v1_tol_mps, "-", lw=0.8, color=color, alpha=0.6)
+    return bool(ok.any())
+
+
+def _marks(fig, axes, sweep, marks: dict) -> None:
+    """The sweet spot and COP on every panel, the labels and the figure's title."""
+    f, top = sweep.firing, axes[0]
+    for ax in axes:
+        ax.axvline(marks["sweet_spot_m"], color="tab:red", ls="--", lw=1)
+        ax.axvline(marks["cop_m"], color="tab:purple", ls=":", lw=1.2)
+    top.annotate(f"sweet spot {marks['sweet_spot_m'] * 1e3:.1f} mm", (marks["sweet_spot_m"], 0.3),
+                 xycoords=("data", "axes fraction"), rotation=90, color="tab:red", fontsize=8,
+                 ha="right")
+    top.annotate(f"COP (hands {f.hands_from_knob_m} m) {marks['cop_m'] * 1e3:.1f} mm",
+                 (marks["cop_m"], 0.3), xycoords=("data", "axes fraction"), rotation=90,
+                 color="tab:purple", fontsize=8, ha="left")
+    top.set_ylabel("batted-ball speed v1 (m/s)")
+    fig.suptitle(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:.4g} m/s, "
+                 f"omega0 = {f.omega0_radps:g} rad/s, e = {f.e:g}; profile {sweep.profile}"
+                 + (f", dt = {sweep.dt_s:g} s" if sweep.dt_s else "")
+                 + (f"\nswung in the engine about the hands ({f.hands_from_knob_m:g} m from the "
+                    f"knob) by {f.swing.torque_nm:.1f} N m over {f.swing.angle_rad:.3g} rad"
+                    if f.swing else ""), fontsize=10)

@@ -261,7 +261,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     return files, text
 
 
-COMMAND = Command(name="swing", doc=__doc__, produce=produce, quick="two time steps only (smoke test)")
+COMMAND = Command(name="swing", doc=__doc__, produce=produce,
+                  quick="two time steps only (smoke test)")
 main = COMMAND.main
 
 

@@ -133,9 +133,10 @@ def test_planar_model_equals_3d_impulse(case):
     out = predict(case)
     scale = case.v0_mps + abs(case.u0_mps) + abs(w) * (1 + abs(case.s_m)) + out.impulse_ns
     assert res.j_ns == pytest.approx(out.impulse_ns, abs=TOL_REL * scale)
-    np.testing.assert_allclose(res.a.velocity_mps, [out.v1_t_mps, out.v1_mps, 0], atol=TOL_REL * scale)
-    np.testing.assert_allclose(res.b.velocity_mps, [out.u1_t_mps, out.u1_mps, 0], atol=TOL_REL * scale)
-    np.testing.assert_allclose(res.b.omega_radps, [0, 0, out.omega1_radps], atol=TOL_REL * scale * 1e2)
+    atol = TOL_REL * scale
+    np.testing.assert_allclose(res.a.velocity_mps, [out.v1_t_mps, out.v1_mps, 0], atol=atol)
+    np.testing.assert_allclose(res.b.velocity_mps, [out.u1_t_mps, out.u1_mps, 0], atol=atol)
+    np.testing.assert_allclose(res.b.omega_radps, [0, 0, out.omega1_radps], atol=atol * 1e2)
 
 
 @given(cases())

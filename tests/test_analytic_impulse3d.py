@@ -20,7 +20,8 @@ vec = st.lists(st.floats(-5.0, 5.0), min_size=3, max_size=3).map(np.array)
 def bodies(draw):
     principal = np.array(draw(st.lists(st.floats(0.01, 2.0), min_size=3, max_size=3)))
     rot = Rotation.from_rotvec(draw(vec)).as_matrix()
-    return RigidBody3D(mass_kg=draw(st.floats(0.1, 3.0)), inertia_kgm2=rot @ np.diag(principal) @ rot.T,
+    inertia_kgm2 = rot @ np.diag(principal) @ rot.T
+    return RigidBody3D(mass_kg=draw(st.floats(0.1, 3.0)), inertia_kgm2=inertia_kgm2,
                        velocity_mps=draw(vec), omega_radps=draw(vec))
 
 

@@ -40,7 +40,17 @@ def _bad_inputs(tmp: Path) -> list[tuple[str, list[str], str]]:
     a_file = ROOT / "README.md"
     existing = tmp / "taken"
     existing.mkdir()
-    cases = [
+    cases = [*_bad_sweeps(tmp, a_file), *_bad_studies(tmp, a_file)]
+    if NOT_SOFT:
+        cases.append(("calibrate_soft", ["--engine", NOT_SOFT[0]], "has a soft contact"))
+    return cases
+
+
+def _bad_sweeps(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
+    """The sweep's options, one bad value each; the edges of what can run: a step too small
+    to place an impact (refused with the smallest that works), a run over its budget (refused
+    with its estimate), a directory that cannot be made, a scheduler that does not answer."""
+    return [
         ("sweep", ["--engine", "bullet"], "--engine"),
         ("sweep", ["--engine", ""], "--engine"),
         ("sweep", ["--engine", f"{adapters.names()[0]},bullet"], "bullet"),
@@ -89,6 +99,16 @@ def _bad_inputs(tmp: Path) -> list[tuple[str, list[str], str]]:
         ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.csv")] * 2],
          "not a sweep table"),
         ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.png")] * 2], "is not a"),
+        ("sweep", ["--dt", "1e-12"], "too small to place"),
+        ("sweep", ["--points", "10000", "--budget-h", "1e-6"], "would take about"),
+        ("sweep", ["--out", "/proc/x"], "/proc is not writable"),
+        ("sweep", ["--scheduler", "tcp://127.0.0.1:1"], "no Dask scheduler answered"),
+    ]
+
+
+def _bad_studies(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
+    """The other commands' options, one bad value each."""
+    return [
         ("compare", [str(tmp / "no.csv"), str(tmp / "no.csv")], "is not a file"),
         ("pareto", ["--repeats", "0"], "--repeats"),
         ("pareto", ["--engine", "nope"], "--engine"),
@@ -103,9 +123,6 @@ def _bad_inputs(tmp: Path) -> list[tuple[str, list[str], str]]:
         ("findings", ["--name", "../x"], "--name"),
         ("defaults", ["--phases", "1"], "--phases"),
     ]
-    if NOT_SOFT:
-        cases.append(("calibrate_soft", ["--engine", NOT_SOFT[0]], "has a soft contact"))
-    return cases
 
 
 def test_bad_inputs_exit_2_with_one_line_before_any_work(tmp_path, capsys):

@@ -1,4 +1,4 @@
-"""The findings report and the computations it rests on (experiments._answers).
+"""The findings report and the computations it rests on (experiments.findings.answers, .metal).
 
 Each check restates the physics independently of the code under test: q = (e - r)/(1 + r) with
 r = m (1/M + s^2/J); a sweet zone's edges are where v1 = 0.99 max v1; a corked bat breaks even
@@ -15,9 +15,10 @@ import pytest
 
 import adapters
 from analytic import SwingModel, batted_ball_speed, presets
-from experiments import _answers as A
 from experiments import findings
 from experiments.core import Runner
+from experiments.findings import answers as A
+from experiments.findings import metal as M
 
 #: brentq roots are asked to 1e-10 in the exponent and closed forms are exact to a few ulps
 ROOT_TOL = 1e-8
@@ -85,11 +86,11 @@ def test_sweet_zone_edges_are_one_percent_below_the_best():
 def test_a_larger_metal_inertia_moves_its_sweet_spot_toward_the_end():
     # s* = omega0 J k / (A + sqrt(A^2 + omega0^2 J k)) grows with J at a fixed swing
     for sc in A.SCENARIOS:
-        scan = A.metal_inertia_scan(sc)
+        scan = M.metal_inertia_scan(sc)
         assert np.all(np.diff(scan["sweet spot (cm from end)"]) < 0)
-        f = A.fraction_matching_wood_sweet_spot(sc)
+        f = M.fraction_matching_wood_sweet_spot(sc)
         wood = A.from_end_cm(presets.R161, A.best_v1(presets.R161, sc)[0])
-        al = A.aluminium_with(f)
+        al = M.aluminium_with(f)
         assert A.from_end_cm(al, A.best_v1(al, sc)[0]) == pytest.approx(wood, abs=1e-6)
 
 
@@ -105,7 +106,8 @@ def test_audit_numbers_restated():
     n = A.audit_numbers()
     r161, sw = presets.R161, presets.PAPER_SWING
     # the paper's swing turns the bat about the point u0/omega0 from the COM
-    assert n["pivot_from_knob_m"] == pytest.approx(r161.com_from_knob_m - sw.u0_mps / sw.omega0_radps)
+    pivot_m = r161.com_from_knob_m - sw.u0_mps / sw.omega0_radps
+    assert n["pivot_from_knob_m"] == pytest.approx(pivot_m)
     # had the paper subtracted (M + dM) R^2, only the hole cylinder's dM r^2/4 would be missing
     cork = A.CORK_1x10
     dm = cork.mass_kg - r161.mass_kg

@@ -13,7 +13,6 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import adapters
 from experiments import sweep
 from experiments.core import Runner, tables
 from experiments.core.io import ROOT

@@ -103,10 +103,16 @@ class DrakeEngine(Engine):
             plant.RegisterCollisionGeometry(ball_body, RigidTransform(), Sphere(ball.radius_m),
                                             "ball", self._properties(rigid=False)))
         plant.Finalize()
+        self._bat, self._ball, self._pivot = bat_body, ball_body, pivot
+        self._finish(builder, plant, sg)
+        self._discrete = not continuous
+        self._set_restitution(scene.e)
+
+    def _finish(self, builder: DiagramBuilder, plant, sg) -> None:
+        """Build the diagram and its simulator; keep the contexts, ports and indices used."""
         self._source = plant.get_source_id()
         diagram = builder.Build()
         self.plant, self.sg, self.diagram = plant, sg, diagram
-        self._bat, self._ball, self._pivot = bat_body, ball_body, pivot
         self._simulator = Simulator(diagram)
         ctx = self._simulator.get_mutable_context()
         self._ctx = ctx
@@ -116,13 +122,11 @@ class DrakeEngine(Engine):
         self._force_port.FixValue(self._plant_ctx, [])
         self._q_bat = [j.position_start() for j in (self._x, self._y, self._turn)]
         self._v_bat = [j.velocity_start() for j in (self._x, self._y, self._turn)]
-        self._q_ball = ball_body.floating_positions_start()
-        self._v_ball = ball_body.floating_velocities_start_in_v()
+        self._q_ball = self._ball.floating_positions_start()
+        self._v_ball = self._ball.floating_velocities_start_in_v()
         self._query_port = plant.get_geometry_query_input_port()
         self._offset = 0.0
-        self._discrete = not continuous
         self._load = None
-        self._set_restitution(scene.e)
 
     def _properties(self, rigid: bool, dissipation: float | None = None) -> ProximityProperties:
         """Proximity properties of one geometry: both carry 2k (in series: k), the same d and

@@ -37,7 +37,8 @@ def _mjcf(bat: Bat, ball: Ball) -> str:
     <body name="bat">
       <freejoint name="bat"/>
       <inertial pos="0 0 0" mass="{bat.mass_kg!r}"
-                diaginertia="{bat.axial_inertia_kgm2!r} {bat.inertia_cm_kgm2!r} {bat.inertia_cm_kgm2!r}"/>
+                diaginertia="{bat.axial_inertia_kgm2!r} {bat.inertia_cm_kgm2!r}
+                             {bat.inertia_cm_kgm2!r}"/>
       <geom name="bat" type="capsule" fromto="{a!r} 0 0 {b!r} 0 0" size="{bat.radius_m!r}"/>
       <site name="load" pos="0 0 0"/>
     </body>

@@ -33,7 +33,7 @@ ENGINE_PARAMETERS = {
 class PybulletSettings(Settings):
     """Bullet's knobs (None: keep the engine's own default). ``contact_erp``/``erp``/
     ``friction_erp``: fraction of position error corrected per step; ``contact_slop`` (m):
-    overlap allowed before correction; ``restitution_velocity_threshold`` (m/s); 
+    overlap allowed before correction; ``restitution_velocity_threshold`` (m/s);
     ``contact_breaking_threshold`` (m): contact margin; ``split_impulse`` 0/1;
     ``max_joint_velocity_radps``: the multibody angular-speed cap; ``ccd_swept_sphere_radius``
     (m): continuous collision detection, 0 = off."""

@@ -21,10 +21,11 @@ Traps this adapter handles (measured with rapier3d 0.36.1, the binding pinned by
 - The relax pass (``stabilization_iterations``) removes the velocity that corrects position
   errors: needed for contacts (without it a plastic slide turns into a bounce, |dv1| 8 m/s), but
   it makes an impulse joint lose omega at first order (about 0.3 omega dt / n relative after a
-  0.1 s swing from rest, n substeps: 1.1e-3 at dt = 1e-4 s, n = 1). The reference hinge is a multibody (reduced
-  coordinates) revolute joint instead: omega exact to f32 rounding, the angle off by exactly the
-  semi-implicit Euler term. Multibody links are damped (0.1) by default: zeroed. The link's
-  rigid body holds the velocity of one step before: ``unpin`` releases the joint's own.
+  0.1 s swing from rest, n substeps: 1.1e-3 at dt = 1e-4 s, n = 1). The reference hinge is a
+  multibody (reduced coordinates) revolute joint instead: omega exact to f32 rounding, the
+  angle off by exactly the semi-implicit Euler term. Multibody links are damped (0.1) by
+  default: zeroed. The link's rigid body holds the velocity of one step before: ``unpin``
+  releases the joint's own.
 - Substeps: each of ``solver_iterations`` (4 by default) integrates dt/n, so the swing's angle
   error is alpha t dt/(2n); the reference takes one, the semi-implicit Euler the harness models.
 - Rotation per step is 2 atan(omega dt/2), not omega dt (a normalised first-order quaternion

@@ -162,6 +162,8 @@ class _Stepper:
         """Step from ``starts`` until every world's episode is over (module docstring)."""
         batch, xp, approach = self.batch, self.xp, self.st.approach_steps
         self.prev = starts
+        side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(starts))[3]
+        self.came_from = xp.where(side < 0.0, -1.0, 1.0)
         batch.set_state(starts)
         for step in range(1, self.max_steps + 1):
             batch.step()
@@ -208,7 +210,8 @@ class _Stepper:
             return
         self.prev = xp.where_rows(ok, S, self.prev)
         self.prev_step = xp.where(ok, step, self.prev_step)
-        pen, apart, off_span, side = g.contact_geometry(xp, self.bat, self.ball, cols)
+        pen, apart, off_span, side = g.contact_geometry(xp, self.bat, self.ball, cols,
+                                                        self.came_from)
         self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
         t = ok & touching
         self.first = xp.where(t & (self.first < 0), step, self.first)
@@ -235,7 +238,7 @@ class _Stepper:
         self.finish(xp.not_(finite), "non_finite", self.max_steps, S)
         if not xp.any(self.active):
             return
-        pen, _, _, side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(S))
+        pen, _, _, side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(S), self.came_from)
         self.peak = xp.where(self.active, xp.maximum(self.peak, pen), self.peak)
         self.finish(self.active, "budget", self.max_steps, S, side)
 

@@ -62,7 +62,7 @@ SCALARS = SimpleNamespace(
     with_bat=lambda start, swung: State(*start[:BAT_X], *swung[BAT_X:]))
 
 
-def contact_geometry(xp, bat: Bat, ball: Ball, S):
+def contact_geometry(xp, bat: Bat, ball: Ball, S, came_from=1.0):
     """Per world: (penetration, separating, off_span, side) in one pass over the closest point
     of the bat's axis; ``S`` the state's columns.
 
@@ -72,7 +72,8 @@ def contact_geometry(xp, bat: Bat, ball: Ball, S):
     closest point of the bat's axis (the bat point's velocity includes the bat's spin).
     off_span: how far the ball centre is beyond the cylinder's span along the axis (m, <= 0 on
     it). side: the ball centre's distance from the bat's axis line, positive on the side it
-    came from (m).
+    came from (m): ``came_from`` is the sign of (dy cos a - dx sin a) at the start, the bat's
+    angle a (-1 where the bat starts more than a quarter turn from its contact angle).
     """
     c, s = xp.cos(S[BAT_ANGLE]), xp.sin(S[BAT_ANGLE])
     dx, dy = S[BALL_X] - S[BAT_X], S[BALL_Y] - S[BAT_Y]
@@ -80,7 +81,7 @@ def contact_geometry(xp, bat: Bat, ball: Ball, S):
     t = xp.clip(along, bat.s_min_m, bat.s_max_m)
     nx, ny = dx - t * c, dy - t * s
     dist = xp.hypot(nx, ny)
-    side = dy * c - dx * s
+    side = (dy * c - dx * s) * came_from
     pen = bat.radius_m + ball.radius_m - xp.where(side > 0.0, dist, -dist)
     w = S[BAT_W]
     rvx = S[BALL_VX] - (S[BAT_VX] - w * t * s)

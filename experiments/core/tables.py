@@ -87,6 +87,20 @@ def grid(bat: Bat, points: int, s_min_m: float | None = None,
     return tuple(float(x) for x in np.linspace(lo, hi, points))
 
 
+def _single_impulse_v1(cases: Sequence[ImpactCase]) -> np.ndarray:
+    """v1 of the single-impulse answer for every case (m/s), vectorized per bat and ball."""
+    impulse = np.empty(len(cases))
+    groups: dict[tuple, list[int]] = {}
+    for i, c in enumerate(cases):
+        groups.setdefault((c.bat, c.ball), []).append(i)
+    fields = ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad",
+              "hands_from_knob_m")
+    for (bat, ball), idx in groups.items():
+        arrays = {f: np.array([getattr(cases[i], f) for i in idx]) for f in fields}
+        impulse[idx] = predict_arrays(bat, ball, **arrays)["v1_mps"]
+    return impulse
+
+
 def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
     """The tidy table of fired impacts, one row per impact in order: the case, the rigid-body
     answer (``analytic.collide``'s whole episode, followed as long as the engine's budget; the
@@ -96,15 +110,7 @@ def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
     cases = [f.case for f in fired]
     outs = [f.outcome for f in fired]
     n = len(cases)
-    impulse = np.empty(n)
-    groups: dict[tuple, list[int]] = {}
-    for i, c in enumerate(cases):
-        groups.setdefault((c.bat, c.ball), []).append(i)
-    for (bat, ball), idx in groups.items():
-        cs = [cases[i] for i in idx]
-        impulse[idx] = predict_arrays(bat, ball, **{f: np.array([getattr(c, f) for c in cs]) for f in (
-            "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad",
-            "hands_from_knob_m")})["v1_mps"]
+    impulse = _single_impulse_v1(cases)
     rigid = [judge.rigid(c, o.settings.max_contact_s) for c, o in zip(cases, outs)]
     ref = {k: np.array([getattr(r, k) for r in rigid])
            for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
@@ -196,7 +202,8 @@ def analytic_marks(firing: Firing) -> dict[str, float]:
     }
 
 
-def bracket_around(s: Iterable[float], values: Iterable[float], kind: str) -> tuple[float, float] | None:
+def bracket_around(s: Iterable[float], values: Iterable[float],
+                   kind: str) -> tuple[float, float] | None:
     """A bracket from grid data: around the max (kind='max') or a sign change (kind='root')."""
     s, v = np.asarray(list(s)), np.asarray(list(values), dtype=float)
     ok = np.isfinite(v)

@@ -1,10 +1,11 @@
 """The computations behind ``results/findings.md``: the paper's questions answered with numbers.
 
 Each function returns numbers or tables (no prose, no plotting) so that tests can check the
-physics they rest on; ``experiments.findings`` writes them up. Everything here is a result of
-the rigid-bat impact model (``analytic``) unless a function says it fires engines or uses the
-compliant ball (``analytic.compliant``). Units: m, m/s, rad/s, kg, kg m^2, s, unless a column
-name says otherwise (mm, cm, %).
+physics they rest on; ``experiments.findings`` writes them up. The metal-bat answers are in
+``experiments.findings.metal``. Everything here is a result of the rigid-bat impact model
+(``analytic``) unless a function says it fires engines or uses the compliant ball
+(``analytic.compliant``). Units: m, m/s, rad/s, kg, kg m^2, s, unless a column name says
+otherwise (mm, cm, %).
 """
 
 from __future__ import annotations
@@ -35,9 +36,9 @@ from analytic import (
     swing_for,
 )
 
-from .core import tables
-from .core.fire import Job
-from .core.runner import Runner
+from ..core import tables
+from ..core.fire import Job
+from ..core.runner import Runner
 
 R161, AL, BALL = presets.R161, presets.EASTON31, presets.BASEBALL
 E = presets.E_WOOD
@@ -50,6 +51,9 @@ FILLS = {"cork": 200.0, "rubber": 1100.0, "hollow": 0.0}
 DEPTHS_IN = (6, 8, 10)
 SWEET_ZONE_WITHIN = 0.01        # the sweet zone: v1 within 1% of the swing's best
 NATHAN_Q_FROM_END_M = 6 * IN    # Nathan et al. measured q 6 in from the barrel end
+HANDS_PITCHES_MPS = (35.0, 41.0, 47.0)       # pitches and bat rates of the swings from the hands
+HANDS_OMEGAS_RADPS = np.linspace(12, 48, 37)
+BALL_SPEEDS_MPS = (10.0, 20.0, 25.9, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0)  # the COR curve's
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -85,7 +89,8 @@ def carried_swing(bat: Bat, sc: Scenario, model: SwingModel | str,
     return swing_for(bat, model=model, reference_bat=R161, reference=sc.swing, exponent=exponent)
 
 
-def best_v1(bat: Bat, sc: Scenario, swing: Swing | None = None, e: float = E) -> tuple[float, float]:
+def best_v1(bat: Bat, sc: Scenario, swing: Swing | None = None,
+            e: float = E) -> tuple[float, float]:
     """(s of the bat's best hittable point, v1 there) for this swing (the scenario's by default)."""
     sw = swing or sc.swing
     s = hittable_sweet_spot(bat, BALL, sc.v0_mps, sw.u0_mps, sw.omega0_radps)
@@ -93,6 +98,7 @@ def best_v1(bat: Bat, sc: Scenario, swing: Swing | None = None, e: float = E) ->
 
 
 def v1_at(bat: Bat, s_m: float, v0_mps: float, swing: Swing, e: float = E) -> float:
+    """v1 (m/s) off ``bat`` hit at s (m from its COM) by this pitch and swing."""
     return float(batted_ball_speed(bat, BALL, s_m, v0_mps=v0_mps, u0_mps=swing.u0_mps,
                                    omega0_radps=swing.omega0_radps, e=e))
 
@@ -111,12 +117,13 @@ class HandsRegion:
     s_hi_m: float
 
 
-def sweet_region_from_hands(pitches_mps=(35.0, 41.0, 47.0),
-                            omegas_radps=np.linspace(12, 48, 37)) -> HandsRegion:
+def sweet_region_from_hands(pitches_mps: tuple[float, ...] = HANDS_PITCHES_MPS,
+                            omegas_radps: np.ndarray = HANDS_OMEGAS_RADPS) -> HandsRegion:
+    """The sweet spot over a grid of pitches and bat rates, swung from the hands."""
     d = R161.com_from_knob_m - HANDS_M
     grid = np.array([[sweet_spot(R161, BALL, v, w * d, w) for w in omegas_radps]
                      for v in pitches_mps])
-    return HandsRegion(pitches_mps=tuple(pitches_mps), omegas_radps=np.asarray(omegas_radps),
+    return HandsRegion(pitches_mps=tuple(pitches_mps), omegas_radps=np.array(omegas_radps),
                        grid_s_m=grid, s_lo_m=float(grid.min()), s_hi_m=float(grid.max()))
 
 
@@ -153,7 +160,8 @@ def sweet_spot_table() -> pd.DataFrame:
 # -- 2. corked bats ------------------------------------------------------------------------------
 
 def corked_bats() -> dict[tuple[str, int], tuple[Bat, Bat]]:
-    """(fill, depth in inches) -> (exact corked R161, the paper's), 1 in holes in 640 kg/m^3 wood."""
+    """(fill, depth in inches) -> (exact corked R161, the paper's), 1 in holes in 640 kg/m^3
+    wood."""
     out = {}
     for fill, rho in FILLS.items():
         for depth in DEPTHS_IN:
@@ -167,6 +175,7 @@ CORK_1x10 = R161.corked()  # the default: a 1 x 10 in cork fill
 
 
 def cork_properties() -> pd.DataFrame:
+    """Per corked bat: its mass, COM and inertia changes, exact against the paper's formula."""
     rows = []
     for (fill, depth), (exact, paper) in corked_bats().items():
         rows.append({"fill": fill, "depth (in)": depth,
@@ -243,74 +252,9 @@ def paper_cork_inertia_if_subtracted(bat: Bat = CORK_1x10) -> float:
     return -dm * (0.5 * IN) ** 2 / 4 / bat.inertia_cm_kgm2 * 100
 
 
-# -- 3. metal bats -------------------------------------------------------------------------------
-
-def uniform_rod_fraction(bat: Bat) -> float:
-    """J_cm as a fraction of a uniform rod's M L^2 / 12."""
-    return bat.inertia_cm_kgm2 / (bat.mass_kg * bat.length_m**2 / 12)
-
-
-def aluminium_with(fraction: float) -> Bat:
-    """The paper's aluminium bat with J_cm = ``fraction`` of a uniform rod's."""
-    return replace(AL, inertia_cm_kgm2=fraction * AL.mass_kg * AL.length_m**2 / 12)
-
-
-def metal_table(sc: Scenario, es=(0.50, 0.55, 0.60)) -> pd.DataFrame:
-    """Wood vs the paper's aluminium bat under each swing model: v1 at the best point (aluminium
-    at several e) and the ball's time to the pitcher at 18.44 m and 16.5 m."""
-    rows = []
-    for m in SwingModel:
-        for label, bat in (("R161 wood", R161), ("Easton aluminium", AL)):
-            sw = carried_swing(bat, sc, m)
-            row = {"swing model": m.value, "bat": label}
-            for e in (es if bat is AL else (E,)):
-                v1 = best_v1(bat, sc, sw, e)[1]
-                row[f"v1, e={e:.2f} (m/s)"] = v1
-                row[f"t to 16.5 m, e={e:.2f} (s)"] = PITCHER_AFTER_FOLLOW_THROUGH_M / v1
-            rows.append(row)
-    return pd.DataFrame(rows)
-
-
-def metal_inertia_scan(sc: Scenario, fractions=(0.5, 0.6, 0.7, 0.76, 0.8, 0.9)) -> pd.DataFrame:
-    """The aluminium bat's sweet spot and its v1 gain over wood (e = 0.5) as its unknown J_cm
-    ranges over fractions of a uniform rod (the paper's 0.0205 kg m^2 is 50%, the R161 76%)."""
-    wood_s, wood_v1 = best_v1(R161, sc)
-    rows = []
-    for f in fractions:
-        bat = aluminium_with(f)
-        s, _ = best_v1(bat, sc)
-        rows.append({"J_cm / uniform rod": f, "J_cm (kg m^2)": bat.inertia_cm_kgm2,
-                     "sweet spot (cm from end)": from_end_cm(bat, s),
-                     "wood's (cm from end)": from_end_cm(R161, wood_s),
-                     **{f"gain over wood, {m.value} (m/s)":
-                        best_v1(bat, sc, carried_swing(bat, sc, m))[1] - wood_v1
-                        for m in SwingModel}})
-    return pd.DataFrame(rows)
-
-
-def fraction_matching_wood_sweet_spot(sc: Scenario) -> float:
-    """The aluminium J_cm fraction at which its sweet spot lies as far from its end as the
-    R161's does from its own (what Crisco et al. measured on real wood and metal bats)."""
-    target = from_end_cm(R161, best_v1(R161, sc)[0])
-    return float(optimize.brentq(
-        lambda f: from_end_cm(aluminium_with(f), best_v1(aluminium_with(f), sc)[0]) - target,
-        0.2, 1.5))
-
-
-def al_com_sensitivity(sc: Scenario, fractions=(0.55, 0.60, 0.65)) -> dict[float, float]:
-    """The measured-model v1 gain of aluminium over wood with its assumed COM moved."""
-    wood = best_v1(R161, sc, carried_swing(R161, sc, SwingModel.MEASURED))[1]
-    out = {}
-    for f in fractions:
-        bat = replace(AL, com_from_knob_m=f * AL.length_m)
-        out[f] = best_v1(bat, sc, carried_swing(bat, sc, SwingModel.MEASURED))[1] - wood
-    return out
-
-
 # -- 4. the realistic ball -----------------------------------------------------------------------
 
-def ball_cor_curve(speeds_mps=(10.0, 20.0, 25.9, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0)
-                   ) -> pd.DataFrame:
+def ball_cor_curve(speeds_mps: tuple[float, ...] = BALL_SPEEDS_MPS) -> pd.DataFrame:
     """The compliant baseball (``compliant.BASEBALL_HERTZ``) against a still R161 at its COM:
     its COR and contact time against impact speed."""
     rows = []
@@ -388,11 +332,6 @@ def engine_sweet_spots(engines: tuple[str, ...]) -> pd.DataFrame:
 def v1_gain_curve(corked: Bat, sc: Scenario, exponents: np.ndarray) -> np.ndarray:
     """``cork_gain`` over a range of exponents (m/s), for the chart."""
     return np.array([cork_gain(corked, sc, float(n)) for n in exponents])
-
-
-def time_below(v1_mps: float, distance_m: float = PITCHER_AFTER_FOLLOW_THROUGH_M) -> bool:
-    """True if a ball at v1 reaches a pitcher ``distance_m`` away in less than REACTION_S."""
-    return distance_m / v1_mps < REACTION_S
 
 
 # -- 5. the paper's numbers, for the audit -------------------------------------------------------

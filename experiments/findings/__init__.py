@@ -1,0 +1,58 @@
+"""Answer the paper's questions with the harness: sweet spot, corked bats, metal bats, the ball
+as it really is, and an audit of the paper.
+
+    python -m experiments.findings [--engine all]
+
+Writes findings.md and findings_*.png into the run directory (results/ by
+``python -m experiments.baselines``). The numbers come from ``answers`` and ``metal`` (the
+rigid-bat model, the compliant ball, engines through the runner); ``questions`` (sections 1-3)
+and ``report`` (the head, sections 4-6, the references) only write them up. Numbers from the
+literature carry their reference.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from ..core import cli
+from ..core.cli import Command
+from ..core.io import figure_png, provenance
+from . import answers as A
+from .questions import cork_section, metal_section, sweet_spot_section
+from .report import (
+    REFS,
+    audit_section,
+    ball_section,
+    engine_section,
+    head_section,
+    pyplot,
+    references_section,
+)
+
+__all__ = ["COMMAND", "REFS", "main", "produce"]
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    """The report and its charts."""
+    engines = tuple(args.engine)
+    with cli.runner(args) as runner:
+        checks = A.engine_checks(runner, engines)
+    sweet_text, sweet_figs, sweet = sweet_spot_section(engines)
+    cork_text, cork_figs, cork = cork_section()
+    metal_text, metal_figs, metal = metal_section()
+    ball_text, ball_figs, _ = ball_section()
+    head = head_section(provenance()["commit"], engines, sweet, cork, metal)
+    body = head + "\n".join([sweet_text, cork_text, metal_text, ball_text,
+                             audit_section(sweet, cork), engine_section(checks, engines),
+                             references_section()])
+    figs = {**sweet_figs, **cork_figs, **metal_figs, **ball_figs}
+    files = {name: figure_png(fig) for name, fig in figs.items()}
+    plt = pyplot()
+    for fig in figs.values():
+        plt.close(fig)
+    files["findings.md"] = body.encode()
+    return files, f"findings.md and {len(figs)} charts"
+
+
+COMMAND = Command(name="findings", doc=__doc__, produce=produce)
+main = COMMAND.main

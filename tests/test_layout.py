@@ -1,0 +1,79 @@
+"""The house rules a reader relies on, read from the source itself: no module over 400 lines,
+no function over 60, and imports in one direction only: theory (``analytic``) <- engines
+(``adapters``) <- harness core (``experiments.core``) <- commands (``experiments.*``)."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("analytic", "adapters", "experiments")
+SOURCES = sorted(p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")) + \
+    sorted((ROOT / "tests").rglob("*.py"))
+MAX_MODULE_LINES = 400
+MAX_FUNCTION_LINES = 60
+#: What each layer may import from the project (the layer names, by module prefix).
+ALLOWED = {
+    "analytic": ("analytic",),
+    "adapters": ("analytic", "adapters"),
+    "experiments.core": ("analytic", "adapters", "experiments.core"),
+}
+
+
+def _name(path: Path) -> str:
+    return ".".join(path.relative_to(ROOT).with_suffix("").parts)
+
+
+def _layer(module: str) -> str | None:
+    for layer in sorted(ALLOWED, key=len, reverse=True):
+        if module == layer or module.startswith(layer + "."):
+            return layer
+    return None
+
+
+def _project_imports(path: Path) -> set[str]:
+    """Every project module ``path`` imports, relative imports resolved."""
+    module = _name(path)
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = package.split(".")
+            base = base[: len(base) - node.level + 1] if node.level else []
+            target = ".".join(base + ([node.module] if node.module else []))
+            out |= {target} | {f"{target}.{a.name}" for a in node.names}
+    return {m for m in out if m.split(".")[0] in PACKAGES}
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: str(p.relative_to(ROOT)))
+def test_module_and_function_sizes(path):
+    lines = path.read_text().count("\n")
+    assert lines <= MAX_MODULE_LINES, f"{lines} lines"
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            length = node.end_lineno - node.lineno + 1
+            assert length <= MAX_FUNCTION_LINES, f"{node.name}: {length} lines"
+
+
+@pytest.mark.parametrize("path", [p for p in SOURCES if _layer(_name(p))],
+                         ids=lambda p: str(p.relative_to(ROOT)))
+def test_imports_point_one_way(path):
+    allowed = ALLOWED[_layer(_name(path))]
+    wrong = sorted(m for m in _project_imports(path)
+                   if not any(m == a or m.startswith(a + ".") for a in allowed))
+    assert not wrong, f"{_name(path)} imports {wrong}: allowed {allowed}"
+
+
+def test_nothing_points_outside_the_project():
+    """The project stands alone: no file names the design notes it grew from."""
+    texts = [p for p in ROOT.rglob("*") if p.suffix in {".py", ".md", ".toml", ".txt", ".cfg"}
+             and not any(part.startswith((".", "runs")) for part in p.relative_to(ROOT).parts)
+             and p != Path(__file__).resolve()]
+    hits = [str(p.relative_to(ROOT)) for p in texts if "../shared" in p.read_text(errors="ignore")
+            or "ENGINE_NOTES" in p.read_text(errors="ignore")]
+    assert not hits, hits

@@ -1,0 +1,116 @@
+"""results/report.md: generated from the files in results/, never by hand.
+
+A stale report (results regenerated, report not) fails here; so does a number typed into the
+narrative instead of read from a file (changing the file must change the report), and a chart
+link to nothing.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from experiments import baselines, report
+from experiments.core.runs import RESULTS
+
+
+@pytest.fixture(scope="module")
+def committed() -> str:
+    return (RESULTS / "report.md").read_text()
+
+
+@pytest.fixture()
+def copy(tmp_path: Path) -> Path:
+    """A scratch copy of results/ to edit."""
+    return Path(shutil.copytree(RESULTS, tmp_path / "results"))
+
+
+def _edit_csv(path: Path, engine: str, column: str, value) -> None:
+    df = pd.read_csv(path)
+    df.loc[df.engine == engine, column] = value
+    df.to_csv(path, index=False, lineterminator="\n")
+
+
+def _diff(a: str, b: str) -> list[tuple[str, str]]:
+    """The lines that differ between two reports of the same length."""
+    la, lb = a.splitlines(), b.splitlines()
+    assert len(la) == len(lb)
+    return [(x, y) for x, y in zip(la, lb) if x != y]
+
+
+def test_committed_report_is_what_the_results_give(committed):
+    # Regenerate with: python -m experiments.baselines --only report
+    assert report.render(RESULTS) == committed, (
+        "results/report.md is stale: run `python -m experiments.baselines --only report`")
+
+
+def test_a_number_in_a_table_comes_from_its_csv(copy, committed):
+    _edit_csv(copy / "bench_engines.csv", "pymunk", "simulate_per_collision_us", 777.7)
+    changed = _diff(committed, report.render(copy))
+    assert changed == [(old, new) for old, new in changed if old.startswith("| pymunk |")]
+    assert len(changed) == 1
+    assert changed[0][1].split(" | ")[2] == "778"
+
+
+def test_a_ranking_in_a_sentence_is_computed(copy, committed):
+    _edit_csv(copy / "bench_engines.csv", "rapier", "bare_per_step_us", 0.05)
+    new = report.render(copy)
+    assert "Per bare step the rigid-contact engines rank pymunk" in committed
+    assert "Per bare step the rigid-contact engines rank Rapier (0.050 us), pymunk" in new
+
+
+def test_a_verdict_follows_the_numbers(copy, committed):
+    # PyBullet catches exactly the share the tunnelling bound allows; one fewer and the
+    # report must stop saying so.
+    line = next(ln for ln in committed.splitlines() if "PyBullet 24.8%" in ln)
+    assert "exactly the bound" in line
+    caught = pd.read_csv(copy / "defaults_caught.csv")
+    row = caught.engine == "pybullet"
+    caught.loc[row, "ok"] -= 1
+    caught.loc[row, "fraction_ok"] = caught.loc[row, "ok"] / caught.loc[row, "impacts"]
+    caught.to_csv(copy / "defaults_caught.csv", index=False, lineterminator="\n")
+    new = next(ln for ln in report.render(copy).splitlines() if "(`results/defaults_c" in ln)
+    assert "PyBullet 24.7%" in new and "exactly the bound" not in new
+
+
+def test_a_sweep_summary_number_reaches_the_narrative(copy, committed):
+    meta = copy / "sweep_all_reference_r161_swing.json"
+    text = meta.read_text()
+    old = '"v1_abs_err_max_mps": 0.0024807719567547792'
+    assert old in text
+    meta.write_text(text.replace(old, '"v1_abs_err_max_mps": 0.0031'))
+    new = report.render(copy)
+    assert "PhysX 2.5e-3 m/s on the swing" in committed
+    assert "PhysX 3.1e-3 m/s on the swing" in new
+
+
+def test_every_link_resolves(committed):
+    for target in re.findall(r"\]\(([^)#]+\.(?:png|md))(?:#[^)]*)?\)", committed):
+        assert (RESULTS / target).is_file(), target
+    images = re.findall(r"!\[[^]]*\]\(([^)]+)\)", committed)
+    assert "pareto.png" in images and len(images) >= 10
+    headings = {report.anchor(h) for h in re.findall(r"^## (.+)$", committed, re.M)}
+    for anchor in re.findall(r"\]\(#([^)]+)\)", committed):
+        assert anchor in headings, anchor
+
+
+def test_a_missing_study_is_named_not_fatal(copy):
+    (copy / "pareto_cheapest.csv").unlink()
+    text = report.render(copy)
+    assert "*Not available: `pareto_cheapest.csv` is not in the results" in text
+    assert "## Where methods fail\n\n![status over time step" in text
+
+
+def test_baselines_writes_the_report_last():
+    assert baselines.PARTS[-1] == "report"
+    assert baselines.parts_arg("report,sweeps") == ("sweeps", "report")
+    assert baselines.STUDIES["report"].COMMAND.parser().parse_args([]).results == RESULTS
+
+
+def test_the_command_writes_report_md(tmp_path, committed, capsys):
+    assert report.main(["--out", str(tmp_path), "--name", "r"]) == 0
+    assert (tmp_path / "r" / "report.md").read_text() == committed
