@@ -27,6 +27,7 @@ from . import (
     pareto,
     report,
     stability,
+    sweep_chart,
     swing,
 )
 from . import sweep as sweep_cmd
@@ -111,7 +112,7 @@ def sweeps(args: argparse.Namespace) -> dict[str, bytes]:
             table, meta = sweep_cmd.run(sweep, runner, chart=True)
         files.update(sweep_cmd.files(table, meta, sweep, stem=sweep.name))
         print(f"== {label}: {sweep.name}")
-        sweep_cmd.print_summary(meta)
+        sweep_chart.print_summary(meta)
         marks = meta["analytic"]
         for name, s in meta["engines"].items():
             counts = ", ".join(f"{k} {v}" for k, v in s["status_counts"].items())

@@ -53,7 +53,8 @@ BUDGET_S = 0.02
 #: Sound impacts: ok, or unjudged (a soft contact, not judged against rigid theory)
 SOUND = ("ok", "unjudged")
 LETTERS = {"tunnelled": "T", "non_finite": "N", "energy_gained": "E", "penetration": "P",
-           "inaccurate": "I", "no_separation": "S", "no_contact": "C", "unsupported": "U"}
+           "inaccurate": "I", "no_separation": "S", "no_contact": "C", "unsupported": "U",
+           "error": "X"}
 
 
 def theory_fraction_caught(v_mps: float, dt_s: float, k: int, overlap_m: float = 1e-9,

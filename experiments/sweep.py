@@ -314,41 +314,6 @@ def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
     return lambda: dict(zip(keys, pending()))
 
 
-def print_compliant(table: pd.DataFrame, law: str) -> None:
-    """How far the rigid answer is from the compliant one along the bat."""
-    one = table.drop_duplicates("s_m")
-    worst = one.v1_rigid_minus_compliant_mps.abs().idxmax()
-    print(f"compliant ({law}) vs rigid: max |v1 rigid - v1 compliant| "
-          f"{abs(one.v1_rigid_minus_compliant_mps[worst]):.3f} m/s at s = {one.s_m[worst]:.3f} m; "
-          f"contact {one.compliant_contact_s.min() * 1e3:.2f}-"
-          f"{one.compliant_contact_s.max() * 1e3:.2f} ms; the bat turns up to "
-          f"{one.compliant_bat_turn_rad.abs().max() * 1e3:.1f} mrad meanwhile")
-    finite = (one.v1_impulse_law_e_mps - one.v1_compliant_mps).abs()
-    print(f"  of which the finite contact time is up to {finite.max():.3f} m/s (compliant against "
-          f"impulse theory at the law's own e(v_c), {one.compliant_e.min():.3f}-"
-          f"{one.compliant_e.max():.3f}); the rest is the ball's COR at these speeds")
-
-
-def print_summary(meta: dict) -> None:
-    """Per engine: errors, statuses, sweet spot and COP from engine data vs analytic (mm)."""
-    marks = meta["analytic"]
-    print(f"{'engine':9} {'ok':>7} {'max |dv1| m/s':>14} {'median':>10} {'max rel':>9} "
-          f"{'sweet spot mm':>18} {'COP mm':>18} {'us/impact':>9}")
-    for name, s in meta["engines"].items():
-        ok = s["status_counts"].get("ok", 0)
-
-        def mm(x, ref):
-            return "n/a" if not math.isfinite(x) else f"{x * 1e3:.4f} ({(x - ref) * 1e3:+.1e})"
-
-        print(f"{name:9} {ok:>3}/{s['impacts']:<3} {s['v1_abs_err_max_mps']:>14.3e} "
-              f"{s['v1_abs_err_median_mps']:>10.2e} {s['v1_rel_err_max']:>9.2e} "
-              f"{mm(s['sweet_spot_engine_m'], marks['sweet_spot_m']):>18} "
-              f"{mm(s['cop_engine_m'], marks['cop_m']):>18} "
-              f"{s['wall_per_impact_median_s'] * 1e6:>9.1f}")
-    print(f"analytic: sweet spot {marks['sweet_spot_m'] * 1e3:.4f} mm, "
-          f"COP {marks['cop_m'] * 1e3:.4f} mm from the COM")
-
-
 def files(table: pd.DataFrame, meta: dict, sweep: Sweep, stem: str = "sweep") -> dict[str, bytes]:
     """The sweep's CSV, JSON sidecar (summary, configuration, provenance) and PNG, by name."""
     png = meta.get("png") or sweep_chart.render(table, sweep, meta["analytic"])
@@ -391,9 +356,9 @@ def _run_and_publish(sweep: Sweep, args, parser, target: Path) -> int:
         table, meta = run(sweep, runner, locate=not args.no_locate, chart=True)
     meta["configuration"] = runs.configuration(parser, args)
     runs.publish(target, files(table, meta, sweep))
-    print_summary(meta)
+    sweep_chart.print_summary(meta)
     if sweep.law:
-        print_compliant(table, sweep.law)
+        sweep_chart.print_compliant(table, sweep.law)
     print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> {runs.shown(target)}/")
     print("compare two runs: python -m experiments.compare "
           f"{runs.shown(target)}/sweep.csv OTHER_RUN/sweep.csv")

@@ -17,6 +17,7 @@ from experiments import (
     bench_analytic,
     bench_engines,
     calibrate_soft,
+    check_engine,
     compare,
     defaults,
     findings,
@@ -31,7 +32,7 @@ from experiments.core.io import ROOT
 COMMANDS = {"sweep": sweep, "pareto": pareto, "stability": stability, "swing": swing,
             "calibrate_soft": calibrate_soft, "findings": findings, "baselines": baselines,
             "bench_engines": bench_engines, "bench_analytic": bench_analytic, "compare": compare,
-            "defaults": defaults}
+            "defaults": defaults, "check_engine": check_engine}
 NOT_SOFT = [n for n in adapters.names() if adapters.record(n).soft_contact is None]
 
 
@@ -122,6 +123,8 @@ def _bad_studies(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
         ("bench_analytic", ["--points", "0"], "--points"),
         ("findings", ["--name", "../x"], "--name"),
         ("defaults", ["--phases", "1"], "--phases"),
+        ("check_engine", ["--check", "nope"], "--check"),
+        ("check_engine", ["--engine", "nope"], "--engine"),
     ]
 
 
@@ -131,9 +134,9 @@ def test_bad_inputs_exit_2_with_one_line_before_any_work(tmp_path, capsys):
     before = sorted(tmp_path.rglob("*"))
     for command, argv, piece in cases:
         with pytest.raises(SystemExit) as exit_:
+            writes = command not in ("compare", "baselines", "check_engine")
             COMMANDS[command].main([*argv, *(["--out", str(tmp_path)]
-                                             if command not in ("compare", "baselines")
-                                             and "--out" not in argv else [])])
+                                             if writes and "--out" not in argv else [])])
         err = capsys.readouterr().err.strip()
         assert exit_.value.code == 2, (command, argv, err)
         assert piece in err and "\n" not in err, (command, argv, err)

@@ -15,6 +15,7 @@ import pytest
 
 import adapters
 from experiments import bench_engines, defaults, findings, pareto, stability, sweep, swing
+from experiments import check_engine as check_engine_cmd
 from experiments.core import check, check_engine
 
 PLUGIN = Path(__file__).parent / "plugin" / "toy_engine.py"
@@ -66,6 +67,37 @@ def test_check_engine_passes_it_and_fails_its_one_percent_twin(toyengine):
     failed = {r.name for r in faulty.failures}
     assert {"restitution", "still_bat", "swinging_bat", "oblique"} <= failed, str(faulty)
     assert "FAILED" in str(faulty)
+
+
+def test_the_check_engine_command_exits_0_for_it(toyengine, capsys):
+    """What a plug-in author runs: one line per check, exit 0 when all pass, 1 when one fails."""
+    assert check_engine_cmd.main(["--engine", toyengine, "--check", "restitution"]) == 0
+    assert "ok     restitution" in capsys.readouterr().out
+    import toy_engine
+
+    adapters.register(toy_engine.FAULTY)
+    try:
+        code = check_engine_cmd.main(["--engine", toy_engine.FAULTY.name, "--check",
+                                      "restitution"])
+    finally:
+        adapters.unregister(toy_engine.FAULTY.name)
+    assert code == 1 and "FAILED restitution" in capsys.readouterr().out
+
+
+def test_an_engine_that_raises_gives_error_rows_not_a_crash(toyengine, tmp_path):
+    """An exception inside the engine's step ends that impact as ``error`` naming it; the
+    sweep writes its table."""
+    import toy_engine
+
+    adapters.register(toy_engine.BROKEN)
+    try:
+        assert sweep.main(["--engine", toy_engine.BROKEN.name, "--points", "3", "--no-locate",
+                           "--out", str(tmp_path)]) == 0
+    finally:
+        adapters.unregister(toy_engine.BROKEN.name)
+    rows = pd.read_csv(next(tmp_path.rglob("sweep.csv")))
+    assert set(rows.status) == {"error"}
+    assert rows.episode_end.str.contains("solver diverged").all()
 
 
 def test_every_experiment_runs_it(toyengine, tmp_path):

@@ -198,7 +198,7 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> list[Fired]:
     except (KeyboardInterrupt, SceneMismatch):
         raise
     except Exception as err:  # the engine raised while stepping: a failure, not a crash
-        return _failed(host, cases, plans, Status.NON_FINITE, f"error: {err!r}"[:200], t0)
+        return _failed(host, cases, plans, Status.ERROR, f"error: {err!r}"[:200], t0)
     wall = (time.perf_counter() - t0) / len(cases)
     return [_fired(host, case, xp.row(starts, i), episodes, i, release[i], plan, wall)
             for i, (case, plan) in enumerate(zip(cases, plans or [None] * len(cases)))]

@@ -63,6 +63,7 @@ class Status(str, Enum):
     PENETRATION = "penetration"      #: deeper than r_ball + r_bat at some step
     NO_SEPARATION = "no_separation"  #: the episode outlasted the settings' max_contact_s
     UNSUPPORTED = "unsupported"      #: the engine cannot do what the impact needs (a swing)
+    ERROR = "error"                  #: the engine raised; ``episode_end`` names the exception
     #: Sound, but v1 misses the answer that applies (rigid theory or the engine's own contact
     #: law) by more than the row's tolerance
     INACCURATE = "inaccurate"

@@ -138,3 +138,16 @@ class OffByOnePercent(ToyEngine):
 #: The faulty twin, registered by a test under its own name.
 FAULTY = dataclasses.replace(RECORD, name="toyengine_faulty",
                              adapter="toy_engine:OffByOnePercent")
+
+
+class Diverges(ToyEngine):
+    """The same engine whose solver gives up once the ball touches the bat."""
+
+    def step(self) -> None:
+        super().step()
+        if self.touching.any():
+            raise RuntimeError("solver diverged")
+
+
+#: A twin whose every impact raises mid-episode: a row each, never a crash.
+BROKEN = dataclasses.replace(RECORD, name="toyengine_broken", adapter="toy_engine:Diverges")
