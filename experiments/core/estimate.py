@@ -23,9 +23,9 @@ from .fire import Job
 
 #: The harness's own cost per impact (s): placement, classification, the table's row.
 OVERHEAD_S = 1e-4
-#: The harness's own cost per step of a single world (s): reading the state, watching the
-#: contact (measured: MuJoCo's native contact, 13682 steps in 0.54 s, 3 us of them MuJoCo's).
-STEP_OVERHEAD_S = 3e-5
+#: What a step costs beyond the engine's own step (s): the adapter's Python wrapper, reading
+#: the state, watching the contact (measured: 6-30 us; the baseline sweeps' wall times).
+STEP_OVERHEAD_S = 1e-5
 #: Steps after the contact until free flight proves the bodies apart.
 AFTER_CONTACT_STEPS = 3
 #: Impacts per engine whose episodes are integrated to estimate the contact's length.
