@@ -8,7 +8,7 @@
   calibrate_soft, findings, bench_analytic, bench_engines (run the benchmarks on a quiet
   machine);
 - report: results/report.md, written from the files above as they are in results/ (so it runs
-  last, whatever order --only names the parts in).
+  last, whatever order --only names the parts in), and the README's engines table from them.
 Each part's files are written together, atomically; an interrupted part leaves its old files.
 """
 
@@ -32,7 +32,8 @@ from . import (
 )
 from . import sweep as sweep_cmd
 from .core import cli, runs
-from .core.io import atomic_write_many, json_bytes, provenance
+from .core.io import ROOT, atomic_write_bytes, atomic_write_many, json_bytes, provenance
+from .report import readme
 
 #: name -> sweep command-line options (R161, 41 points, the paper's pitch).
 BASELINES = {
@@ -154,6 +155,14 @@ def study_args(module, args: argparse.Namespace) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
+def update_readme() -> None:
+    """The README's engines table, from the results just written (``experiments.report.readme``)."""
+    path = ROOT / "README.md"
+    table = readme.engines_table(runs.RESULTS)
+    atomic_write_bytes(path, readme.with_table(path.read_text(), table).encode())
+    print("README.md: engines table from results/")
+
+
 def main(argv: list[str] | None = None) -> int:
     p = build_parser()
     args = p.parse_args(argv)
@@ -166,6 +175,8 @@ def main(argv: list[str] | None = None) -> int:
                 files, text = STUDIES[part].produce(study_args(STUDIES[part], args))
                 print(f"== {part}\n{text}")
             atomic_write_many({runs.RESULTS / name: data for name, data in files.items()})
+            if part == "report":
+                update_readme()
         return 0
 
     return cli.main_guard(body)

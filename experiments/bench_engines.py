@@ -25,7 +25,6 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 import adapters
@@ -57,7 +56,7 @@ def per_collision(name: str, firing: tables.Firing, repeats: int) -> dict:
             walls.append(f.outcome.wall_s)
             steps.append(f.outcome.steps)
             batch = host.batch(Scene(bat=f.case.bat, ball=f.case.ball, e=f.case.e), 1)
-            batch.set_state(np.array([start_state(f.case, settings)[0]]))
+            batch.set_state(batch.xp.stack([start_state(f.case, settings)[0]]))
             t0 = time.perf_counter()
             for _ in range(f.outcome.steps):
                 batch.step()

@@ -189,8 +189,8 @@ def chart_maps(cells: pd.DataFrame, steps, speeds, margins: dict[str, float] | N
     fig.legend(legend.values(), legend.keys(), loc="outside lower center", ncol=2, fontsize=8)
     fig.colorbar(im, ax=axes, shrink=0.8, label="fraction of contact phases ok")
     letters = ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in LETTERS.items())
-    fig.suptitle("Outcome over time step x closing speed (still R161, s = 0.1 m, e = 1); letters: "
-                 f"most common failure ({letters})", fontsize=9)
+    fig.suptitle("Outcome over time step x closing speed (still R161, s = 0.1 m, e = 1)\n"
+                 f"letters: most common failure ({letters})", fontsize=9)
     return fig
 
 

@@ -45,3 +45,14 @@ def test_the_estimate_of_each_baseline_is_within_a_few_times_its_wall_time(label
             assert 1 / ESTIMATE_FACTOR <= ratio <= ESTIMATE_FACTOR, (name, ratio)
             checked += 1
     assert checked or table.wall_s.groupby(table.engine).sum().max() < MIN_MEASURED_S
+
+
+def test_the_benchmark_runs_a_single_world_engine(tmp_path):
+    """The benchmark that measures ``step_cost_s`` steps single-world engines too (the plug-in
+    test runs it on a batched one)."""
+    from experiments import bench_engines
+
+    name = next(n for n in adapters.names() if not adapters.is_batched(n))
+    assert bench_engines.main(["--quick", "--engine", name, "--out", str(tmp_path)]) == 0
+    table = pd.read_csv(next(tmp_path.rglob("bench_engines.csv"))).set_index("engine")
+    assert table.loc[name, "bare_per_step_us"] > 0.0

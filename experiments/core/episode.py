@@ -7,11 +7,12 @@ come in free flight (``analytic.collide.free_flight``), the ball off the cylinde
 'non_finite' (NaN or inf, a failure the engine reported) and 'jumped' (a state that moved more
 than its speeds allow: a silent reset) are ``non_finite``; 'passed' (no contact seen when due,
 the ball's centre beyond the bat's axis) is ``tunnelled``; 'missed' (no contact seen when due,
-the ball still on its side) is ``no_contact``; 'budget' is ``no_separation`` (or ``tunnelled``
-without a contact); after 'separated' or 'left_cylinder' the final state is checked: beyond
-the bat's axis ``tunnelled``, deeper than r_ball + r_bat at any step ``penetration``, more
-kinetic energy than before ``energy_gained``, else ``ok`` (the judge may still find it
-inaccurate).
+the ball still on its side, its velocity as it was) is ``no_contact``; a ball deflected between
+two readings had its contact then (``judge.DEFLECTED``); 'budget' is ``no_separation`` (or
+``tunnelled`` without a contact); after 'separated' or 'left_cylinder' the final state is
+checked: beyond the bat's axis ``tunnelled``, deeper than r_ball + r_bat at any step
+``penetration``, more kinetic energy than before ``energy_gained``, else ``ok`` (the judge may
+still find it inaccurate).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from analytic import Ball, Bat, ImpactCase, Outcome
 from analytic.collide import free_flight, separates_for_good
 
 from . import geometry as g
-from .judge import JUMP_REACHES, OFF_SPAN_STEPS, Status, energy_allowance
+from .judge import DEFLECTED, JUMP_REACHES, OFF_SPAN_STEPS, Status, energy_allowance
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -164,6 +165,8 @@ class _Stepper:
         self.prev = starts
         side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(starts))[3]
         self.came_from = xp.where(side < 0.0, -1.0, 1.0)
+        cols = xp.cols(starts)
+        self.ball_v0 = (cols[g.BALL_VX], cols[g.BALL_VY])
         batch.set_state(starts)
         for step in range(1, self.max_steps + 1):
             batch.step()
@@ -213,7 +216,11 @@ class _Stepper:
         pen, apart, off_span, side = g.contact_geometry(xp, self.bat, self.ball, cols,
                                                         self.came_from)
         self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
-        t = ok & touching
+        # a contact that began and ended between two readings shows in the ball's velocity
+        vx0, vy0 = self.ball_v0
+        deflected = (xp.hypot(cols[g.BALL_VX] - vx0, cols[g.BALL_VY] - vy0)
+                     > DEFLECTED * xp.hypot(vx0, vy0))
+        t = ok & (touching | (deflected & (self.first < 0)))
         self.first = xp.where(t & (self.first < 0), step, self.first)
         self.last = xp.where(t, step, self.last)
         self.off_steps = xp.where(t, xp.where(self.rigid & (off_span > 0.0),

@@ -107,6 +107,11 @@ ENERGY_GAIN_ULPS = 100
 #: (r_ball + r_bat): a position correction pushes apart by less than one reach, a reset of the
 #: state (MuJoCo puts a blown-up world back at its model's pose) moves the ball ~1 m.
 JUMP_REACHES = 2.0
+#: A ball whose velocity changed by more than this fraction of its approach speed met the bat,
+#: whether or not a contact was seen: a contact shorter than a step can begin and end between
+#: two readings (Drake's Hunt-Crossley contact, 0.65 ms, at dt = 1.5 ms). Free flight keeps the
+#: velocity to rounding; the slightest bounce changes it by tens of percent.
+DEFLECTED = 0.01
 
 
 def mass_allowance(eps: float) -> float:

@@ -1,0 +1,65 @@
+"""The README's engines table, from the files in results/: what each engine gets right at its
+reference profile, what it does out of the box, and what an impact costs.
+
+``python -m experiments.baselines`` writes it into README.md between BEGIN and END after the
+report; ``tests/test_readme.py`` fails when the README's table is not the one these files give.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+
+import adapters
+
+BEGIN = "<!-- engines table: written by python -m experiments.baselines from results/ -->"
+END = "<!-- end of the engines table -->"
+REFERENCE = "sweep_all_reference_r161_swing"
+DEFAULT = "sweep_all_default_r161_swing"
+HEADER = ("| engine | install | float | reference profile: impacts ok, max error of v1 | "
+          "out of the box (its dt): statuses | harness cost per impact |\n"
+          "| --- | --- | --- | --- | --- | --- |")
+
+
+def _install(rec) -> str:
+    return f"`[{rec.extra}]` ({rec.package})" if rec.extra else f"core ({rec.package})"
+
+
+def _accuracy(rows: pd.DataFrame, name: str) -> str:
+    """ok count and the largest error over the ok rows: against rigid theory, or against the
+    engine's own contact law where that is what it converges to."""
+    ok = rows[rows.status == "ok"]
+    law = adapters.settings_for(name).contact_law(0.5) is not None
+    err = (ok.v1_law_err_mps if law else ok.v1_abs_err_mps).max()
+    against = "its own contact law" if law else "rigid theory"
+    return f"{len(ok)}/{len(rows)} ok, {err:.1e} m/s against {against}"
+
+
+def _out_of_the_box(meta: dict, name: str) -> str:
+    counts = meta["engines"][name]["status_counts"]
+    dt = meta["engines"][name]["settings"]["dt_s"]
+    return f"{', '.join(f'{k} {v}' for k, v in counts.items())} ({dt:.2g} s)"
+
+
+def engines_table(results: Path) -> str:
+    """The table, one row per engine in the reference baseline, from ``results``."""
+    ref = pd.read_csv(results / f"{REFERENCE}.csv")
+    default = json.loads((results / f"{DEFAULT}.json").read_text())
+    bench = pd.read_csv(results / "bench_engines.csv").set_index("engine")
+    lines = [HEADER]
+    for name, rows in ref.groupby("engine", sort=True):
+        rec = adapters.record(name)
+        cost = (f"{bench.loc[name, 'harness_per_collision_us']:,.0f} us" if name in bench.index
+                else "not benchmarked")
+        lines.append(f"| {name} | {_install(rec)} | {rec.precision} | {_accuracy(rows, name)} | "
+                     f"{_out_of_the_box(default, name)} | {cost} |")
+    return "\n".join(lines)
+
+
+def with_table(readme: str, table: str) -> str:
+    """``readme`` with the text between BEGIN and END replaced by ``table``."""
+    head, rest = readme.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    return f"{head}{BEGIN}\n{table}\n{END}{tail}"
