@@ -38,6 +38,7 @@ from .record import (
     EngineRecord,
     Integrator,
     KnobFamily,
+    ReportNotes,
     RestitutionRule,
     Settings,
     import_engine,
@@ -204,7 +205,7 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
 
 __all__ = ["BatchedEngine", "ContactReference", "ENTRY_POINT_GROUP", "Engine",
            "EngineNotInstalled", "EngineRecord", "Hands", "Integrator", "KnobFamily",
-           "MassProperties", "PROFILES", "PluginConflict", "RestitutionRule", "STATE_FIELDS",
-           "Scene", "Settings", "State", "available", "create", "engine_class",
+           "MassProperties", "PROFILES", "PluginConflict", "ReportNotes", "RestitutionRule",
+           "STATE_FIELDS", "Scene", "Settings", "State", "available", "create", "engine_class",
            "import_engine", "is_batched", "load", "loaded", "missing", "names", "record",
            "register", "reload_plugins", "settings_for", "unregister"]

@@ -150,6 +150,23 @@ class Integrator:
 
 
 @dataclass(frozen=True, kw_only=True)
+class ReportNotes:
+    """What the results report says of an engine, in the engine's own words. Each text is a
+    format string filled with the reference settings the baseline sweep recorded (by field
+    name), the record's ``engine_defaults`` (``default_`` + field name), ``version``, and the
+    sweep's ``err_mps`` (largest |v1 - rigid theory|) and ``law_err_mps`` (against its own
+    contact law); times, lengths and other numbers come formatted by their unit suffix.
+    ``profile``: the reference profile in words; ``restitution``: what plays the role of e;
+    ``handled``: what the adapter had to work around ('' for nothing worth a line);
+    ``defaults``: how its quoted defaults were read back or measured."""
+
+    profile: str
+    restitution: str
+    handled: str = ""
+    defaults: str = ""
+
+
+@dataclass(frozen=True, kw_only=True)
 class EngineRecord:
     """Everything the harness knows about one engine.
 
@@ -168,7 +185,8 @@ class EngineRecord:
     ``stiffness_setting``. ``engine_defaults``: the engine's own out-of-the-box values of
     settings fields (what the README quotes), each read back (``read_back_defaults``) or
     measured: a test pins both. ``step_cost_s``: the rough wall time of one reference step
-    (s, from ``experiments.bench_engines``), for run-time estimates only.
+    (s, from ``experiments.bench_engines``), for run-time estimates only. ``label``: the name as
+    prose spells it ('' for ``name``); ``notes``: what the report says of it.
     """
 
     name: str
@@ -188,6 +206,8 @@ class EngineRecord:
     stiffness_setting: str | None = None
     engine_defaults: Mapping[str, Any] = field(default_factory=dict)
     step_cost_s: float = 1e-5
+    label: str = ""
+    notes: ReportNotes | None = None
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

@@ -237,7 +237,7 @@ def chart_energy(rows: pd.DataFrame):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 7.5), sharex=True)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 7.5), sharex=True)
     colors = {n: adapters.record(n).color for n in rows.engine.unique()}
     maps = rows[rows.soft_omega_radps.isna()]
     for (engine, profile), df in maps.groupby(["engine", "profile"], sort=False):
@@ -256,8 +256,9 @@ def chart_energy(rows: pd.DataFrame):
         ax.set_yscale("log")
         ax.grid(alpha=0.3, which="both")
     top.set_ylabel("peak penetration / (r_ball + r_bat)\n(gaps drawn at 1e-12)")
-    top.legend(fontsize=7, ncol=2, title="filled: reference solver, hollow: default",
-               title_fontsize=7)
+    # beside the panels, never over the points
+    top.legend(fontsize=7, ncol=1, title="filled: reference solver,\nhollow: default",
+               title_fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     bottom.set_ylabel("|KE after / KE before - 1| at e = 1\n(^ gained, v lost; 0 at 1e-16)")
     bottom.set_xlabel("first-seen overlap phase * v * dt / (r_ball + r_bat); dashed: the ball's "
                       "centre reaches the bat's axis")

@@ -59,7 +59,7 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import EngineRecord, Integrator, KnobFamily, RestitutionRule, Settings
+from ..record import EngineRecord, Integrator, KnobFamily, ReportNotes, RestitutionRule, Settings
 
 #: Box2D's speculative distance, 4 linear slops of 5 mm (compile-time, with 1 length unit = 1 m):
 #: a pair closer than this gets a contact; the stability map's theory and a test measure it.
@@ -160,4 +160,19 @@ RECORD = EngineRecord(
     engine_defaults={"contact_hertz": 30.0, "contact_damping_ratio": 10.0,
                      "restitution_threshold_mps": 1.0, "maximum_linear_speed_mps": 400.0},
     step_cost_s=2e-6,
+    label="Box2D",
+    notes=ReportNotes(
+        profile=("dt = {dt_s}, sub-steps of at most {max_sub_step_s}, restitution threshold "
+                 "0, speed clamp lifted"),
+        restitution=("max of the two shapes' restitution (bat 0, ball e); 0 below "
+                     "`restitutionThreshold` ({default_restitution_threshold_mps} m/s)"),
+        handled=("restitution is the max of the two values and dropped below "
+                 "{default_restitution_threshold_mps} m/s; the speculative margin "
+                 "(compile-time) solves an impact with the step start's normal, an error first "
+                 "order in dt (hence the {dt_s} reference); each sub-step turns a body by "
+                 "atan(omega h); `b2MakeRot` approximates cos/sin (the adapter builds rotations "
+                 "itself); its joints are soft (fixed in pyb2d3), so the hinge drifts at first "
+                 "order; float32 positions lose a long motion split into many tiny sub-steps; "
+                 "pyb2d3 exposes no per-body contact data, so the adapter calls a step a "
+                 "contact when the ball's velocity changed (only the bat acts on it).")),
 )

@@ -29,6 +29,7 @@ from ..record import (
     EngineRecord,
     Integrator,
     KnobFamily,
+    ReportNotes,
     RestitutionRule,
     Settings,
 )
@@ -135,4 +136,12 @@ RECORD = EngineRecord(
     engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
                      "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler"},
     step_cost_s=3e-6,
+    label="MuJoCo",
+    notes=ReportNotes(
+        profile=("dt = {dt_s}, {integrator}, `impulse` contact: `solref = (0, -(1+e)/dt)`, "
+                 "constant impedance, `diagexact`"),
+        restitution=("none: mapped by the adapter (`impulse`, or `soft` spring-damper "
+                     "calibrated for e)"),
+        defaults=("MuJoCo's solref {default_solref}, solimp, iterations and {default_dt_s} "
+                  "step, read back")),
 )

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import EngineRecord, KnobFamily, RestitutionRule, Settings
+from ..record import EngineRecord, KnobFamily, ReportNotes, RestitutionRule, Settings
 
 SOLVERS = ("TGS", "PGS")
 #: SAPIEN's contact offset per shape (m), read back from a fresh shape (a test pins it).
@@ -139,4 +139,18 @@ RECORD = EngineRecord(
                      "max_angular_velocity_radps": 100.0,
                      "max_depenetration_velocity_mps": 1e32, "sleep_threshold": 0.005},
     step_cost_s=7e-6,
+    label="PhysX",
+    notes=ReportNotes(
+        profile=("dt = {dt_s}, TGS, bounce threshold 0, spin cap lifted "
+                 "({default_max_angular_velocity_radps} rad/s by default), no sleeping"),
+        restitution=("mean of both bodies' restitution (both set to e); 0 below "
+                     "`bounce_threshold` ({default_bounce_threshold_mps} m/s)"),
+        handled=("restitution is dropped below the {default_bounce_threshold_mps} m/s bounce "
+                 "threshold (PhysX #351); the default spin cap of "
+                 "{default_max_angular_velocity_radps} rad/s clips a bat hit at the barrel "
+                 "after a fast swing; PGS splits an impact that falls late in a step over two "
+                 "steps, losing part of the rebound, where TGS is exact; contacts are made "
+                 "`contact_offset` ({default_contact_offset_m} per shape) ahead and solved with "
+                 "the step's starting geometry (a speculative contact, see the judge); SAPIEN's "
+                 "scene CCD flag does nothing without the per-body flag it does not expose.")),
 )

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import EngineRecord, KnobFamily, RestitutionRule, Settings
+from ..record import EngineRecord, KnobFamily, ReportNotes, RestitutionRule, Settings
 
 #: setting name -> setPhysicsEngineParameter keyword; a None value leaves the engine default.
 ENGINE_PARAMETERS = {
@@ -93,4 +93,14 @@ RECORD = EngineRecord(
     engine_defaults={"contact_erp": 0.08, "contact_slop": 1e-5, "solver_iterations": 50,
                      "dt_s": 1 / 240},
     step_cost_s=2e-6,
+    label="PyBullet",
+    notes=ReportNotes(
+        profile=("dt = {dt_s}, `contactERP = erp = 0`, `contactSlop = 0`, no restitution "
+                 "threshold, no damping"),
+        restitution=("product of both bodies' `restitution`; 0 below "
+                     "`restitutionVelocityThreshold`"),
+        defaults=("PyBullet's {default_solver_iterations} solver iterations and {default_dt_s} "
+                  "step, read back; its contactERP {default_contact_erp} and contactSlop "
+                  "{default_contact_slop} m, measured (set explicitly, they reproduce the "
+                  "default solver's impacts bit for bit, and another value changes them)")),
 )

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import EngineRecord, KnobFamily, RestitutionRule, Settings
+from ..record import EngineRecord, KnobFamily, ReportNotes, RestitutionRule, Settings
 
 # pymunk.Space() defaults (length unit: m here), as Chipmunk computes them, in single precision:
 # 0.1f, and pow(1 - 0.1f, 60) for the bias; the record's engine_defaults and a test pin them.
@@ -63,4 +63,10 @@ RECORD = EngineRecord(
     engine_defaults={"iterations": 10, "collision_slop": CHIPMUNK_SLOP,
                      "collision_bias": CHIPMUNK_BIAS, "joint_error_bias": CHIPMUNK_BIAS},
     step_cost_s=1e-6,
+    label="pymunk",
+    notes=ReportNotes(
+        profile="dt = {dt_s}, Chipmunk's own solver values (exact for one contact)",
+        restitution="product of the shapes' `elasticity` (bat 1, ball e)",
+        defaults=("pymunk's slop ({default_collision_slop}) and bias ({default_collision_bias},"
+                  " not 0.9^60: Chipmunk computes them in single precision), read back")),
 )

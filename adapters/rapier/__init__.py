@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import EngineRecord, Integrator, KnobFamily, RestitutionRule, Settings
+from ..record import EngineRecord, Integrator, KnobFamily, ReportNotes, RestitutionRule, Settings
 
 #: The hands' releasable hinge: an impulse joint, or a multibody (reduced-coordinate) joint.
 HINGES = ("impulse", "multibody")
@@ -163,4 +163,19 @@ RECORD = EngineRecord(
                      "max_ccd_substeps": 1, "ccd_bodies": "none", "soft_ccd_prediction_m": 0.0,
                      "hinge_frequency_hz": 1.0e6, "hinge_damping_ratio": 1.0},
     step_cost_s=4e-5,
+    label="Rapier",
+    notes=ReportNotes(
+        profile=("dt = {dt_s}, {solver_iterations} substep, prediction distance "
+                 "{prediction_distance_m}, contact recycling off, speed caps lifted, hinge a "
+                 "{hinge} joint"),
+        restitution=("mean of both colliders' restitution (the default combine rule; both "
+                     "set to e); no threshold"),
+        handled=("speculative contacts (prediction distance {default_prediction_distance_m} by "
+                 "default) solve the impact from the step start's geometry (with "
+                 "{prediction_distance_m}, the reference is {err_mps} m/s off on the swing); "
+                 "contact recycling keeps stale points; a free body turns 2 atan(omega dt/2) "
+                 "per step, not omega dt; angular speed is clamped to (pi/4)/dt unless fast "
+                 "rotation is allowed; CCD between two \"bullets\" never sweeps (rapier#984); "
+                 "the relax pass costs an impulse joint first-order spin (hence the multibody "
+                 "hinge). Restitution works in {version} (rapier#974's loss is gone).")),
 )

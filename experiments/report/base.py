@@ -17,10 +17,6 @@ import pandas as pd
 
 import adapters
 
-#: Engine names as the prose spells them; an engine not listed (a plug-in) keeps its own name.
-LABELS = {"box2d": "Box2D", "drake": "Drake", "mujoco": "MuJoCo", "physx": "PhysX",
-          "pybullet": "PyBullet", "pymunk": "pymunk", "rapier": "Rapier"}
-
 
 class Missing(Exception):
     """A file a section needs is not in the results directory."""
@@ -172,7 +168,11 @@ def orders(big: float, small: float) -> int:
 # -- words ------------------------------------------------------------------------------------
 
 def label(engine: str) -> str:
-    return LABELS.get(engine, engine)
+    """The engine's name as prose spells it (its record's ``label``)."""
+    try:
+        return adapters.record(engine).label or engine
+    except ValueError:  # no longer registered
+        return engine
 
 
 def names(items: Iterable[str], conj: str = "and") -> str:

@@ -8,8 +8,6 @@ measurements no result file holds: each adapter's module docstring has them.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pandas as pd
 
@@ -21,59 +19,41 @@ from .base import Results, bullets, dist, gnum, label, md_table, names, num, pre
 from .data import need
 
 
-def _defaults(engine: str) -> dict:
+def _record(engine: str):
     try:
-        return dict(adapters.record(engine).engine_defaults)
-    except ValueError:
-        return {}
+        return adapters.record(engine)
+    except ValueError:  # an engine no longer registered: its results stay readable
+        return None
 
 
-def _package(engine: str) -> str:
-    try:
-        return adapters.record(engine).package
-    except ValueError:
-        return engine
+def _words(key: str, value) -> str:
+    """A setting's value as the prose writes it, by its unit suffix (``_s``, ``_m``)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return str(tuple(value) if isinstance(value, list) else value)
+    if key.endswith("_s"):
+        return step(value)
+    if key.endswith("_m"):
+        return dist(value)
+    return gnum(value)
 
 
-def _profile(e: str, st: dict, d: dict) -> tuple[str, str]:
-    """(the reference profile, what plays the role of e) in words, for a known engine."""
-    dt = f"dt = {step(st['dt_s'])}"
-    nan = math.nan
-    if e == "pymunk":
-        return (f"{dt}, Chipmunk's own solver values (exact for one contact)",
-                "product of the shapes' `elasticity` (bat 1, ball e)")
-    if e == "pybullet":
-        return (f"{dt}, `contactERP = erp = 0`, `contactSlop = 0`, no restitution threshold, "
-                "no damping", "product of both bodies' `restitution`; 0 below "
-                "`restitutionVelocityThreshold`")
-    if e == "mujoco":
-        return (f"{dt}, {st.get('integrator')}, `impulse` contact: `solref = (0, -(1+e)/dt)`, "
-                "constant impedance, `diagexact`", "none: mapped by the adapter (`impulse`, or "
-                "`soft` spring-damper calibrated for e)")
-    if e == "drake":
-        return (f"{st.get('solver')} plant, RK3 with error control at "
-                f"{gnum(st.get('accuracy', nan))}, read every {step(st['dt_s'])}; "
-                f"{st.get('contact_model')} contact k = "
-                f"{gnum(st.get('point_stiffness_npm', nan))} N/m",
-                "none: Hunt-Crossley dissipation d chosen so that a "
-                f"{gnum(st.get('restitution_speed_mps', nan))} m/s impact bounces with e; its e "
-                "then falls with speed; judged against its own law")
-    if e == "physx":
-        return (f"{dt}, TGS, bounce threshold 0, spin cap lifted "
-                f"({gnum(d.get('max_angular_velocity_radps', nan))} rad/s by default), no "
-                "sleeping", "mean of both bodies' restitution (both set to e); 0 below "
-                f"`bounce_threshold` ({gnum(d.get('bounce_threshold_mps', nan))} m/s)")
-    if e == "rapier":
-        return (f"{dt}, {st.get('solver_iterations')} substep, prediction distance "
-                f"{dist(st.get('prediction_distance_m', nan))}, contact recycling off, speed "
-                f"caps lifted, hinge a {st.get('hinge', '')} joint", "mean of both colliders' "
-                "restitution (the default combine rule; both set to e); no threshold")
-    if e == "box2d":
-        return (f"{dt}, sub-steps of at most {step(st.get('max_sub_step_s') or nan)}, "
-                "restitution threshold 0, speed clamp lifted", "max of the two shapes' "
-                "restitution (bat 0, ball e); 0 below `restitutionThreshold` "
-                f"({gnum(d.get('restitution_threshold_mps', nan))} m/s)")
-    return dt, "see the adapter"
+class _Values(dict):
+    def __missing__(self, key: str) -> str:
+        return "n/a"
+
+
+def notes(engine: str, swing, field: str) -> str:
+    """One of the engine's ``ReportNotes`` texts, filled (``adapters.ReportNotes``)."""
+    rec = _record(engine)
+    text = getattr(rec.notes, field, "") if rec and rec.notes else ""
+    if not text:
+        return ""
+    summary = swing.summary(engine)
+    values = _Values({k: _words(k, v) for k, v in summary["settings"].items()})
+    values.update({f"default_{k}": _words(k, v) for k, v in rec.engine_defaults.items()})
+    values.update(version=str(summary["engine_version"]), err_mps=num(swing.err(engine)),
+                  law_err_mps=num(swing.law_err(engine)))
+    return text.format_map(values)
 
 
 def section(res: Results) -> str:
@@ -81,12 +61,13 @@ def section(res: Results) -> str:
     bat, ball = presets.R161, presets.BASEBALL
     rows = []
     for e in swing.engines:
-        st = swing.summary(e)["settings"]
-        prof, rule = _profile(e, st, _defaults(e))
-        rows.append({"engine": f"{label(e)} (`{_package(e)}` "
+        rec = _record(e)
+        rows.append({"engine": f"{label(e)} (`{rec.package if rec else e}` "
                                f"{swing.summary(e)['engine_version']})",
-                     "precision": precision(e), "reference profile": prof,
-                     "what plays the role of e": rule})
+                     "precision": precision(e),
+                     "reference profile": notes(e, swing, "profile") or "see the adapter",
+                     "what plays the role of e": (notes(e, swing, "restitution")
+                                                  or "see the adapter")})
     phase = {swing.setting(e, "contact_phase") for e in swing.engines}
     (default,) = need(res, "default")
     mid = {default.setting(e, "contact_phase") for e in default.engines}
@@ -104,33 +85,13 @@ def section(res: Results) -> str:
         f"(`{swing.stem}.json`):")
     return "\n\n".join([scene, md_table(pd.DataFrame(rows)),
                         "What each adapter had to handle (each module's docstring has the "
-                        "measurements):", bullets(fixes(res)), pinned(), soft(res)])
+                        "measurements):", bullets(fixes(swing)), pinned(swing), soft(res)])
 
 
-def fixes(res: Results) -> list[str]:
-    (swing,) = need(res, "swing")
-    conv = res.csv("convergence.csv")
-    out = []
-    for e in swing.compliant:
-        st, p = swing.summary(e)["settings"], conv[conv.engine == e]
-        law = p[p.family.str.startswith("discrete") & p.p_law.notna()].p_law
-        out.append(
-            f"**{label(e)}** has no coefficient of restitution: its point contact is "
-            "Hunt-Crossley, F = k x (1 + d x'), whose e falls with the impact speed (d set for e "
-            f"at {st.get('restitution_speed_mps', math.nan):g} m/s), so against rigid theory it "
-            f"is up to {num(swing.err(e))} m/s off on the paper's swing by design; against its "
-            "own law (`analytic.compliant.HuntCrossley`, exponent 1) the reference is within "
-            f"{num(swing.law_err(e))} m/s. Every discrete approximation is about first order "
-            f"against that law (fitted p_law {span(law.min(), law.max(), lambda v: f'{v:.2f}')} "
-            "in `convergence.csv`); SAP replaces d by a linear damper (the adapter sets its "
-            "relaxation time for e and judges it against `LinearSpringDamper`); hydroelastic "
-            "contact states no closed law here (`unjudged`). The bat hangs on a planar joint "
-            "chain whose pivot frame moves at run time, so the hands' hinge is a lock on that "
-            "chain. A small e is floored (`E_FLOOR`): a Hunt-Crossley contact lets go with the "
-            "overlap still open and cannot separate faster than 1/d (drake#19320), so a "
-            "near-plastic ball is caught again and again.")
-    known = {"physx": _physx, "rapier": _rapier, "box2d": _box2d}
-    out += [known[e](swing, e) for e in swing.rigid if e in known]
+def fixes(swing) -> list[str]:
+    """What each adapter had to handle, in its record's words; the float32 engines' tolerances."""
+    out = [f"**{label(e)}**: {text}" for e in swing.engines
+           if (text := notes(e, swing, "handled"))]
     if any(precision(e) == "float32" for e in swing.engines):
         out.append(
             "The float32 engines need the harness's tolerances in their precision: the mass "
@@ -142,60 +103,13 @@ def fixes(res: Results) -> list[str]:
     return out
 
 
-def _physx(swing, e: str) -> str:
-    d = _defaults(e)
-    return (f"**{label(e)}**: restitution is dropped below the "
-            f"{d.get('bounce_threshold_mps', math.nan):g} m/s bounce threshold (PhysX #351); the "
-            f"default spin cap of {d.get('max_angular_velocity_radps', math.nan):g} rad/s clips a "
-            "bat hit at the barrel after a fast swing; PGS splits an impact that falls late in a "
-            "step over two steps, losing part of the rebound, where TGS is exact; contacts are "
-            f"made `contact_offset` ({dist(d.get('contact_offset_m', math.nan))} per shape) ahead "
-            "and solved with the step's starting geometry (a speculative contact, see the judge); "
-            "SAPIEN's scene CCD flag does nothing without the per-body flag it does not expose.")
-
-
-def _rapier(swing, e: str) -> str:
-    d = _defaults(e)
-    dt = d.get("dt_s", math.nan)
-    return (f"**{label(e)}**: speculative contacts (prediction distance "
-            f"{dist(d.get('prediction_distance_m', math.nan))} by default) solve the impact from "
-            f"the step start's geometry (with "
-            f"{dist(swing.setting(e, 'prediction_distance_m'))}, the reference is "
-            f"{num(swing.err(e))} m/s off on the swing); contact recycling keeps stale points; a "
-            "free body turns 2 atan(omega dt/2) per step, not omega dt; angular speed is clamped "
-            "to (pi/4)/dt unless fast rotation is allowed (at its default "
-            f"{step(dt)}: {math.pi / 4 / dt:.2f} rad/s); CCD between two \"bullets\" never "
-            "sweeps (rapier#984); the relax pass costs an impulse joint first-order spin (hence "
-            f"the multibody hinge). Restitution works in {swing.summary(e)['engine_version']} "
-            "(rapier#974's loss is gone).")
-
-
-def _box2d(swing, e: str) -> str:
-    d = _defaults(e)
-    return (f"**{label(e)}**: restitution is the max of the two values and dropped below "
-            f"{d.get('restitution_threshold_mps', math.nan):g} m/s; the speculative margin "
-            "(compile-time) solves an impact with the step start's normal, an error first order "
-            f"in dt (hence the {step(swing.setting(e, 'dt_s'))} reference); each sub-step turns a "
-            "body by atan(omega h); `b2MakeRot` approximates cos/sin (the adapter builds "
-            "rotations itself); its joints are soft (fixed in pyb2d3), so the hinge drifts at "
-            "first order; float32 positions lose a long motion split into many tiny sub-steps; "
-            "pyb2d3 exposes no per-body contact data, so the adapter calls a step a contact "
-            "when the ball's velocity changed (only the bat acts on it).")
-
-
-def pinned() -> str:
-    pm, pb, mj = _defaults("pymunk"), _defaults("pybullet"), _defaults("mujoco")
-    return (
-        "Every engine default quoted here is in the engine's record (`engine_defaults`) and "
-        "pinned by a test (`tests/test_engine_defaults.py`): read back from a fresh engine where "
-        "it reports it (pymunk's slop and biases, which Chipmunk computes in single precision, "
-        f"e.g. a bias of {pm.get('collision_bias', math.nan):.10f}, not 0.9^60 = "
-        f"{0.9 ** 60:.10f}; MuJoCo's solref {tuple(mj.get('solref', ()))}, solimp, iterations, "
-        f"step; PyBullet's {pb.get('solver_iterations')} solver iterations and "
-        f"{step(pb.get('dt_s', math.nan))} step), measured where it does not (PyBullet's "
-        f"contactERP {pb.get('contact_erp')} and contactSlop {pb.get('contact_slop')} m: set "
-        "explicitly, they reproduce the default solver's impacts bit for bit, and another value "
-        "changes them).")
+def pinned(swing) -> str:
+    """Where the engine defaults quoted come from, in each record's words."""
+    how = [text for e in swing.engines if (text := notes(e, swing, "defaults"))]
+    return ("Every engine default quoted here is in the engine's record (`engine_defaults`) and "
+            "pinned by a test (`tests/test_engine_defaults.py`): read back from a fresh engine "
+            "where it reports it, measured where it does not"
+            + (f" ({'; '.join(how)})" if how else "") + ".")
 
 
 def soft(res: Results) -> str:
