@@ -6,12 +6,10 @@ import math
 
 import numpy as np
 
-from analytic import Ball, Bat
-from analytic.compliant import damping_ratio_for
-
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
 from . import INTEGRATORS, RECORD
+from .model import contact_parameters, mjcf
 
 mujoco = import_engine(RECORD)
 # MuJoCo's own warning handler prints and appends to MUJOCO_LOG.TXT in the working directory;
@@ -23,38 +21,6 @@ mujoco.set_mju_user_warning(lambda text: None)
 BLOW_UPS = tuple(int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS,
                                   mujoco.mjtWarning.mjWARN_BADQVEL,
                                   mujoco.mjtWarning.mjWARN_BADQACC))
-
-
-def _mjcf(bat: Bat, ball: Ball) -> str:
-    """The scene as MJCF: body frames at the COMs, mass properties set explicitly."""
-    a, b = bat.s_min_m, bat.s_max_m
-    ib = ball.inertia_kgm2
-    return f"""<mujoco model="bat_ball">
-  <compiler angle="radian" inertiafromgeom="false"/>
-  <option gravity="0 0 0"/>
-  <default><geom condim="1" friction="0 0 0" margin="0" gap="0"/></default>
-  <worldbody>
-    <body name="bat">
-      <freejoint name="bat"/>
-      <inertial pos="0 0 0" mass="{bat.mass_kg!r}"
-                diaginertia="{bat.axial_inertia_kgm2!r} {bat.inertia_cm_kgm2!r}
-                             {bat.inertia_cm_kgm2!r}"/>
-      <geom name="bat" type="capsule" fromto="{a!r} 0 0 {b!r} 0 0" size="{bat.radius_m!r}"/>
-      <site name="load" pos="0 0 0"/>
-    </body>
-    <body name="ball" pos="0 1 0">
-      <freejoint name="ball"/>
-      <inertial pos="0 0 0" mass="{ball.mass_kg!r}" diaginertia="{ib!r} {ib!r} {ib!r}"/>
-      <geom name="ball" type="sphere" size="{ball.radius_m!r}"/>
-    </body>
-  </worldbody>
-  <equality><connect name="hands" body1="bat" anchor="0 0 0" active="false"/></equality>
-  <actuator>
-    <motor name="fx" site="load" gear="1 0 0 0 0 0"/>
-    <motor name="fy" site="load" gear="0 1 0 0 0 0"/>
-    <motor name="tz" site="load" gear="0 0 0 0 0 1"/>
-  </actuator>
-</mujoco>"""
 
 
 class MujocoEngine(Engine):
@@ -74,7 +40,7 @@ class MujocoEngine(Engine):
 
     def build(self, scene: Scene) -> None:
         st = self.settings
-        m = mujoco.MjModel.from_xml_string(_mjcf(scene.bat, scene.ball))
+        m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball))
         m.opt.timestep = st.dt_s
         m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
         m.opt.iterations = st.iterations
@@ -91,18 +57,7 @@ class MujocoEngine(Engine):
         self._site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "load")
         m.site_sameframe[self._site] = 0  # else kinematics ignores site_pos set at run time
         m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
-        m.geom_solref[:], m.geom_solimp[:] = self._contact(scene.e)
-
-    def _contact(self, e: float) -> tuple[tuple, tuple]:
-        """solref and solimp that make the contact bounce with e (the package docstring)."""
-        st = self.settings
-        d = st.impedance
-        if st.contact_model == "impulse":
-            return (0.0, -(1.0 + e) / st.dt_s), (d, d, 0.001, 0.5, 2.0)
-        if st.contact_model == "soft":
-            w, zeta = st.soft_omega_radps, damping_ratio_for(max(e, 1e-9))
-            return (-w * w, -2.0 * zeta * w), (d, d, 0.001, 0.5, 2.0)
-        return st.solref, st.solimp
+        m.geom_solref[:], m.geom_solimp[:] = contact_parameters(st, scene.e)
 
     def mass_properties(self) -> MassProperties:
         m = self.model

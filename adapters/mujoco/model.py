@@ -1,0 +1,52 @@
+"""The scene as MuJoCo's model, shared by every engine that implements MuJoCo's model (MuJoCo
+C, MJX, MuJoCo Warp): the MJCF and the contact parameters that map e. Imports no engine."""
+
+from __future__ import annotations
+
+from analytic import Ball, Bat
+from analytic.compliant import damping_ratio_for
+
+from . import MujocoSettings
+
+
+def mjcf(bat: Bat, ball: Ball) -> str:
+    """The scene as MJCF: body frames at the COMs, mass properties set explicitly."""
+    a, b = bat.s_min_m, bat.s_max_m
+    ib = ball.inertia_kgm2
+    return f"""<mujoco model="bat_ball">
+  <compiler angle="radian" inertiafromgeom="false"/>
+  <option gravity="0 0 0"/>
+  <default><geom condim="1" friction="0 0 0" margin="0" gap="0"/></default>
+  <worldbody>
+    <body name="bat">
+      <freejoint name="bat"/>
+      <inertial pos="0 0 0" mass="{bat.mass_kg!r}"
+                diaginertia="{bat.axial_inertia_kgm2!r} {bat.inertia_cm_kgm2!r}
+                             {bat.inertia_cm_kgm2!r}"/>
+      <geom name="bat" type="capsule" fromto="{a!r} 0 0 {b!r} 0 0" size="{bat.radius_m!r}"/>
+      <site name="load" pos="0 0 0"/>
+    </body>
+    <body name="ball" pos="0 1 0">
+      <freejoint name="ball"/>
+      <inertial pos="0 0 0" mass="{ball.mass_kg!r}" diaginertia="{ib!r} {ib!r} {ib!r}"/>
+      <geom name="ball" type="sphere" size="{ball.radius_m!r}"/>
+    </body>
+  </worldbody>
+  <equality><connect name="hands" body1="bat" anchor="0 0 0" active="false"/></equality>
+  <actuator>
+    <motor name="fx" site="load" gear="1 0 0 0 0 0"/>
+    <motor name="fy" site="load" gear="0 1 0 0 0 0"/>
+    <motor name="tz" site="load" gear="0 0 0 0 0 1"/>
+  </actuator>
+</mujoco>"""
+
+
+def contact_parameters(settings: MujocoSettings, e: float) -> tuple[tuple, tuple]:
+    """solref and solimp that make the contact bounce with e (the package docstring)."""
+    d = settings.impedance
+    if settings.contact_model == "impulse":
+        return (0.0, -(1.0 + e) / settings.dt_s), (d, d, 0.001, 0.5, 2.0)
+    if settings.contact_model == "soft":
+        w, zeta = settings.soft_omega_radps, damping_ratio_for(max(e, 1e-9))
+        return (-w * w, -2.0 * zeta * w), (d, d, 0.001, 0.5, 2.0)
+    return settings.solref, settings.solimp
