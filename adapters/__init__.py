@@ -139,10 +139,20 @@ def _load_target(name: str, target: str):
 
 
 def _installed(rec: EngineRecord) -> bool:
+    """Its top-level module is found and its distribution installed (MJX's ``mujoco.mjx``
+    comes from ``mujoco-mjx`` into the ``mujoco`` package: finding ``mujoco`` is not enough)."""
     top = rec.import_name.split(".")[0]
     if top in sys.modules:
-        return sys.modules[top] is not None
-    return importlib.util.find_spec(top) is not None
+        found = sys.modules[top] is not None
+    else:
+        found = importlib.util.find_spec(top) is not None
+    if not found or rec.import_name == top:
+        return found
+    try:
+        metadata.distribution(rec.package)
+    except metadata.PackageNotFoundError:
+        return False
+    return True
 
 
 def available() -> tuple[str, ...]:

@@ -99,6 +99,17 @@ class Settings:
         it converges to."""
         return None
 
+    def mapping_error_rel(self) -> float:
+        """The relative error the engine's mapping of e leaves in a contact's impulse (a known
+        bias of the mapping, not a precision); 0 for an exact mapping."""
+        return 0.0
+
+    def collision_slide_m(self, bat) -> float:
+        """How far along the bat's axis (m) the engine's collision routine may put the contact
+        foot from the true closest point (a bias of its own, not a precision), which the judge
+        adds to the foot's slide; 0 for an exact routine."""
+        return 0.0
+
     def speculative_margin_m(self) -> float:
         """The gap (m) below which the engine already solves a contact (speculative contact):
         such a contact is solved from the geometry at the start of the step that closes it, up
@@ -186,7 +197,9 @@ class EngineRecord:
     settings fields (what the README quotes), each read back (``read_back_defaults``) or
     measured: a test pins both. ``step_cost_s``: the rough wall time of one reference step
     (s, from ``experiments.bench_engines``), for run-time estimates only. ``label``: the name as
-    prose spells it ('' for ``name``); ``notes``: what the report says of it.
+    prose spells it ('' for ``name``); ``notes``: what the report says of it. ``twin_of``: the
+    engine whose model this one implements (MJX of MuJoCo C), for ``experiments.twins``; its
+    settings class extends the twin's, so the same fields mean the same model.
     """
 
     name: str
@@ -208,6 +221,7 @@ class EngineRecord:
     step_cost_s: float = 1e-5
     label: str = ""
     notes: ReportNotes | None = None
+    twin_of: str | None = None
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

@@ -1,0 +1,145 @@
+"""MJX (MuJoCo XLA): MuJoCo's model in JAX, many worlds per call (vmap), on a CPU or a GPU.
+
+The same MJCF and e-mapping as MuJoCo C (``adapters.mujoco.model``); what MJX lacks decides the
+rest. It has no ``diagexact``: a contact's regulariser R = (1-d)/d W takes W from the bodies'
+``body_invweight0`` (a mean of their inverse masses and inertias), not the exact inverse
+inertia A = 1/m + 1/M + s^2/J along the contact normal. The impulse mapping then scales the
+approach's reversal by A/(d A + (1-d) W) instead of 1 (measured: 1e-4 relative, 5e-3 m/s at
+d = 0.9999). ``invweight_scale`` multiplies ``body_invweight0`` as the model is put on the
+device: a small value makes R vanish beside A, and the impulse solref carries d (solref =
+(0, -(1+e) d/dt) once R ~ 0, which the solver's 1/d cancels) so that one Euler step reverses
+the normal velocity exactly, as ``diagexact`` does in C. ``invweight_scale = 1`` is MJX's own
+model, MuJoCo C's without ``diagexact`` (its twin).
+
+Two engines share this adapter: ``mjx`` computes in JAX's default float32, ``mjx64`` in
+float64 (JAX's x64 mode, scoped to this adapter's calls).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from analytic import checks
+
+from ..mujoco import MujocoSettings
+from ..record import EngineRecord, Integrator, KnobFamily, ReportNotes, RestitutionRule
+
+INTEGRATORS = ("Euler", "implicitfast", "RK4")  # MJX has no fully implicit integrator
+#: The capsule's collision routine: MJX's own, or the adapter's exact closest point (the one
+#: line that differs from MuJoCo C's; for the twin study, ``experiments.twins``).
+COLLISIONS = ("mjx", "exact")
+
+
+@dataclass(frozen=True, kw_only=True)
+class MjxSettings(MujocoSettings):
+    """MuJoCo's knobs as MJX takes them (``MujocoSettings``), without ``diagexact`` (MJX has
+    none) and with ``invweight_scale``, the factor on ``body_invweight0`` (package docstring);
+    ``ls_iterations``: MJX's line-search iterations (None: MJX's own); ``collision``: one of
+    COLLISIONS."""
+
+    diagexact: bool = False
+    invweight_scale: float = 1.0
+    ls_iterations: int | None = None
+    collision: str = "mjx"
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.diagexact:
+            raise ValueError("diagexact=True is not in MJX; allowed: False (see "
+                             "invweight_scale for an exact impulse)")
+        if self.integrator not in INTEGRATORS:
+            raise ValueError(f"integrator={self.integrator!r} is not in MJX; allowed: "
+                             f"{', '.join(INTEGRATORS)}")
+        checks.in_range("invweight_scale", self.invweight_scale, 1e-12, 1.0)
+        if self.speculative:
+            raise ValueError("speculative=True is not in MJX; allowed: False")
+        if self.collision not in COLLISIONS:
+            raise ValueError(f"collision={self.collision!r} is unknown; allowed: "
+                             f"{', '.join(COLLISIONS)}")
+        if self.ls_iterations is not None:
+            checks.integer("ls_iterations", self.ls_iterations, 1, 10_000)
+
+    def mapping_error_rel(self) -> float:
+        # the impulse is c A / (d A + (1-d) eps W), c = d + (1-d) eps: for free bodies W =
+        # 1/m + 1/M <= A, so it is off by at most (1 - d) eps (package docstring)
+        if self.contact_model == "native":
+            return 0.0
+        return (1.0 - self.impedance) * self.invweight_scale
+
+    def collision_slide_m(self, bat) -> float:
+        # MJX's closest point on the capsule's segment divides by |b - a|^2 + 1e-6 m^2: the
+        # foot moves toward a by up to 1e-6 / |b - a| (1.3 um on the R161), the normal tilts
+        # by that over r1 + r2, and the impulse's line crosses the axis that far off
+        if self.collision == "exact":
+            return 0.0
+        return SEGMENT_GUARD_M2 / (bat.s_max_m - bat.s_min_m)
+
+
+#: What MJX adds to a segment's squared length in its closest-point routine (m^2).
+SEGMENT_GUARD_M2 = 1e-6
+
+#: MJX's out-of-the-box values, read back from a freshly put model (``read_back_defaults``).
+ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
+                   "iterations": 100, "tolerance": 1e-8, "ls_iterations": 50, "dt_s": 0.002,
+                   "integrator": "Euler"}
+
+RECORD = EngineRecord(
+    name="mjx", adapter="adapters.mjx.adapter:MjxEngine", package="mujoco-mjx",
+    import_name="mujoco.mjx", extra="mjx",
+    profiles={
+        # Fidelity: MuJoCo C's reference (10 us, Euler, impulse contact) at d = 0.9999 with
+        # MJX's own regulariser: a 1e-4 relative bias (stated: ``mapping_error_rel``); a
+        # smaller one leaves the float32 Newton solve ill-conditioned (x 0.1 .. 1e-3: misses
+        # of 0.1-1.25 m/s at random points; x 1e-10: NaN). Placed 1 um deep: float32 positions
+        # near 1 m are 6e-8 m apart, so a 1 nm overlap may go unseen for a step.
+        "reference": MjxSettings(dt_s=1e-5, contact_model="impulse", impedance=0.9999,
+                                 overlap_m=1e-6),
+        # Out of the box: MJX's 2 ms step, Euler, solref (0.02, 1), default solimp, its own
+        # regulariser, the contact instant mid-step.
+        "default": MjxSettings(dt_s=0.002, contact_model="native", contact_phase=0.5),
+    },
+    color="darkgreen", marker="v",
+    speed_accuracy=(
+        KnobFamily(label="impulse, MJX's regulariser", quick=True),
+        KnobFamily(label="soft w=3000, Euler", quick=True,
+                   overrides=(("contact_model", "soft"), ("soft_omega_radps", 3000.0),
+                              ("impedance", 0.99))),
+    ),
+    integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
+                                 order=4 if name == "RK4" else 1)
+                      for name in ("Euler", "RK4")),
+    precision="float32",
+    restitution_rule=RestitutionRule.MAPPED,
+    soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
+    engine_defaults=ENGINE_DEFAULTS,
+    step_cost_s=2e-4,
+    label="MJX",
+    twin_of="mujoco",
+    notes=ReportNotes(
+        profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MJX's "
+                 "regulariser, placed {overlap_m} deep"),
+        restitution="none: mapped by the adapter, as for MuJoCo C",
+        handled=("no `diagexact` in MJX: the regulariser scaled instead (its own leaves the "
+                 "impulse 1e-4 relative off); its capsule routine adds 1e-6 m^2 to the "
+                 "segment's squared length (a 1.3 um foot bias, stated)"),
+        defaults="MJX's solref {default_solref}, iterations and {default_dt_s} step, read back"),
+)
+
+#: The same engine in float64, its regulariser made negligible, as diagexact does in C (package
+#: docstring): 1e-7 leaves 1e-11 relative; smaller ones lose more to the solver's conditioning
+#: (1e-8: 3e-8 m/s off at the COM, 1e-9: 5e-6 m/s).
+RECORD_64 = dataclasses.replace(
+    RECORD, name="mjx64", adapter="adapters.mjx.adapter:Mjx64Engine", precision="float64",
+    color="yellowgreen", label="MJX (float64)",
+    profiles={**RECORD.profiles, "reference": MjxSettings(
+        dt_s=1e-5, contact_model="impulse", impedance=0.9999, invweight_scale=1e-7)},
+    speed_accuracy=(
+        KnobFamily(label="impulse, regulariser x 1e-7", quick=True),
+        KnobFamily(label="impulse, MJX's regulariser", overrides=(("invweight_scale", 1.0),)),
+        KnobFamily(label="soft w=3000, Euler", quick=True,
+                   overrides=(("contact_model", "soft"), ("soft_omega_radps", 3000.0),
+                              ("impedance", 0.99), ("invweight_scale", 1.0)))),
+    notes=dataclasses.replace(RECORD.notes, profile=(
+        "dt = {dt_s}, {integrator}, `impulse` contact (`solref = (0, -(1+e) c/dt)`, "
+        "d = {impedance}) with `body_invweight0` x {invweight_scale}")))

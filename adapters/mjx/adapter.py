@@ -1,0 +1,218 @@
+"""The MJX adapter: MuJoCo's MJCF put on a JAX device, every world stepped by one jitted,
+vmapped ``mjx.step`` (see the package docstring for the regulariser and the precision).
+
+Compiles are few: the step is jitted once per model structure, precision and world count, and
+world counts are padded to a bucket (a power of two up to 4096, then a multiple of 4096), the
+padding worlds copies of the first. The model is an argument of the jitted step, so changing a
+value (dt, solref, the hands) compiles nothing.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Sequence
+from unittest import mock
+
+import mujoco
+import numpy as np
+
+from ..interface import BatchedEngine, Hands, MassProperties, Scene
+from ..mujoco.model import contact_parameters, mjcf
+from ..record import import_engine
+from . import COLLISIONS, INTEGRATORS, RECORD, RECORD_64
+
+mjx = import_engine(RECORD)
+import jax  # noqa: E402  (mujoco.mjx brings JAX; imported after the install check)
+import jax.numpy as jnp  # noqa: E402
+from mujoco.mjx._src import math as mjx_math  # noqa: E402
+
+#: Bucket sizes: powers of two up to this, then multiples of it.
+BUCKET = 4096
+
+
+def bucket(n: int) -> int:
+    """The padded world count for ``n`` worlds (module docstring)."""
+    return 1 << max(0, n - 1).bit_length() if n <= BUCKET else BUCKET * math.ceil(n / BUCKET)
+
+
+def _advance(m, d, bad):
+    """One step of one world; its state row (STATE_FIELDS order), whether the bat and ball
+    touch (the step's collision found them overlapping: MuJoCo's ncon > 0 at margin 0), and
+    whether any reading so far was not finite."""
+    d = mjx.step(m, d)
+    q, v = d.qpos, d.qvel
+    row = jnp.stack([q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * jnp.arctan2(q[6], q[3]),
+                     v[0], v[1], v[5]])
+    touching = jnp.any(d._impl.contact.dist < 0.0)
+    return d, row, touching, bad | ~jnp.all(jnp.isfinite(row))
+
+
+def _exact_segment_point(a, b, pt):
+    """The closest point of segment a-b to pt, without MJX's 1e-6 m^2 added to |b - a|^2
+    (``mujoco.mjx._src.math.closest_segment_point``), which moves the capsule's contact foot
+    toward a by (t |b - a|) 1e-6 / |b - a|^2 and tilts the normal by that over r1 + r2."""
+    ab = b - a
+    t = jnp.dot(pt - a, ab) / jnp.maximum(jnp.dot(ab, ab), 1e-30)
+    return a + jnp.clip(t, 0.0, 1.0) * ab
+
+
+@contextlib.contextmanager
+def _collision(kind: str):
+    """Trace MJX's step with its own capsule routine (``mjx``) or the exact one (``exact``)."""
+    if kind == "mjx":
+        yield
+        return
+    with mock.patch.object(mjx_math, "closest_segment_point", _exact_segment_point):
+        yield
+
+
+def _traced(kind: str):
+    """The jitted, vmapped step whose collision routine is ``kind`` (traced with it)."""
+
+    def advance(m, d, bad):
+        with _collision(kind):
+            return _advance(m, d, bad)
+
+    return jax.jit(jax.vmap(advance, in_axes=(None, 0, 0)))
+
+
+_ADVANCE = {kind: _traced(kind) for kind in COLLISIONS}
+
+
+class MjxEngine(BatchedEngine):
+    """MJX behind the batched interface, in JAX's default float32."""
+
+    record = RECORD
+
+    def _scope(self):
+        """JAX's x64 mode as this engine's precision asks, for the calls inside."""
+        return jax.enable_x64(self.record.precision == "float64")
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        m = mujoco.MjModel.from_xml_string(
+            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
+        mx = mjx.put_model(m, impl="jax")
+        o = mx.opt
+        return {"solref": tuple(np.asarray(mx.geom_solref[0]).tolist()),
+                "solimp": tuple(np.asarray(mx.geom_solimp[0]).tolist()),
+                "iterations": int(o.iterations), "tolerance": float(o.tolerance),
+                "ls_iterations": int(o.ls_iterations), "dt_s": float(o.timestep),
+                "integrator": next(i for i in INTEGRATORS if int(o.integrator)
+                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}"))}
+
+    def build(self, scene: Scene, worlds: int) -> None:
+        st = self.settings
+        m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball))
+        m.opt.timestep = st.dt_s
+        m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
+        m.opt.iterations, m.opt.tolerance = st.iterations, st.tolerance
+        if st.ls_iterations is not None:
+            m.opt.ls_iterations = st.ls_iterations
+        m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
+        solref, solimp = contact_parameters(st, scene.e)
+        if st.contact_model != "native":  # carry d where R no longer cancels it (package doc)
+            d = st.impedance
+            solref = tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
+        m.geom_solref[:], m.geom_solimp[:] = solref, solimp
+        m.body_invweight0[:] *= st.invweight_scale
+        self._site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "load")
+        self._ids = {kind: mujoco.mj_name2id(m, obj, "bat") for kind, obj in
+                     (("body", mujoco.mjtObj.mjOBJ_BODY), ("geom", mujoco.mjtObj.mjOBJ_GEOM))}
+        self._ball = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")
+        self.n, self.rows = worlds, bucket(worlds)
+        with self._scope():
+            self.model = mjx.put_model(m, impl="jax")
+            one = mjx.make_data(self.model, impl="jax")
+            self.data = jax.tree_util.tree_map(
+                lambda x: jnp.broadcast_to(x, (self.rows, *jnp.shape(x))), one)
+            self._bad = jnp.zeros(self.rows, dtype=bool)
+        self._row = np.zeros((self.rows, 11))
+        self._touching = np.zeros(self.rows, dtype=bool)
+
+    def mass_properties(self) -> MassProperties:
+        mx = self.model
+        mass, ipos = np.asarray(mx.body_mass), np.asarray(mx.body_ipos)
+        g, bat, ball = self._ids["geom"], self._ids["body"], self._ball
+
+        def about_z(body: int) -> float:
+            rot = np.zeros(9)
+            mujoco.mju_quat2Mat(rot, np.asarray(mx.body_iquat[body], dtype=float))
+            rot = rot.reshape(3, 3)
+            return float((rot @ np.diag(np.asarray(mx.body_inertia[body])) @ rot.T)[2, 2])
+
+        pos, size = np.asarray(mx.geom_pos[g]), np.asarray(mx.geom_size[g])
+        knob_x = pos[0] - size[1] - size[0]
+        return MassProperties(bat_mass_kg=float(mass[bat]),
+                              bat_com_from_knob_m=float(ipos[bat][0] - knob_x),
+                              bat_inertia_kgm2=about_z(bat), ball_mass_kg=float(mass[ball]),
+                              ball_inertia_kgm2=about_z(ball))
+
+    def set_state(self, states: np.ndarray) -> None:
+        s = np.asarray(states, dtype=float)
+        s = np.concatenate([s, np.repeat(s[:1], self.rows - len(s), axis=0)])
+        half = 0.5 * s[:, 7]
+        zero, one = np.zeros(self.rows), np.ones(self.rows)
+        qpos = np.stack([s[:, 5], s[:, 6], zero, np.cos(half), zero, zero, np.sin(half),
+                         s[:, 0], s[:, 1], zero, one, zero, zero, zero], axis=1)
+        qvel = np.stack([s[:, 8], s[:, 9], zero, zero, zero, s[:, 10], s[:, 2], s[:, 3], zero,
+                         zero, zero, s[:, 4]], axis=1)
+        with self._scope():
+            d = self.data
+            self.data = d.replace(qpos=jnp.asarray(qpos, d.qpos.dtype),
+                                  qvel=jnp.asarray(qvel, d.qvel.dtype),
+                                  time=jnp.zeros_like(d.time),
+                                  qacc_warmstart=jnp.zeros_like(d.qacc_warmstart))
+            self._bad = jnp.zeros(self.rows, dtype=bool)
+        self._row, self._touching = s, np.zeros(self.rows, dtype=bool)
+
+    def set_drive(self, hands: Sequence[Hands] | None) -> None:
+        # Site motors act in the bat's frame; the hands' hinge is the connect equality, whose
+        # anchors (like the site's position) are the model's: shared by every world.
+        with self._scope():
+            d = self.data
+            if hands is None:
+                self.data = d.replace(ctrl=jnp.zeros_like(d.ctrl),
+                                      eq_active=jnp.zeros_like(d.eq_active))
+                return
+            first = hands[0]
+            if any((h.arm_m, h.pivot_from_com_m, h.pivot_xy_m) != (
+                    first.arm_m, first.pivot_from_com_m, first.pivot_xy_m) for h in hands):
+                raise ValueError("hands of one batch must share arm_m and the pivot; allowed: "
+                                 "equal values (they are MJX model fields)")
+            ctrl = np.array([(h.force_n * math.cos(h.angle_rad),
+                              h.force_n * math.sin(h.angle_rad), h.torque_nm) for h in hands])
+            ctrl = np.concatenate([ctrl, np.repeat(ctrl[:1], self.rows - len(ctrl), axis=0)])
+            mx = self.model
+            site_pos = np.asarray(mx.site_pos).copy()
+            site_pos[self._site] = (first.arm_m, 0.0, 0.0)
+            eq_data = np.asarray(mx.eq_data).copy()
+            hinged = first.pivot_from_com_m is not None
+            if hinged:
+                eq_data[0][:6] = (first.pivot_from_com_m, 0.0, 0.0, *first.pivot_xy_m, 0.0)
+            self.model = mx.replace(site_pos=jnp.asarray(site_pos, mx.site_pos.dtype),
+                                    eq_data=jnp.asarray(eq_data, mx.eq_data.dtype))
+            self.data = d.replace(ctrl=jnp.asarray(ctrl, d.ctrl.dtype),
+                                  eq_active=jnp.full_like(d.eq_active, hinged))
+
+    def step(self) -> None:
+        with self._scope():
+            advance = _ADVANCE[self.settings.collision]
+            self.data, self._row, self._touching, self._bad = advance(self.model, self.data,
+                                                                      self._bad)
+
+    def read(self) -> np.ndarray:
+        return np.asarray(self._row, dtype=float)[: self.n]
+
+    def in_contact(self) -> np.ndarray:
+        return np.asarray(self._touching)[: self.n]
+
+    def failed(self) -> np.ndarray:
+        return np.asarray(self._bad)[: self.n]
+
+
+class Mjx64Engine(MjxEngine):
+    """MJX in float64."""
+
+    record = RECORD_64
