@@ -41,6 +41,7 @@ from .record import (
     ReportNotes,
     RestitutionRule,
     Settings,
+    TwinStep,
     import_engine,
 )
 
@@ -216,6 +217,7 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
 __all__ = ["BatchedEngine", "ContactReference", "ENTRY_POINT_GROUP", "Engine",
            "EngineNotInstalled", "EngineRecord", "Hands", "Integrator", "KnobFamily",
            "MassProperties", "PROFILES", "PluginConflict", "ReportNotes", "RestitutionRule",
-           "STATE_FIELDS", "Scene", "Settings", "State", "available", "create", "engine_class",
+           "STATE_FIELDS", "Scene", "Settings", "State", "TwinStep", "available", "create",
+           "engine_class",
            "import_engine", "is_batched", "load", "loaded", "missing", "names", "record",
            "register", "reload_plugins", "settings_for", "unregister"]

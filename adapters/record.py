@@ -161,6 +161,20 @@ class Integrator:
 
 
 @dataclass(frozen=True, kw_only=True)
+class TwinStep:
+    """One comparison of an engine with the engine whose model it implements (its record's
+    ``twin_of``), for ``experiments.twins``: the engine at its reference profile with
+    ``overrides``, the twin at its own reference profile, with every settings field the two
+    share copied over when ``shared`` (the same model, as far as the twin can express it), then
+    ``twin_overrides``. Steps go from as-configured to every known cause removed."""
+
+    label: str
+    overrides: tuple[tuple[str, Any], ...] = ()
+    twin_overrides: tuple[tuple[str, Any], ...] = ()
+    shared: bool = True
+
+
+@dataclass(frozen=True, kw_only=True)
 class ReportNotes:
     """What the results report says of an engine, in the engine's own words. Each text is a
     format string filled with the reference settings the baseline sweep recorded (by field
@@ -199,7 +213,8 @@ class EngineRecord:
     (s, from ``experiments.bench_engines``), for run-time estimates only. ``label``: the name as
     prose spells it ('' for ``name``); ``notes``: what the report says of it. ``twin_of``: the
     engine whose model this one implements (MJX of MuJoCo C), for ``experiments.twins``; its
-    settings class extends the twin's, so the same fields mean the same model.
+    settings class extends the twin's, so the same fields mean the same model; ``twin_steps``
+    the comparisons that find what makes them differ.
     """
 
     name: str
@@ -222,6 +237,7 @@ class EngineRecord:
     label: str = ""
     notes: ReportNotes | None = None
     twin_of: str | None = None
+    twin_steps: tuple[TwinStep, ...] = ()
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

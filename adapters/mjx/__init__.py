@@ -23,7 +23,14 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..mujoco import MujocoSettings
-from ..record import EngineRecord, Integrator, KnobFamily, ReportNotes, RestitutionRule
+from ..record import (
+    EngineRecord,
+    Integrator,
+    KnobFamily,
+    ReportNotes,
+    RestitutionRule,
+    TwinStep,
+)
 
 INTEGRATORS = ("Euler", "implicitfast", "RK4")  # MJX has no fully implicit integrator
 #: The capsule's collision routine: MJX's own, or the adapter's exact closest point (the one
@@ -79,6 +86,24 @@ class MjxSettings(MujocoSettings):
 #: What MJX adds to a segment's squared length in its closest-point routine (m^2).
 SEGMENT_GUARD_M2 = 1e-6
 
+#: MJX against MuJoCo C, cause by cause: each at its reference; the same model (C without
+#: diagexact, MJX with its own regulariser); and MJX's capsule routine made exact; then the
+#: soft contact the issue measured (w = 3000 rad/s), the same two ways.
+TWIN_STEPS = (
+    TwinStep(label="each at its reference profile", shared=False),
+    TwinStep(label="same model: MJX's regulariser, C without diagexact",
+             overrides=(("invweight_scale", 1.0),)),
+    TwinStep(label="same model, MJX's capsule routine made exact",
+             overrides=(("invweight_scale", 1.0), ("collision", "exact"))),
+    TwinStep(label="soft w=3000, same model",
+             overrides=(("invweight_scale", 1.0), ("contact_model", "soft"),
+                        ("soft_omega_radps", 3000.0), ("impedance", 0.99))),
+    TwinStep(label="soft w=3000, same model, capsule routine exact",
+             overrides=(("invweight_scale", 1.0), ("contact_model", "soft"),
+                        ("soft_omega_radps", 3000.0), ("impedance", 0.99),
+                        ("collision", "exact"))),
+)
+
 #: MJX's out-of-the-box values, read back from a freshly put model (``read_back_defaults``).
 ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
                    "iterations": 100, "tolerance": 1e-8, "ls_iterations": 50, "dt_s": 0.002,
@@ -116,6 +141,7 @@ RECORD = EngineRecord(
     step_cost_s=2e-4,
     label="MJX",
     twin_of="mujoco",
+    twin_steps=TWIN_STEPS,
     notes=ReportNotes(
         profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MJX's "
                  "regulariser, placed {overlap_m} deep"),
