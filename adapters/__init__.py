@@ -143,6 +143,8 @@ def _installed(rec: EngineRecord) -> bool:
     """Its top-level module is found and its distribution installed (MJX's ``mujoco.mjx``
     comes from ``mujoco-mjx`` into the ``mujoco`` package: finding ``mujoco`` is not enough)."""
     top = rec.import_name.split(".")[0]
+    if rec.import_name in sys.modules and sys.modules[rec.import_name] is None:
+        return False  # blocked in this process
     if top in sys.modules:
         found = sys.modules[top] is not None
     else:

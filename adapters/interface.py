@@ -217,6 +217,10 @@ class BatchedEngine(abc.ABC):
     def close(self) -> None:
         """Release engine resources."""
 
+    def device(self) -> str:
+        """Where the worlds are computed, in words (benchmarks record it). Optional."""
+        return "cpu"
+
     @classmethod
     def read_back_defaults(cls) -> dict:
         """As ``Engine.read_back_defaults``."""

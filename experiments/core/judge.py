@@ -64,17 +64,15 @@ class Status(str, Enum):
     NO_SEPARATION = "no_separation"  #: the episode outlasted the settings' max_contact_s
     UNSUPPORTED = "unsupported"      #: the engine cannot do what the impact needs (a swing)
     ERROR = "error"                  #: the engine raised; ``episode_end`` names the exception
-    #: Sound, but v1 misses the answer that applies (rigid theory or the engine's own contact
-    #: law) by more than the row's tolerance
-    INACCURATE = "inaccurate"
+    #: Sound, but v1 misses the answer that applies (rigid theory or the contact law) by more
+    INACCURATE = "inaccurate"  # than the row's tolerance
     #: Sound, but no answer applies that the harness can judge it against (a soft contact
     #: beyond its law's single contact, or stepped too coarsely for the law's bound)
     UNJUDGED = "unjudged"
 
 
-#: Statuses whose v1 is a measurement (the engine's impact was sound): errors are taken over
-#: them. ``ok`` rows matched their answer within tolerance, ``inaccurate`` did not, ``unjudged``
-#: have none.
+#: Statuses whose v1 is a measurement (a sound impact): errors are taken over them. ``ok`` rows
+#: matched their answer within tolerance, ``inaccurate`` did not, ``unjudged`` have none.
 MEASURED = (Status.OK.value, Status.INACCURATE.value, Status.UNJUDGED.value)
 
 ROUND_OPS = 1e4      #: float operations of an impact, each within eps
@@ -99,10 +97,8 @@ MASS_CHECK_ULPS = 8
 #: Kinetic energy may grow by this fraction before ``energy_gained``: float64 rounding over
 #: thousands of steps stays far below it, the defects we look for (+1% and more) far above.
 ENERGY_GAIN_REL = 1e-6
-#: In a float32 engine rounding alone moves the energy by 1e-6 to 1e-4 (PhysX at e = 1: up to
-#: 2.5e-6; MJX, whose float32 Newton solve is only as good as its Hessian's conditioning
-#: allows: up to 3.5e-5): this many of its ulps, where that is more (1.2e-4 for float32).
-ENERGY_GAIN_ULPS = 1000
+#: Float32 rounding moves the energy by 1e-6 to 1e-4 (e = 1, PhysX: 2.5e-6, MJX: 3.5e-5): this
+ENERGY_GAIN_ULPS = 1000  # many ulps where that is more (1.2e-4 for float32)
 #: Between two readings k steps apart a body's centre moves at most k dt times its larger speed
 #: (its speed is monotone through one contact), twice that here, plus this many contact reaches
 #: (r_ball + r_bat): a position correction pushes apart by less than one reach, a reset of the
@@ -121,8 +117,8 @@ def mass_allowance(eps: float) -> float:
 
 
 def energy_allowance(eps: float, mapping_error_rel: float = 0.0) -> float:
-    """Relative kinetic-energy gain allowed before ``energy_gained``: rounding, and what an
-    impulse too large by the mapping's stated bias adds (at most 4 times it, at e = 1)."""
+    """Relative kinetic-energy gain allowed before ``energy_gained``: rounding, and 4 times a
+    mapping's stated bias (an impulse that much too large, at e = 1)."""
     return max(ENERGY_GAIN_REL, ENERGY_GAIN_ULPS * eps) + 4.0 * mapping_error_rel
 
 
@@ -154,30 +150,26 @@ def _derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, 
 
 
 def precision_rel(settings: adapters.Settings, eps: float, case: ImpactCase) -> float:
-    """The relative error an impact's velocities may carry without any geometric cause:
-    ROUND_OPS eps of rounding, the bias the engine's mapping of e leaves in the impulse
-    (``Settings.mapping_error_rel``), and the second-order loss of the normal approach along a
-    normal its collision routine tilts (``Settings.collision_slide_m`` over r1 + r2)."""
+    """Relative error of an impact's velocities without a geometric cause: ROUND_OPS eps, the
+    bias the mapping of e leaves (``Settings.mapping_error_rel``), and the approach lost along
+    a normal the collision routine tilts (``Settings.collision_slide_m`` over r1 + r2)^2."""
     tilt = settings.collision_slide_m(case.bat) / (case.bat.radius_m + case.ball.radius_m)
     return ROUND_OPS * eps + settings.mapping_error_rel() + tilt * tilt
 
 
 def _lingering(case: ImpactCase, dt_s: float, tangential_mps: float) -> float:
-    """What a contact kept for LINGER_STEPS steps after its impulse can add (m/s): the ball
-    leaves at e v_c, while the turning bat tilts the normal by omega0 dt per step, against
-    which the relative tangential speed approaches at tangential omega0 dt; where that exceeds
-    e v_c (e = 0 or small), the engine's constraint takes it out again at the next step."""
+    """What a contact kept LINGER_STEPS steps after its impulse adds (m/s): the normal tilts by
+    omega0 dt a step, so the tangential speed approaches at tangential omega0 dt; beyond e v_c
+    (e small) the engine's constraint takes that out again (module docstring)."""
     per_step = tangential_mps * abs(case.omega0_radps) * dt_s
     return LINGER_STEPS * max(0.0, per_step - case.e * case.closing_speed_mps)
 
 
-def _tangential(case: ImpactCase) -> float:
-    """The relative tangential speed of the approach (m/s)."""
+def _tangential(case: ImpactCase) -> float:  # the approach's relative tangential speed (m/s)
     return abs(case.v0_mps * math.sin(case.theta_rad) - case.u0_mps * math.sin(case.phi_rad))
 
 
-def _speed(case: ImpactCase) -> float:
-    """The impact's speed scale for rounding: v0 + |u0| + |omega0| L (m/s)."""
+def _speed(case: ImpactCase) -> float:  # the speed scale of rounding: v0 + |u0| + |w0| L
     return case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * case.bat.length_m
 
 

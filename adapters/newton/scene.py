@@ -1,0 +1,133 @@
+"""The scene as a Newton model, its solver and its collision pipeline (imports Newton)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..interface import Scene
+from ..mujoco.model import contact_parameters
+from ..record import _stdout_silenced, import_engine
+from . import PENALTY_SOLVERS, RECORD, NewtonSettings
+
+newton = import_engine(RECORD)
+
+import warp as wp  # noqa: E402  (after Newton, which it comes with)
+
+wp.config.log_level = wp.LOG_WARNING  # no banner, no line per compiled module on stdout
+with _stdout_silenced():  # Warp's CUDA probe writes to stderr when there is no driver
+    wp.init()
+DEVICE = "cpu"
+#: Bodies and shapes of one world, in the order added.
+BAT, BALL = 0, 1
+#: Newton's capsule lies along its shape's z axis: a quarter turn about y lays it along -x, so
+#: that its axis starts at the barrel end. Newton projects a point onto the axis with t =
+#: (p - a).(b - a) / (|b - a|^2 + 1e-6 m^2): the foot lands 1.6e-6 |p - a| short of the true
+#: one (0.9 um at the COM of a 0.78 m axis started at the knob, tilting the normal 1.3e-5 rad),
+#: least near the axis start, here the barrel, where balls are hit.
+Z_TO_MINUS_X = (0.0, -math.sin(math.pi / 4), 0.0, math.cos(math.pi / 4))
+
+
+def _shape_config(scene: Scene, st: NewtonSettings):
+    """Massless, frictionless shapes bouncing with e (the penalty solvers' ke, kd for e)."""
+    cfg = newton.ModelBuilder.ShapeConfig(density=0.0, mu=0.0, mu_torsional=0.0,
+                                          mu_rolling=0.0, restitution=scene.e,
+                                          gap=st.contact_gap_m)
+    if st.solver in PENALTY_SOLVERS:
+        cfg.ke, cfg.kd = st.penalty_gains(scene.e)
+        cfg.kf = 0.0
+    return cfg
+
+
+def world_builder(scene: Scene, st: NewtonSettings):
+    """One world: the bat (body 0, its capsule along x) and the ball (body 1), body frames at
+    the COMs, inertias locked (shapes of density 0 add nothing anyway)."""
+    bat, ball = scene.bat, scene.ball
+    b = newton.ModelBuilder(gravity=(0.0, 0.0, 0.0))
+    if st.solver == "mujoco":
+        newton.solvers.SolverMuJoCo.register_custom_attributes(b)
+    cfg = _shape_config(scene, st)
+    ia, ic, ib = bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, ball.inertia_kgm2
+    body = b.add_body(mass=bat.mass_kg, inertia=wp.mat33(ia, 0, 0, 0, ic, 0, 0, 0, ic),
+                      label="bat", lock_inertia=True)
+    mid, half = 0.5 * (bat.s_min_m + bat.s_max_m), 0.5 * (bat.s_max_m - bat.s_min_m)
+    b.add_shape_capsule(body, xform=wp.transform(wp.vec3(mid, 0.0, 0.0), wp.quat(*Z_TO_MINUS_X)),
+                        radius=bat.radius_m, half_height=half, cfg=cfg, label="bat")
+    body = b.add_body(mass=ball.mass_kg, inertia=wp.mat33(ib, 0, 0, 0, ib, 0, 0, 0, ib),
+                      xform=wp.transform(wp.vec3(0.0, 1.0, 0.0), wp.quat_identity()),
+                      label="ball", lock_inertia=True)
+    b.add_shape_sphere(body, radius=ball.radius_m, cfg=cfg, label="ball")
+    return b
+
+
+def model(scene: Scene, worlds: int, st: NewtonSettings):
+    """``worlds`` copies of the world, each its own Newton world (no contact across them)."""
+    top = newton.ModelBuilder(gravity=(0.0, 0.0, 0.0))
+    if st.solver == "mujoco":
+        newton.solvers.SolverMuJoCo.register_custom_attributes(top)
+    top.replicate(world_builder(scene, st), worlds)
+    m = top.finalize(device=DEVICE)
+    if st.solver == "mujoco":
+        _mujoco_contact(m, scene, st)
+    return m
+
+
+def _mujoco_contact(m, scene: Scene, st: NewtonSettings) -> None:
+    """Frictionless (condim 1) contacts; impulse/soft: solref and solimp as for MuJoCo C, raw
+    (``native`` keeps Newton's ke, kd, which it turns into solref (0.02, 1))."""
+    attrs = m.mujoco
+    attrs.condim.fill_(1)
+    if st.contact_model == "native":
+        return
+    solref, solimp = contact_parameters(st, scene.e)
+    attrs.solref.assign(np.tile(np.array(solref, dtype=np.float32), (m.shape_count, 1)))
+    attrs.solref_mode.fill_(1)  # SOLREF_MODE_RAW: the solref above, as MuJoCo takes it
+    attrs.geom_solimp.assign(np.tile(np.array(solimp, dtype=np.float32), (m.shape_count, 1)))
+
+
+def _given(**kw) -> dict:
+    """The keyword arguments set (None: leave it to Newton)."""
+    return {k: v for k, v in kw.items() if v is not None}
+
+
+def solver(m, st: NewtonSettings):
+    """The settings' solver on model ``m`` (None: Newton's own value)."""
+    solvers = newton.solvers
+    if st.solver == "xpbd":
+        return solvers.SolverXPBD(m, enable_restitution=st.enable_restitution, **_given(
+            iterations=st.iterations, rigid_contact_relaxation=st.contact_relaxation,
+            rigid_contact_restitution_iterations=st.restitution_iterations,
+            angular_damping=st.angular_damping))
+    if st.solver == "mujoco":
+        return _mujoco_solver(m, st)
+    cls = solvers.SolverSemiImplicit if st.solver == "semi_implicit" else \
+        solvers.SolverFeatherstone
+    return cls(m, **_given(angular_damping=st.angular_damping))
+
+
+def _mujoco_solver(m, st: NewtonSettings):
+    """SolverMuJoCo on MuJoCo Warp, its own collision; it warns that the mujoco installed (4.0)
+    is not the one Newton 1.8 declares (3.17), which the project pins on purpose, and MuJoCo
+    Warp prints a line per step that reaches its iteration limit (a float32 solve at a small
+    tolerance often does): both dropped."""
+    from mujoco_warp import OverflowType
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="MuJoCo dependency version mismatch")
+        out = newton.solvers.SolverMuJoCo(m, **_given(iterations=st.iterations,
+                                                       integrator=st.integrator))
+    if st.tolerance is not None:  # MuJoCo Warp raises a model's tolerance to 1e-6 as it loads it
+        out.mjw_model.opt.tolerance.fill_(st.tolerance)
+    quiet = ~int(OverflowType.ITERATIONS | OverflowType.LS_ITERATIONS)
+    out.mjw_model.opt.warn_overflow = int(out.mjw_model.opt.warn_overflow) & quiet
+    return out
+
+
+def pipeline(m, st: NewtonSettings):
+    """Newton's collision pipeline (None for MuJoCo, which collides on its own)."""
+    if st.solver == "mujoco":
+        return None
+    return newton.CollisionPipeline(m, broad_phase="explicit", rigid_contact_max=4 * m.world_count,
+                                    verify_buffers=False)

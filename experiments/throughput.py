@@ -1,0 +1,138 @@
+"""Throughput against batch size, with the error beside it (a part of ``bench_engines``).
+
+For one engine at its reference profile: the paper's swing over the 41-point grid, tiled to B
+impacts, fired as one call (one batch on a batched engine, B impacts in turn on a single-world
+one): impacts per second, the largest |v1 - rigid theory| and the status counts; and the same
+worlds stepped bare (set the starts, step as many times, nothing read), so that the harness's
+own cost per impact is what is left. Each size is fired once untimed first (compiles, caches).
+Sizes grow until one firing takes longer than the budget.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pandas as pd
+
+import adapters
+from adapters import Scene
+from analytic import presets
+
+from .core import tables
+from .core.fire import Job, fire_jobs, hosted
+from .core.placement import start_state
+
+GRID = 41
+SIZES = (1, 10, 100, 1_000, 10_000, 100_000)
+
+
+def _firing() -> tables.Firing:
+    return tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, GRID),
+                         v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
+                         omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+
+
+def _bare_s(name: str, settings, cases, steps: int) -> float:
+    """Seconds to set the batch's starts and step it ``steps`` times, nothing read."""
+    host = hosted(name, settings)
+    c = cases[0]
+    if host.batched:
+        batch = host.batch(Scene(bat=c.bat, ball=c.ball, e=c.e), len(cases))
+        starts = batch.xp.stack([start_state(k, settings)[0] for k in cases])
+        t0 = time.perf_counter()
+        batch.set_state(starts)
+        for _ in range(steps):
+            batch.step()
+        batch.read()
+        return time.perf_counter() - t0
+    batch = host.batch(Scene(bat=c.bat, ball=c.ball, e=c.e), 1)
+    t0 = time.perf_counter()
+    for k in cases:
+        batch.set_state(start_state(k, settings)[0])
+        for _ in range(steps):
+            batch.step()
+    return time.perf_counter() - t0
+
+
+def measure(name: str, sizes=SIZES, budget_s: float = 30.0) -> list[dict]:
+    """One row per batch size (module docstring)."""
+    settings = adapters.settings_for(name)
+    base = _firing().cases()
+    rows = []
+    for size in sizes:
+        cases = [base[i % GRID] for i in range(size)]
+        jobs = [Job(engine=name, settings=settings, case=c) for c in cases]
+        fire_jobs(jobs)  # compile and warm at this size
+        t0 = time.perf_counter()
+        fired = fire_jobs(jobs)
+        wall = time.perf_counter() - t0
+        steps = int(np.median([f.outcome.steps for f in fired]))
+        bare = _bare_s(name, settings, cases, steps)
+        table = tables.table(fired[:GRID], "throughput")
+        rows.append({"engine": name, "precision": adapters.record(name).precision,
+                     "batched": hosted(name, settings).batched,
+                     "device": device(name, settings), "batch": size,
+                     "impacts_per_s": size / wall, "wall_s": wall,
+                     "us_per_impact": wall / size * 1e6, "bare_us_per_impact": bare / size * 1e6,
+                     "harness_us_per_impact": (wall - bare) / size * 1e6,
+                     "steps_median": steps,
+                     "max_abs_err_mps": float(table.v1_abs_err_mps.max()),
+                     "ok": int((table.status == "ok").sum()), "judged": len(table)})
+        if wall > budget_s:
+            break
+    return rows
+
+
+def device(name: str, settings) -> str:
+    """Where the engine computes ('cpu' unless its adapter says otherwise)."""
+    adapter = hosted(name, settings).adapter
+    return adapter.device() if hasattr(adapter, "device") else "cpu"
+
+
+def chart(table: pd.DataFrame):
+    """Impacts per second against the largest error, one marker per engine and precision,
+    sized by batch; CPU and GPU in two panels."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    kinds = sorted({"GPU" if "cpu" not in d.lower() else "CPU" for d in table.device})
+    fig, axes = plt.subplots(1, len(kinds), figsize=(6.5 * len(kinds), 5), squeeze=False,
+                             layout="constrained")
+    for ax, kind in zip(axes[0], kinds):
+        part = table[table.device.str.lower().str.contains("cpu") == (kind == "CPU")]
+        for name, rows in part.groupby("engine", sort=False):
+            rec = adapters.record(name)
+            best = rows.loc[rows.impacts_per_s.idxmax()]
+            ax.plot(rows.max_abs_err_mps.clip(lower=1e-16), rows.impacts_per_s, "-",
+                    color=rec.color, alpha=0.4)
+            ax.scatter(rows.max_abs_err_mps.clip(lower=1e-16), rows.impacts_per_s,
+                       s=12 + 10 * np.log10(rows.batch), marker=rec.marker, color=rec.color,
+                       label=f"{name} ({rec.precision}; best at batch {best.batch:,})")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("largest |v1 - rigid theory| on the 41-point grid (m/s, log)")
+        ax.set_ylabel("impacts per second (log)")
+        ax.set_title(f"{kind}: {', '.join(sorted(set(part.device)))}\nmarker size: batch "
+                     "1 .. 1e5 (line joins one engine's sizes)", fontsize=9)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7, loc="best")
+    return fig
+
+
+def summary(table: pd.DataFrame) -> pd.DataFrame:
+    """Per engine: cost per impact at batch 1 and at its best batch, and the error."""
+    out = []
+    for name, rows in table.groupby("engine", sort=False):
+        one = rows[rows.batch == 1]
+        best = rows.loc[rows.impacts_per_s.idxmax()]
+        out.append({"engine": name, "precision": best.precision, "device": best.device,
+                    "us_per_impact_batch1": float(one.us_per_impact.iloc[0]) if len(one)
+                    else math.nan, "best_batch": int(best.batch),
+                    "us_per_impact_best": float(best.us_per_impact),
+                    "impacts_per_s_best": float(best.impacts_per_s),
+                    "max_abs_err_mps": float(rows.max_abs_err_mps.max())})
+    return pd.DataFrame(out)
