@@ -9,8 +9,11 @@ For each engine (reference profile, R161, the paper's swing, N impact points):
   times with nothing else done (median); overhead = harness - bare, and their ratio;
 - one sweep's wall time serially, with 2 local processes and on a 2-worker Dask LocalCluster, on
   the cheap all-engine sweep and on an expensive hinged-swing sweep of 96 points;
-- the wall time of the sweep command on 41 points, start-up included.
-Writes bench_engines.csv, .json and .png into the run directory.
+- the wall time of the sweep command on 41 points, start-up included;
+- throughput against batch size (``experiments.throughput``): impacts per second at each
+  --batches size, with the largest error against theory and the harness's own share.
+Writes bench_engines.csv, .json and .png, and bench_batches.csv and .png into the run
+directory.
 """
 
 from __future__ import annotations
@@ -31,6 +34,7 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
+from . import throughput
 from .core import cli, runs, tables
 from .core.cli import Command
 from .core.fire import hosted
@@ -172,9 +176,18 @@ def chart(table: pd.DataFrame):
     return fig
 
 
+def _sizes(text: str) -> tuple[int, ...]:
+    parse = cli.integer(1, 1_000_000)
+    return tuple(parse(part) for part in text.split(","))
+
+
 def _options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--repeats", type=cli.integer(1, 100), default=5)
     p.add_argument("--points", type=cli.integer(2, 10_000), default=41)
+    p.add_argument("--batches", type=_sizes, default=throughput.SIZES, metavar="N[,N...]",
+                   help="batch sizes of the throughput part (default 1,10,...,100000)")
+    p.add_argument("--batch-budget", type=cli.number(0.0, lo_open=True), default=30.0,
+                   metavar="S", help="stop growing the batch after a firing this long (s)")
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every measurement: the files and what to print."""
@@ -198,9 +211,13 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                   for r in par]
     sweep_s = timed_command(["--engine", engines, "--points", "41"], 1 if args.quick else 3)
     lines.append(f"sweep --engine {engines}, 41 points, start-up included: median {sweep_s:.2f} s")
+    batches = pd.DataFrame([row for n in args.engine
+                            for row in throughput.measure(n, args.batches, args.batch_budget)])
+    lines.append(throughput.summary(batches).to_string(index=False,
+                                                       float_format=lambda v: f"{v:.3g}"))
     import matplotlib.pyplot as plt
 
-    fig = chart(table)
+    fig, batch_fig = chart(table), throughput.chart(batches)
     files = {
         "bench_engines.csv": table.to_csv(index=False, float_format="%.4g",
                                           lineterminator="\n").encode(),
@@ -209,8 +226,12 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
             "runners": par, "two_process_ceiling": ceiling, "repeats": repeats,
             "provenance": provenance()}),
         "bench_engines.png": figure_png(fig),
+        "bench_batches.csv": batches.to_csv(index=False, float_format="%.4g",
+                                            lineterminator="\n").encode(),
+        "bench_batches.png": figure_png(batch_fig),
     }
     plt.close(fig)
+    plt.close(batch_fig)
     return files, "\n".join(lines)
 
 
