@@ -55,6 +55,11 @@ def engines_table(results: Path) -> str:
                 else "not benchmarked")
         lines.append(f"| {name} | {_install(rec)} | {rec.precision} | {_accuracy(rows, name)} | "
                      f"{_out_of_the_box(default, name)} | {cost} |")
+    for name in sorted(set(adapters.names()) - set(ref.engine)):
+        if adapters.record(name).adapter.startswith("adapters."):  # a built-in, not measured
+            rec = adapters.record(name)
+            lines.append(f"| {name} | {_install(rec)} | {rec.precision} | not in results/ yet "
+                         "| not in results/ yet | not benchmarked |")
     return "\n".join(lines)
 
 
