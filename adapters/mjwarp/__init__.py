@@ -1,0 +1,164 @@
+"""MuJoCo Warp: MuJoCo's model in Warp kernels, many worlds per call, on Warp's CPU (or a GPU).
+
+The same MJCF and e-mapping as MuJoCo C (``adapters.mujoco.model``); what MuJoCo Warp lacks or
+changes decides the rest (measured with mujoco-warp 4.0.0, warp-lang 1.19.0, on the CPU):
+- It computes in float32 only (Warp's ``float``).
+- No ``diagexact`` (``put_model`` refuses the flag), nor ``speculative``: as in MJX, a
+  contact's regulariser R = (1-d)/d W takes W from ``body_invweight0``, not the exact inverse
+  inertia A along the normal, and the impulse mapping reverses the approach by
+  A/(d A + (1-d) W) instead of 1 (for the R161 and a baseball A - W <= 0.17 A: at most
+  (1-d) 0.17 relative). ``invweight_scale`` multiplies ``body_invweight0`` before the model is
+  put on the device and the impulse solref carries d + (1-d) scale, as the MJX adapter does;
+  1 is MuJoCo Warp's own model, MuJoCo C's without ``diagexact`` (its twin).
+- Its float32 Newton solve of a stiff contact (R << A) gets J qacc right to float32 but the
+  split of the impulse between the bodies (the part of qacc that J does not see) only to what
+  the gradient, dominated by the D-amplified rounding of J qacc - aref, can resolve: stopped
+  at MuJoCo's tolerance 1e-8 it ends after one Newton step up to 1e-3 off (0.045 m/s, energy
+  +2e-3 at e = 1, d = 0.9999); at tolerance 0 it iterates until its line search stalls and
+  rare misses remain that grow as 1/R (18018 impacts: 0.014 m/s at d = 0.9998, 0.025 m/s at
+  0.9999, 0.115 m/s at 0.9999 with R x 0.1).
+- ``put_model`` raises the solver tolerance to at least 1e-6 (a float32 solve); the adapter
+  writes the settings' tolerance back into the device model.
+- On the CPU the solver's iterations are a host loop (no graph conditional) that ends when
+  every world has converged: at tolerance 0 a world with a constraint runs them all (a hinged
+  step: 8.3 ms with 100 iterations, 3.4 ms with 10). Any step costs about 2.5 ms at one world:
+  Python launches ~100 kernels, and the collision driver calls a Warp function from Python
+  per geom-type pair.
+- Contacts of every world share one list (``Contact.worldid``, ``nacon``); at margin 0 only
+  overlapping pairs are written. Overflows and the solver's iteration limits are per-world bits
+  (``Data.overflow``); a state that blows up stays non-finite (no reset, unlike MuJoCo C).
+- Model fields have a leading batch dimension: the hands' site position and hinge anchors are
+  put per world, so every world may have its own hands.
+- Its sphere-capsule routine projects onto the segment exactly (no guard term, unlike MJX).
+Kernels compile once into Warp's cache (~/.cache/warp; 36 modules, 16 s cold for an Euler
+step): the world count, dt, solref, tolerance and ``iterations`` are launch arguments;
+``ls_iterations``, the integrator (implicitfast: 2 modules) and the overflow print mask are
+compile constants (a new value compiles its kernels once).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from analytic import checks
+
+from ..mujoco import MujocoSettings
+from ..record import (
+    EngineRecord,
+    Integrator,
+    KnobFamily,
+    ReportNotes,
+    RestitutionRule,
+    TwinStep,
+)
+
+INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
+#: MuJoCo Warp's out-of-the-box values, read back from a freshly put model
+#: (``read_back_defaults``): MuJoCo C's, but the tolerance raised to 1e-6.
+ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
+                   "iterations": 100, "tolerance": 1e-6, "ls_iterations": 50, "dt_s": 0.002,
+                   "integrator": "Euler"}
+
+
+@dataclass(frozen=True, kw_only=True)
+class MjwarpSettings(MujocoSettings):
+    """MuJoCo's knobs as MuJoCo Warp takes them (``MujocoSettings``), without ``diagexact`` and
+    ``speculative`` (MuJoCo Warp has neither), with ``invweight_scale`` (the factor on
+    ``body_invweight0``, package docstring), ``ls_iterations`` (the line search's; None:
+    MuJoCo's own) and ``device`` (Warp's device name, e.g. "cpu" or "cuda:0"; None: the
+    environment's BATSIM_WARP_DEVICE, else Warp's default device)."""
+
+    diagexact: bool = False
+    invweight_scale: float = 1.0
+    ls_iterations: int | None = None
+    device: str | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.diagexact:
+            raise ValueError("diagexact=True is not in MuJoCo Warp; allowed: False (see "
+                             "invweight_scale for an exact impulse)")
+        if self.speculative:
+            raise ValueError("speculative=True is not in MuJoCo Warp; allowed: False")
+        checks.in_range("invweight_scale", self.invweight_scale, 1e-12, 1.0)
+        if self.ls_iterations is not None:
+            checks.integer("ls_iterations", self.ls_iterations, 1, 10_000)
+        if self.device is not None and not self.device:
+            raise ValueError("device='' is not a Warp device; allowed: None, 'cpu', 'cuda:N'")
+
+    def mapping_error_rel(self) -> float:
+        # the impulse is c A / (d A + (1-d) eps W), c = d + (1-d) eps: for free bodies W =
+        # 1/m + 1/M <= A, so it is off by at most (1 - d) eps (package docstring)
+        if self.contact_model == "native":
+            return 0.0
+        return (1.0 - self.impedance) * self.invweight_scale
+
+
+SOFT = (("contact_model", "soft"), ("soft_omega_radps", 3000.0), ("impedance", 0.99))
+
+#: MuJoCo Warp against MuJoCo C, cause by cause (``experiments.twins``): each at its reference;
+#: the soft contact as each is configured (C with diagexact); the same model with MuJoCo
+#: Warp's solver stopping at MuJoCo's tolerance (its float32 solve then splits the impulse
+#: between the bodies up to 1e-3 wrong); the same model with 100 iterations (no change: the
+#: solve has converged in 10); the soft contact, same model; then the same model as the
+#: reference, every known cause removed (MuJoCo Warp's regulariser in both, C without
+#: diagexact): float32 rounding is what is left.
+TWIN_STEPS = (
+    TwinStep(label="each at its reference profile", shared=False),
+    TwinStep(label="soft w=3000, each as configured (C with diagexact)", overrides=SOFT,
+             twin_overrides=(("diagexact", True),)),
+    TwinStep(label="same model, solver stopping at tolerance 1e-8",
+             overrides=(("tolerance", 1e-8),)),
+    TwinStep(label="same model, 100 solver iterations", overrides=(("iterations", 100),)),
+    TwinStep(label="soft w=3000, same model", overrides=SOFT),
+    TwinStep(label="same model: MuJoCo Warp's regulariser, C without diagexact"),
+)
+
+RECORD = EngineRecord(
+    name="mjwarp", adapter="adapters.mjwarp.adapter:MjwarpEngine", package="mujoco-warp",
+    import_name="mujoco_warp", extra="mujoco-warp",
+    profiles={
+        # Fidelity: MuJoCo C's reference (10 us, Euler, impulse contact) with MuJoCo Warp's
+        # own regulariser at d = 0.9998: a bias of 3.4e-5 relative on the R161 (stated, loosely:
+        # mapping_error_rel = 2e-4), against which the float32 solve's rare misses are
+        # smallest (package docstring; at 0.9999 e = 1 impacts reach 94% of the energy
+        # allowance). Tolerance 0: the solver iterates until its line search stalls; 10
+        # iterations give the bits of 100 at a third of a hinged step's cost. Placed 1 um
+        # deep: float32 positions near 0.3 m are 3e-8 m apart.
+        "reference": MjwarpSettings(dt_s=1e-5, contact_model="impulse", impedance=0.9998,
+                                    tolerance=0.0, iterations=10, overlap_m=1e-6),
+        # Out of the box: MuJoCo's 2 ms step, Euler, solref (0.02, 1), default solimp, MuJoCo
+        # Warp's tolerance (1e-6) and regulariser, the contact instant mid-step.
+        "default": MjwarpSettings(dt_s=0.002, contact_model="native", tolerance=1e-6,
+                                  contact_phase=0.5),
+    },
+    color="seagreen", marker="<",
+    speed_accuracy=(
+        KnobFamily(label="impulse, Euler", quick=True),
+        KnobFamily(label="soft w=3000, Euler", quick=True, overrides=SOFT),
+        KnobFamily(label="impulse, RK4", overrides=(("integrator", "RK4"),)),
+    ),
+    integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
+                                 order=4 if name == "RK4" else 1)
+                      for name in ("Euler", "implicitfast", "RK4")),
+    precision="float32",
+    restitution_rule=RestitutionRule.MAPPED,
+    soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
+    engine_defaults=ENGINE_DEFAULTS,
+    step_cost_s=3e-3,
+    label="MuJoCo Warp",
+    twin_of="mujoco",
+    twin_steps=TWIN_STEPS,
+    notes=ReportNotes(
+        profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MuJoCo "
+                 "Warp's regulariser, solver tolerance {tolerance} and {iterations} "
+                 "iterations, placed {overlap_m} deep, on Warp's CPU device"),
+        restitution="none: mapped by the adapter, as for MuJoCo C",
+        handled=("no `diagexact` in MuJoCo Warp: the impulse is up to 3.4e-5 relative off "
+                 "on the R161 at d = {impedance} (stated); its tolerance is raised to "
+                 "{default_tolerance} as the model is put on the device, and its float32 "
+                 "solve stopped there splits the impulse between the bodies up to 1e-3 "
+                 "wrong: tolerance 0 instead"),
+        defaults=("MuJoCo Warp's solref {default_solref}, iterations, tolerance "
+                  "{default_tolerance} and {default_dt_s} step, read back")),
+)

@@ -1,0 +1,190 @@
+"""The MuJoCo Warp adapter: MuJoCo's MJCF put on a Warp device, every world stepped by one
+``mujoco_warp.step`` (see the package docstring for the regulariser and the precision).
+
+The hands' site position and hinge anchors are model fields: the model is put with one copy of
+each per world (``put_model(batch_sizes=...)``), so each world drives its own bat. Overflow
+messages are not printed (the print mask is zero): ``failed`` reads the per-world bits.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+
+import mujoco
+import numpy as np
+
+from ..interface import BatchedEngine, Hands, MassProperties, Scene
+from ..mujoco.model import contact_parameters, mjcf
+from ..record import _stdout_silenced, import_engine
+from . import INTEGRATORS, RECORD
+
+mjw = import_engine(RECORD)
+import warp as wp  # noqa: E402  (mujoco_warp brings Warp; imported after the install check)
+
+wp.config.log_level = wp.LOG_WARNING  # no banner, no line per loaded module on stdout
+with _stdout_silenced():  # Warp's native init warns on stderr where no CUDA driver is found
+    wp.init()
+
+#: Overflows that lose contacts or constraints: the worlds' results are then wrong. The solver's
+#: iteration limits are not among them (a float32 solve at a small tolerance often meets them).
+LOST = int(mjw.OverflowType.ALL & ~(mjw.OverflowType.ITERATIONS
+                                    | mjw.OverflowType.LS_ITERATIONS))
+#: Per world: one contact (bat-ball) and, with the hands, three connect rows.
+NCONMAX, NJMAX = 4, 8
+#: Model fields put once per world, so that each world has its own hands.
+PER_WORLD = ("site_pos", "eq_data")
+
+
+def _device(settings) -> str:
+    """The Warp device the settings ask for (package docstring)."""
+    return settings.device or os.environ.get("BATSIM_WARP_DEVICE") or str(wp.get_device())
+
+
+def _host_model(scene: Scene, st) -> mujoco.MjModel:
+    """The MJCF compiled by MuJoCo C, with the settings' options and contact parameters."""
+    m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball))
+    m.opt.timestep = st.dt_s
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
+    m.opt.iterations = st.iterations
+    if st.ls_iterations is not None:
+        m.opt.ls_iterations = st.ls_iterations
+    m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
+    solref, solimp = contact_parameters(st, scene.e)
+    if st.contact_model != "native":  # carry d where R no longer cancels it (package doc)
+        d = st.impedance
+        solref = tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
+    m.geom_solref[:], m.geom_solimp[:] = solref, solimp
+    m.body_invweight0[:] *= st.invweight_scale
+    return m
+
+
+class MjwarpEngine(BatchedEngine):
+    """MuJoCo Warp behind the batched interface, in float32."""
+
+    record = RECORD
+
+    @classmethod
+    def read_back_defaults(cls) -> dict:
+        m = mujoco.MjModel.from_xml_string(
+            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
+        with wp.ScopedDevice("cpu"):
+            mw = mjw.put_model(m)
+        o = mw.opt
+        return {"solref": tuple(mw.geom_solref.numpy()[0, 0].tolist()),
+                "solimp": tuple(mw.geom_solimp.numpy()[0, 0].tolist()),
+                "iterations": int(o.iterations), "tolerance": float(o.tolerance.numpy()[0]),
+                "ls_iterations": int(o.ls_iterations), "dt_s": float(o.timestep.numpy()[0]),
+                "integrator": next(i for i in INTEGRATORS if int(o.integrator)
+                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}"))}
+
+    def device(self) -> str:
+        return _device(self.settings)
+
+    def build(self, scene: Scene, worlds: int) -> None:
+        st = self.settings
+        m = _host_model(scene, st)
+        ids = {(obj, name): mujoco.mj_name2id(m, obj, name) for obj, name in (
+            (mujoco.mjtObj.mjOBJ_BODY, "bat"), (mujoco.mjtObj.mjOBJ_BODY, "ball"),
+            (mujoco.mjtObj.mjOBJ_GEOM, "bat"), (mujoco.mjtObj.mjOBJ_SITE, "load"))}
+        self._bat, self._ball, self._geom, self._site = ids.values()
+        self.n, self._dev = worlds, _device(st)
+        with wp.ScopedDevice(self._dev):
+            self.model = mjw.put_model(m, batch_sizes={f: worlds for f in PER_WORLD})
+            self.model.opt.tolerance.fill_(st.tolerance)  # put_model raised it to >= 1e-6
+            self.model.opt.warn_overflow = 0
+            self.data = mjw.make_data(m, nworld=worlds, nconmax=NCONMAX, njmax=NJMAX)
+        self._site_pos0 = self.model.site_pos.numpy()
+        self._eq_data0 = self.model.eq_data.numpy()
+
+    def mass_properties(self) -> MassProperties:
+        mw = self.model
+        mass, ipos = mw.body_mass.numpy()[0], mw.body_ipos.numpy()[0]
+        iquat, inertia = mw.body_iquat.numpy()[0], mw.body_inertia.numpy()[0]
+
+        def about_z(body: int) -> float:
+            rot = np.zeros(9)
+            mujoco.mju_quat2Mat(rot, iquat[body].astype(float))  # stored (w, x, y, z)
+            rot = rot.reshape(3, 3)
+            return float((rot @ np.diag(inertia[body].astype(float)) @ rot.T)[2, 2])
+
+        pos, size = mw.geom_pos.numpy()[0, self._geom], mw.geom_size.numpy()[0, self._geom]
+        knob_x = float(pos[0]) - float(size[1]) - float(size[0])
+        return MassProperties(bat_mass_kg=float(mass[self._bat]),
+                              bat_com_from_knob_m=float(ipos[self._bat][0]) - knob_x,
+                              bat_inertia_kgm2=about_z(self._bat),
+                              ball_mass_kg=float(mass[self._ball]),
+                              ball_inertia_kgm2=about_z(self._ball))
+
+    def set_state(self, states: np.ndarray) -> None:
+        """Every world's pose and velocity; time, warm starts and overflow bits zeroed, the
+        hands let go (the harness sets a drive after the state)."""
+        s = np.asarray(states, dtype=float)
+        half = 0.5 * s[:, 7]
+        zero, one = np.zeros(len(s)), np.ones(len(s))
+        qpos = np.stack([s[:, 5], s[:, 6], zero, np.cos(half), zero, zero, np.sin(half),
+                         s[:, 0], s[:, 1], zero, one, zero, zero, zero], axis=1)
+        qvel = np.stack([s[:, 8], s[:, 9], zero, zero, zero, s[:, 10], s[:, 2], s[:, 3], zero,
+                         zero, zero, s[:, 4]], axis=1)
+        d = self.data
+        d.qpos.assign(qpos.astype(np.float32))
+        d.qvel.assign(qvel.astype(np.float32))
+        for arr in (d.time, d.qacc_warmstart, d.qacc, d.act, d.overflow, d.nacon):
+            arr.zero_()
+        self.set_drive(None)
+
+    def set_drive(self, hands: Sequence[Hands] | None) -> None:
+        # Site motors act in the bat's frame; the hands' hinge is the connect equality:
+        # eq_data[0:3] the anchor in the bat's frame, [3:6] the point in the world's.
+        d, mw = self.data, self.model
+        if hands is None:
+            d.ctrl.zero_()
+            d.eq_active.zero_()
+            return
+        if len(hands) != self.n:
+            raise ValueError(f"{len(hands)} hands for {self.n} worlds; allowed: one per world")
+        arm = np.array([h.arm_m for h in hands])
+        pivot = np.array([np.nan if h.pivot_from_com_m is None else h.pivot_from_com_m
+                          for h in hands])
+        pivot_xy = np.array([h.pivot_xy_m for h in hands], dtype=float).reshape(-1, 2)
+        angle = np.array([h.angle_rad for h in hands])
+        force = np.array([h.force_n for h in hands])
+        hinged = ~np.isnan(pivot)
+        site_pos, eq_data = self._site_pos0.copy(), self._eq_data0.copy()
+        site_pos[:, self._site, 0] = arm
+        zero = np.zeros(len(hands))
+        anchors = np.stack([pivot, zero, zero, pivot_xy[:, 0], pivot_xy[:, 1], zero], axis=1)
+        eq_data[:, 0, :6] = np.where(hinged[:, None], anchors, eq_data[:, 0, :6])
+        mw.site_pos.assign(site_pos)
+        mw.eq_data.assign(eq_data)
+        d.eq_active.assign(hinged[:, None])
+        d.ctrl.assign(np.stack([force * np.cos(angle), force * np.sin(angle),
+                                [h.torque_nm for h in hands]], axis=1).astype(np.float32))
+
+    def step(self) -> None:
+        with wp.ScopedDevice(self._dev):
+            mjw.step(self.model, self.data)
+
+    def read(self) -> np.ndarray:
+        q = self.data.qpos.numpy().astype(float)
+        v = self.data.qvel.numpy().astype(float)
+        return np.stack([q[:, 7], q[:, 8], v[:, 6], v[:, 7], v[:, 11], q[:, 0], q[:, 1],
+                         2.0 * np.arctan2(q[:, 6], q[:, 3]), v[:, 0], v[:, 1], v[:, 5]],
+                        axis=1)
+
+    def in_contact(self) -> np.ndarray:
+        """A contact of the world in the list and overlapping (margin 0: the list holds only
+        those; the distance test keeps that true whatever the margin)."""
+        c = self.data.contact
+        k = min(int(self.data.nacon.numpy()[0]), self.data.naconmax)
+        touching = c.worldid.numpy()[:k][c.dist.numpy()[:k] < 0.0]
+        return np.bincount(touching, minlength=self.n)[: self.n] > 0
+
+    def failed(self) -> np.ndarray:
+        d = self.data
+        finite = (np.isfinite(d.qpos.numpy()).all(axis=1)
+                  & np.isfinite(d.qvel.numpy()).all(axis=1))
+        return ~finite | (d.overflow.numpy() & LOST != 0)
+
+    def close(self) -> None:
+        self.model = self.data = None
