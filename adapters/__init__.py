@@ -140,22 +140,27 @@ def _load_target(name: str, target: str):
 
 
 def _installed(rec: EngineRecord) -> bool:
-    """Its top-level module is found and its distribution installed (MJX's ``mujoco.mjx``
-    comes from ``mujoco-mjx`` into the ``mujoco`` package: finding ``mujoco`` is not enough)."""
-    top = rec.import_name.split(".")[0]
-    if rec.import_name in sys.modules and sys.modules[rec.import_name] is None:
-        return False  # blocked in this process
-    if top in sys.modules:
-        found = sys.modules[top] is not None
-    else:
-        found = importlib.util.find_spec(top) is not None
-    if not found or rec.import_name == top:
-        return found
+    """Its modules (``import_name`` and ``requires``) are found and its distribution installed
+    (MJX's ``mujoco.mjx`` comes from ``mujoco-mjx`` into the ``mujoco`` package: finding
+    ``mujoco`` is not enough)."""
+    if not all(_found(m) for m in (rec.import_name, *rec.requires)):
+        return False
+    if rec.import_name == rec.import_name.split(".")[0]:
+        return True
     try:
         metadata.distribution(rec.package)
     except metadata.PackageNotFoundError:
         return False
     return True
+
+
+def _found(module: str) -> bool:
+    """The module or its top-level package is findable and not blocked in this process
+    (``sys.modules[name] = None``), without importing it."""
+    top = module.split(".")[0]
+    if any(n in sys.modules and sys.modules[n] is None for n in (module, top)):
+        return False
+    return top in sys.modules or importlib.util.find_spec(top) is not None
 
 
 def available() -> tuple[str, ...]:

@@ -198,7 +198,9 @@ class EngineRecord:
     ``adapter``: "module:Class" of its adapter (an ``adapters.interface`` Engine or
     BatchedEngine), imported only to fire. ``package``: the PyPI distribution that provides the
     engine, ``import_name`` the module it imports (they differ, e.g. sapien vs physx), ``extra``
-    the batsim extra that installs it (None: a core dependency). ``profiles``: at least
+    the batsim extra that installs it (None: a core dependency); ``requires``: other modules its
+    adapter imports, another engine's among them (MJX and MuJoCo Warp load MJCF through
+    ``mujoco``): without one, the engine counts as not installed. ``profiles``: at least
     PROFILES; the ``default`` profile is the engine out of the box (its own time step and
     solver values). ``color``/``marker``: plot style (None: one from the registry's palette).
     ``speed_accuracy``: its knob families besides the two profiles. ``integrators``: for the
@@ -210,7 +212,9 @@ class EngineRecord:
     ``stiffness_setting``. ``engine_defaults``: the engine's own out-of-the-box values of
     settings fields (what the README quotes), each read back (``read_back_defaults``) or
     measured: a test pins both. ``step_cost_s``: the rough wall time of one reference step
-    (s, from ``experiments.bench_engines``), for run-time estimates only. ``label``: the name as
+    (s, from ``experiments.bench_engines``), for run-time estimates only; a batched engine's
+    ``world_step_cost_s`` is what each further world adds to a step (s; ``step_cost_s`` is then
+    a step of one world). ``label``: the name as
     prose spells it ('' for ``name``); ``notes``: what the report says of it. ``twin_of``: the
     engine whose model this one implements (MJX of MuJoCo C), for ``experiments.twins``; its
     settings class extends the twin's, so the same fields mean the same model; ``twin_steps``
@@ -222,6 +226,7 @@ class EngineRecord:
     package: str
     import_name: str
     extra: str | None = None
+    requires: tuple[str, ...] = ()
     profiles: Mapping[str, Settings]
     color: str | None = None
     marker: str = "o"
@@ -234,6 +239,7 @@ class EngineRecord:
     stiffness_setting: str | None = None
     engine_defaults: Mapping[str, Any] = field(default_factory=dict)
     step_cost_s: float = 1e-5
+    world_step_cost_s: float | None = None
     label: str = ""
     notes: ReportNotes | None = None
     twin_of: str | None = None
@@ -255,6 +261,8 @@ class EngineRecord:
             raise ValueError(f"engine {self.name!r}: soft_contact and stiffness_setting go "
                              "together; allowed: both or neither")
         checks.positive("step_cost_s", self.step_cost_s)
+        if self.world_step_cost_s is not None:
+            checks.positive("world_step_cost_s", self.world_step_cost_s)
 
     @property
     def eps(self) -> float:
@@ -284,9 +292,12 @@ def import_engine(record: EngineRecord) -> ModuleType:
     dropped, so that it never mixes with a command's own output."""
     try:
         with _stdout_silenced():
+            for name in record.requires:
+                importlib.import_module(name)
             return importlib.import_module(record.import_name)
     except ModuleNotFoundError as err:
-        if err.name is None or err.name.split(".")[0] != record.import_name.split(".")[0]:
+        tops = {m.split(".")[0] for m in (record.import_name, *record.requires)}
+        if err.name is None or err.name.split(".")[0] not in tops:
             raise
         raise EngineNotInstalled(record.install_hint) from err
 

@@ -88,14 +88,19 @@ def test_spring_damper_restitution_formula_against_ode():
 def test_soft_calibration_is_independent_of_speed_and_mass(name, w, dt):
     # Soft contact: x'' = -b x' - k x in the contact's normal coordinate, whatever the masses, so
     # the measured e is the target up to the discretization error, first order in w*dt
-    # (measured coefficient ~1/6; we allow w*dt/2), and does not change with speed or mass.
+    # (measured coefficient ~1/6; we allow w*dt/2), and does not change with speed or mass
+    # beyond two stated causes: the contact starts overlap_m deep (x(0) = x0 adds at most w x0
+    # to the release speed: w x0 / v relative, largest at the slowest v), and each of the
+    # contact's pi / (w dt) steps rounds the velocities once (at worst adding up: steps * eps).
     rec = adapters.record(name)
     st = adapters.settings_for(name, dt_s=dt, **rec.soft_contact, **{rec.stiffness_setting: w})
     heavy = R161.__class__(**{**R161.__dict__, "name": "heavy", "mass_kg": 3.0})
-    measured = [_central_e(name, st, v0=v, bat=bat) for v in (5.0, 40.0, 80.0)
-                for bat in (R161, heavy)]
+    speeds = (5.0, 40.0, 80.0)
+    measured = [_central_e(name, st, v0=v, bat=bat) for v in speeds for bat in (R161, heavy)]
     assert np.all(np.abs(np.array(measured) - 0.5) <= w * dt / 2)
-    assert np.ptp(measured) <= 1e-9 + w * dt * 1e-3  # independent of speed and effective mass
+    start = w * st.overlap_m / min(speeds)
+    rounding = np.pi / (w * dt) * rec.eps
+    assert np.ptp(measured) <= 1e-9 + w * dt * 1e-3 + start + rounding
 
 
 def _soft_engines():

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import given, seed, settings
+from hypothesis import Phase, given, seed, settings
 from hypothesis import strategies as st
 
 import adapters
@@ -59,8 +59,11 @@ FUZZ_SEED = int("285491289442755191635502681310493274531475566370345682560464856
                 "9911088644224227363740352016727941935740046")
 
 
+# No shrinking and no explain phase: each re-fires every engine (the explain phase under a
+# line tracer), which on a failure ran for hours; the first failing draw is reported as is.
 @seed(FUZZ_SEED)
-@settings(max_examples=60, deadline=None, database=None)
+@settings(max_examples=60, deadline=None, database=None,
+          phases=(Phase.explicit, Phase.reuse, Phase.generate))
 @given(case=impacts())
 def test_every_engine_is_within_its_tolerance(case):
     jobs = [Job(engine=n, settings=adapters.settings_for(n), case=case)

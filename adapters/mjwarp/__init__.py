@@ -116,7 +116,7 @@ TWIN_STEPS = (
 
 RECORD = EngineRecord(
     name="mjwarp", adapter="adapters.mjwarp.adapter:MjwarpEngine", package="mujoco-warp",
-    import_name="mujoco_warp", extra="mujoco-warp",
+    import_name="mujoco_warp", extra="mujoco-warp", requires=("mujoco", "warp"),
     profiles={
         # Fidelity: MuJoCo C's reference (10 us, Euler, impulse contact) with MuJoCo Warp's
         # own regulariser at d = 0.9998: a bias of 3.4e-5 relative on the R161 (stated, loosely:
@@ -145,7 +145,7 @@ RECORD = EngineRecord(
     restitution_rule=RestitutionRule.MAPPED,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=3e-3,
+    step_cost_s=3e-3, world_step_cost_s=1e-5,
     label="MuJoCo Warp",
     twin_of="mujoco",
     twin_steps=TWIN_STEPS,

@@ -111,7 +111,7 @@ ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0)
 
 RECORD = EngineRecord(
     name="mjx", adapter="adapters.mjx.adapter:MjxEngine", package="mujoco-mjx",
-    import_name="mujoco.mjx", extra="mjx",
+    import_name="mujoco.mjx", extra="mjx", requires=("mujoco", "jax"),
     profiles={
         # Fidelity: MuJoCo C's reference (10 us, Euler, impulse contact) at d = 0.9999 with
         # MJX's own regulariser: a 1e-4 relative bias (stated: ``mapping_error_rel``); a
@@ -138,7 +138,7 @@ RECORD = EngineRecord(
     restitution_rule=RestitutionRule.MAPPED,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=2e-4,
+    step_cost_s=1e-3, world_step_cost_s=1e-5,
     label="MJX",
     twin_of="mujoco",
     twin_steps=TWIN_STEPS,

@@ -92,6 +92,8 @@ def _traced(kind: str):
 
 
 _ADVANCE = {kind: _traced(kind) for kind in COLLISIONS}
+#: The x64 mode of the last JAX call made here (``MjxEngine._scope``), None before the first.
+_LAST_X64: list[bool | None] = [None]
 
 
 class MjxEngine(BatchedEngine):
@@ -99,9 +101,18 @@ class MjxEngine(BatchedEngine):
 
     record = RECORD
 
+    @contextlib.contextmanager
     def _scope(self):
-        """JAX's x64 mode as this engine's precision asks, for the calls inside."""
-        return jax.enable_x64(self.record.precision == "float64")
+        """JAX's x64 mode as this engine's precision asks, for the calls inside. JAX keeps the
+        lowering of small jitted helpers (MJX's RK4 calls ``jnp.tril``) across a change of
+        mode: the float64 step then calls a float32 one and fails to lower. Its caches are
+        cleared whenever the mode differs from the last one used (disk-cached compiles)."""
+        x64 = self.record.precision == "float64"
+        if _LAST_X64[0] is not None and _LAST_X64[0] != x64:
+            jax.clear_caches()
+        _LAST_X64[0] = x64
+        with jax.enable_x64(x64):
+            yield
 
     @classmethod
     def read_back_defaults(cls) -> dict:

@@ -260,7 +260,7 @@ ENGINE_DEFAULTS = {"dt_s": 1 / 600, "iterations": 2, "contact_relaxation": 0.8,
 
 RECORD = EngineRecord(
     name="newton", adapter="adapters.newton.adapter:NewtonEngine", package="newton",
-    import_name="newton", extra="newton",
+    import_name="newton", extra="newton", requires=("warp",),
     profiles={
         # XPBD with restitution: a rigid impulse. A 10 us step: the velocity pass takes the
         # lever arms of the pose after the step's integration, the bat turned omega dt past
@@ -283,7 +283,7 @@ RECORD = EngineRecord(
     precision="float32",
     restitution_rule=RestitutionRule.MEAN,
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=8e-4,
+    step_cost_s=8e-4, world_step_cost_s=2e-6,
     label="Newton",
     notes=ReportNotes(
         profile=("dt = {dt_s}, XPBD with `enable_restitution`, contact gap {contact_gap_m} "

@@ -4,7 +4,9 @@ An impact takes ``approach_steps`` steps to reach the contact, the contact's own
 a rigid impulse; the rigid episode's sliding time, or a compliant law's contact time, over dt)
 and a few more until free flight proves the bodies apart; a hinged swing adds its own steps.
 The step cost is the engine record's ``step_cost_s`` (measured by ``experiments.bench_engines``);
-each step adds the harness's own ``STEP_OVERHEAD_S`` and each impact its ``OVERHEAD_S``. The
+each step adds the harness's own ``STEP_OVERHEAD_S`` and each impact its ``OVERHEAD_S``. A
+batched engine steps each run of jobs that share a scene together, for as many steps as the
+longest of them takes, each step costing ``step_cost_s`` plus ``world_step_cost_s`` per world. The
 estimate is for warning a user before hours of work, not a benchmark: it is good to a factor of
 a few.
 """
@@ -19,7 +21,7 @@ import adapters
 from analytic import ImpactCase
 
 from . import judge
-from .fire import Job
+from .fire import Job, same_batch
 
 #: The harness's own cost per impact (s): placement, classification, the table's row.
 OVERHEAD_S = 1e-4
@@ -65,9 +67,25 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
     for name, mine in by_engine.items():
         sample = mine[:: max(1, len(mine) // SAMPLES)][:SAMPLES]
         contact = sum(contact_s(j.case, j.settings) for j in sample) / len(sample)
-        cost = adapters.record(name).step_cost_s + STEP_OVERHEAD_S
-        out[name] = sum(impact_steps(j, contact) * cost + OVERHEAD_S for j in mine)
+        rec = adapters.record(name)
+        cost = rec.step_cost_s + STEP_OVERHEAD_S
+        if rec.world_step_cost_s is None:
+            out[name] = sum(impact_steps(j, contact) * cost + OVERHEAD_S for j in mine)
+        else:
+            out[name] = sum(max(impact_steps(j, contact) for j in run)
+                            * (cost + len(run) * rec.world_step_cost_s) + len(run) * OVERHEAD_S
+                            for run in _runs(mine))
     return out
+
+
+def _runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
+    """The batches a batched engine fires ``jobs`` in (``fire.fire_jobs``)."""
+    runs, start = [], 0
+    for i in range(1, len(jobs) + 1):
+        if i == len(jobs) or not same_batch(jobs[start], jobs[i]):
+            runs.append(jobs[start:i])
+            start = i
+    return runs
 
 
 def duration(seconds: float) -> str:

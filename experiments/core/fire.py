@@ -156,7 +156,7 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
         host = hosted(jobs[i].engine, jobs[i].settings)
         j = i + 1
         if host.batched:
-            while j < len(jobs) and _same_batch(jobs[i], jobs[j]):
+            while j < len(jobs) and same_batch(jobs[i], jobs[j]):
                 j += 1
         out += fire_group(host, jobs[i:j])
         if INTERRUPTED.is_set():
@@ -167,7 +167,7 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
     return out
 
 
-def _same_batch(a: Job, b: Job) -> bool:
+def same_batch(a: Job, b: Job) -> bool:
     return (a.engine == b.engine and a.settings == b.settings and a.swing == b.swing
             and (a.case.bat, a.case.ball, a.case.e) == (b.case.bat, b.case.ball, b.case.e))
 
