@@ -104,6 +104,11 @@ class Settings:
         bias of the mapping, not a precision); 0 for an exact mapping."""
         return 0.0
 
+    def solve_conditioning(self) -> float:
+        """How much the engine's contact solve amplifies its rounding (a condition number): a
+        stiff regulariser's solve in float32 loses that many ulps; 1 for a well-posed one."""
+        return 1.0
+
     def collision_slide_m(self, bat) -> float:
         """How far along the bat's axis (m) the engine's collision routine may put the contact
         foot from the true closest point (a bias of its own, not a precision), which the judge

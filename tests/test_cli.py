@@ -190,33 +190,35 @@ def test_runs_are_ignored_by_git():
     assert res.returncode == 0
 
 
-def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(tmp_path):
-    # SIGINT sent to the process while it swings bats in an engine that calls Python back on
-    # every step (the first engine whose impacts swing through a Python velocity function is
-    # whichever the registry lists; pymunk's callback swallows KeyboardInterrupt, so the run
-    # must stop through the flag checked after each impact): exit 130, the run that was there
-    # untouched, no temporary directory left.
+@pytest.mark.parametrize("name", [n for n in adapters.names() if adapters.record(n).drives_bat])
+def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(name, tmp_path):
+    # SIGINT sent to the process while it swings bats in the engine (pymunk's swings call
+    # Python back on every step, and its callback swallows KeyboardInterrupt, so the run must
+    # stop through the flag checked after each impact): exit 130, the run that was there
+    # untouched, no temporary directory left. The signal goes once the run says it has
+    # started firing (600 swings take 10 s or more in every engine).
     import signal
-    import time
 
-    args = ["-m", "experiments.sweep", "--swing", "--out", str(tmp_path), "--name", "r"]
-    for name in adapters.names():
-        before = subprocess.run([sys.executable, *args, "--engine", name, "--points", "3",
-                                 "--no-locate", "--force"], cwd=ROOT, capture_output=True,
-                                check=True)
-        kept = {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()}
-        env = {**os.environ, "BATSIM_QUIET": "0", "PYTHONUNBUFFERED": "1"}
-        proc = subprocess.Popen([sys.executable, *args, "--engine", name, "--points", "600",
-                                 "--force"], cwd=ROOT, env=env, stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
-        # past the imports (a few s on a busy machine), inside the swings (600 take 20 s or more)
-        time.sleep(6.0)
-        proc.send_signal(signal.SIGINT)
-        out, err = proc.communicate(timeout=120)
-        assert proc.returncode == 130, (name, before.returncode, err[-2000:])
-        assert "interrupted" in err
-        assert {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()} == kept
-        assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
+    args = ["-m", "experiments.sweep", "--engine", name, "--out", str(tmp_path), "--name", "r",
+            "--force"]
+    subprocess.run([sys.executable, *args, "--points", "3", "--no-locate"], cwd=ROOT,
+                   capture_output=True, check=True)
+    kept = {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()}
+    env = {**os.environ, "BATSIM_QUIET": "0", "PYTHONUNBUFFERED": "1"}
+    proc = subprocess.Popen([sys.executable, *args, "--swing", "--points", "600"], cwd=ROOT,
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    seen = []
+    for line in proc.stderr:
+        seen.append(line)
+        if "started" in line:
+            break
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    err = "".join(seen) + err
+    assert proc.returncode == 130, (name, err[-2000:])
+    assert "interrupted" in err
+    assert {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()} == kept
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
 
 
 def _needs(rec: adapters.EngineRecord, module: str) -> bool:

@@ -40,9 +40,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from analytic import checks
-
-from ..mujoco import MujocoSettings
+from ..mujoco import RegularisedSettings
 from ..record import (
     EngineRecord,
     Integrator,
@@ -61,37 +59,17 @@ ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0)
 
 
 @dataclass(frozen=True, kw_only=True)
-class MjwarpSettings(MujocoSettings):
-    """MuJoCo's knobs as MuJoCo Warp takes them (``MujocoSettings``), without ``diagexact`` and
-    ``speculative`` (MuJoCo Warp has neither), with ``invweight_scale`` (the factor on
-    ``body_invweight0``, package docstring), ``ls_iterations`` (the line search's; None:
-    MuJoCo's own) and ``device`` (Warp's device name, e.g. "cpu" or "cuda:0"; None: the
-    environment's BATSIM_WARP_DEVICE, else Warp's default device)."""
+class MjwarpSettings(RegularisedSettings):
+    """MuJoCo's knobs as MuJoCo Warp takes them (``RegularisedSettings``: no ``diagexact``,
+    with ``invweight_scale``, package docstring) and ``device`` (Warp's device name, e.g.
+    "cpu" or "cuda:0"; None: the environment's BATSIM_WARP_DEVICE, else Warp's default)."""
 
-    diagexact: bool = False
-    invweight_scale: float = 1.0
-    ls_iterations: int | None = None
     device: str | None = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.diagexact:
-            raise ValueError("diagexact=True is not in MuJoCo Warp; allowed: False (see "
-                             "invweight_scale for an exact impulse)")
-        if self.speculative:
-            raise ValueError("speculative=True is not in MuJoCo Warp; allowed: False")
-        checks.in_range("invweight_scale", self.invweight_scale, 1e-12, 1.0)
-        if self.ls_iterations is not None:
-            checks.integer("ls_iterations", self.ls_iterations, 1, 10_000)
         if self.device is not None and not self.device:
             raise ValueError("device='' is not a Warp device; allowed: None, 'cpu', 'cuda:N'")
-
-    def mapping_error_rel(self) -> float:
-        # the impulse is c A / (d A + (1-d) eps W), c = d + (1-d) eps: for free bodies W =
-        # 1/m + 1/M <= A, so it is off by at most (1 - d) eps (package docstring)
-        if self.contact_model == "native":
-            return 0.0
-        return (1.0 - self.impedance) * self.invweight_scale
 
 
 SOFT = (("contact_model", "soft"), ("soft_omega_radps", 3000.0), ("impedance", 0.99))

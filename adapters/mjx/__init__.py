@@ -20,9 +20,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from analytic import checks
-
-from ..mujoco import MujocoSettings
+from ..mujoco import RegularisedSettings
 from ..record import (
     EngineRecord,
     Integrator,
@@ -39,40 +37,20 @@ COLLISIONS = ("mjx", "exact")
 
 
 @dataclass(frozen=True, kw_only=True)
-class MjxSettings(MujocoSettings):
-    """MuJoCo's knobs as MJX takes them (``MujocoSettings``), without ``diagexact`` (MJX has
-    none) and with ``invweight_scale``, the factor on ``body_invweight0`` (package docstring);
-    ``ls_iterations``: MJX's line-search iterations (None: MJX's own); ``collision``: one of
-    COLLISIONS."""
+class MjxSettings(RegularisedSettings):
+    """MuJoCo's knobs as MJX takes them (``RegularisedSettings``: no ``diagexact``, with
+    ``invweight_scale``, package docstring) and ``collision``: one of COLLISIONS."""
 
-    diagexact: bool = False
-    invweight_scale: float = 1.0
-    ls_iterations: int | None = None
     collision: str = "mjx"
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.diagexact:
-            raise ValueError("diagexact=True is not in MJX; allowed: False (see "
-                             "invweight_scale for an exact impulse)")
         if self.integrator not in INTEGRATORS:
             raise ValueError(f"integrator={self.integrator!r} is not in MJX; allowed: "
                              f"{', '.join(INTEGRATORS)}")
-        checks.in_range("invweight_scale", self.invweight_scale, 1e-12, 1.0)
-        if self.speculative:
-            raise ValueError("speculative=True is not in MJX; allowed: False")
         if self.collision not in COLLISIONS:
             raise ValueError(f"collision={self.collision!r} is unknown; allowed: "
                              f"{', '.join(COLLISIONS)}")
-        if self.ls_iterations is not None:
-            checks.integer("ls_iterations", self.ls_iterations, 1, 10_000)
-
-    def mapping_error_rel(self) -> float:
-        # the impulse is c A / (d A + (1-d) eps W), c = d + (1-d) eps: for free bodies W =
-        # 1/m + 1/M <= A, so it is off by at most (1 - d) eps (package docstring)
-        if self.contact_model == "native":
-            return 0.0
-        return (1.0 - self.impedance) * self.invweight_scale
 
     def collision_slide_m(self, bat) -> float:
         # MJX's closest point on the capsule's segment divides by |b - a|^2 + 1e-6 m^2: the

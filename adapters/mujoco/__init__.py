@@ -145,3 +145,41 @@ RECORD = EngineRecord(
         defaults=("MuJoCo's solref {default_solref}, solimp, iterations and {default_dt_s} "
                   "step, read back")),
 )
+
+
+@dataclass(frozen=True, kw_only=True)
+class RegularisedSettings(MujocoSettings):
+    """MuJoCo's knobs as its JAX and Warp ports (MJX, MuJoCo Warp) take them: no ``diagexact``
+    and no ``speculative`` (neither port has them), with ``invweight_scale`` (the factor on
+    ``body_invweight0``, whose mean inverse mass W sets the contact's regulariser R = (1-d)/d
+    W in place of diagexact's exact one) and ``ls_iterations`` (the line search's; None: the
+    port's own)."""
+
+    diagexact: bool = False
+    invweight_scale: float = 1.0
+    ls_iterations: int | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.diagexact:
+            raise ValueError("diagexact=True is not in MuJoCo's ports; allowed: False (see "
+                             "invweight_scale for an exact impulse)")
+        if self.speculative:
+            raise ValueError("speculative=True is not in MuJoCo's ports; allowed: False")
+        checks.in_range("invweight_scale", self.invweight_scale, 1e-12, 1.0)
+        if self.ls_iterations is not None:
+            checks.integer("ls_iterations", self.ls_iterations, 1, 10_000)
+
+    def mapping_error_rel(self) -> float:
+        # the impulse is c A / (d A + (1-d) s W), c = d + (1-d) s: for free bodies W =
+        # 1/m + 1/M <= A, so it is off by at most (1 - d) s
+        if self.contact_model == "native":
+            return 0.0
+        return (1.0 - self.impedance) * self.invweight_scale
+
+    def solve_conditioning(self) -> float:
+        # the Newton solve's Hessian adds D = 1/R to the contact's inverse mass A: A/R = d A /
+        # ((1-d) s W), at least d / ((1-d) s); a native contact's d (0.9-0.95) leaves it small
+        if self.contact_model == "native":
+            return 1.0
+        return self.impedance / ((1.0 - self.impedance) * self.invweight_scale)

@@ -2,9 +2,10 @@
 it: what the engine's float precision, the depth at which it first sees the contact, and (after
 a swing in the engine) its integrator's angle error can move v1 by.
 
-    allowed = ROUND_OPS eps speed + GEOM_SAFETY |dv1/ds| slide  (+ the swing's terms)
+    allowed = (ROUND_OPS + SOLVE_SAFETY cond) eps speed + GEOM_SAFETY |dv1/ds| slide  (+ ...)
 
-- eps: the engine's unit roundoff (its record's precision); speed = v0 + |u0| + |omega0| L.
+- eps: the engine's unit roundoff (its record's precision); cond: its contact solve's
+  condition number (``Settings.solve_conditioning``); speed = v0 + |u0| + |omega0| L.
 - The contact is first seen delta = overlap_m + contact_phase v_c dt deep, delta / v_c after the
   geometric instant; meanwhile the turning bat (and any tangential motion) slides the contact
   foot along the axis by (R |omega0| + |v_t - u_t|) delta / v_c, R = r_bat + r_ball, and v1
@@ -18,8 +19,8 @@ a swing in the engine) its integrator's angle error can move v1 by.
   (1 + q)(d + |s|) d_omega; twice their sum covers the neglected cross terms.
 - When the rigid episode is more than one impulse (``analytic.collide``: e = 0 or small, the
   ball re-met or riding the turning bat), each impulse carries the terms above (a later one
-  seen as late as a whole step, contact_phase 1), and the sustained
-  contact force F (peak F_max) is quantized by the step: the engine applies it for up to
+  seen a whole step late), and the sustained contact force F (peak F_max) is quantized by
+  the step: the engine applies it for up to
   OFF_SPAN_STEPS + 2 steps more or less than the rigid episode (one where the contact starts, one
   where it ends, and the steps the ball may pass the cylinder's end before the engine's episode
   is over), which moves v1 by at most (OFF_SPAN_STEPS + 2) F_max dt / m; and a velocity-level
@@ -52,20 +53,17 @@ class Status(str, Enum):
     """How a fired impact ended. Only ``ok`` rows matched the answer that applies."""
 
     OK = "ok"
-    #: The ball's centre ended beyond the bat's axis: it passed through (contact seen or not)
-    TUNNELLED = "tunnelled"
-    #: No contact was seen when it was due and the ball did not pass through the bat either
-    NO_CONTACT = "no_contact"
-    #: NaN or inf in the state, a failure the engine reported (a blow-up it caught and perhaps
-    #: reset its state after, a solver that gave up), or a state that jumped (a silent reset)
+    TUNNELLED = "tunnelled"    #: the ball's centre ended beyond the bat's axis: it passed
+    NO_CONTACT = "no_contact"  #: no contact seen when due, and the ball did not pass either
+    #: NaN or inf in the state, a failure the engine reported (a blow-up it caught, a solver
+    #: that gave up), or a state that jumped (a silent reset)
     NON_FINITE = "non_finite"
     ENERGY_GAINED = "energy_gained"  #: kinetic energy after > before (beyond rounding)
     PENETRATION = "penetration"      #: deeper than r_ball + r_bat at some step
     NO_SEPARATION = "no_separation"  #: the episode outlasted the settings' max_contact_s
     UNSUPPORTED = "unsupported"      #: the engine cannot do what the impact needs (a swing)
     ERROR = "error"                  #: the engine raised; ``episode_end`` names the exception
-    #: Sound, but v1 misses the answer that applies (rigid theory or the contact law) by more
-    INACCURATE = "inaccurate"  # than the row's tolerance
+    INACCURATE = "inaccurate"  #: sound, but v1 misses the answer that applies (by > its tol)
     #: Sound, but no answer applies that the harness can judge it against (a soft contact
     #: beyond its law's single contact, or stepped too coarsely for the law's bound)
     UNJUDGED = "unjudged"
@@ -77,28 +75,27 @@ MEASURED = (Status.OK.value, Status.INACCURATE.value, Status.UNJUDGED.value)
 
 ROUND_OPS = 1e4      #: float operations of an impact, each within eps
 GEOM_SAFETY = 10.0   #: covers the factors of order 1 the slide estimate neglects
+#: A linear solve's relative error is at most its condition number times eps; MJX's float32
+#: impulse solve (condition 1e4) was measured at 0.87 of that (41-point reference sweep).
+SOLVE_SAFETY = 4.0
 HINGE_K = 4.0        #: empirical bound on the hinges' (omega dt)^2 constant (0.05-3.7 measured)
 FD_STEP_M = 1e-6     #: finite-difference step for dv1/ds (m)
 CURVATURE_STEP_M = 1e-3  #: step for d2v1/ds2 (m): v1(s) is a smooth rational function
-#: Steps a contact may stay active after its impulse (PyBullet measured 1.16 at e = 0)
-LINGER_STEPS = 2
+LINGER_STEPS = 2  #: steps a contact may stay active after its impulse (PyBullet: 1.16, e = 0)
 #: While touching, the ball may stay past the cylinder's end for this many steps before the
 #: episode ends 'left_cylinder' (an impulse at the grid's very end is seen there for its 1-3
 #: steps; a ball sliding off the end in sustained contact is stopped after them).
 OFF_SPAN_STEPS = 3
-#: Slack on the hittable range: L - r - x_cm rounds to within a few ulps of the intended value.
-HITTABLE_SLACK_M = 1e-12
+HITTABLE_SLACK_M = 1e-12  #: slack on the hittable range: L - r - x_cm is a few ulps off
 #: Relative tolerance of the mass read-back: engines store mass properties in float64 and some
 #: derive them through a rotation or an eigen-decomposition, which costs a few ulps.
 MASS_CHECK_REL = 1e-9
-#: Single-precision engines store them in float32 (0.871 kg reads back 9e-9 off): this many of
-#: their ulps, where that is more.
-MASS_CHECK_ULPS = 8
+MASS_CHECK_ULPS = 8  #: float32 ulps where that is more (0.871 kg reads back 9e-9 off)
 #: Kinetic energy may grow by this fraction before ``energy_gained``: float64 rounding over
 #: thousands of steps stays far below it, the defects we look for (+1% and more) far above.
 ENERGY_GAIN_REL = 1e-6
-#: Float32 rounding moves the energy by 1e-6 to 1e-4 (e = 1, PhysX: 2.5e-6, MJX: 3.5e-5): this
-ENERGY_GAIN_ULPS = 1000  # many ulps where that is more (1.2e-4 for float32)
+#: Ulps allowed where more: float32 moves the energy 1e-6..1e-4 (e = 1; PhysX 2.5e-6, MJX 3.5e-5)
+ENERGY_GAIN_ULPS = 1000
 #: Between two readings k steps apart a body's centre moves at most k dt times its larger speed
 #: (its speed is monotone through one contact), twice that here, plus this many contact reaches
 #: (r_ball + r_bat): a position correction pushes apart by less than one reach, a reset of the
@@ -150,11 +147,13 @@ def _derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, 
 
 
 def precision_rel(settings: adapters.Settings, eps: float, case: ImpactCase) -> float:
-    """Relative error of an impact's velocities without a geometric cause: ROUND_OPS eps, the
-    bias the mapping of e leaves (``Settings.mapping_error_rel``), and the approach lost along
-    a normal the collision routine tilts (``Settings.collision_slide_m`` over r1 + r2)^2."""
+    """Relative error of an impact's velocities without a geometric cause: ROUND_OPS eps, a
+    stiff solve's rounding (SOLVE_SAFETY eps ``Settings.solve_conditioning``), the bias the
+    mapping of e leaves (``Settings.mapping_error_rel``), and the approach lost along a normal
+    the collision routine tilts (``Settings.collision_slide_m`` over r1 + r2)^2."""
     tilt = settings.collision_slide_m(case.bat) / (case.bat.radius_m + case.ball.radius_m)
-    return ROUND_OPS * eps + settings.mapping_error_rel() + tilt * tilt
+    return ((ROUND_OPS + SOLVE_SAFETY * settings.solve_conditioning()) * eps
+            + settings.mapping_error_rel() + tilt * tilt)
 
 
 def _lingering(case: ImpactCase, dt_s: float, tangential_mps: float) -> float:

@@ -134,6 +134,8 @@ class Progress:
             from tqdm import tqdm
 
             self.bar = tqdm(total=total, desc=desc, unit=unit.rstrip("s"), leave=False)
+        elif not quiet():  # a log shows the work has begun (a batch may tick only at its end)
+            print(f"{desc}: 0/{total} {unit}, started", file=sys.stderr, flush=True)
 
     def __call__(self, n: int) -> None:
         self.done += n
