@@ -219,11 +219,11 @@ class EngineRecord:
     measured: a test pins both. ``step_cost_s``: the rough wall time of one reference step
     (s, from ``experiments.bench_engines``), for run-time estimates only; a batched engine's
     ``world_step_cost_s`` is what each further world adds to a step (s; ``step_cost_s`` is then
-    a step of one world). ``label``: the name as
-    prose spells it ('' for ``name``); ``notes``: what the report says of it. ``twin_of``: the
-    engine whose model this one implements (MJX of MuJoCo C), for ``experiments.twins``; its
-    settings class extends the twin's, so the same fields mean the same model; ``twin_steps``
-    the comparisons that find what makes them differ.
+    a step of one world; None for a single-world engine: ``batched`` says which). ``label``: the
+    name as prose spells it ('' for ``name``); ``notes``: what the report says of it.
+    ``twin_of``: the engine whose model this one implements (MJX of MuJoCo C), for
+    ``experiments.twins``; its settings class extends the twin's, so the same fields mean the
+    same model; ``twin_steps`` the comparisons that find what makes them differ.
     """
 
     name: str
@@ -280,6 +280,12 @@ class EngineRecord:
         target = f"'batsim[{self.extra}]'" if self.extra else self.package
         return (f"engine {self.name!r} needs the package {self.package!r}: pip install {target}  "
                 "(or `make test`, which installs every engine)")
+
+    @property
+    def batched(self) -> bool:
+        """Whether the engine steps many worlds per call (``BatchedEngine``): a batched record
+        prices its worlds (``world_step_cost_s``), a single-world one does not."""
+        return self.world_step_cost_s is not None
 
     @property
     def drives_bat(self) -> bool:

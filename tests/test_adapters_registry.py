@@ -55,13 +55,15 @@ def test_missing_engine_gives_install_hint(name):
 
 def test_builtins_are_the_adapter_packages():
     # Every subpackage of adapters is an engine named after it, in name order, whose adapter
-    # class carries the same record.
+    # class carries the same record; the record says whether it is batched as the class does
+    # (the runner keeps a batched engine's jobs in its own process).
     here = Path(adapters.__file__).parent
     packages = sorted(p.parent.name for p in here.glob("*/__init__.py"))
     assert ENGINES[:len(packages)] == tuple(packages)
     for name in packages:
         rec = adapters.record(name)
         assert adapters.engine_class(name).record == rec and rec.name == name
+        assert rec.batched == issubclass(adapters.engine_class(name), adapters.BatchedEngine)
         assert set(adapters.PROFILES) <= set(rec.profiles)
         assert rec.version()
 

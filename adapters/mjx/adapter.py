@@ -29,13 +29,14 @@ import jax  # noqa: E402  (mujoco.mjx brings JAX; imported after the install che
 import jax.numpy as jnp  # noqa: E402
 from mujoco.mjx._src import math as mjx_math  # noqa: E402
 
-# Compiled steps are kept on disk (JAX's persistent cache): a new process, a test's subprocess,
-# a rerun, loads them instead of compiling again (6-9 s each on a CPU).
+# Compiled steps are kept on disk (JAX's persistent cache): a new process, a worker, a test's
+# subprocess, a rerun, loads them instead of compiling again (6-9 s each on a CPU; the model
+# and data helpers each take under a second, but a worker process needs a dozen of them).
 if not jax.config.jax_compilation_cache_dir:
     jax.config.update("jax_compilation_cache_dir",
                       os.environ.get("BATSIM_JAX_CACHE",
                                      str(Path.home() / ".cache" / "batsim" / "jax")))
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 1.0)
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 
 # On a CPU, JAX's asynchronous dispatch deadlocked here (every thread waiting on a futex, at
 # 1e4 worlds; and with 100 steps queued at 1e3): each step runs to its end before the next.

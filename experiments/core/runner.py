@@ -136,17 +136,27 @@ class Runner:
         self._tick(1)
         per_job = time.perf_counter() - t0
         rest = jobs[1:]
-        if not self.parallel or per_job * len(rest) < self.min_parallel_s:
+        # a batched engine's worlds run side by side in its own call: its jobs stay here, as
+        # one batch per scene (JAX, moreover, deadlocks in a forked worker)
+        here = [i for i, j in enumerate(rest) if adapters.record(j.engine).batched]
+        there = [j for j in rest if not adapters.record(j.engine).batched]
+        if not self.parallel or per_job * len(there) < self.min_parallel_s:
             return out + fire_jobs(rest, self.progress)
         if self.scheduler is not None:  # spawned workers: every one imports the engines first
-            self._dask().run(_import_engines, sorted({j.engine for j in rest}))
+            self._dask().run(_import_engines, sorted({j.engine for j in there}))
         size = max(1, min(round(CHUNK_S / max(per_job, 1e-9)),
-                          math.ceil(len(rest) / (4 * max(self.workers, 1)))))
-        chunks = [rest[i:i + size] for i in range(0, len(rest), size)]
-        for part in self._map_remote(fire_jobs, chunks):
-            out.extend(part)
+                          math.ceil(len(there) / (4 * max(self.workers, 1)))))
+        parts = self._map_remote(fire_jobs, [there[i:i + size]
+                                             for i in range(0, len(there), size)])
+        local = fire_jobs([rest[i] for i in here], self.progress)
+        remote = []
+        for part in parts:
+            remote.extend(part)
             self._tick(len(part))
-        return out
+        by_index = dict(zip(here, local))
+        rest_out = iter(remote)
+        return out + [by_index[i] if i in by_index else next(rest_out)
+                      for i in range(len(rest))]
 
     def _tick(self, n: int) -> None:
         if self.progress is not None:
