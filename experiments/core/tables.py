@@ -155,19 +155,57 @@ def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
     return pd.DataFrame(cols)
 
 
+def _engine_values(name: str, settings: adapters.Settings, firing: Firing, s_m,
+                   field: str) -> np.ndarray:
+    """``field`` of the engine's outcome at each s, fired together (one batch on a batched
+    engine); NaN where the impact is not sound (simulate's verdict)."""
+    jobs = [Job(engine=name, settings=settings, case=firing.case(float(s)), swing=firing.swing)
+            for s in s_m]
+    return np.array([getattr(f.outcome, field) if f.outcome.ok else math.nan
+                     for f in fire_jobs(jobs)])
+
+
 def _engine_value(name: str, settings: adapters.Settings, firing: Firing, s: float,
                   field: str) -> float:
-    job = Job(engine=name, settings=settings, case=firing.case(float(s)), swing=firing.swing)
-    out = fire_jobs([job])[0].outcome
-    return getattr(out, field) if out.ok else math.nan  # simulate's verdict: sound
+    return float(_engine_values(name, settings, firing, [s], field)[0])
+
+
+#: Points per round of a batched engine's search: each round is one batch, and narrows the
+#: bracket to two (a maximum) or one (a root) of its REFINE_POINTS - 1 intervals.
+REFINE_POINTS = 17
+
+
+def _refine(name: str, settings: adapters.Settings, firing: Firing, bracket, field: str,
+            tol_m: float, kind: str) -> float:
+    """The engine's argmax (kind 'max') or root ('root') of ``field`` in ``bracket`` by grids of
+    REFINE_POINTS fired at once, to ``tol_m``: a batched engine's search (a step of one world
+    costs it about as much as a step of all of them). NaN if an impact fails."""
+    lo, hi = bracket
+    while hi - lo > tol_m:
+        s = np.linspace(lo, hi, REFINE_POINTS)
+        v = _engine_values(name, settings, firing, s, field)
+        if not np.isfinite(v).all():
+            return math.nan
+        if kind == "max":
+            i = int(np.argmax(v))
+            lo, hi = s[max(i - 1, 0)], s[min(i + 1, REFINE_POINTS - 1)]
+            continue
+        change = np.nonzero(np.sign(v[:-1]) * np.sign(v[1:]) <= 0)[0]
+        if not len(change):
+            return math.nan
+        lo, hi = s[change[0]], s[change[0] + 1]
+    return float(0.5 * (lo + hi))
 
 
 def locate_sweet_spot(name: str, settings: adapters.Settings, firing: Firing,
                       bracket: tuple[float, float], xatol_m: float = 1e-7) -> float:
-    """argmax of the engine's v1(s) inside ``bracket`` (bounded Brent search on simulations).
+    """argmax of the engine's v1(s) inside ``bracket`` (bounded Brent search on simulations;
+    grids fired at once on a batched engine, ``_refine``).
 
     Returns NaN if any simulation in the search fails.
     """
+    if adapters.record(name).batched:
+        return _refine(name, settings, firing, bracket, "v1_mps", xatol_m, "max")
     res = optimize.minimize_scalar(
         lambda s: -_engine_value(name, settings, firing, s, "v1_mps"), bounds=bracket,
         method="bounded", options={"xatol": xatol_m})
@@ -176,7 +214,8 @@ def locate_sweet_spot(name: str, settings: adapters.Settings, firing: Firing,
 
 def locate_cop(name: str, settings: adapters.Settings, firing: Firing,
                bracket: tuple[float, float], xtol_m: float = 1e-9) -> float:
-    """The s where the engine's hand-point velocity change crosses zero (Brent's root finder).
+    """The s where the engine's hand-point velocity change crosses zero (Brent's root finder;
+    grids fired at once on a batched engine, ``_refine``).
 
     Returns NaN if the bracket holds no sign change or a simulation fails.
     """
@@ -186,6 +225,8 @@ def locate_cop(name: str, settings: adapters.Settings, firing: Firing,
     a, b = hand(bracket[0]), hand(bracket[1])
     if not (math.isfinite(a) and math.isfinite(b)) or a * b > 0:
         return math.nan
+    if adapters.record(name).batched:
+        return _refine(name, settings, firing, bracket, "hand_dv_mps", xtol_m, "root")
     try:
         return float(optimize.brentq(hand, *bracket, xtol=xtol_m))
     except (ValueError, RuntimeError):
