@@ -12,8 +12,8 @@ Engine side, each tolerance from the integrator's order and dt (T = 0.1 s, dt = 
   |v^(5)| <= (f/M) (|alpha| T)^4 (times 10 for the neglected terms);
 - the hinge: a pivot re-projected once per step leaves a relative error of order (omega dt)^2 in
   omega. Its constant depends on the engine's joint solver and is not derived: the judge's
-  HINGE_K = 4 is an empirical bound over the constants measured (0.05 for MuJoCo Euler to 3.7
-  for RK4).
+  HINGE_K = 6 is an empirical bound over the constants measured (0.05 for MuJoCo Euler to 3.7
+  for its RK4, 5.45 for MJX's float64 RK4).
 Rounding: ROUND = 8 eps n max(|value|, 1) over n steps, eps the engine's unit roundoff.
 """
 
@@ -179,5 +179,9 @@ def test_swing_into_impact(name):
         assert d_omega <= HINGE_K * (w * DT) ** 2 * w + _round(w, name)
         oblique = (case.v0_mps + abs(ref.v1_mps)) * d_theta**2
         spin = (1 + ref.q) * (swing.arm_m(BAT) + abs(s)) * d_omega
-        law_tol = judge.soft_judgement(case, out)[1] if lawful else 0.0
+        # and the engine's precision (rounding, a stiff solve's conditioning), which the law's
+        # tolerance holds already
+        speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * BAT.length_m
+        precision = judge.precision_rel(st, adapters.record(name).eps, case) * speed
+        law_tol = judge.soft_judgement(case, out)[1] if lawful else precision
         assert abs(out.v1_mps - ref.v1_mps) <= 2 * (spread + oblique + spin) + law_tol

@@ -17,7 +17,13 @@ found an engine that misses a long plastic slide by more than its float32 allowa
 small the step (s = 0, v0 = 1, u0 = 31 m/s, omega0 = -31.25 rad/s, e = 0: the ball rides the
 bat for 95 ms and slides off its end; 0.16, 0.10, 0.14 m/s off at dt = 3e-5, 1e-5, 3e-6 s
 against a 0.094 m/s tolerance at 1e-5, where the other float32 engines converge to 0.003 and
-0.018 m/s; reported, not yet diagnosed).
+0.018 m/s; reported, not yet diagnosed). The batched engines' volleys, fired once on every
+engine, found an engine whose Hunt-Crossley contact leaves its own law at small e on a fast-turning
+bat: e <= 0.1 (its dissipation floored at e = 0.1, d = 0.25 s/m), s = 0.058 m, v0 = 41.8,
+u0 = 15.5 m/s, omega0 = 48.8 rad/s: 15.47 against the law's 12.66 m/s head-on, 23.05 against
+17.84 at theta = 0.83 rad; at e = 0.2 it follows the law to 1e-4 m/s (the bodies part at no
+more than 1/d with the overlap open, and the turning bat may catch the ball again: reported,
+not yet diagnosed).
 """
 
 from __future__ import annotations
@@ -32,11 +38,14 @@ from analytic import ImpactCase, presets
 from experiments.core import Job, Runner, tables
 
 ENGINES = adapters.names()
+SINGLE = [n for n in ENGINES if not adapters.record(n).batched]
+BATCHED = [n for n in ENGINES if adapters.record(n).batched]
 MIN_CLOSING_MPS = 20.0
 
 
 @st.composite
-def impacts(draw, e: float) -> ImpactCase:
+def impacts(draw, e: float | None = None) -> ImpactCase:
+    """A random impact; its e drawn last unless given."""
     bat = presets.R161
     s = draw(st.floats(bat.s_min_m, bat.s_max_m))
     theta, phi = draw(st.floats(-1.0, 1.0)), draw(st.floats(-0.5, 0.5))
@@ -46,11 +55,12 @@ def impacts(draw, e: float) -> ImpactCase:
     if closing < MIN_CLOSING_MPS:  # keep only impacts (assume would discard too many draws)
         u0 += (MIN_CLOSING_MPS - closing) / math.cos(phi) + draw(st.floats(0.0, 20.0))
     return ImpactCase(bat=bat, ball=presets.BASEBALL, s_m=s, v0_mps=v0, u0_mps=u0,
-                      omega0_radps=w0, e=e, theta_rad=theta, phi_rad=phi)
+                      omega0_radps=w0, e=draw(st.floats(0.0, 1.0)) if e is None else e,
+                      theta_rad=theta, phi_rad=phi)
 
 
-#: Impacts per draw of e: they share the scene, so a batched engine fires them as one batch
-#: (a single world costs it 1-3 ms a step on a CPU, 250-10^4 steps an impact).
+#: Impacts per volley: they share one e, so a batched engine fires them as one batch (a world
+#: alone costs it 1-3 ms a step on a CPU, and an impact takes 10 to 10^4 steps).
 PER_E = 10
 
 
@@ -60,23 +70,10 @@ def volleys(draw) -> list[ImpactCase]:
     return draw(st.lists(impacts(draw(st.floats(0.0, 1.0))), min_size=PER_E, max_size=PER_E))
 
 
-#: CI draws the same 60 impacts (6 volleys) every run, so a rare engine defect found by a long
-#: exploration (1500 draws by hand) cannot make CI flaky; what such runs find is pinned below as
-#: explicit cases, or reported (the defects in the module docstring). The seed is fixed here,
-#: so that editing the test does not change which impacts CI fires.
-FUZZ_SEED = int("2854912894427551916355026813104932745314755663703456825604648569410385391"
-                "9911088644224227363740352016727941935740046")
-
-
-# No shrinking and no explain phase: each re-fires every engine (the explain phase under a
-# line tracer), which on a failure ran for hours; the first failing draw is reported as is.
-@seed(FUZZ_SEED)
-@settings(max_examples=6, deadline=None, database=None,
-          phases=(Phase.explicit, Phase.reuse, Phase.generate))
-@given(cases=volleys())
-def test_every_engine_is_within_its_tolerance(cases):
+def check(cases: list[ImpactCase], engines: list[str]) -> None:
+    """Every engine at its reference profile within its row's tolerance on every case."""
     jobs = [Job(engine=n, settings=adapters.settings_for(n), case=c)
-            for n in ENGINES for c in cases]
+            for n in engines for c in cases]
     table = tables.table(Runner().fire(jobs), "reference")
     still_on = (table.status == "no_separation") & (table.rigid_end == "time_limit")
     # a compliant contact is judged against its law only where the law's single contact is the
@@ -88,13 +85,41 @@ def test_every_engine_is_within_its_tolerance(cases):
                            "rigid_sustained_s", "rigid_end"]].to_string()
 
 
+#: CI draws the same impacts every run (60 one by one for the single-world engines, 6 volleys of
+#: PER_E for the batched ones), so a rare engine defect found by a long exploration (1500 draws
+#: by hand) cannot make CI flaky; what such runs find is pinned below as explicit cases, or
+#: reported (the defects in the module docstring). The seed is the one derandomize took from
+#: this test's source as it stood when the draws were first made: fixed here, so that editing
+#: the test does not change which impacts CI fires.
+FUZZ_SEED = int("2854912894427551916355026813104932745314755663703456825604648569410385391"
+                "9911088644224227363740352016727941935740046")
+
+
+# No shrinking and no explain phase: each re-fires every engine (the explain phase under a
+# line tracer), which on a failure ran for hours; the first failing draw is reported as is.
+@seed(FUZZ_SEED)
+@settings(max_examples=60, deadline=None, database=None,
+          phases=(Phase.explicit, Phase.reuse, Phase.generate))
+@given(case=impacts())
+def test_every_engine_is_within_its_tolerance(case):
+    check([case], SINGLE)
+
+
+@seed(FUZZ_SEED)
+@settings(max_examples=6, deadline=None, database=None,
+          phases=(Phase.explicit, Phase.reuse, Phase.generate))
+@given(cases=volleys())
+def test_every_batched_engine_is_within_its_tolerance(cases):
+    check(cases, BATCHED)
+
+
 def test_a_plastic_head_on_impact_at_the_com_stays_together():
     # e = 0 at s = 0 with no spin (a fuzz draw): after the impulse ball and bat move together,
     # nothing separates them; every engine and the rigid episode are still in contact when the
     # budget ends (the rigid end once said 'separated' for a 1e-15 m/s float-noise opening).
     case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.0,
                       v0_mps=35.17854551140874, u0_mps=15.0, e=0.0)
-    test_every_engine_is_within_its_tolerance.hypothesis.inner_test([case])
+    check([case], ENGINES)
 
 
 def test_a_plastic_slide_off_the_barrel_end_stops_where_rigid_theory_does():
@@ -105,4 +130,4 @@ def test_a_plastic_slide_off_the_barrel_end_stops_where_rigid_theory_does():
     # tolerance's sustained-force term assumes.
     case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.1171875, v0_mps=9.0,
                       u0_mps=21.0, omega0_radps=-38.0, e=0.0, phi_rad=0.140625)
-    test_every_engine_is_within_its_tolerance.hypothesis.inner_test([case])
+    check([case], ENGINES)

@@ -170,7 +170,7 @@ def energy_at_e1(ctx: Ctx) -> str:
     out = ctx.fire([case])[0]
     rel = abs(out.ke_after_j / out.ke_before_j - 1.0)
     allowed = max(10 * judge.precision_rel(ctx.settings, ctx.record.eps, case),
-                  judge.energy_allowance(ctx.record.eps, ctx.settings.mapping_error_rel()))
+                  judge.energy_allowance(ctx.record.eps, ctx.settings))
     _expect(rel <= allowed, f"KE changed by {rel:.3g} relative (allowed {allowed:.2g})")
     return f"|dKE|/KE = {rel:.2g}"
 

@@ -280,7 +280,7 @@ def _flight_end(bat: Bat, ball: Ball, row: np.ndarray, off_span: float, apart: b
 
 
 def classify(case: ImpactCase, ended: str, first: int, peak_m: float, side_m: float,
-             ke0: float, ke1: float, eps: float, mapping_error_rel: float = 0.0) -> Status:
+             ke0: float, ke1: float, eps: float, settings: Settings | None = None) -> Status:
     """The status of one episode (module docstring): every physical verdict is made here."""
     if ended in ("non_finite", "jumped"):
         return Status.NON_FINITE
@@ -294,6 +294,6 @@ def classify(case: ImpactCase, ended: str, first: int, peak_m: float, side_m: fl
         return Status.TUNNELLED
     if peak_m > case.bat.radius_m + case.ball.radius_m:
         return Status.PENETRATION
-    if ke1 > ke0 * (1.0 + energy_allowance(eps, mapping_error_rel)):
+    if ke1 > ke0 * (1.0 + energy_allowance(eps, settings)):
         return Status.ENERGY_GAINED
     return Status.OK

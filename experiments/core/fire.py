@@ -232,7 +232,7 @@ def _fired(host: Hosted, case: ImpactCase, start, episodes, i: int,
     first, last = episodes.first[i], episodes.last[i]
     status = classify(case, episodes.ended[i], first, episodes.peak_m[i], episodes.side_m[i],
                       ke0, ke1, host.record.eps,
-                      host.settings.mapping_error_rel())
+                      host.settings)
     v1 = end[g.BALL_VY]
     du, dw = end[g.BAT_VY] - start[g.BAT_VY], end[g.BAT_W] - start[g.BAT_W]
     V = case.u0n_mps + case.omega0_radps * case.s_m
