@@ -155,7 +155,7 @@ class MjxEngine(BatchedEngine):
             # step a second time: 6 s more)
             self.data = jax.vmap(lambda _: one)(jnp.arange(self.rows))
             self._bad = jnp.zeros(self.rows, dtype=bool)
-        self._row = np.zeros((self.rows, 11))
+        self._row, self._shift = np.zeros((self.rows, 11)), np.zeros((self.rows, 2))
         self._touching = np.zeros(self.rows, dtype=bool)
 
     def mass_properties(self) -> MassProperties:
@@ -193,6 +193,7 @@ class MjxEngine(BatchedEngine):
                                   qacc_warmstart=jnp.zeros_like(d.qacc_warmstart))
             self._bad = jnp.zeros(self.rows, dtype=bool)
         self._row, self._touching = s, np.zeros(self.rows, dtype=bool)
+        self._shift = np.zeros((self.rows, 2))
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
         # Site motors act in the bat's frame; the hands' hinge is the connect equality, whose
@@ -204,10 +205,12 @@ class MjxEngine(BatchedEngine):
                                       eq_active=jnp.zeros_like(d.eq_active))
                 return
             first = hands[0]
-            if any((h.arm_m, h.pivot_from_com_m, h.pivot_xy_m) != (
-                    first.arm_m, first.pivot_from_com_m, first.pivot_xy_m) for h in hands):
-                raise ValueError("hands of one batch must share arm_m and the pivot; allowed: "
-                                 "equal values (they are MJX model fields)")
+            if any((h.arm_m, h.pivot_from_com_m) != (first.arm_m, first.pivot_from_com_m)
+                   for h in hands):
+                raise ValueError("hands of one batch must share arm_m and pivot_from_com_m; "
+                                 "allowed: equal values (they are MJX model fields)")
+            if first.pivot_from_com_m is not None:
+                self._move_pivots_to(first.pivot_xy_m, hands)
             ctrl = np.array([(h.force_n * math.cos(h.angle_rad),
                               h.force_n * math.sin(h.angle_rad), h.torque_nm) for h in hands])
             ctrl = np.concatenate([ctrl, np.repeat(ctrl[:1], self.rows - len(ctrl), axis=0)])
@@ -223,6 +226,22 @@ class MjxEngine(BatchedEngine):
             self.data = d.replace(ctrl=jnp.asarray(ctrl, d.ctrl.dtype),
                                   eq_active=jnp.full_like(d.eq_active, hinged))
 
+    def _move_pivots_to(self, xy, hands: Sequence[Hands]) -> None:
+        """Translate each world so that its hands' pivot lies at ``xy``, the one anchor MJX's
+        model holds for every world (nothing else in the scene: physics is the same); ``read``
+        adds the shift back until the next ``set_state``."""
+        shift = np.zeros((self.rows, 2))
+        shift[: len(hands)] = np.array([h.pivot_xy_m for h in hands], dtype=float) - xy
+        d = self.data
+        qpos = np.asarray(d.qpos, dtype=float).copy()
+        for col in (0, 7):  # the bat's and the ball's x, y
+            qpos[:, col:col + 2] -= shift
+        self.data = d.replace(qpos=jnp.asarray(qpos, d.qpos.dtype))
+        self._row = np.asarray(self._row, dtype=float).copy()
+        self._row[:, [0, 1]] -= shift
+        self._row[:, [5, 6]] -= shift
+        self._shift = self._shift + shift
+
     def device(self) -> str:
         d = jax.devices()[0]
         return f"{d.platform}: {d.device_kind}"
@@ -234,7 +253,11 @@ class MjxEngine(BatchedEngine):
                                                                       self._bad)
 
     def read(self) -> np.ndarray:
-        return np.asarray(self._row, dtype=float)[: self.n]
+        row = np.array(self._row, dtype=float)[: self.n]
+        shift = self._shift[: self.n]
+        row[:, [0, 1]] += shift
+        row[:, [5, 6]] += shift
+        return row
 
     def in_contact(self) -> np.ndarray:
         return np.asarray(self._touching)[: self.n]
