@@ -37,6 +37,10 @@ def jobs(engine: str) -> list[Job]:
     for dt in STEPS_S:
         settings = adapters.settings_for(engine, dt_s=dt, **rec.soft_contact,
                                          **{rec.stiffness_setting: OMEGA_RADPS})
+        # placed no deeper than half the slowest approach's step (MJX's reference 1 um is
+        # more than a 5 m/s ball travels in two steps of 1e-7 s; a soft force starts at zero)
+        settings = replace(settings, overlap_m=min(settings.overlap_m,
+                                                   0.5 * min(SPEEDS_MPS) * dt))
         for mass in MASSES_KG:
             bat = replace(presets.R161, name=f"r161@{mass}kg", mass_kg=mass)
             out += [Job(engine=engine, settings=settings, case=ImpactCase(
