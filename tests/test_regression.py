@@ -23,13 +23,20 @@ CASES = [(base, engine) for base, spec in THRESHOLDS["baselines"].items()
 
 
 @pytest.mark.parametrize("baseline,engine", CASES, ids=[f"{b}-{e}" for b, e in CASES])
-def test_agreement_does_not_regress(baseline, engine):
+def test_agreement_does_not_regress_and_the_baseline_is_what_the_code_produces(baseline, engine):
     spec = THRESHOLDS["baselines"][baseline]
-    args = sweep.build_parser().parse_args(spec["options"])
-    plan = sweep.sweep_from_args(args)
+    plan = sweep.sweep_from_args(sweep.build_parser().parse_args(spec["options"]))
     settings = plan.settings[engine]
-    with Runner() as runner:
+    with Runner() as runner:  # fired once for both checks (a batched engine's swing: 10^4 steps)
         rows = tables.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
+    # Engines are deterministic, so re-firing every 5th point of a committed baseline must give
+    # its rows again: v1 to the 12 significant digits the CSV keeps (relative 1e-11 allows the
+    # last printed digit), and the status. A table left from older code, or edited, fails here.
+    committed = pd.read_csv(ROOT / "results" / f"{baseline}.csv")
+    committed = committed[committed.engine == engine].iloc[::5].reset_index(drop=True)
+    assert list(rows.status) == list(committed.status)
+    np.testing.assert_allclose(rows.v1_engine_mps, committed.v1_engine_mps, rtol=1e-11,
+                               atol=1e-12)
     # ok, or still touching at the budget where the rigid bodies are too (e = 0 near the COM)
     still_on = (rows.status == "no_separation") & (rows.rigid_end == "time_limit")
     # a compliant contact beyond its law's single contact is unjudged (experiments.core.judge)
@@ -40,20 +47,3 @@ def test_agreement_does_not_regress(baseline, engine):
     allowed = spec["engines"][engine]["max_abs_err_mps"]
     worst = rows[spec["engines"][engine].get("error_column", "v1_abs_err_mps")].max()
     assert worst <= allowed, f"{engine}: max |dv1| {worst:.3e} m/s > allowed {allowed:.3e} m/s"
-
-
-@pytest.mark.parametrize("baseline,engine", CASES, ids=[f"{b}-{e}" for b, e in CASES])
-def test_committed_baselines_are_what_the_code_produces(baseline, engine):
-    # Engines are deterministic, so re-firing every 5th point of a committed baseline must give
-    # its rows again: v1 to the 12 significant digits the CSV keeps (relative 1e-11 allows the
-    # last printed digit), and the status. A table left from older code, or edited, fails here.
-    spec = THRESHOLDS["baselines"][baseline]
-    plan = sweep.sweep_from_args(sweep.build_parser().parse_args(spec["options"]))
-    settings = plan.settings[engine]
-    with Runner() as runner:
-        fresh = tables.table(runner.fire(plan.firing.jobs(engine, settings)[::5]), plan.profile)
-    committed = pd.read_csv(ROOT / "results" / f"{baseline}.csv")
-    committed = committed[committed.engine == engine].iloc[::5].reset_index(drop=True)
-    assert list(fresh.status) == list(committed.status)
-    np.testing.assert_allclose(fresh.v1_engine_mps, committed.v1_engine_mps, rtol=1e-11,
-                               atol=1e-12)
