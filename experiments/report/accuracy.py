@@ -174,7 +174,8 @@ def line(res: Results, table: pd.DataFrame) -> str:
     (swing,) = need(res, "swing")
     conv = res.csv("convergence.csv")
     t = table.assign(per_step_us=table.wall_per_collision_s / table.steps_median * 1e6)
-    f64 = [(e, _reference_family(t, e)) for e in swing.of_precision("float64")]
+    f64 = [(e, _reference_family(t, e)) for e in swing.of_precision("float64")
+           if e in set(t.engine)]  # those the pareto study ran
     errs = [_errors(t, e, f) for e, f in f64]
     ref = errs[0]
     same = all(np.allclose(x.reindex(ref.index), ref, rtol=1e-3) for x in errs)
@@ -190,13 +191,14 @@ def line(res: Results, table: pd.DataFrame) -> str:
             f"in dt (fitted p = {c.p:.2f}, r^2 = {c.r2:.2f}, `results/convergence.csv`): the "
             "contact is seen half a step late while the bat turns. They differ in cost per "
             f"step: {label(order[0])} is cheapest, then {names(label(e) for e in order[1:])}.")
-    joined = [(e, *_joins(t, e, ref)) for e in swing.of_precision("float32")]
+    f32 = [e for e in swing.of_precision("float32") if e in set(t.engine)]
+    joined = [(e, *_joins(t, e, ref)) for e in f32]
     joined = [(e, f, d) for e, f, d in joined if f]
     if joined:
         text += (" " + names(f"{label(e)} ({f}, down to {step(d)})" for e, f, d in joined)
                  + " join the same line (within a factor "
                  f"{SAME_LINE:g}): they too see the contact from a step's geometry.")
-    for e in swing.of_precision("float32"):
+    for e in f32:
         c = conv[(conv.engine == e) & (conv.family == _reference_family(t, e))]
         if len(c) and c.err_at_dt_min.iloc[0] > 10 * ref.get(c.dt_min_s.iloc[0], math.inf):
             text += (f" {label(e)}'s reference solver levels off at "
@@ -210,7 +212,7 @@ def line(res: Results, table: pd.DataFrame) -> str:
 
 def knees(t: pd.DataFrame, swing) -> str:
     each = []
-    for e in swing.rigid:
+    for e in [e for e in swing.rigid if e in set(t.engine)]:  # those the pareto study ran
         good = t[(t.engine == e) & t.all_ok & (t.family != ALIGNED)]
         times, errs = good.wall_per_collision_s.to_numpy(), good.max_rel_err.to_numpy()
         front = study.pareto_front(times, errs)
