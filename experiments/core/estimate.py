@@ -21,7 +21,7 @@ import adapters
 from analytic import ImpactCase
 
 from . import judge
-from .fire import Job, same_batch
+from .fire import Job, runs
 
 #: The harness's own cost per impact (s): placement, classification, the table's row.
 OVERHEAD_S = 1e-4
@@ -74,18 +74,8 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
         else:
             out[name] = sum(max(impact_steps(j, contact) for j in run)
                             * (cost + len(run) * rec.world_step_cost_s) + len(run) * OVERHEAD_S
-                            for run in _runs(mine))
+                            for run in runs(mine))
     return out
-
-
-def _runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
-    """The batches a batched engine fires ``jobs`` in (``fire.fire_jobs``)."""
-    runs, start = [], 0
-    for i in range(1, len(jobs) + 1):
-        if i == len(jobs) or not same_batch(jobs[start], jobs[i]):
-            runs.append(jobs[start:i])
-            start = i
-    return runs
 
 
 def duration(seconds: float) -> str:

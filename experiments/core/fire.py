@@ -151,25 +151,30 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
     """Fire jobs in this process, in order: one at a time on a single-world engine, each run of
     consecutive jobs sharing engine, settings, scene and swing as one batch on a batched one."""
     out: list[Fired] = []
-    i = 0
-    while i < len(jobs):
-        host = hosted(jobs[i].engine, jobs[i].settings)
-        j = i + 1
-        if host.batched:
-            while j < len(jobs) and same_batch(jobs[i], jobs[j]):
-                j += 1
-        out += fire_group(host, jobs[i:j])
-        if INTERRUPTED.is_set():
-            raise KeyboardInterrupt
-        if tick is not None:
-            tick(j - i)
-        i = j
+    for run in runs(jobs):
+        host = hosted(run[0].engine, run[0].settings)
+        for group in [run] if host.batched else [[job] for job in run]:
+            out += fire_group(host, group)
+            if INTERRUPTED.is_set():
+                raise KeyboardInterrupt
+            if tick is not None:
+                tick(len(group))
     return out
 
 
 def same_batch(a: Job, b: Job) -> bool:
     return (a.engine == b.engine and a.settings == b.settings and a.swing == b.swing
             and (a.case.bat, a.case.ball, a.case.e) == (b.case.bat, b.case.ball, b.case.e))
+
+
+def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
+    """Consecutive jobs that share engine, settings, scene and swing: a batched engine's batches."""
+    out, start = [], 0
+    for i in range(1, len(jobs) + 1):
+        if i == len(jobs) or not same_batch(jobs[start], jobs[i]):
+            out.append(jobs[start:i])
+            start = i
+    return out
 
 
 def fire_group(host: Hosted, jobs: Sequence[Job]) -> list[Fired]:

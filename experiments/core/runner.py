@@ -138,8 +138,9 @@ class Runner:
         rest = jobs[1:]
         # a batched engine's worlds run side by side in its own call: its jobs stay here, as
         # one batch per scene (JAX, moreover, deadlocks in a forked worker)
-        here = [i for i, j in enumerate(rest) if adapters.record(j.engine).batched]
-        there = [j for j in rest if not adapters.record(j.engine).batched]
+        batched = [adapters.record(j.engine).batched for j in rest]
+        here = [i for i, b in enumerate(batched) if b]
+        there = [j for j, b in zip(rest, batched) if not b]
         if not self.parallel or per_job * len(there) < self.min_parallel_s:
             return out + fire_jobs(rest, self.progress)
         if self.scheduler is not None:  # spawned workers: every one imports the engines first
