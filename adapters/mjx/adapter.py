@@ -24,6 +24,14 @@ from ..mujoco.model import contact_parameters, mjcf
 from ..record import import_engine
 from . import COLLISIONS, INTEGRATORS, RECORD, RECORD_64
 
+# XLA's CPU runtime, with its concurrency-optimised scheduler, never returned from the second
+# step of 512 or more worlds on a 2-core machine (jaxlib 0.10.2: every thread idle, the caller
+# waiting on the step's completion event; 256 worlds ran). Without it, 1024 worlds step in
+# 8 ms and 256 as fast as before. Read when JAX starts its CPU backend, after this import.
+_NO_HANG = "--xla_cpu_enable_concurrency_optimized_scheduler=false"
+if "concurrency_optimized_scheduler" not in os.environ.get("XLA_FLAGS", ""):
+    os.environ["XLA_FLAGS"] = f"{os.environ.get('XLA_FLAGS', '')} {_NO_HANG}".strip()
+
 mjx = import_engine(RECORD)
 import jax  # noqa: E402  (mujoco.mjx brings JAX; imported after the install check)
 import jax.numpy as jnp  # noqa: E402
@@ -39,7 +47,8 @@ if not jax.config.jax_compilation_cache_dir:
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 
 # On a CPU, JAX's asynchronous dispatch deadlocked here (every thread waiting on a futex, at
-# 1e4 worlds; and with 100 steps queued at 1e3): each step runs to its end before the next.
+# 1e4 worlds; and with 100 steps queued at 1e3), before _NO_HANG was found: each step runs
+# to its end before the next.
 jax.config.update("jax_cpu_enable_async_dispatch", False)
 
 #: Bucket sizes: powers of two up to this, then multiples of it.
