@@ -5,12 +5,21 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from analytic import ImpactCase, predict, presets
-from analytic.collide import RTOL, PlanarState, collide, free_flight, separates_for_good
+from analytic.collide import (
+    RTOL,
+    PlanarState,
+    collide,
+    free_flight,
+    free_flight_many,
+    separates_for_good,
+    separates_for_good_many,
+)
 
 from .conftest import EPS, cases
 
@@ -145,3 +154,31 @@ def test_separates_for_good_never_hides_a_contact(v, w, gap, s):
     _, why = free_flight(state, reach_m=reach, ball_radius_m=BALL.radius_m, s_min_m=-10.0,
                          s_max_m=10.0, t_max_s=1.0)
     assert why in ("separated", "left_cylinder")  # no contact first (and within the time)
+
+
+@settings(max_examples=200, deadline=None)
+@given(v=st.tuples(st.floats(-60, 60), st.floats(-5.0, 60), st.floats(-30, 30),
+                   st.floats(-30, 30)),
+       w=st.floats(-60, 60), gap=st.floats(-1e-3, 0.05), s=st.floats(-0.6, 0.3),
+       angle=st.floats(-0.5, 0.5))
+def test_many_states_end_as_each_one_does(v, w, gap, s, angle):
+    # separates_for_good_many and free_flight_many are the one-state functions over arrays:
+    # the same verdict per state, and the same time (a contact's to within one sample: the
+    # many-state search reports the sample before it, the one-state search its root).
+    reach = R161.radius_m + BALL.radius_m
+    states = [PlanarState(ball_x_m=s * k, ball_y_m=reach + gap * k, ball_vx_mps=v[0],
+                          ball_vy_mps=v[1] * k, bat_x_m=0.0, bat_y_m=0.0, bat_vx_mps=v[2],
+                          bat_vy_mps=v[3], bat_angle_rad=angle, bat_omega_radps=w * k)
+              for k in (1.0, 0.5, -0.25)]
+    kw = dict(reach_m=reach, ball_radius_m=BALL.radius_m)
+    cols = np.array([x.array() for x in states]).T
+    many = separates_for_good_many(cols, **kw, t_max_s=0.1)
+    assert list(many) == [separates_for_good(x, **kw, t_max_s=0.1) for x in states]
+    times, whys = free_flight_many(cols, **kw, s_min_m=R161.s_min_m, s_max_m=R161.s_max_m,
+                                   t_max_s=0.1)
+    for x, t, why in zip(states, times, whys):
+        t1, why1 = free_flight(x, **kw, s_min_m=R161.s_min_m, s_max_m=R161.s_max_m,
+                               t_max_s=0.1)
+        assert why == why1
+        sample = 1e-4  # the search's largest sample interval (s)
+        assert t == t1 if why != "contact" else t1 - sample <= t <= t1

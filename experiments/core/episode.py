@@ -24,11 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from adapters import ContactReference, Hands, Settings, State
-from analytic import Ball, Bat, ImpactCase, Outcome
-from analytic.collide import free_flight, separates_for_good
+from analytic import Ball, Bat, Outcome
 
 from . import geometry as g
-from .judge import DEFLECTED, JUMP_REACHES, OFF_SPAN_STEPS, Status, energy_allowance
+from .judge import DEFLECTED, JUMP_REACHES, OFF_SPAN_STEPS, Status
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -125,22 +124,24 @@ class ManyWorlds:
 
 @dataclass
 class Episodes:
-    """The end of each world's episode: how it ended, the steps it took, the state then, the
-    first and last step that saw the contact (-1: none), the deepest penetration (m), and the
-    ball centre's side of the bat's axis then (m, positive on the side it came from)."""
+    """The end of each world's episode, in the batch's namespace (an array of n values, or one
+    value for one world): how it ended, the steps it took, the state then, the first and last
+    step that saw the contact (-1: none), the deepest penetration (m), and the ball centre's
+    side of the bat's axis then (m, positive on the side it came from)."""
 
-    ended: list[str]
-    steps: list[int]
-    end: list
-    first: list[int]
-    last: list[int]
-    peak_m: list[float]
-    side_m: list[float]
+    ended: object
+    steps: object
+    end: object
+    first: object
+    last: object
+    peak_m: object
+    side_m: object
 
 
 class _Stepper:
     """Steps one batch through its episodes; what it has learnt of each world so far, in the
-    batch's namespace (``geometry.ARRAYS`` or ``geometry.SCALARS``)."""
+    batch's namespace (``geometry.ARRAYS`` or ``geometry.SCALARS``): no loop over worlds but
+    for the rare free-flight search."""
 
     def __init__(self, batch, bat: Bat, ball: Ball, settings: Settings) -> None:
         self.batch, self.xp, self.bat, self.ball, self.st = batch, batch.xp, bat, ball, settings
@@ -154,14 +155,13 @@ class _Stepper:
         self.first, self.last = xp.full(n, -1), xp.full(n, -1)
         self.peak, self.off_steps = xp.full(n, -math.inf), xp.full(n, 0)
         self.active, self.prev_step = xp.full(n, True), xp.full(n, 0)
-        self.check_at = [0] * n
-        self.out = Episodes(ended=[""] * n, steps=[self.max_steps] * n, end=[None] * n,
-                            first=[-1] * n, last=[-1] * n, peak_m=[math.nan] * n,
-                            side_m=[math.nan] * n)
+        self.check_at = xp.full(n, 0)
 
     def run(self, starts) -> Episodes:
         """Step from ``starts`` until every world's episode is over (module docstring)."""
-        batch, xp, approach = self.batch, self.xp, self.st.approach_steps
+        batch, xp, approach, n = self.batch, self.xp, self.st.approach_steps, self.batch.n
+        self.out = Episodes(ended=xp.full(n, ""), steps=xp.full(n, self.max_steps), end=starts,
+                            first=None, last=None, peak_m=None, side_m=xp.full(n, math.nan))
         self.prev = starts
         side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(starts))[3]
         self.came_from = xp.where(side < 0.0, -1.0, 1.0)
@@ -179,24 +179,24 @@ class _Stepper:
                 break
         if xp.any(self.active):
             self.close()
-        failed = batch.failed()
-        for i in xp.indices(failed):
-            self.out.ended[i] = "non_finite"
-        for i in range(batch.n):
-            o = self.out
-            o.first[i], o.last[i] = int(xp.row(self.first, i)), int(xp.row(self.last, i))
-            o.peak_m[i] = float(xp.row(self.peak, i))
-        return self.out
+        o = self.out
+        o.ended = xp.where(batch.failed(), "non_finite", o.ended)
+        o.first, o.last, o.peak_m = self.first, self.last, self.peak
+        return o
 
     def finish(self, mask, why: str, step: int, S, side=None) -> None:
         """End the episodes of the worlds in ``mask`` (still active) with this reading."""
         xp, o = self.xp, self.out
-        for i in xp.indices(mask & self.active):
-            o.ended[i], o.steps[i], o.end[i] = why, step, xp.row(S, i)
-            o.side_m[i] = math.nan if side is None else float(xp.row(side, i))
-            self.active = xp.put(self.active, i, False)
-            if why in ("non_finite", "jumped"):
-                self.peak = xp.put(self.peak, i, math.nan)
+        m = mask & self.active
+        if not xp.any(m):
+            return
+        o.ended, o.steps = xp.where(m, why, o.ended), xp.where(m, step, o.steps)
+        o.end = xp.where_rows(m, S, o.end)
+        if side is not None:
+            o.side_m = xp.where(m, side, o.side_m)
+        self.active = self.active & xp.not_(m)
+        if why in ("non_finite", "jumped"):
+            self.peak = xp.where(m, math.nan, self.peak)
 
     def observe(self, step: int, touching, S) -> None:
         """One step's reading: failures, the contact's first and last steps, how it ends."""
@@ -226,16 +226,35 @@ class _Stepper:
         self.off_steps = xp.where(t, xp.where(self.rigid & (off_span > 0.0),
                                               self.off_steps + 1, 0), self.off_steps)
         self.finish(t & (self.off_steps > OFF_SPAN_STEPS), "left_cylinder", step, S, side)
-        for i in xp.indices(ok & no(touching) & (self.first >= 0)):
-            why, wait = _flight_end(self.bat, self.ball, xp.row(S, i), xp.row(off_span, i),
-                                    xp.row(apart, i), (self.max_steps - step) * st.dt_s,
-                                    st.dt_s, search=step >= self.check_at[i])
-            if why:
-                self.finish(xp.put(xp.full(self.batch.n, False), i, True), why, step, S, side)
-            self.check_at[i] = max(self.check_at[i], step + wait)
+        self.flight_end(ok & no(touching) & (self.first >= 0), step, S, cols, apart, off_span,
+                        side)
         due = ok & no(touching) & (self.first < 0) & (step > st.approach_steps + 1)
         self.finish(due & (side <= 0.0), "passed", step, S, side)
         self.finish(due & (side > 0.0), "missed", step, S, side)
+
+    def flight_end(self, after, step: int, S, cols, apart, off_span, side) -> None:
+        """After contact, the worlds whose bodies do not touch: the episode ends as
+        ``analytic.collide`` would end it from this state, off the cylinder's span or apart for
+        good (``separates_for_good``, a few float operations), else, where a free-flight search
+        is due, when ``free_flight`` says (it predicted a contact: searched again near it)."""
+        xp, bat, ball, no = self.xp, self.bat, self.ball, self.xp.not_
+        self.finish(after & (off_span > 0.0), "left_cylinder", step, S, side)
+        after = after & self.active & apart
+        t_left, dt = (self.max_steps - step) * self.st.dt_s, self.st.dt_s
+        gone = after & xp.separates(cols, reach_m=bat.radius_m + ball.radius_m,
+                                    ball_radius_m=ball.radius_m, t_max_s=t_left)
+        self.finish(gone, "separated", step, S, side)
+        search = after & no(gone) & (self.check_at <= step)
+        if not xp.any(search):
+            return
+        t, why = xp.free_flights(cols, search, reach_m=bat.radius_m + ball.radius_m,
+                                 ball_radius_m=ball.radius_m, s_min_m=bat.s_min_m,
+                                 s_max_m=bat.s_max_m, t_max_s=t_left)
+        ahead = why == "contact"
+        self.finish(search & (why == "left_cylinder"), "left_cylinder", step, S, side)
+        self.finish(search & no(ahead), "separated", step, S, side)
+        self.check_at = xp.where(search & ahead,
+                                 step + xp.maximum(1, xp.floor(t / dt) - 1), self.check_at)
 
     def close(self) -> None:
         """The budget ran out: the last reading ends every episode still going."""
@@ -256,44 +275,16 @@ def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts) -> Ep
     return _Stepper(batch, bat, ball, settings).run(starts)
 
 
-def _flight_end(bat: Bat, ball: Ball, row: np.ndarray, off_span: float, apart: bool,
-                t_left_s: float, dt_s: float, search: bool) -> tuple[str, int]:
-    """After contact, with the bodies not touching: how the episode ends now ('left_cylinder'
-    or 'separated', as ``analytic.collide`` would end it from this state), or '' and the steps
-    until a free-flight search is worth repeating (it predicted a contact that far ahead). The
-    search runs only when ``search``; the cheap checks every step."""
-    if off_span > 0.0:  # collide's cylinder ends here too
-        return "left_cylinder", 0
-    if not apart:
-        return "", 0
-    reach = bat.radius_m + ball.radius_m
-    state = g.planar(row)
-    if separates_for_good(state, reach_m=reach, ball_radius_m=ball.radius_m, t_max_s=t_left_s):
-        return "separated", 0
-    if not search:
-        return "", 0
-    t, why = free_flight(state, reach_m=reach, ball_radius_m=ball.radius_m,
-                         s_min_m=bat.s_min_m, s_max_m=bat.s_max_m, t_max_s=t_left_s)
-    if why != "contact":
-        return ("left_cylinder" if why == "left_cylinder" else "separated"), 0
-    return "", max(1, int(t / dt_s) - 1)
-
-
-def classify(case: ImpactCase, ended: str, first: int, peak_m: float, side_m: float,
-             ke0: float, ke1: float, eps: float, settings: Settings | None = None) -> Status:
-    """The status of one episode (module docstring): every physical verdict is made here."""
-    if ended in ("non_finite", "jumped"):
-        return Status.NON_FINITE
-    if ended == "passed" or (ended == "budget" and first < 0):
-        return Status.TUNNELLED
-    if ended == "missed":
-        return Status.NO_CONTACT
-    if ended == "budget":
-        return Status.NO_SEPARATION
-    if side_m <= 0.0:
-        return Status.TUNNELLED
-    if peak_m > case.bat.radius_m + case.ball.radius_m:
-        return Status.PENETRATION
-    if ke1 > ke0 * (1.0 + energy_allowance(eps, settings)):
-        return Status.ENERGY_GAINED
-    return Status.OK
+def classify(xp, ended, first, peak_m, side_m, reach_m: float, ke0, ke1, allowance: float):
+    """The status value of each episode (module docstring), in the namespace ``xp``: every
+    physical verdict is made here. ``allowance``: the relative energy gain that is rounding
+    (``judge.energy_allowance``)."""
+    w = xp.where
+    return w((ended == "non_finite") | (ended == "jumped"), Status.NON_FINITE.value,
+             w((ended == "passed") | ((ended == "budget") & (first < 0)), Status.TUNNELLED.value,
+               w(ended == "missed", Status.NO_CONTACT.value,
+                 w(ended == "budget", Status.NO_SEPARATION.value,
+                   w(side_m <= 0.0, Status.TUNNELLED.value,
+                     w(peak_m > reach_m, Status.PENETRATION.value,
+                       w(ke1 > ke0 * (1.0 + allowance), Status.ENERGY_GAINED.value,
+                         Status.OK.value)))))))

@@ -18,7 +18,9 @@ import time
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
+from operator import attrgetter
+
+import numpy as np
 
 import adapters
 from adapters import BatchedEngine, MassProperties, Scene, Settings, State
@@ -27,13 +29,15 @@ from analytic.dynamics import HingedSwing, MotionState
 
 from . import geometry as g
 from .episode import ManyWorlds, OneWorld, SimOutcome, classify, step_episodes
-from .judge import Status, mass_allowance
+from .fired import Fired, FiredBlock, FiredSeq, nan_release, outcome
+from .judge import Status, energy_allowance, mass_allowance
 from .placement import (
     PARKED_BALL_Y_M,
     SwingPlan,
-    check_placement,
+    case_columns,
+    check_placements,
     hands_for,
-    start_state,
+    start_states,
     swing_case,
 )
 
@@ -58,16 +62,6 @@ class Job:
     settings: Settings
     case: ImpactCase
     swing: HingedSwing | None = None
-
-
-class Fired(NamedTuple):
-    """A fired job: the case as simulated (re-planned under a swing), the engine's outcome, and
-    with a swing the analytic omega and angle at release (rad/s, rad; NaN without)."""
-
-    case: ImpactCase
-    outcome: SimOutcome
-    release_omega_radps: float
-    release_angle_rad: float
 
 
 class Hosted:
@@ -147,38 +141,46 @@ def forget_engines() -> None:
     _HOSTED.clear()
 
 
-def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> list[Fired]:
+def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> FiredSeq:
     """Fire jobs in this process, in order: one at a time on a single-world engine, each run of
     consecutive jobs sharing engine, settings, scene and swing as one batch on a batched one."""
-    out: list[Fired] = []
+    parts: list[Sequence[Fired]] = []
     for run in runs(jobs):
         host = hosted(run[0].engine, run[0].settings)
+        single: list[Fired] = []
         for group in [run] if host.batched else [[job] for job in run]:
-            out += fire_group(host, group)
+            fired = fire_group(host, group)
+            if host.batched:
+                parts.append(fired)
+            else:
+                single += fired
             if INTERRUPTED.is_set():
                 raise KeyboardInterrupt
             if tick is not None:
                 tick(len(group))
-    return out
+        parts.append(single)
+    return FiredSeq(parts)
 
 
-def same_batch(a: Job, b: Job) -> bool:
-    return (a.engine == b.engine and a.settings == b.settings and a.swing == b.swing
-            and (a.case.bat, a.case.ball, a.case.e) == (b.case.bat, b.case.ball, b.case.e))
+#: What the jobs of one batch share: engine, settings, swing, bat, ball and e (equal tuples
+#: compare their shared objects by identity first, so a grid's jobs compare fast).
+batch_key = attrgetter("engine", "settings", "swing", "case.bat", "case.ball", "case.e")
 
 
 def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
     """Consecutive jobs that share engine, settings, scene and swing: a batched engine's batches."""
+    keys = list(map(batch_key, jobs))
     out, start = [], 0
     for i in range(1, len(jobs) + 1):
-        if i == len(jobs) or not same_batch(jobs[start], jobs[i]):
+        if i == len(jobs) or keys[i] != keys[start]:
             out.append(jobs[start:i])
             start = i
     return out
 
 
-def fire_group(host: Hosted, jobs: Sequence[Job]) -> list[Fired]:
-    """Fire jobs that share engine, settings, scene and swing as one batch (module docstring)."""
+def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
+    """Fire jobs that share engine, settings, scene and swing as one batch (module docstring):
+    a ``FiredBlock`` on a batched engine, a list of one ``Fired`` on a single-world one."""
     t0 = time.perf_counter()
     st = host.settings
     plans: list[SwingPlan] | None = None
@@ -187,13 +189,13 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> list[Fired]:
         planned = [swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
                               swing=jobs[0].swing, settings=st) for c in cases]
         cases, plans = [p[0] for p in planned], [p[1] for p in planned]
-    for c in cases:
-        check_placement(c, st)
     bat, ball = cases[0].bat, cases[0].ball
     batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e), len(cases))
     xp = batch.xp
-    starts = xp.stack([start_state(c, st)[0] for c in cases])
-    release = [(math.nan, math.nan)] * len(cases)
+    cc = case_columns(xp, cases)
+    check_placements(xp, cases, cc, st)
+    starts = start_states(xp, bat, ball, cc, st)[0]
+    release = xp.full(len(cases), math.nan), xp.full(len(cases), math.nan)
     try:
         if plans is not None:
             starts, release = _swing_into_place(batch, plans, starts, bat)
@@ -204,15 +206,47 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> list[Fired]:
         raise
     except Exception as err:  # the engine raised while stepping: a failure, not a crash
         return _failed(host, cases, plans, Status.ERROR, f"error: {err!r}"[:200], t0)
+    cols = _measure(xp, host, cc, starts, episodes, bat, ball)
+    cols["release_omega_radps"], cols["release_angle_rad"] = release
+    cols["steps"] = cols["steps"] + (plans[0].steps if plans else 0)
     wall = (time.perf_counter() - t0) / len(cases)
-    return [_fired(host, case, xp.row(starts, i), episodes, i, release[i], plan, wall)
-            for i, (case, plan) in enumerate(zip(cases, plans or [None] * len(cases)))]
+    if not host.batched:
+        return [Fired(cases[0], outcome(cols, None, engine=host.name, settings=st, wall_s=wall),
+                      *_analytic_release(plans[0] if plans else None))]
+    cols.update(nan_release(len(cases)) if plans is None else {
+        "release_omega_analytic_radps": np.array([p.omega_release_radps for p in plans]),
+        "release_angle_analytic_rad": np.array([p.angle_release_rad for p in plans])})
+    return FiredBlock(cases, cols, engine=host.name, settings=st, wall_s=wall)
+
+
+def _measure(xp, host: Hosted, cc, start, ep, bat, ball) -> dict:
+    """Every world's outcome, measured from its start and end states, as columns named as
+    ``SimOutcome``'s fields (``q`` is (v1 - V)/(v0n + V), V = u0n + omega0 s)."""
+    S0, S1 = xp.cols(start), xp.cols(ep.end)
+    ke0, ke1 = g.kinetic_energy_j(bat, ball, S0), g.kinetic_energy_j(bat, ball, S1)
+    v1, u1, w1 = S1[g.BALL_VY], S1[g.BAT_VY], S1[g.BAT_W]
+    V = cc.u0n_mps + cc.omega0_radps * cc.s_m
+    allowance = energy_allowance(host.record.eps, host.settings)
+    return {
+        "v1_mps": v1, "u1_mps": u1, "omega1_radps": w1,
+        "impulse_ns": ball.mass_kg * (v1 + cc.v0n_mps), "q": (v1 - V) / (cc.v0n_mps + V),
+        "closing_speed_mps": cc.closing_speed_mps,
+        "hand_dv_mps": (u1 - S0[g.BAT_VY])
+        + (w1 - S0[g.BAT_W]) * (cc.hands_from_knob_m - bat.com_from_knob_m),
+        "ke_before_j": ke0, "ke_after_j": ke1, "v1_t_mps": S1[g.BALL_VX],
+        "u1_t_mps": S1[g.BAT_VX],
+        "status": classify(xp, ep.ended, ep.first, ep.peak_m, ep.side_m,
+                           bat.radius_m + ball.radius_m, ke0, ke1, allowance),
+        "contact_duration_s": xp.where(ep.first >= 0,
+                                       (ep.last - ep.first + 1) * host.settings.dt_s, 0.0),
+        "peak_penetration_m": ep.peak_m, "steps": ep.steps, "ended": ep.ended,
+        "ball_side_m": ep.side_m}
 
 
 def _swing_into_place(batch, plans: list[SwingPlan], starts, bat):
     """Swing every world's bat from rest about the hands and release it (the ball parked far
     away); returns the start states with the engine's bats, and each release's omega and
-    angle (rad/s, rad)."""
+    angle (rad/s, rad) as columns."""
     if len({p.steps for p in plans}) != 1:
         raise ValueError("swings of one batch must last the same number of steps")
     xp = batch.xp
@@ -222,38 +256,8 @@ def _swing_into_place(batch, plans: list[SwingPlan], starts, bat):
         batch.step()
     batch.set_drive(None)
     swung = batch.read()
-    release = [(float(xp.row(swung, i)[g.BAT_W]), float(xp.row(swung, i)[g.BAT_ANGLE]))
-               for i in range(len(plans))]
-    return xp.with_bat(starts, swung), release
-
-
-def _fired(host: Hosted, case: ImpactCase, start, episodes, i: int,
-           release: tuple[float, float], plan: SwingPlan | None, wall_s: float) -> Fired:
-    """One world's outcome, measured from its start and end states."""
-    bat, ball = case.bat, case.ball
-    end = [float(v) for v in episodes.end[i]]
-    start = [float(v) for v in start]
-    ke0, ke1 = g.kinetic_energy_j(bat, ball, start), g.kinetic_energy_j(bat, ball, end)
-    first, last = episodes.first[i], episodes.last[i]
-    status = classify(case, episodes.ended[i], first, episodes.peak_m[i], episodes.side_m[i],
-                      ke0, ke1, host.record.eps,
-                      host.settings)
-    v1 = end[g.BALL_VY]
-    du, dw = end[g.BAT_VY] - start[g.BAT_VY], end[g.BAT_W] - start[g.BAT_W]
-    V = case.u0n_mps + case.omega0_radps * case.s_m
-    out = SimOutcome(
-        v1_mps=v1, u1_mps=end[g.BAT_VY], omega1_radps=end[g.BAT_W],
-        impulse_ns=ball.mass_kg * (v1 + case.v0n_mps), q=(v1 - V) / (case.v0n_mps + V),
-        closing_speed_mps=case.closing_speed_mps,
-        hand_dv_mps=du + dw * (case.hands_from_knob_m - bat.com_from_knob_m),
-        ke_before_j=ke0, ke_after_j=ke1, v1_t_mps=end[g.BALL_VX], u1_t_mps=end[g.BAT_VX],
-        engine=host.name, status=status,
-        contact_duration_s=(last - first + 1) * host.settings.dt_s if first >= 0 else 0.0,
-        peak_penetration_m=episodes.peak_m[i],
-        steps=episodes.steps[i] + (plan.steps if plan else 0), wall_s=wall_s,
-        settings=host.settings, ended=episodes.ended[i], ball_side_m=episodes.side_m[i],
-        release_omega_radps=release[0], release_angle_rad=release[1])
-    return Fired(case, out, *_analytic_release(plan))
+    cols = xp.cols(swung)
+    return xp.with_bat(starts, swung), (cols[g.BAT_W], cols[g.BAT_ANGLE])
 
 
 def _analytic_release(plan: SwingPlan | None) -> tuple[float, float]:

@@ -16,7 +16,13 @@ import numpy as np
 
 from adapters import STATE_FIELDS, State
 from analytic import Ball, Bat
-from analytic.collide import PlanarState
+from analytic.collide import (
+    PlanarState,
+    free_flight,
+    free_flight_many,
+    separates_for_good,
+    separates_for_good_many,
+)
 
 (BALL_X, BALL_Y, BALL_VX, BALL_VY, BALL_W, BAT_X, BAT_Y, BAT_ANGLE, BAT_VX, BAT_VY,
  BAT_W) = range(len(STATE_FIELDS))
@@ -41,6 +47,21 @@ def _put(values: np.ndarray, i: int, value) -> np.ndarray:
     return values
 
 
+def _planar_cols(S) -> tuple:
+    return (S[BALL_X], S[BALL_Y], S[BALL_VX], S[BALL_VY], S[BAT_X], S[BAT_Y], S[BAT_VX],
+            S[BAT_VY], S[BAT_ANGLE], S[BAT_W])
+
+
+def _free_flights(S, mask, **kw) -> tuple[np.ndarray, np.ndarray]:
+    """``free_flight_many`` from the worlds in ``mask``: (time, why) for every world ('' where
+    not searched)."""
+    t, why = np.zeros(len(mask)), np.full(len(mask), "", dtype=object)
+    idx = np.flatnonzero(mask)
+    if len(idx):
+        t[idx], why[idx] = free_flight_many(np.array(_planar_cols(S))[:, idx], **kw)
+    return t, why
+
+
 #: numpy over a batch: arrays of n values, n rows.
 ARRAYS = SimpleNamespace(
     cos=np.cos, sin=np.sin, hypot=np.hypot, clip=np.clip, where=np.where, maximum=np.maximum,
@@ -48,7 +69,9 @@ ARRAYS = SimpleNamespace(
     where_rows=lambda mask, a, b: np.where(mask[:, None], a, b),
     cols=lambda states: states.T, row=lambda states, i: states[i],
     stack=lambda rows: np.array(rows, dtype=float), finite=_finite_rows, indices=_indices,
-    with_bat=_with_bat)
+    with_bat=_with_bat, from_cols=lambda cols: np.column_stack(cols),
+    separates=lambda S, **kw: separates_for_good_many(_planar_cols(S), **kw),
+    free_flights=_free_flights, floor=np.floor)
 
 #: Python floats for one world: a value, a bool, one State.
 SCALARS = SimpleNamespace(
@@ -59,7 +82,11 @@ SCALARS = SimpleNamespace(
     cols=lambda state: state, row=lambda state, i: state,
     stack=lambda rows: State(*rows[0]), finite=lambda state: math.isfinite(sum(state)),
     indices=lambda flag: (0,) if flag else (),
-    with_bat=lambda start, swung: State(*start[:BAT_X], *swung[BAT_X:]))
+    with_bat=lambda start, swung: State(*start[:BAT_X], *swung[BAT_X:]),
+    from_cols=lambda cols: State(*cols),
+    separates=lambda S, **kw: separates_for_good(planar(S), **kw),
+    free_flights=lambda S, flag, **kw: free_flight(planar(S), **kw) if flag else (0.0, ""),
+    floor=math.floor)
 
 
 def contact_geometry(xp, bat: Bat, ball: Ball, S, came_from=1.0):

@@ -11,12 +11,19 @@ hands in the engine (``swing_case``), released, and meets the ball ``approach_st
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from itertools import chain
+from operator import attrgetter
+from types import SimpleNamespace
+
+import numpy as np
 
 from adapters import Hands, Settings, State
 from analytic import Ball, Bat, ImpactCase, checks
 from analytic.dynamics import Drive, HingedSwing
 
+from . import geometry as g
 from .judge import HITTABLE_SLACK_M
 
 #: Where the ball waits while the bat swings: far from anything it could touch (m).
@@ -52,20 +59,55 @@ def check_placement(case: ImpactCase, settings: Settings) -> None:
             f"dt_s > {smallest:.3g} s (or a smaller overlap_m)")
 
 
-def start_state(case: ImpactCase, settings: Settings) -> tuple[State, float]:
-    """The state T seconds before contact (module docstring); returns (state, T)."""
-    bat, ball = case.bat, case.ball
-    vc = case.closing_speed_mps
+#: The fields of ``ImpactCase`` that placing and measuring an impact read, as columns.
+CASE_FIELDS = ("s_m", "v0_mps", "u0_mps", "omega0_radps", "theta_rad", "phi_rad",
+               "hands_from_knob_m")
+
+
+def case_columns(xp, cases: Sequence[ImpactCase]) -> SimpleNamespace:
+    """The cases' CASE_FIELDS and normal speeds (v0n, u0n, closing) in the namespace ``xp``
+    of ``geometry`` (arrays over a batch; one case's own floats for one world)."""
+    if xp is g.SCALARS:
+        (c,) = cases
+        return SimpleNamespace(**{f: getattr(c, f) for f in CASE_FIELDS}, v0n_mps=c.v0n_mps,
+                               u0n_mps=c.u0n_mps, closing_speed_mps=c.closing_speed_mps)
+    values = np.fromiter(chain.from_iterable(map(attrgetter(*CASE_FIELDS), cases)), float,
+                         count=len(CASE_FIELDS) * len(cases)).reshape(len(cases), -1)
+    cc = SimpleNamespace(**dict(zip(CASE_FIELDS, values.T)))
+    cc.v0n_mps = cc.v0_mps * np.cos(cc.theta_rad)
+    cc.u0n_mps = cc.u0_mps * np.cos(cc.phi_rad)
+    cc.closing_speed_mps = cc.v0n_mps + cc.u0n_mps + cc.omega0_radps * cc.s_m
+    return cc
+
+
+def check_placements(xp, cases: Sequence[ImpactCase], cc: SimpleNamespace,
+                     settings: Settings) -> None:
+    """``check_placement`` for every case (``cc`` their columns): the cases the columns flag
+    are checked one by one, which raises with the message."""
+    bat = cases[0].bat
+    off = (cc.s_m < bat.s_min_m - HITTABLE_SLACK_M) | (cc.s_m > bat.s_max_m + HITTABLE_SLACK_M)
+    smallest = settings.overlap_m / (cc.closing_speed_mps
+                                     * (settings.approach_steps - settings.contact_phase))
+    for i in xp.indices(off | xp.not_(settings.dt_s > smallest)):
+        check_placement(cases[i], settings)
+
+
+def start_states(xp, bat: Bat, ball: Ball, cc: SimpleNamespace, settings: Settings):
+    """The states T seconds before contact (module docstring), one per case of the columns
+    ``cc``, as the batch takes them; returns (states, T)."""
+    vc = cc.closing_speed_mps
     T = (settings.approach_steps - settings.contact_phase) * settings.dt_s - settings.overlap_m / vc
-    v_t, v_n = case.v0_mps * math.sin(case.theta_rad), -case.v0n_mps
-    u_t, u_n = case.u0_mps * math.sin(case.phi_rad), case.u0n_mps
+    v_t, v_n = cc.v0_mps * xp.sin(cc.theta_rad), -cc.v0n_mps
+    u_t, u_n = cc.u0_mps * xp.sin(cc.phi_rad), cc.u0n_mps
     reach = bat.radius_m + ball.radius_m
-    return State(
-        ball_x_m=case.s_m - T * v_t, ball_y_m=reach - T * v_n, ball_vx_mps=v_t, ball_vy_mps=v_n,
-        ball_omega_radps=0.0, bat_x_m=-T * u_t, bat_y_m=-T * u_n,
-        bat_angle_rad=-T * case.omega0_radps, bat_vx_mps=u_t, bat_vy_mps=u_n,
-        bat_omega_radps=case.omega0_radps,
-    ), T
+    return xp.from_cols((cc.s_m - T * v_t, reach - T * v_n, v_t, v_n, 0.0 * T, -T * u_t,
+                         -T * u_n, -T * cc.omega0_radps, u_t, u_n, cc.omega0_radps)), T
+
+
+def start_state(case: ImpactCase, settings: Settings) -> tuple[State, float]:
+    """One case's start state, T seconds before contact (module docstring); returns (state, T)."""
+    return start_states(g.SCALARS, case.bat, case.ball, case_columns(g.SCALARS, [case]),
+                        settings)
 
 
 @dataclass(frozen=True, kw_only=True)

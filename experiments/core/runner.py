@@ -126,7 +126,7 @@ class Runner:
         results = self._map_remote(_call, calls)  # both backends submit everything at once
         return lambda: list(results)
 
-    def fire(self, jobs: Sequence[Job]) -> list[Fired]:
+    def fire(self, jobs: Sequence[Job]) -> Sequence[Fired]:
         """Every job fired, results in the order of ``jobs``."""
         jobs = list(jobs)
         if not jobs:

@@ -1,0 +1,104 @@
+"""Fired impacts as the harness hands them on: one ``Fired`` per job, in order.
+
+A batched engine's outcomes stay columns (``FiredBlock``: one array per outcome field) until a
+reader asks for an impact; ``FiredSeq`` chains blocks and lists of ``Fired`` as one sequence.
+Building ten thousand frozen outcomes costs more than stepping them (about 3 us each here),
+so a batch pays for them only where they are read.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from bisect import bisect_right
+from collections.abc import Iterator, Sequence
+from typing import NamedTuple
+
+import numpy as np
+
+from adapters import Settings
+from analytic import ImpactCase
+
+from .episode import SimOutcome
+from .judge import Status
+
+#: The outcome fields a block holds as float columns.
+FLOAT_FIELDS = ("v1_mps", "u1_mps", "omega1_radps", "impulse_ns", "q", "closing_speed_mps",
+                "hand_dv_mps", "ke_before_j", "ke_after_j", "v1_t_mps", "u1_t_mps",
+                "contact_duration_s", "peak_penetration_m", "ball_side_m",
+                "release_omega_radps", "release_angle_rad")
+
+
+class Fired(NamedTuple):
+    """A fired job: the case as simulated (re-planned under a swing), the engine's outcome, and
+    with a swing the analytic omega and angle at release (rad/s, rad; NaN without)."""
+
+    case: ImpactCase
+    outcome: SimOutcome
+    release_omega_radps: float
+    release_angle_rad: float
+
+
+def outcome(cols: dict, i: int | None, *, engine: str, settings: Settings,
+            wall_s: float) -> SimOutcome:
+    """The outcome at row ``i`` of columns (``i`` None: the columns are one impact's values)."""
+    pick = (lambda k: cols[k]) if i is None else (lambda k: cols[k][i])
+    return SimOutcome(**{k: float(pick(k)) for k in FLOAT_FIELDS},
+                      status=Status(pick("status")), steps=int(pick("steps")),
+                      ended=str(pick("ended")), engine=engine, settings=settings, wall_s=wall_s)
+
+
+class FiredBlock(Sequence):
+    """One batch's fired impacts as columns (``FLOAT_FIELDS``, status, steps, ended, and the
+    analytic release as ``release_omega_analytic_radps``/``release_angle_analytic_rad``)."""
+
+    def __init__(self, cases: Sequence[ImpactCase], cols: dict[str, np.ndarray], *,
+                 engine: str, settings: Settings, wall_s: float) -> None:
+        self.cases, self.cols = list(cases), cols
+        self.engine, self.settings, self.wall_s = engine, settings, wall_s
+
+    def __len__(self) -> int:
+        return len(self.cases)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        i = range(len(self))[i]
+        out = outcome(self.cols, i, engine=self.engine, settings=self.settings,
+                      wall_s=self.wall_s)
+        return Fired(self.cases[i], out, float(self.cols["release_omega_analytic_radps"][i]),
+                     float(self.cols["release_angle_analytic_rad"][i]))
+
+
+def nan_release(n: int) -> dict[str, np.ndarray]:
+    """The analytic release columns of a batch fired without a swing."""
+    return {"release_omega_analytic_radps": np.full(n, math.nan),
+            "release_angle_analytic_rad": np.full(n, math.nan)}
+
+
+class FiredSeq(Sequence):
+    """Parts (``FiredBlock``s and lists of ``Fired``) read as one sequence, in order."""
+
+    def __init__(self, parts: Sequence[Sequence[Fired]] = ()) -> None:
+        self.parts = [p for p in parts if len(p)]
+        self._ends = list(itertools.accumulate(len(p) for p in self.parts))
+
+    def __len__(self) -> int:
+        return self._ends[-1] if self._ends else 0
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        i = range(len(self))[i]
+        k = bisect_right(self._ends, i)
+        return self.parts[k][i - (self._ends[k - 1] if k else 0)]
+
+    def __iter__(self) -> Iterator[Fired]:
+        for part in self.parts:
+            yield from part
+
+    def __add__(self, other: Sequence[Fired]) -> FiredSeq:
+        return FiredSeq([*self.parts, *(other.parts if isinstance(other, FiredSeq) else [other])])
+
+    def __radd__(self, other: Sequence[Fired]) -> FiredSeq:
+        return FiredSeq([list(other), *self.parts])
