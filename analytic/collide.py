@@ -282,8 +282,8 @@ def free_flight_many(y, *, reach_m: float, ball_radius_m: float, s_min_m: float,
     t_out, why = np.full(y.shape[1], t_max_s), np.full(y.shape[1], "time_limit", dtype=object)
     w = np.abs(y[9])
     h_max = np.where(w * 1e-4 > 0.02, 0.02 / np.maximum(w, 1e-300), 1e-4)
-    live = np.arange(y.shape[1])
-    t0, g0 = np.zeros(len(live)), _gap(y, 0.0, reach_m)[0]
+    live = np.arange(y.shape[1] if t_max_s > 0.0 else 0)
+    t0, g0 = np.zeros(len(live)), _gap(y[:, live], 0.0, reach_m)[0]
     while len(live):
         Y = y[:, live]
         zero = np.zeros((2, len(live)))

@@ -160,8 +160,8 @@ def test_separates_for_good_never_hides_a_contact(v, w, gap, s):
 @given(v=st.tuples(st.floats(-60, 60), st.floats(-5.0, 60), st.floats(-30, 30),
                    st.floats(-30, 30)),
        w=st.floats(-60, 60), gap=st.floats(-1e-3, 0.05), s=st.floats(-0.6, 0.3),
-       angle=st.floats(-0.5, 0.5))
-def test_many_states_end_as_each_one_does(v, w, gap, s, angle):
+       angle=st.floats(-0.5, 0.5), t_max=st.sampled_from([0.0, 1e-3, 0.1]))
+def test_many_states_end_as_each_one_does(v, w, gap, s, angle, t_max):
     # separates_for_good_many and free_flight_many are the one-state functions over arrays:
     # the same verdict per state, and the same time (a contact's to within one sample: the
     # many-state search reports the sample before it, the one-state search its root).
@@ -172,13 +172,13 @@ def test_many_states_end_as_each_one_does(v, w, gap, s, angle):
               for k in (1.0, 0.5, -0.25)]
     kw = dict(reach_m=reach, ball_radius_m=BALL.radius_m)
     cols = np.array([x.array() for x in states]).T
-    many = separates_for_good_many(cols, **kw, t_max_s=0.1)
-    assert list(many) == [separates_for_good(x, **kw, t_max_s=0.1) for x in states]
+    many = separates_for_good_many(cols, **kw, t_max_s=t_max)
+    assert list(many) == [separates_for_good(x, **kw, t_max_s=t_max) for x in states]
     times, whys = free_flight_many(cols, **kw, s_min_m=R161.s_min_m, s_max_m=R161.s_max_m,
-                                   t_max_s=0.1)
+                                   t_max_s=t_max)
     for x, t, why in zip(states, times, whys):
         t1, why1 = free_flight(x, **kw, s_min_m=R161.s_min_m, s_max_m=R161.s_max_m,
-                               t_max_s=0.1)
+                               t_max_s=t_max)
         assert why == why1
         sample = 1e-4  # the search's largest sample interval (s)
         assert t == t1 if why != "contact" else t1 - sample <= t <= t1

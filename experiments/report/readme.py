@@ -19,7 +19,7 @@ END = "<!-- end of the engines table -->"
 REFERENCE = "sweep_all_reference_r161_swing"
 DEFAULT = "sweep_all_default_r161_swing"
 HEADER = ("| engine | install | float | reference profile: impacts ok, max error of v1 | "
-          "out of the box (its dt): statuses | harness cost per impact |\n"
+          "out of the box (its dt): statuses | cost per impact: batch of 1; best batch |\n"
           "| --- | --- | --- | --- | --- | --- |")
 
 
@@ -43,16 +43,30 @@ def _out_of_the_box(meta: dict, name: str) -> str:
     return f"{', '.join(f'{k} {v}' for k, v in counts.items())} ({dt:.2g} s)"
 
 
+def _costs(results: Path) -> dict[str, str]:
+    """Per engine: the cost per impact through the harness in a batch of one and in its
+    cheapest batch (``experiments.throughput``, in bench_batches.csv); where that has no row,
+    the median over a grid through the runner (bench_engines.csv) and no batch."""
+    bench = pd.read_csv(results / "bench_engines.csv")
+    out = {name: f"{us:,.0f} us; not measured" for name, us in
+           zip(bench.engine, bench.harness_per_collision_us)}
+    path = results / "bench_batches.csv"
+    for name, rows in (pd.read_csv(path).groupby("engine") if path.exists() else ()):
+        one, best = rows[rows.batch == 1], rows.loc[rows.us_per_impact.idxmin()]
+        first = f"{one.us_per_impact.iloc[0]:,.0f} us" if len(one) else "-"
+        out[name] = f"{first}; {best.us_per_impact:,.1f} us at {best.batch:,}"
+    return out
+
+
 def engines_table(results: Path) -> str:
     """The table, one row per engine in the reference baseline, from ``results``."""
     ref = pd.read_csv(results / f"{REFERENCE}.csv")
     default = json.loads((results / f"{DEFAULT}.json").read_text())
-    bench = pd.read_csv(results / "bench_engines.csv").set_index("engine")
+    costs = _costs(results)
     lines = [HEADER]
     for name, rows in ref.groupby("engine", sort=True):
         rec = adapters.record(name)
-        cost = (f"{bench.loc[name, 'harness_per_collision_us']:,.0f} us" if name in bench.index
-                else "not benchmarked")
+        cost = costs.get(name, "not benchmarked")
         lines.append(f"| {name} | {_install(rec)} | {rec.precision} | {_accuracy(rows, name)} | "
                      f"{_out_of_the_box(default, name)} | {cost} |")
     for name in sorted(set(adapters.names()) - set(ref.engine)):
