@@ -8,7 +8,8 @@ For each engine (reference profile, R161, the paper's swing, N impact points):
 - the bare engine's cost for the same steps: the same start state stepped the same number of
   times with nothing else done (median); overhead = harness - bare, and their ratio;
 - one sweep's wall time serially, with 2 local processes and on a 2-worker Dask LocalCluster, on
-  the cheap all-engine sweep and on an expensive hinged-swing sweep of 96 points;
+  the cheap sweep of every single-world engine (a batched engine's jobs stay in the runner's
+  process) and on an expensive hinged-swing sweep of 96 points;
 - the wall time of the sweep command on 41 points, start-up included;
 - throughput against batch size (``experiments.throughput``): impacts per second at each
   --batches size, with the largest error against theory and the harness's own share.
@@ -187,7 +188,7 @@ def _options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--batches", type=_sizes, default=throughput.SIZES, metavar="N[,N...]",
                    help="batch sizes of the throughput part (default 1,10,...,100000)")
     p.add_argument("--batch-budget", type=cli.number(0.0, lo_open=True), default=30.0,
-                   metavar="S", help="stop growing the batch after a firing this long (s)")
+                   metavar="S", help="grow the batch while a firing would last at most this (s)")
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every measurement: the files and what to print."""
@@ -199,12 +200,15 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     lines = [table.to_string(index=False, float_format=lambda v: f"{v:.2f}")]
     engines = ",".join(args.engine)
     par, ceiling = [], None
-    if not args.quick:
+    # a batched engine's jobs stay in the runner's own process: the runners compare the others
+    single = ",".join(n for n in args.engine if not adapters.record(n).batched)
+    if not args.quick and single:
         ceiling = machine_ceiling()
         lines.append(f"this machine: 2 processes run pure CPU work {ceiling:.2f}x as fast as 1")
-        par = [runner_speedups(f"{engines}, 41 points, reference", ["--engine", engines], 21),
+        par = [runner_speedups(f"{single}, 41 points, reference", ["--engine", single], 21),
                runner_speedups("first engine, hinged swing, 96 points",
-                               ["--engine", args.engine[0], "--swing", "--points", "96"], 3)]
+                               ["--engine", single.split(",")[0], "--swing", "--points", "96"],
+                               3)]
         lines += [f"{r['label']}: serial {r['serial_s']:.2f} s, 2 processes "
                   f"{r['workers2_s']:.2f} s ({r['speedup_workers2']:.2f}x), Dask LocalCluster "
                   f"of 2 {r['dask_local2_s']:.2f} s ({r['dask_over_processes']:.2f} x processes)"

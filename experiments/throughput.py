@@ -7,8 +7,8 @@ own cost is the firing's wall time less the time spent inside the engine's calls
 (ENGINE_CALLS), clocked in the same firing (two separate timings of ~60 us an impact differ by
 more than the few us sought); the same worlds stepped bare (set the starts, step as many times,
 nothing read) are timed beside it. Each size is fired once untimed first (compiles, caches);
-the numbers are medians of the repeats. Sizes grow until one firing takes longer than the
-budget.
+the numbers are medians of the repeats. Sizes grow while the next one's firing, priced at
+this one's cost per impact, fits in the budget.
 """
 
 from __future__ import annotations
@@ -123,7 +123,8 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
                      "steps_median": steps, "repeats": repeats,
                      "max_abs_err_mps": float(table.v1_abs_err_mps.max()),
                      "ok": int((table.status == "ok").sum()), "judged": len(table)})
-        if wall > budget_s:
+        later = [n for n in sizes if n > size]
+        if later and wall / size * min(later) > budget_s:
             break
     return rows
 
