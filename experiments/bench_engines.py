@@ -6,7 +6,9 @@ For each engine (reference profile, R161, the paper's swing, N impact points):
 - the harness's cost per collision: firing the grid through the runner and tabulating it
   (median over repeats of the whole grid's time per impact), and simulate()'s own wall;
 - the bare engine's cost for the same steps: the same start state stepped the same number of
-  times with nothing else done (median); overhead = harness - bare, and their ratio;
+  times with nothing else done (median; a batched engine's grid as the one batch the harness
+  fired, its slowest world's steps); overhead = harness - bare, and their ratio; and one
+  world's bare step (``one_world_step_us``, what a record's ``step_cost_s`` states);
 - one sweep's wall time serially, with 2 local processes and on a 2-worker Dask LocalCluster, on
   the cheap sweep of every single-world engine (a batched engine's jobs stay in the runner's
   process) and on an expensive hinged-swing sweep of 96 points;
@@ -49,17 +51,22 @@ def per_collision(name: str, firing: tables.Firing, repeats: int) -> dict:
     settings = adapters.settings_for(name)
     jobs = firing.jobs(name, settings)
     runner = Runner()
-    tables.table(runner.fire(jobs[:1]), "bench")  # build the scene outside the timing
-    harness, walls, bares, steps = [], [], [], []
+    # build the scene (a batched engine: the grid's batch) outside the timing
+    tables.table(runner.fire(jobs if adapters.record(name).batched else jobs[:1]), "bench")
+    harness, walls, bares, steps, grid = [], [], [], [], []
     host = hosted(name, settings)
     for _ in range(repeats):
         t0 = time.perf_counter()
         fired = runner.fire(jobs)
         tables.table(fired, "bench")
         harness.append((time.perf_counter() - t0) / len(jobs))
+        walls += [f.outcome.wall_s for f in fired]
+        steps += [f.outcome.steps for f in fired]
+        if host.batched:  # the harness fired the grid as one batch: its bare is that batch's
+            grid.append(throughput.bare_s(name, settings, [f.case for f in fired],
+                                          max(f.outcome.steps for f in fired)) / len(fired))
+    for _ in range(repeats):  # one world at a time (a batched engine: rebuilt for one world)
         for f in fired:
-            walls.append(f.outcome.wall_s)
-            steps.append(f.outcome.steps)
             batch = host.batch(Scene(bat=f.case.bat, ball=f.case.ball, e=f.case.e), 1)
             batch.set_state(batch.xp.stack([start_state(f.case, settings)[0]]))
             t0 = time.perf_counter()
@@ -67,12 +74,14 @@ def per_collision(name: str, firing: tables.Firing, repeats: int) -> dict:
                 batch.step()
             bares.append(time.perf_counter() - t0)
     runner.close()
-    per, bare = statistics.median(harness), statistics.median(bares)
+    one = statistics.median(bares)
+    per, bare = statistics.median(harness), statistics.median(grid) if grid else one
     sim = statistics.median(walls)
     return {"engine": name, "impacts": len(walls), "steps_median": statistics.median(steps),
             "harness_per_collision_us": per * 1e6, "simulate_per_collision_us": sim * 1e6,
             "bare_steps_us": bare * 1e6,
             "bare_per_step_us": bare * 1e6 / statistics.median(steps),
+            "one_world_step_us": one * 1e6 / statistics.median(steps),
             "simulate_overhead_us": (sim - bare) * 1e6, "harness_overhead_us": (per - bare) * 1e6,
             "ratio": per / bare}
 

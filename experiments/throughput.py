@@ -38,7 +38,7 @@ def _firing() -> tables.Firing:
                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
 
 
-def _bare_s(name: str, settings, cases, steps: int) -> float:
+def bare_s(name: str, settings, cases, steps: int) -> float:
     """Seconds to set the batch's starts and step it ``steps`` times, nothing read."""
     host = hosted(name, settings)
     c = cases[0]
@@ -111,7 +111,7 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
             fired, wall, engine = _timed(name, settings, jobs)
             walls.append(wall)
             inside.append(wall - engine)
-            bares.append(_bare_s(name, settings, cases, steps))
+            bares.append(bare_s(name, settings, cases, steps))
         wall, bare = float(np.median(walls)), float(np.median(bares))
         table = tables.table(fired[:GRID], "throughput")
         rows.append({"engine": name, "precision": adapters.record(name).precision,
@@ -144,6 +144,7 @@ def chart(table: pd.DataFrame):
     import matplotlib.pyplot as plt
 
     kinds = sorted({"GPU" if "cpu" not in d.lower() else "CPU" for d in table.device})
+    table = table.assign(device=table.device.replace({"cpu: cpu": "cpu"}))
     fig, axes = plt.subplots(1, len(kinds), figsize=(6.5 * len(kinds), 5), squeeze=False,
                              layout="constrained")
     for ax, kind in zip(axes[0], kinds):

@@ -131,6 +131,9 @@ class Runner:
         jobs = list(jobs)
         if not jobs:
             return []
+        # nothing to decide, or nothing to spread: no probe (it would split a batched grid)
+        if not self.parallel or all(adapters.record(j.engine).batched for j in jobs):
+            return fire_jobs(jobs, self.progress)
         t0 = time.perf_counter()
         out = fire_jobs(jobs[:1])
         self._tick(1)
