@@ -248,13 +248,15 @@ def cop_located(ctx: Ctx) -> str:
 def tunnelling_bound(ctx: Ctx) -> str:
     """At 1 ms and 100 m/s (v dt = 1.5 R) a contact phase is caught iff theory says so
     (``judge.caught_in_theory``: seen shallower than R = r_ball + r_bat, or within the engine's
-    speculative margin); at 1/60 s mid-step the ball tunnels. Never ok with a wrong answer."""
+    speculative margin); at 1/60 s mid-step the ball tunnels. Never ok with a wrong answer.
+    The phases are fired together (a batched engine: as one batch of 8 placements)."""
     reach = R161.radius_m + BALL.radius_m
     phases = judge.phases(8)
     case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=100.0, e=1.0)
-    for phase in phases:
-        st = replace(ctx.settings, dt_s=1e-3, contact_phase=float(phase))
-        out = ctx.fire([case], st)[0]
+    each = [replace(ctx.settings, dt_s=1e-3, contact_phase=float(p)) for p in phases]
+    fired = fire_jobs([Job(engine=ctx.name, settings=st, case=case) for st in each])
+    for phase, st, f in zip(phases, each, fired):
+        out = f.outcome
         want = bool(judge.caught_in_theory(100.0, 1e-3, phase, reach, st.overlap_m,
                                            st.speculative_margin_m()))
         # caught: any status but a miss (whether its energy is right is energy_at_e1's)

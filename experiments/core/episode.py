@@ -166,7 +166,8 @@ class _Stepper:
         side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(starts))[3]
         self.came_from = xp.where(side < 0.0, -1.0, 1.0)
         cols = xp.cols(starts)
-        self.ball_v0 = (cols[g.BALL_VX], cols[g.BALL_VY])
+        vx0, vy0 = cols[g.BALL_VX], cols[g.BALL_VY]
+        self.ball_v0 = (vx0, vy0, DEFLECTED ** 2 * (vx0 * vx0 + vy0 * vy0))
         batch.set_state(starts)
         for step in range(1, self.max_steps + 1):
             batch.step()
@@ -217,9 +218,9 @@ class _Stepper:
                                                         self.came_from)
         self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
         # a contact that began and ended between two readings shows in the ball's velocity
-        vx0, vy0 = self.ball_v0
-        deflected = (xp.hypot(cols[g.BALL_VX] - vx0, cols[g.BALL_VY] - vy0)
-                     > DEFLECTED * xp.hypot(vx0, vy0))
+        vx0, vy0, limit2 = self.ball_v0
+        dvx, dvy = cols[g.BALL_VX] - vx0, cols[g.BALL_VY] - vy0
+        deflected = dvx * dvx + dvy * dvy > limit2  # |v - v0| > DEFLECTED |v0|, squared
         t = ok & (touching | (deflected & (self.first < 0)))
         self.first = xp.where(t & (self.first < 0), step, self.first)
         self.last = xp.where(t, step, self.last)

@@ -17,8 +17,9 @@ import threading
 import time
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
-from operator import attrgetter
+from dataclasses import dataclass, replace
+from itertools import compress, pairwise
+from operator import attrgetter, ne
 
 import numpy as np
 
@@ -114,8 +115,18 @@ def check_mass_properties(name: str, got: MassProperties, scene: Scene, eps: flo
 _HOSTED: OrderedDict[tuple[str, Settings], Hosted] = OrderedDict()
 
 
+def engine_settings(name: str, settings: Settings) -> Settings:
+    """The settings an engine is made with: a batched engine's worlds may differ in where the
+    contact falls in a step (``contact_phase``: placement, the harness's, not the engine's),
+    so its adapter is made with contact_phase 0 and serves them all."""
+    if adapters.record(name).batched and settings.contact_phase != 0.0:
+        return replace(settings, contact_phase=0.0)
+    return settings
+
+
 def hosted(name: str, settings: Settings) -> Hosted:
     """This process's adapter for ``name`` and ``settings`` (made once, reused)."""
+    settings = engine_settings(name, settings)
     key = (name, settings)
     if key in _HOSTED:
         _HOSTED.move_to_end(key)
@@ -168,14 +179,21 @@ batch_key = attrgetter("engine", "settings", "swing", "case.bat", "case.ball", "
 
 
 def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
-    """Consecutive jobs that share engine, settings, scene and swing: a batched engine's batches."""
+    """A batched engine's batches: consecutive jobs that share engine, settings, scene and
+    swing, those of one engine differing only in ``contact_phase`` joined into one."""
     keys = list(map(batch_key, jobs))
-    out, start = [], 0
-    for i in range(1, len(jobs) + 1):
-        if i == len(jobs) or keys[i] != keys[start]:
-            out.append(jobs[start:i])
-            start = i
-    return out
+    cuts = [0, *compress(range(1, len(keys)), map(ne, keys[1:], keys)), len(keys)]
+    spans: list[list[int]] = []  # [first, end) of each batch: joined runs are consecutive
+    last = None
+    for a, b in pairwise(cuts):
+        j = jobs[a]
+        key = (j.engine, engine_settings(j.engine, j.settings), *keys[a][2:])
+        if key == last and adapters.record(j.engine).batched:
+            spans[-1][1] = b
+        else:
+            spans.append([a, b])
+        last = key
+    return [jobs[a:b] for a, b in spans]
 
 
 def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
@@ -184,16 +202,18 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     t0 = time.perf_counter()
     st = host.settings
     plans: list[SwingPlan] | None = None
-    cases = [j.case for j in jobs]
+    cases, each = [j.case for j in jobs], [j.settings for j in jobs]
     if jobs[0].swing is not None:
         planned = [swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
-                              swing=jobs[0].swing, settings=st) for c in cases]
+                              swing=jobs[0].swing, settings=k) for c, k in zip(cases, each)]
         cases, plans = [p[0] for p in planned], [p[1] for p in planned]
     bat, ball = cases[0].bat, cases[0].ball
     batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e), len(cases))
     xp = batch.xp
     cc = case_columns(xp, cases)
-    check_placements(xp, cases, cc, st)
+    cc.contact_phase = (each[0].contact_phase if each.count(each[0]) == len(each)
+                        else np.array([k.contact_phase for k in each]))
+    check_placements(xp, cases, cc, each)
     starts = start_states(xp, bat, ball, cc, st)[0]
     release = xp.full(len(cases), math.nan), xp.full(len(cases), math.nan)
     try:
@@ -201,11 +221,11 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
             starts, release = _swing_into_place(batch, plans, starts, bat)
         episodes = step_episodes(batch, bat, ball, st, starts)
     except NotImplementedError:  # an engine that cannot drive the bat
-        return _failed(host, cases, plans, Status.UNSUPPORTED, "no set_drive", t0)
+        return _failed(host, cases, each, plans, Status.UNSUPPORTED, "no set_drive", t0)
     except (KeyboardInterrupt, SceneMismatch):
         raise
     except Exception as err:  # the engine raised while stepping: a failure, not a crash
-        return _failed(host, cases, plans, Status.ERROR, f"error: {err!r}"[:200], t0)
+        return _failed(host, cases, each, plans, Status.ERROR, f"error: {err!r}"[:200], t0)
     cols = _measure(xp, host, cc, starts, episodes, bat, ball)
     cols["release_omega_radps"], cols["release_angle_rad"] = release
     cols["steps"] = cols["steps"] + (plans[0].steps if plans else 0)
@@ -216,7 +236,7 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     cols.update(nan_release(len(cases)) if plans is None else {
         "release_omega_analytic_radps": np.array([p.omega_release_radps for p in plans]),
         "release_angle_analytic_rad": np.array([p.angle_release_rad for p in plans])})
-    return FiredBlock(cases, cols, engine=host.name, settings=st, wall_s=wall)
+    return FiredBlock(cases, cols, engine=host.name, settings=each, wall_s=wall)
 
 
 def _measure(xp, host: Hosted, cc, start, ep, bat, ball) -> dict:
@@ -265,17 +285,18 @@ def _analytic_release(plan: SwingPlan | None) -> tuple[float, float]:
                                                       plan.angle_release_rad)
 
 
-def _failed(host: Hosted, cases, plans, status: Status, why: str, t0: float) -> list[Fired]:
+def _failed(host: Hosted, cases, each: list[Settings], plans, status: Status, why: str,
+            t0: float) -> list[Fired]:
     """Every job of a batch with no measurement: ``status``, NaN numbers, ``ended`` = why."""
     wall = (time.perf_counter() - t0) / len(cases)
     nan = math.nan
     out = []
-    for case, plan in zip(cases, plans or [None] * len(cases)):
+    for case, settings, plan in zip(cases, each, plans or [None] * len(cases)):
         o = SimOutcome(v1_mps=nan, u1_mps=nan, omega1_radps=nan, impulse_ns=nan, q=nan,
                        closing_speed_mps=case.closing_speed_mps, hand_dv_mps=nan,
                        ke_before_j=nan, ke_after_j=nan, v1_t_mps=nan, u1_t_mps=nan,
                        engine=host.name, status=status, contact_duration_s=0.0,
-                       peak_penetration_m=nan, steps=0, wall_s=wall, settings=host.settings,
+                       peak_penetration_m=nan, steps=0, wall_s=wall, settings=settings,
                        ended=why, ball_side_m=nan)
         out.append(Fired(case, o, *_analytic_release(plan)))
     return out

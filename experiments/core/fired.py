@@ -50,10 +50,11 @@ def outcome(cols: dict, i: int | None, *, engine: str, settings: Settings,
 
 class FiredBlock(Sequence):
     """One batch's fired impacts as columns (``FLOAT_FIELDS``, status, steps, ended, and the
-    analytic release as ``release_omega_analytic_radps``/``release_angle_analytic_rad``)."""
+    analytic release as ``release_omega_analytic_radps``/``release_angle_analytic_rad``), and
+    each job's own settings (its worlds may differ in ``contact_phase``)."""
 
     def __init__(self, cases: Sequence[ImpactCase], cols: dict[str, np.ndarray], *,
-                 engine: str, settings: Settings, wall_s: float) -> None:
+                 engine: str, settings: Sequence[Settings], wall_s: float) -> None:
         self.cases, self.cols = list(cases), cols
         self.engine, self.settings, self.wall_s = engine, settings, wall_s
 
@@ -64,7 +65,7 @@ class FiredBlock(Sequence):
         if isinstance(i, slice):
             return [self[k] for k in range(*i.indices(len(self)))]
         i = range(len(self))[i]
-        out = outcome(self.cols, i, engine=self.engine, settings=self.settings,
+        out = outcome(self.cols, i, engine=self.engine, settings=self.settings[i],
                       wall_s=self.wall_s)
         return Fired(self.cases[i], out, float(self.cols["release_omega_analytic_radps"][i]),
                      float(self.cols["release_angle_analytic_rad"][i]))

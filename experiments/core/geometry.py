@@ -131,9 +131,10 @@ def jumped(xp, before, after, elapsed_s, limit_m: float):
     larger speed over the time between them, plus ``limit_m``: a reset of the state."""
     out = False
     for x, y, vx, vy in ((BALL_X, BALL_Y, BALL_VX, BALL_VY), (BAT_X, BAT_Y, BAT_VX, BAT_VY)):
-        moved = xp.hypot(after[x] - before[x], after[y] - before[y])
-        speed = xp.maximum(xp.hypot(before[vx], before[vy]), xp.hypot(after[vx], after[vy]))
-        out = out | (moved > 2.0 * speed * elapsed_s + limit_m)
+        dx, dy = after[x] - before[x], after[y] - before[y]
+        speed2 = xp.maximum(before[vx] ** 2 + before[vy] ** 2, after[vx] ** 2 + after[vy] ** 2)
+        allowed = 2.0 * elapsed_s * speed2 ** 0.5 + limit_m
+        out = out | (dx * dx + dy * dy > allowed * allowed)  # squared: no square root per body
     return out
 
 

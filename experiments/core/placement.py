@@ -81,22 +81,22 @@ def case_columns(xp, cases: Sequence[ImpactCase]) -> SimpleNamespace:
 
 
 def check_placements(xp, cases: Sequence[ImpactCase], cc: SimpleNamespace,
-                     settings: Settings) -> None:
-    """``check_placement`` for every case (``cc`` their columns): the cases the columns flag
-    are checked one by one, which raises with the message."""
-    bat = cases[0].bat
+                     each: Sequence[Settings]) -> None:
+    """``check_placement`` for every case under its own settings (``cc`` the cases' columns
+    with their ``contact_phase``; the other placement fields shared): the cases the columns
+    flag are checked one by one, which raises with the message."""
+    bat, st = cases[0].bat, each[0]
     off = (cc.s_m < bat.s_min_m - HITTABLE_SLACK_M) | (cc.s_m > bat.s_max_m + HITTABLE_SLACK_M)
-    smallest = settings.overlap_m / (cc.closing_speed_mps
-                                     * (settings.approach_steps - settings.contact_phase))
-    for i in xp.indices(off | xp.not_(settings.dt_s > smallest)):
-        check_placement(cases[i], settings)
+    smallest = st.overlap_m / (cc.closing_speed_mps * (st.approach_steps - cc.contact_phase))
+    for i in xp.indices(off | xp.not_(st.dt_s > smallest)):
+        check_placement(cases[i], each[i])
 
 
 def start_states(xp, bat: Bat, ball: Ball, cc: SimpleNamespace, settings: Settings):
     """The states T seconds before contact (module docstring), one per case of the columns
-    ``cc``, as the batch takes them; returns (states, T)."""
+    ``cc`` (each with its ``contact_phase``), as the batch takes them; returns (states, T)."""
     vc = cc.closing_speed_mps
-    T = (settings.approach_steps - settings.contact_phase) * settings.dt_s - settings.overlap_m / vc
+    T = (settings.approach_steps - cc.contact_phase) * settings.dt_s - settings.overlap_m / vc
     v_t, v_n = cc.v0_mps * xp.sin(cc.theta_rad), -cc.v0n_mps
     u_t, u_n = cc.u0_mps * xp.sin(cc.phi_rad), cc.u0n_mps
     reach = bat.radius_m + ball.radius_m
@@ -106,8 +106,9 @@ def start_states(xp, bat: Bat, ball: Ball, cc: SimpleNamespace, settings: Settin
 
 def start_state(case: ImpactCase, settings: Settings) -> tuple[State, float]:
     """One case's start state, T seconds before contact (module docstring); returns (state, T)."""
-    return start_states(g.SCALARS, case.bat, case.ball, case_columns(g.SCALARS, [case]),
-                        settings)
+    cc = case_columns(g.SCALARS, [case])
+    cc.contact_phase = settings.contact_phase
+    return start_states(g.SCALARS, case.bat, case.ball, cc, settings)
 
 
 @dataclass(frozen=True, kw_only=True)
