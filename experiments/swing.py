@@ -54,6 +54,8 @@ SCENES = {
                                        force_angle_rad=math.pi / 2),
     "d: torque, hinged at the hands": Drive(torque_nm=72.8, pivot_from_knob_m=0.1),
 }
+#: The most one engine x integrator x time step may cost, priced at the record's step cost (s).
+BUDGET_S = 40.0
 FLOOR = 1e-13  # drawing floor for errors that are zero or float noise
 EPS = float(np.finfo(float).eps)
 
@@ -93,10 +95,17 @@ def method_rows(engine: str, integrator: adapters.Integrator, dt: float) -> list
     return rows
 
 
+def affordable(engine: str, dt: float) -> bool:
+    """Whether the scenes at step dt fit BUDGET_S at the record's measured step cost (a batched
+    engine steps one world at milliseconds a step on a CPU: its finest steps are left out)."""
+    return adapters.record(engine).step_cost_s * round(T_END_S / dt) * len(SCENES) <= BUDGET_S
+
+
 def scene_errors(runner: Runner, engines: tuple[str, ...], steps) -> pd.DataFrame:
-    """Every engine x integrator (from its record) x time step, run side by side."""
+    """Every engine x integrator (from its record) x affordable time step, side by side."""
     calls = [(method_rows, (engine, integrator, dt)) for engine in engines
-             for integrator in adapters.record(engine).integrators for dt in steps]
+             for integrator in adapters.record(engine).integrators for dt in steps
+             if affordable(engine, dt)]
     return pd.DataFrame([r for rows in runner.call_all(calls) for r in rows])
 
 
@@ -238,7 +247,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """The scenes in every chosen engine and integrator, and the swing-model table."""
     t0 = time.perf_counter()
     with cli.runner(args) as runner:
-        table = scene_errors(runner, args.engine, QUICK_STEPS_S if args.quick else STEPS_S)
+        steps = QUICK_STEPS_S if args.quick else STEPS_S
+        table = scene_errors(runner, args.engine, steps)
     fits = orders(table)
     models = swing_models()
     import matplotlib.pyplot as plt
@@ -250,7 +260,10 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     for name, df, fmt in (("swing.csv", table, "%.6g"), ("swing_orders.csv", fits, "%.4g"),
                           ("swing_models.csv", models, "%.6g")):
         files[name] = df.to_csv(index=False, float_format=fmt, lineterminator="\n").encode()
+    left_out = {e: [dt for dt in steps if not affordable(e, dt)] for e in args.engine}
     files["swing.json"] = json_bytes({"t_end_s": T_END_S, "quick": args.quick,
+                                      "budget_s": BUDGET_S,
+                                      "steps_left_out_s": {e: v for e, v in left_out.items() if v},
                                       "elapsed_s": time.perf_counter() - t0,
                                       "provenance": provenance()})
     pivot = fits.pivot_table(index=["scene", "method"], columns="quantity", values="p",
