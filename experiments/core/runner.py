@@ -23,6 +23,7 @@ from typing import Any
 import adapters
 
 from .fire import Fired, Job, close_engines, fire_jobs, forget_engines
+from .fired import FiredSeq
 
 #: Below this much estimated work (s) the rest of a run stays in this process: starting workers
 #: and shipping the work costs more than it saves.
@@ -131,36 +132,42 @@ class Runner:
         jobs = list(jobs)
         if not jobs:
             return []
-        # nothing to decide, or nothing to spread: no probe (it would split a batched grid)
-        if not self.parallel or all(adapters.record(j.engine).batched for j in jobs):
+        kind = {n: adapters.record(n).batched for n in {j.engine for j in jobs}}
+        batched = [kind[j.engine] for j in jobs]
+        # nothing to decide, or nothing to spread: no probe
+        if not self.parallel or all(batched):
             return fire_jobs(jobs, self.progress)
+        # a batched engine's worlds run side by side in its own call: its jobs stay here, as
+        # one batch per scene (JAX, moreover, deadlocks in a forked worker); the probe that
+        # prices a job is a single-world one (a batched one would split its batch)
+        p = batched.index(False)
         t0 = time.perf_counter()
-        out = fire_jobs(jobs[:1])
+        probe = fire_jobs([jobs[p]])
         self._tick(1)
         per_job = time.perf_counter() - t0
-        rest = jobs[1:]
-        # a batched engine's worlds run side by side in its own call: its jobs stay here, as
-        # one batch per scene (JAX, moreover, deadlocks in a forked worker)
-        batched = [adapters.record(j.engine).batched for j in rest]
         here = [i for i, b in enumerate(batched) if b]
-        there = [j for j, b in zip(rest, batched) if not b]
-        if not self.parallel or per_job * len(there) < self.min_parallel_s:
-            return out + fire_jobs(rest, self.progress)
+        there = [i for i, b in enumerate(batched) if not b and i != p]
+        if per_job * len(there) < self.min_parallel_s:  # (no batch straddles the probe)
+            return FiredSeq([fire_jobs(jobs[:p], self.progress), probe,
+                             fire_jobs(jobs[p + 1:], self.progress)])
         if self.scheduler is not None:  # spawned workers: every one imports the engines first
-            self._dask().run(_import_engines, sorted({j.engine for j in there}))
+            self._dask().run(_import_engines, sorted({jobs[i].engine for i in there}))
         size = max(1, min(round(CHUNK_S / max(per_job, 1e-9)),
                           math.ceil(len(there) / (4 * max(self.workers, 1)))))
-        parts = self._map_remote(fire_jobs, [there[i:i + size]
-                                             for i in range(0, len(there), size)])
-        local = fire_jobs([rest[i] for i in here], self.progress)
-        remote = []
+        parts = self._map_remote(fire_jobs, [[jobs[i] for i in there[k:k + size]]
+                                             for k in range(0, len(there), size)])
+        out: list = [None] * len(jobs)
+        out[p] = probe[0]
+        remote = iter(there)
         for part in parts:
-            remote.extend(part)
+            for f in part:
+                out[next(remote)] = f
             self._tick(len(part))
-        by_index = dict(zip(here, local))
-        rest_out = iter(remote)
-        return out + [by_index[i] if i in by_index else next(rest_out)
-                      for i in range(len(rest))]
+        # then the batched ones: stepping them beside the workers would slow the workers'
+        # timed impacts (the workers fill the cores)
+        for i, f in zip(here, fire_jobs([jobs[i] for i in here], self.progress)):
+            out[i] = f
+        return out
 
     def _tick(self, n: int) -> None:
         if self.progress is not None:
