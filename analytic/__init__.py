@@ -9,6 +9,7 @@
 from . import presets
 from .collide import CollisionEpisode, collide
 from .cork import Hole, corked_bat, corked_bat_paper
+from .friction import FrictionalImpulse, FrictionOutcome, frictional_impulse, predict_friction
 from .impact import (
     PaperOblique,
     SweetRegion,
@@ -28,10 +29,10 @@ from .model import Ball, Bat, ImpactCase, Outcome
 from .swing import MEASURED_EXPONENT, Swing, SwingModel, swing_for
 
 __all__ = [
-    "Ball", "Bat", "CollisionEpisode", "Hole", "ImpactCase", "Impulse3D", "MEASURED_EXPONENT",
-    "Outcome", "PaperOblique", "RigidBody3D", "SweetRegion", "Swing", "SwingModel",
-    "batted_ball_speed", "center_of_percussion", "collide", "collision_efficiency", "corked_bat",
-    "corked_bat_paper", "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays",
-    "predict_oblique_paper", "presets",
-    "sweet_region", "sweet_spot", "sweet_zone", "swing_for",
+    "Ball", "Bat", "CollisionEpisode", "FrictionOutcome", "FrictionalImpulse", "Hole",
+    "ImpactCase", "Impulse3D", "MEASURED_EXPONENT", "Outcome", "PaperOblique", "RigidBody3D",
+    "SweetRegion", "Swing", "SwingModel", "batted_ball_speed", "center_of_percussion", "collide",
+    "collision_efficiency", "corked_bat", "corked_bat_paper", "frictional_impulse",
+    "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays", "predict_friction",
+    "predict_oblique_paper", "presets", "sweet_region", "sweet_spot", "sweet_zone", "swing_for",
 ]
