@@ -82,25 +82,30 @@ def soft(res: Results, table: pd.DataFrame, conv: pd.DataFrame) -> list[str]:
         wall["w"] = wall.family.str.extract(r"w=(\d+)")[0]
         piv = wall.pivot_table(index=["dt_s", "w"], columns="integrator", dropna=False,
                                values=["wall_per_collision_s", "max_rel_err"])
-        t, err = piv["wall_per_collision_s"], piv["max_rel_err"]
-        cost = (t["RK4"] / t["Euler"]).median()
-        worse = int((err["RK4"] > err["Euler"]).sum())
-        both = int(err[["RK4", "Euler"]].notna().all(axis=1).sum())
-        same = np.allclose(err["implicitfast"], err["Euler"], equal_nan=True)
-        implicit = (t["implicitfast"] / t["Euler"]).median()
         text = (f"**{label(e)}'s soft contact does not converge to the impulse model**: its finite "
                 "contact time while the bat turns leaves "
                 f"{span(c.err_at_dt_min.min(), c.err_at_dt_min.max())} at the smallest step "
-                f"(fitted p from {c.p.min():.2f} to {c.p.max():.2f}; "
+                f"(fitted p {span(c.p.min(), c.p.max(), lambda v: f'{v:.2f}', ' to ')}; "
                 + (names(f"{r.family} fits a power law well, r^2 = {r.r2:.2f}, and it too levels "
                          f"off near {sci(r.err_at_dt_min, 1)}" for r in fit.itertuples())
                    if len(fit) else "none fits a power law well") + "). "
-                f"RK4 costs {times(cost, 1)} Euler and its max error is the larger at {worse} of "
-                f"{both} settings; implicitfast gives "
-                f"{'Euler' if same else 'about Euler'}'s numbers at {times(implicit, 1)} its "
-                "cost.")
+                + _integrators(piv["wall_per_collision_s"], piv["max_rel_err"]))
         out.append(text + " " + own_law(e, c))
     return out
+
+
+def _integrators(t: pd.DataFrame, err: pd.DataFrame) -> str:
+    """RK4's and implicitfast's cost and error beside Euler's, where the engine ran them."""
+    if not {"RK4", "Euler", "implicitfast"} <= set(t.columns):
+        return ""
+    cost = (t["RK4"] / t["Euler"]).median()
+    worse = int((err["RK4"] > err["Euler"]).sum())
+    both = int(err[["RK4", "Euler"]].notna().all(axis=1).sum())
+    same = np.allclose(err["implicitfast"], err["Euler"], equal_nan=True)
+    implicit = (t["implicitfast"] / t["Euler"]).median()
+    return (f"RK4 costs {times(cost, 1)} Euler and its max error is the larger at {worse} of "
+            f"{both} settings; implicitfast gives {'Euler' if same else 'about Euler'}'s "
+            f"numbers at {times(implicit, 1)} its cost.")
 
 
 def own_law(engine: str, c: pd.DataFrame) -> str:
@@ -117,10 +122,11 @@ def own_law(engine: str, c: pd.DataFrame) -> str:
             "theory: the model error of a millisecond contact. The chart draws each soft "
             "setting twice: a dot against rigid theory, a hollow diamond against its own law "
             "(`max_law_rel_err` in `results/pareto.csv`; fitted orders `p_law` in "
-            f"`results/convergence.csv`: {at} at w = {mid.w.iloc[0]:g} rad/s; "
-            f"{span(rest.p_law.min(), rest.p_law.max(), lambda v: f'{v:.2f}')} at w = "
-            f"{names(f'{w:g}' for w in sorted(rest.w.unique()))} rad/s, where the grid's "
-            "deepest contacts approach the sinking limit w = v/R or the step w dt = 0.1).")
+            f"`results/convergence.csv`: {at} at w = {mid.w.iloc[0]:g} rad/s"
+            + (f"; {span(rest.p_law.min(), rest.p_law.max(), lambda v: f'{v:.2f}')} at w = "
+               f"{names(f'{w:g}' for w in sorted(rest.w.unique()))} rad/s, where the grid's "
+               "deepest contacts approach the sinking limit w = v/R or the step w dt = 0.1"
+               if len(rest) else "") + ").")
 
 
 def integrator_fails(table: pd.DataFrame) -> str:
