@@ -90,7 +90,7 @@ def soft(res: Results, table: pd.DataFrame, conv: pd.DataFrame) -> list[str]:
                          f"off near {sci(r.err_at_dt_min, 1)}" for r in fit.itertuples())
                    if len(fit) else "none fits a power law well") + "). "
                 + _integrators(piv["wall_per_collision_s"], piv["max_rel_err"]))
-        out.append(text + " " + own_law(e, c))
+        out.append(text.rstrip() + " " + own_law(e, c))
     return out
 
 
