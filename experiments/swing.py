@@ -128,26 +128,10 @@ QUANTITIES = (("angle_err_rad", "angle error (rad)"),
               ("com_speed_err_mps", "COM velocity error (m/s)"))
 
 
-def _same_curves(df: pd.DataFrame, q: str) -> list[tuple[list[str], pd.DataFrame]]:
-    """Methods grouped by identical error curves (to 1e-6 relative above the rounding floor),
-    so that a curve hidden under another is named, not lost."""
-    groups: list[tuple[list[str], pd.DataFrame]] = []
-    for method, d in df.groupby("method", sort=False):
-        err = np.where(d[q] > noise_floor(d, q), d[q], 0.0)
-        for names, ref in groups:
-            ref_err = np.where(ref[q] > noise_floor(ref, q), ref[q], 0.0)
-            if (list(d.dt_s) == list(ref.dt_s)  # (an engine may run fewer steps: BUDGET_S)
-                    and np.allclose(err, ref_err, rtol=1e-6, atol=0.0)):
-                names.append(method)
-                break
-        else:
-            groups.append(([method], d))
-    return groups
-
-
 def chart_scenes(table: pd.DataFrame):
-    """Error against time step, one column per scene and one row per quantity; methods with
-    the same curve share a line, and a panel whose errors are all rounding says so."""
+    """Error against time step, one column per scene and one row per quantity; every method
+    drawn, each a little smaller than the one before (equal curves stack visibly, one legend
+    below), and a panel whose errors are all rounding says so."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -157,7 +141,7 @@ def chart_scenes(table: pd.DataFrame):
     methods = list(dict.fromkeys(table.method))
     colors = dict(zip(methods, itertools.cycle(plt.cm.tab20.colors)))
     markers = dict(zip(methods, itertools.cycle("osv^Dpx*<>hP")))
-    fig, axes = plt.subplots(len(QUANTITIES), len(scenes), figsize=(3.3 * len(scenes), 9.5),
+    fig, axes = plt.subplots(len(QUANTITIES), len(scenes), figsize=(3.3 * len(scenes), 11),
                              sharex=True, layout="constrained")
     for col, scene in enumerate(scenes):
         df = table[table.scene == scene]
@@ -169,12 +153,12 @@ def chart_scenes(table: pd.DataFrame):
                         transform=ax.transAxes, ha="center", va="center", fontsize=8)
                 ax.set_xscale("log")
                 ax.set_yticks([])
-            for i, (names, d) in enumerate(_same_curves(df, q) if not above.empty else []):
-                ax.loglog(d.dt_s, np.maximum(d[q], FLOOR), "-", marker=markers[names[0]],
-                          ms=7 - 1.5 * i, mfc="none", lw=2.2 - 0.5 * i, alpha=0.85,
-                          color=colors[names[0]], label=" = ".join(names))
-            if not above.empty:
-                ax.legend(fontsize=6, loc="upper left")
+            # every method drawn, each smaller than the one before: equal curves stack visibly
+            for method, d in df.groupby("method", sort=False) if not above.empty else []:
+                k = methods.index(method) / max(len(methods) - 1, 1)
+                ax.loglog(d.dt_s, np.maximum(d[q], FLOOR), "-", marker=markers[method],
+                          ms=9 - 6 * k, mfc="none", lw=2.6 - 2.0 * k, alpha=0.85,
+                          color=colors[method], label=method)
             ax.grid(alpha=0.3, which="both")
             if row == 0:
                 ax.set_title(scene, fontsize=9)
@@ -182,6 +166,9 @@ def chart_scenes(table: pd.DataFrame):
                 ax.set_ylabel(label)
             if row == len(QUANTITIES) - 1:
                 ax.set_xlabel("time step (s)")
+    handles = [plt.Line2D([], [], color=colors[m], marker=markers[m], mfc="none", label=m)
+               for m in methods]
+    fig.legend(handles=handles, loc="outside lower center", ncol=7, fontsize=7)
     fig.suptitle(f"Forces and torques on the R161 in each engine and integrator vs closed form "
                  f"/ solve_ivp: |error| at t = {T_END_S:g} s (errors below the rounding floor "
                  f"drawn at {FLOOR:g})", fontsize=10)

@@ -186,22 +186,3 @@ def test_swing_into_impact(name):
         law_tol = judge.soft_judgement(case, out)[1] if lawful else precision
         assert abs(out.v1_mps - ref.v1_mps) <= 2 * (spread + oblique + spin) + law_tol
 
-
-def test_swing_chart_keeps_curves_over_other_steps_apart():
-    # The swing study leaves out the steps an engine cannot afford (swing.BUDGET_S): a method
-    # run over fewer steps is its own curve, never merged with (or compared to) a longer one,
-    # while two methods with the same errors at the same steps are one curve named twice.
-    import pandas as pd
-
-    from experiments import swing
-
-    def rows(method, steps, errors):
-        refs = {"angle_ref_rad": 1.0, "omega_ref_radps": 1.0, "com_speed_ref_mps": 1.0}
-        return [{"method": method, "dt_s": dt, "angle_err_rad": err, "steps": round(0.1 / dt),
-                 **refs} for dt, err in zip(steps, errors)]
-
-    df = pd.DataFrame(rows("a", (1e-3, 1e-4, 1e-5), (1e-2, 1e-3, 1e-4))
-                      + rows("b", (1e-3, 1e-4, 1e-5), (1e-2, 1e-3, 1e-4))
-                      + rows("c", (1e-3, 1e-4), (1e-2, 1e-3)))
-    groups = swing._same_curves(df, "angle_err_rad")
-    assert [names for names, _ in groups] == [["a", "b"], ["c"]]
