@@ -154,12 +154,9 @@ def chart(table: pd.DataFrame):
             best = rows.loc[rows.impacts_per_s.idxmax()]
             ax.plot(rows.max_abs_err_mps.clip(lower=1e-16), rows.impacts_per_s, "-",
                     color=rec.color, alpha=0.4)
-            # hollow: engines of equal error and speed (MuJoCo C, PyBullet, pymunk) all show
             ax.scatter(rows.max_abs_err_mps.clip(lower=1e-16), rows.impacts_per_s,
-                       s=16 + 14 * np.log10(rows.batch), marker=rec.marker,
-                       facecolors="none", edgecolors=rec.color, linewidths=1.4,
+                       s=12 + 10 * np.log10(rows.batch), marker=rec.marker, color=rec.color,
                        label=f"{name} ({rec.precision}; best at batch {best.batch:,})")
-        _name_clusters(ax, part)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("largest |v1 - rigid theory| on the 41-point grid (m/s, log)")
@@ -169,17 +166,6 @@ def chart(table: pd.DataFrame):
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7, loc="best")
     return fig
-
-
-def _name_clusters(ax, part: pd.DataFrame) -> None:
-    """Name the engines above their fastest point, those within a quarter decade of error
-    together (markers of equal error and speed hide one another)."""
-    best = part.loc[part.groupby("engine", sort=False).impacts_per_s.idxmax()]
-    err = best.max_abs_err_mps.clip(lower=1e-16)
-    for _, group in best.groupby(np.round(np.log10(err) * 4), sort=False):
-        ax.annotate(", ".join(group.engine), (group.max_abs_err_mps.clip(lower=1e-16).min(),
-                                              group.impacts_per_s.max()),
-                    xytext=(0, 9), textcoords="offset points", fontsize=7, ha="center")
 
 
 def summary(table: pd.DataFrame) -> pd.DataFrame:
