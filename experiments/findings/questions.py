@@ -90,16 +90,25 @@ def _sweet_engines_text(engines: tuple[str, ...]) -> str:
     """The sweet spot from each engine's data against the model's, rigid contacts apart."""
     located, ref = A.engine_sweet_spots(engines), adapters.ContactReference.RIGID_IMPULSE
     rigid = {n: adapters.settings_for(n).contact_reference() is ref for n in engines}
-    worst = {kind: max((abs(x) for n in engines if rigid[n] is kind
-                        for x in located[f"{n} - analytic (mm)"]), default=math.nan)
-             for kind in (True, False)}
+    f32 = {n: adapters.record(n).precision == "float32" for n in engines}
+
+    def worst(names) -> float:
+        return max((abs(x) for n in names for x in located[f"{n} - analytic (mm)"]),
+                   default=math.nan)
+
     soft = ", ".join(n for n in engines if not rigid[n])
     soft = soft and (f"; {soft}, whose contact converges to a compliant law, up to\n"
-                     f"{worst[False]:.3g} mm from it (the rigid model is not its answer)")
+                     f"{worst([n for n in engines if not rigid[n]]):.3g} mm from it (the rigid "
+                     "model is not its answer)")
+    single = [n for n in engines if rigid[n] and f32[n]]
+    single = single and (f" ({', '.join(single)}, float32: up to "
+                         f"{worst(single):.2g} mm, for v1 is flat at its maximum and an error "
+                         "dv in v1 moves the located maximum by up to sqrt(2 dv / |v1''|))")
     return f"""\
 Located from engine data alone (a bounded Brent search on each engine's v1(s), reference
-profile), every engine whose contact converges to the rigid impulse puts the sweet spot within
-**{worst[True] * 1e3:.2g} um** of the model{soft} (engine minus model, mm):
+profile), every float64 engine whose contact converges to the rigid impulse puts the sweet
+spot within **{worst([n for n in engines if rigid[n] and not f32[n]]) * 1e3:.2g} um** of the
+model{single}{soft} (engine minus model, mm):
 
 {md_table(located, "{:.4g}")}
 """
