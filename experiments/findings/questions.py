@@ -6,17 +6,16 @@ report's head and audit quote again; the numbers come from ``answers`` and ``met
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
 
-import adapters
 from analytic import MEASURED_EXPONENT, SwingModel, batted_ball_speed, center_of_percussion
 
 from . import answers as A
 from . import metal as M
+from .located import sweet_engines_text
 from .report import Section, along_the_barrel, md_table, pyplot
 
 if TYPE_CHECKING:
@@ -39,7 +38,7 @@ def sweet_spot_section(engines: tuple[str, ...]) -> Section:
     lo_cm, hi_cm = A.from_end_cm(A.R161, region.s_hi_m), A.from_end_cm(A.R161, region.s_lo_m)
     text = "\n".join([_sweet_model_text(region, table, lo_cm, hi_cm),
                       _sweet_literature_text(table, lo_cm, hi_cm),
-                      _sweet_engines_text(engines),
+                      sweet_engines_text(engines),
                       "![sweet spot region](findings_sweet_spot.png)\n"])
     widths_cm = [(hi - lo) * 100 for lo, hi in (A.zone(A.R161, sc) for sc in A.SCENARIOS)]
     return text, {"findings_sweet_spot.png": _sweet_spot_figure(region)}, {
@@ -83,34 +82,6 @@ The centre of percussion for hands 0.1 m from the knob
 ({A.from_end_cm(A.R161, center_of_percussion(A.R161, A.HANDS_M)):.1f} cm from the end) falls in
 the paper's swing's sweet zone ({paper_zone['1% zone (cm from end)']} cm), but it is a different
 spot (no jolt at the hands, not the largest v1).
-"""
-
-
-def _sweet_engines_text(engines: tuple[str, ...]) -> str:
-    """The sweet spot from each engine's data against the model's, rigid contacts apart."""
-    located, ref = A.engine_sweet_spots(engines), adapters.ContactReference.RIGID_IMPULSE
-    rigid = {n: adapters.settings_for(n).contact_reference() is ref for n in engines}
-    f32 = {n: adapters.record(n).precision == "float32" for n in engines}
-
-    def worst(names) -> float:
-        return max((abs(x) for n in names for x in located[f"{n} - analytic (mm)"]),
-                   default=math.nan)
-
-    soft = ", ".join(n for n in engines if not rigid[n])
-    soft = soft and (f"; {soft}, whose contact converges to a compliant law, up to\n"
-                     f"{worst([n for n in engines if not rigid[n]]):.3g} mm from it (the rigid "
-                     "model is not its answer)")
-    single = [n for n in engines if rigid[n] and f32[n]]
-    single = single and (f" ({', '.join(single)}, float32: up to "
-                         f"{worst(single):.2g} mm, for v1 is flat at its maximum and an error "
-                         "dv in v1 moves the located maximum by up to sqrt(2 dv / |v1''|))")
-    return f"""\
-Located from engine data alone (a bounded Brent search on each engine's v1(s), reference
-profile), every float64 engine whose contact converges to the rigid impulse puts the sweet
-spot within **{worst([n for n in engines if rigid[n] and not f32[n]]) * 1e3:.2g} um** of the
-model{single}{soft} (engine minus model, mm):
-
-{md_table(located, "{:.4g}")}
 """
 
 
