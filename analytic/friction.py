@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike
 from scipy import integrate, optimize
 
 from . import checks
-from .impulse3d import RigidBody3D, _vec3
+from .impulse3d import RigidBody3D, _vec3, apply_impulse
 
 #: Integration tolerance (relative): the wall limits are met to 1e-12.
 RTOL = 1e-13
@@ -169,13 +169,7 @@ def frictional_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_
                          "do not approach; allowed: v_rel < 0")
     K = collision_matrix(a, b, r_a, r_b)
     P, p_c, phases = _integrate(_Impact(K, n, v0, mu), e, hypothesis)
-    inv_a, inv_b = np.linalg.inv(a.inertia_kgm2), np.linalg.inv(b.inertia_kgm2)
-    a1 = RigidBody3D(mass_kg=a.mass_kg, inertia_kgm2=a.inertia_kgm2,
-                     velocity_mps=a.velocity_mps + P / a.mass_kg,
-                     omega_radps=a.omega_radps + inv_a @ np.cross(r_a, P))
-    b1 = RigidBody3D(mass_kg=b.mass_kg, inertia_kgm2=b.inertia_kgm2,
-                     velocity_mps=b.velocity_mps - P / b.mass_kg,
-                     omega_radps=b.omega_radps - inv_b @ np.cross(r_b, P))
+    a1, b1 = apply_impulse(a, b, r_a, r_b, P)
     return FrictionalImpulse(impulse_ns=P, a=a1, b=b1, compression_ns=p_c, phases=phases)
 
 

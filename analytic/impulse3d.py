@@ -96,11 +96,18 @@ def impulse_3d(
              + n @ np.cross(inv_a @ np.cross(r_a, n), r_a)
              + n @ np.cross(inv_b @ np.cross(r_b, n), r_b))
     j = -(1.0 + e) * v_rel / denom
-    jn = j * n
-    a1 = RigidBody3D(mass_kg=a.mass_kg, inertia_kgm2=a.inertia_kgm2,
-                     velocity_mps=a.velocity_mps + jn / a.mass_kg,
-                     omega_radps=a.omega_radps + inv_a @ np.cross(r_a, jn))
-    b1 = RigidBody3D(mass_kg=b.mass_kg, inertia_kgm2=b.inertia_kgm2,
-                     velocity_mps=b.velocity_mps - jn / b.mass_kg,
-                     omega_radps=b.omega_radps - inv_b @ np.cross(r_b, jn))
+    a1, b1 = apply_impulse(a, b, r_a, r_b, j * n)
     return Impulse3D(j_ns=float(j), a=a1, b=b1)
+
+
+def apply_impulse(a: RigidBody3D, b: RigidBody3D, r_a: np.ndarray, r_b: np.ndarray,
+                  impulse: np.ndarray) -> tuple[RigidBody3D, RigidBody3D]:
+    """Both bodies after the impulse P on A at r_A (and -P on B at r_B): v += P/M,
+    omega += I^-1 (r x P)."""
+    def kicked(body: RigidBody3D, r: np.ndarray, P: np.ndarray) -> RigidBody3D:
+        return RigidBody3D(mass_kg=body.mass_kg, inertia_kgm2=body.inertia_kgm2,
+                           velocity_mps=body.velocity_mps + P / body.mass_kg,
+                           omega_radps=body.omega_radps
+                           + np.linalg.inv(body.inertia_kgm2) @ np.cross(r, P))
+
+    return kicked(a, r_a, impulse), kicked(b, r_b, -impulse)
