@@ -30,12 +30,23 @@ from importlib import metadata
 from pathlib import Path
 from types import MappingProxyType
 
-from .interface import STATE_FIELDS, BatchedEngine, Engine, Hands, MassProperties, Scene, State
+from .interface import (
+    PLANAR_FIELDS,
+    SPATIAL_FIELDS,
+    STATE_FIELDS,
+    BatchedEngine,
+    Engine,
+    Hands,
+    MassProperties,
+    Scene,
+    State,
+)
 from .record import (
     PROFILES,
     ContactReference,
     EngineNotInstalled,
     EngineRecord,
+    FrictionRule,
     Integrator,
     KnobFamily,
     ReportNotes,
@@ -222,9 +233,9 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
 
 
 __all__ = ["BatchedEngine", "ContactReference", "ENTRY_POINT_GROUP", "Engine",
-           "EngineNotInstalled", "EngineRecord", "Hands", "Integrator", "KnobFamily",
-           "MassProperties", "PROFILES", "PluginConflict", "ReportNotes", "RestitutionRule",
-           "STATE_FIELDS", "Scene", "Settings", "State", "TwinStep", "available", "create",
-           "engine_class",
+           "EngineNotInstalled", "EngineRecord", "FrictionRule", "Hands", "Integrator",
+           "KnobFamily", "MassProperties", "PLANAR_FIELDS", "PROFILES", "PluginConflict",
+           "ReportNotes", "RestitutionRule", "SPATIAL_FIELDS", "STATE_FIELDS", "Scene",
+           "Settings", "State", "TwinStep", "available", "create", "engine_class",
            "import_engine", "is_batched", "load", "loaded", "missing", "names", "record",
            "register", "reload_plugins", "settings_for", "unregister"]

@@ -24,8 +24,14 @@ without it the engine sits out the swing studies), ``failed``, ``set_body_restit
 arrays in and arrays out, one row per world in ``STATE_FIELDS`` order.
 
 Frame and units: the world frame is the contact frame at the contact instant: x along the bat
-(knob to barrel), y from the bat toward the ball, rotation about z; every body stays in the x-y
-plane. SI units; the bat's position is its centre of mass (COM), its velocity the COM's.
+(knob to barrel), y from the bat toward the ball, z = x cross y. A frictionless impact in the
+swing plane keeps both bodies in the x-y plane; an undercut ball (its centre off the plane) or
+one spinning about x or y leaves it, and a planar engine (its record's ``planar``) is not
+asked to fire those. SI units; the bat's position is its centre of mass (COM), its velocity the
+COM's; angular velocities are in the world frame. The bat's axis points along
+(cos a cos b, sin a cos b, sin b), a = ``bat_angle_rad``, b = ``bat_tilt_rad``: its orientation
+is the rotation by a about z after the rotation by -b about y (``adapters.frames``); its roll
+about its own axis is not part of the state (the bat is axisymmetric: set_state puts it at 0).
 Check an adapter with ``experiments.core.check_engine`` before you use it.
 """
 
@@ -46,7 +52,10 @@ if TYPE_CHECKING:
 
 
 class State(NamedTuple):
-    """Both bodies at one instant, world frame (m, m/s, rad, rad/s). Build it with keywords."""
+    """Both bodies at one instant, world frame (m, m/s, rad, rad/s). Build it with keywords.
+
+    The first 11 fields are the swing plane's (``PLANAR_FIELDS``; ``*_omega_radps`` the spins
+    about z); the rest, out of the plane, default to 0 (``SPATIAL_FIELDS``)."""
 
     ball_x_m: float
     ball_y_m: float
@@ -59,22 +68,38 @@ class State(NamedTuple):
     bat_vx_mps: float
     bat_vy_mps: float
     bat_omega_radps: float
+    ball_z_m: float = 0.0
+    ball_vz_mps: float = 0.0
+    ball_wx_radps: float = 0.0
+    ball_wy_radps: float = 0.0
+    bat_z_m: float = 0.0
+    bat_tilt_rad: float = 0.0
+    bat_vz_mps: float = 0.0
+    bat_wx_radps: float = 0.0
+    bat_wy_radps: float = 0.0
 
 
-#: Column order of a batch of states (an array of shape (n, 11)).
+#: Column order of a batch of states (an array of shape (n, 20)).
 STATE_FIELDS = State._fields
+#: The swing plane's columns, first: a planar batched engine may read and return only these.
+PLANAR_FIELDS = STATE_FIELDS[:11]
+#: The columns out of the swing plane (0 for an impact that stays in it).
+SPATIAL_FIELDS = STATE_FIELDS[11:]
 
 
 @dataclass(frozen=True, kw_only=True)
 class Scene:
     """What an engine builds: the bat (a capsule with SET mass, COM and inertia about the COM,
-    axis from ``bat.s_min_m`` to ``bat.s_max_m`` along x from the COM), the ball (a sphere) and
-    the coefficient of restitution ``e`` their contact must have (mapped onto whatever the
-    engine offers). No gravity, no friction, nothing else."""
+    diag(I_axial, J, J) in its own frame, axis from ``bat.s_min_m`` to ``bat.s_max_m`` along x
+    from the COM), the ball (a sphere), the coefficient of restitution ``e`` their contact must
+    have (mapped onto whatever the engine offers) and its Coulomb coefficient of friction
+    ``mu`` (0: frictionless; set through the engine's own combine rule, the record's
+    ``friction_rule``). No gravity, nothing else."""
 
     bat: Bat
     ball: Ball
     e: float
+    mu: float = 0.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -163,6 +188,11 @@ class Engine(abc.ABC):
         ``restitution_rule``); a test pins the rule with it. Optional."""
         raise NotImplementedError(f"{type(self).__name__} has no per-body restitution")
 
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        """Set each body's own friction coefficient, for an engine that combines two (the
+        record's ``friction_rule``); a test pins the rule with it. Optional."""
+        raise NotImplementedError(f"{type(self).__name__} has no per-body friction")
+
     def close(self) -> None:
         """Release engine resources (connections, worlds). Optional."""
 
@@ -175,7 +205,8 @@ class Engine(abc.ABC):
 
 class BatchedEngine(abc.ABC):
     """An engine that steps ``n`` independent worlds in one call (the batched form). Arrays in,
-    arrays out: states are float arrays of shape (n, 11) in ``STATE_FIELDS`` order."""
+    arrays out: states are float arrays of shape (n, 20) in ``STATE_FIELDS`` order (a planar
+    engine may return the 11 ``PLANAR_FIELDS`` columns alone: the rest are then 0)."""
 
     record: ClassVar[EngineRecord]
 

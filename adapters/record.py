@@ -121,6 +121,11 @@ class Settings:
         to a whole step early; 0 for engines that see a contact once the bodies overlap."""
         return 0.0
 
+    def friction_cone(self) -> str:
+        """How the engine's contact approximates Coulomb's cone with these settings, in words
+        (tables and the friction study record it); '' for an engine without friction."""
+        return ""
+
 
 class RestitutionRule(str, Enum):
     """How an engine turns the two bodies' restitution values into the contact's e."""
@@ -137,6 +142,29 @@ class RestitutionRule(str, Enum):
             raise ValueError("a mapped restitution has no per-body values to combine")
         return {"product": bat * ball, "max": max(bat, ball), "mean": 0.5 * (bat + ball),
                 "min": min(bat, ball)}[self.value]
+
+
+class FrictionRule(str, Enum):
+    """How an engine turns the two bodies' friction coefficients into the contact's mu."""
+
+    PRODUCT = "product"      #: mu = mu_bat * mu_ball
+    MAX = "max"              #: mu = max(mu_bat, mu_ball)
+    MEAN = "mean"            #: mu = (mu_bat + mu_ball) / 2
+    MIN = "min"              #: mu = min(mu_bat, mu_ball)
+    GEOMETRIC = "geometric"  #: mu = sqrt(mu_bat mu_ball)
+    HARMONIC = "harmonic"    #: mu = 2 mu_bat mu_ball / (mu_bat + mu_ball)
+
+    def combine(self, bat: float, ball: float) -> float:
+        """The contact's mu from the two bodies' values."""
+        if self is FrictionRule.HARMONIC:
+            return 0.0 if bat + ball == 0.0 else 2.0 * bat * ball / (bat + ball)
+        return {"product": bat * ball, "max": max(bat, ball), "mean": 0.5 * (bat + ball),
+                "min": min(bat, ball), "geometric": math.sqrt(bat * ball)}[self.value]
+
+    def per_body(self, mu: float) -> tuple[float, float]:
+        """(bat, ball) values that this rule combines into ``mu``: the same value on both
+        bodies for every rule but the product (bat mu, ball 1), which it equals too."""
+        return (mu, 1.0) if self is FrictionRule.PRODUCT else (mu, mu)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -224,6 +252,9 @@ class EngineRecord:
     ``twin_of``: the engine whose model this one implements (MJX of MuJoCo C), for
     ``experiments.twins``; its settings class extends the twin's, so the same fields mean the
     same model; ``twin_steps`` the comparisons that find what makes them differ.
+    ``friction_rule``: how it combines two bodies' friction (None: its adapter does not set
+    friction, and an impact with friction is ``unsupported``); ``planar``: a 2-D engine, which
+    cannot fire an impact out of the swing plane (an undercut, a spin about x or y).
     """
 
     name: str
@@ -249,6 +280,8 @@ class EngineRecord:
     notes: ReportNotes | None = None
     twin_of: str | None = None
     twin_steps: tuple[TwinStep, ...] = ()
+    friction_rule: FrictionRule | None = None
+    planar: bool = False
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

@@ -6,7 +6,7 @@
     predict(case).v1_mps
 """
 
-from . import presets
+from . import flight, presets
 from .collide import CollisionEpisode, collide
 from .cork import Hole, corked_bat, corked_bat_paper
 from .friction import FrictionalImpulse, FrictionOutcome, frictional_impulse, predict_friction
@@ -34,5 +34,6 @@ __all__ = [
     "SweetRegion", "Swing", "SwingModel", "batted_ball_speed", "center_of_percussion", "collide",
     "collision_efficiency", "corked_bat", "corked_bat_paper", "frictional_impulse",
     "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays", "predict_friction",
-    "predict_oblique_paper", "presets", "sweet_region", "sweet_spot", "sweet_zone", "swing_for",
+    "flight", "predict_oblique_paper", "presets", "sweet_region", "sweet_spot", "sweet_zone",
+    "swing_for",
 ]

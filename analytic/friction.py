@@ -280,23 +280,20 @@ class FrictionOutcome:
         return self.ball_spin_radps[0]
 
 
-def predict_friction(case, *, mu: float, undercut_m: float = 0.0,
-                     spin_radps: ArrayLike = (0.0, 0.0, 0.0),
-                     hypothesis: str = "energetic") -> FrictionOutcome:
-    """The impact of ``case`` (an ``ImpactCase``) with Coulomb friction ``mu``, the ball's
-    centre ``undercut_m`` off the swing plane (+z) and spinning at ``spin_radps`` (3-vector,
-    impact frame). The bat turns about z at omega0 with its inertia tensor diag(I_axial, J, J)
-    about the COM; the contact normal tilts by asin(undercut / (R + r)) out of the plane."""
+def predict_friction(case, *, hypothesis: str = "energetic") -> FrictionOutcome:
+    """The impact of ``case`` (an ``ImpactCase``) with its Coulomb friction ``case.mu``, the
+    ball's centre ``case.undercut_m`` off the swing plane (+z) and spinning at
+    ``case.spin_radps`` (impact frame). The bat turns about z at omega0 with its inertia tensor
+    diag(I_axial, J, J) about the COM; the contact normal tilts by ``case.tilt_rad`` out of the
+    plane."""
     bat, ball = case.bat, case.ball
-    reach = bat.radius_m + ball.radius_m
-    checks.in_range("undercut_m", undercut_m, -reach, reach, lo_open=True, hi_open=True)
-    tilt = math.asin(undercut_m / reach)
+    tilt = case.tilt_rad
     n = np.array([0.0, math.cos(tilt), math.sin(tilt)])
     m, J = ball.mass_kg, bat.inertia_cm_kgm2
     a = RigidBody3D(mass_kg=m, inertia_kgm2=ball.inertia_kgm2 * np.eye(3),
                     velocity_mps=np.array([case.v0_mps * math.sin(case.theta_rad),
                                            -case.v0n_mps, 0.0]),
-                    omega_radps=_vec3("spin_radps", spin_radps))
+                    omega_radps=np.array(case.spin_radps))
     b = RigidBody3D(mass_kg=bat.mass_kg,
                     inertia_kgm2=np.diag([bat.axial_inertia_kgm2, J, J]),
                     velocity_mps=np.array([case.u0_mps * math.sin(case.phi_rad),
@@ -304,7 +301,7 @@ def predict_friction(case, *, mu: float, undercut_m: float = 0.0,
                     omega_radps=np.array([0.0, 0.0, case.omega0_radps]))
     out = frictional_impulse(a, b, r_a_m=-ball.radius_m * n,
                              r_b_m=np.array([case.s_m, 0.0, 0.0]) + bat.radius_m * n,
-                             normal=n, e=case.e, mu=mu, hypothesis=hypothesis)
+                             normal=n, e=case.e, mu=case.mu, hypothesis=hypothesis)
     return FrictionOutcome(
         ball_velocity_mps=tuple(map(float, out.a.velocity_mps)),
         ball_spin_radps=tuple(map(float, out.a.omega_radps)),

@@ -14,6 +14,9 @@ from dataclasses import dataclass
 
 from . import checks
 
+#: The largest coefficient of friction accepted: beyond a few, every impact grips.
+MAX_MU = 10.0
+
 
 @dataclass(frozen=True, kw_only=True)
 class Bat:
@@ -128,6 +131,11 @@ class ImpactCase:
     ``theta_rad`` the angle of the ball's velocity to the contact normal and ``phi_rad`` that of
     the bat's COM velocity (rad; both tilt toward +x, the barrel, in the swing plane);
     ``hands_from_knob_m`` the hand point whose velocity change is reported (m from the knob).
+    Friction and the third dimension (``analytic.friction``): ``mu`` the Coulomb coefficient
+    between ball and bat (0: frictionless); ``undercut_m`` the ball centre's offset from the
+    bat's axis along z, out of the swing plane, at contact (m; the contact normal tilts by
+    asin(undercut / (r_bat + r_ball))); ``spin_radps`` the ball's spin before the impact
+    (rad/s about x, y, z: +x with the ball leaving along +y is backspin).
     """
 
     bat: Bat
@@ -140,6 +148,9 @@ class ImpactCase:
     theta_rad: float = 0.0
     phi_rad: float = 0.0
     hands_from_knob_m: float = 0.1
+    mu: float = 0.0
+    undercut_m: float = 0.0
+    spin_radps: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
         self.bat.check_s(self.s_m)
@@ -151,6 +162,15 @@ class ImpactCase:
                          hi_open=True)
         checks.in_range("phi_rad", self.phi_rad, -math.pi / 2, math.pi / 2)
         checks.in_range("hands_from_knob_m", self.hands_from_knob_m, 0.0, self.bat.length_m)
+        checks.in_range("mu", self.mu, 0.0, MAX_MU)
+        reach = self.bat.radius_m + self.ball.radius_m
+        checks.in_range("undercut_m", self.undercut_m, -reach, reach, lo_open=True,
+                        hi_open=True)
+        spin = tuple(checks.finite(f"spin_radps[{i}]", w) for i, w in enumerate(self.spin_radps))
+        if len(spin) != 3:
+            raise ValueError(f"spin_radps={self.spin_radps!r} has {len(spin)} components; "
+                             "allowed: 3 (about x, y, z)")
+        object.__setattr__(self, "spin_radps", spin)
         vc = self.closing_speed_mps
         if not vc > 0.0:
             raise ValueError(
@@ -170,8 +190,26 @@ class ImpactCase:
 
     @property
     def closing_speed_mps(self) -> float:
-        """Normal closing speed of the contact points, v0n + u0n + omega0 s (m/s)."""
+        """Closing speed of the contact points in the swing plane, v0n + u0n + omega0 s (m/s);
+        along an undercut's tilted normal it is cos(tilt) times this."""
         return self.v0n_mps + self.u0n_mps + self.omega0_radps * self.s_m
+
+    @property
+    def tilt_rad(self) -> float:
+        """The contact normal's tilt out of the swing plane, asin(undercut / (r_bat + r_ball))."""
+        return math.asin(self.undercut_m / (self.bat.radius_m + self.ball.radius_m))
+
+    @property
+    def out_of_plane(self) -> bool:
+        """Whether the impact leaves the swing plane: an undercut, or a spin about x or y."""
+        return self.undercut_m != 0.0 or self.spin_radps[:2] != (0.0, 0.0)
+
+    @property
+    def frictionless_planar(self) -> bool:
+        """Whether the planar frictionless model (``predict``, ``collide``) is the whole answer:
+        no friction and nothing out of the swing plane (a spin about z alone changes nothing
+        without friction)."""
+        return self.mu == 0.0 and not self.out_of_plane
 
 
 @dataclass(frozen=True, kw_only=True)

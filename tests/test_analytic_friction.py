@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import re
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -106,9 +108,9 @@ def test_energy_never_grows(a, b, r_a, r_b, n, e, mu):
     assert after <= before * (1 + TOL_REL)
 
 
-def swing_case(s: float, theta: float, e: float) -> ImpactCase:
+def swing_case(s: float, theta: float, e: float, **friction) -> ImpactCase:
     return ImpactCase(bat=presets.R161, ball=BALL, s_m=s, v0_mps=46.9, u0_mps=17.87,
-                      omega0_radps=32.0, e=e, theta_rad=theta)
+                      omega0_radps=32.0, e=e, theta_rad=theta, **friction)
 
 
 @given(s=st.floats(-0.3, 0.25), theta=st.floats(-0.6, 0.6), e=st.floats(0.0, 1.0))
@@ -116,7 +118,7 @@ def test_mu_zero_on_the_bat_is_the_planar_model(s, theta, e):
     # predict_friction at mu = 0 and no undercut: the planar impulse (analytic.impact.predict),
     # v1 = -v0n + P/m and the tangential velocity kept, to rounding (a 3x3 solve: 1e3 eps).
     case = swing_case(s, theta, e)
-    want, got = predict(case), predict_friction(case, mu=0.0)
+    want, got = predict(case), predict_friction(case)
     assert got.v1_mps == pytest.approx(want.v1_mps, rel=1e3 * EPS, abs=1e3 * EPS * 50)
     assert got.vt1_mps == pytest.approx(want.v1_t_mps, abs=1e3 * EPS * 50)
     assert got.ball_spin_radps == (0.0, 0.0, 0.0)
@@ -131,9 +133,9 @@ def test_a_slide_throughout_on_the_bat_has_its_closed_form(s, theta, e, mu):
     # / 2 = e^2 v_n0^2 / 2k): P = (1 + e)(-v_n0 / k)(n - mu s^), worked out by hand here.
     from analytic.friction import collision_matrix
 
-    case = swing_case(s, theta, e)
+    case = swing_case(s, theta, e, mu=mu)
     assume(abs(case.theta_rad) > 0.05)
-    out = predict_friction(case, mu=mu)
+    out = predict_friction(case)
     assume([p[0] for p in out.phases] == ["slip"])
     bat = case.bat
     n = np.array([0.0, 1.0, 0.0])
@@ -156,10 +158,10 @@ def test_undercut_hits_lose_energy_and_spin_the_ball_backward(s, undercut, e, mu
     # Any undercut, spin and mu: energy never grows; with friction and no incoming spin, a
     # ball whose centre is above the swing plane (+z) leaves upward with backspin (+x: the
     # friction on its underside drags it backward), below it with topspin.
-    case = swing_case(s, 0.0, e)
-    out = predict_friction(case, mu=mu, undercut_m=undercut, spin_radps=spin * 100)
+    case = swing_case(s, 0.0, e, mu=mu, undercut_m=undercut)
+    out = predict_friction(replace(case, spin_radps=tuple(spin * 100)))
     assert out.ke_after_j <= out.ke_before_j * (1 + TOL_REL)
-    plain = predict_friction(case, mu=mu, undercut_m=undercut)
+    plain = predict_friction(case)
     if mu > 0.01 and abs(undercut) > 0.005:
         assert np.sign(plain.backspin_radps) == np.sign(undercut)
         assert np.sign(plain.launch_rad) == np.sign(undercut)
@@ -168,11 +170,17 @@ def test_undercut_hits_lose_energy_and_spin_the_ball_backward(s, undercut, e, mu
 @pytest.mark.parametrize("kwargs,piece", [
     ({"mu": -0.1}, "mu=-0.1 is out of range"),
     ({"mu": 0.5, "undercut_m": 0.2}, "undercut_m=0.2 is out of range"),
-    ({"mu": 0.5, "hypothesis": "newton"}, "hypothesis='newton' is unknown"),
+    ({"mu": 0.5, "spin_radps": (1.0, math.nan, 0.0)}, "spin_radps[1]=nan is not finite"),
+    ({"mu": 0.5, "spin_radps": (1.0, 2.0)}, "spin_radps=(1.0, 2.0) has 2 components"),
 ])
 def test_bad_input_is_named(kwargs, piece):
-    with pytest.raises(ValueError, match=piece.replace("(", r"\(")):
-        predict_friction(swing_case(0.1, 0.0, 0.5), **kwargs)
+    with pytest.raises(ValueError, match=re.escape(piece)):
+        predict_friction(swing_case(0.1, 0.0, 0.5, **kwargs))
+
+
+def test_an_unknown_restitution_hypothesis_is_named():
+    with pytest.raises(ValueError, match="hypothesis='newton' is unknown"):
+        predict_friction(swing_case(0.1, 0.0, 0.5, mu=0.5), hypothesis="newton")
 
 
 @given(s=st.floats(-0.3, 0.25), undercut=st.floats(-0.05, 0.05), e=st.floats(0.0, 1.0))
@@ -180,8 +188,8 @@ def test_a_gripping_ball_leaves_without_sliding(s, undercut, e):
     # mu = 2 grips every hit on the R161: the contact points end the impact with no relative
     # tangential velocity, v_ball + w_ball x r_A = v_bat + w_bat x r_B along the tangent plane
     # (to the straight step taken into rest: NEAR = 1e-7 of the closing speed, 1e-6 here).
-    case = swing_case(s, 0.3, e)
-    out = predict_friction(case, mu=2.0, undercut_m=undercut)
+    case = swing_case(s, 0.3, e, mu=2.0, undercut_m=undercut)
+    out = predict_friction(case)
     assert out.phases[-1][0] == "stick"
     reach = case.bat.radius_m + R
     n = np.array([0.0, math.sqrt(reach**2 - undercut**2), undercut]) / reach

@@ -27,7 +27,7 @@ from adapters import ContactReference, Scene
 from analytic import ImpactCase, center_of_percussion, predict, presets
 from analytic.dynamics import HingedSwing
 
-from . import judge
+from . import friction_judge, judge
 from .fire import Hosted, Job, SceneMismatch, check_mass_properties, fire_group, fire_jobs, hosted
 from .judge import Status
 
@@ -221,7 +221,7 @@ def oblique(ctx: Ctx) -> str:
     for case, out in zip(cases, ctx.fire(cases)):
         ref = predict(case)
         for field, mass in (("v1_t_mps", BALL.mass_kg), ("u1_t_mps", R161.mass_kg)):
-            allowed = judge.tangential_tolerance(case, ctx.settings, ctx.record.eps,
+            allowed = friction_judge.tangential_tolerance(case, ctx.settings, ctx.record.eps,
                                                  ref.impulse_ns, mass)
             err = abs(getattr(out, field) - getattr(ref, field))
             _expect(err <= allowed, f"{field} at theta {case.theta_rad}: |diff| {err:.3g} > "

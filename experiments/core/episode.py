@@ -53,6 +53,12 @@ class SimOutcome(Outcome):
     #: With a swing before the impact: the engine's bat at release (rad/s, rad); NaN without.
     release_omega_radps: float = math.nan
     release_angle_rad: float = math.nan
+    #: The ball after the impact, out of the swing plane: its velocity along z (m/s), its spin
+    #: about z (the swing plane's: in-plane friction's) and about x (backspin: +x lifts a ball
+    #: leaving along +y) (rad/s).
+    v1_z_mps: float = math.nan
+    spin1_radps: float = math.nan
+    backspin1_radps: float = math.nan
 
     @property
     def ok(self) -> bool:
@@ -112,7 +118,7 @@ class ManyWorlds:
         return np.asarray(self.engine.in_contact(), dtype=bool)
 
     def read(self) -> np.ndarray:
-        return np.asarray(self.engine.read(), dtype=float)
+        return g.padded(np.asarray(self.engine.read(), dtype=float))
 
     def failed(self) -> np.ndarray:
         got = self.engine.failed()
@@ -143,8 +149,13 @@ class _Stepper:
     batch's namespace (``geometry.ARRAYS`` or ``geometry.SCALARS``): no loop over worlds but
     for the rare free-flight search."""
 
-    def __init__(self, batch, bat: Bat, ball: Ball, settings: Settings) -> None:
+    def __init__(self, batch, bat: Bat, ball: Ball, settings: Settings,
+                 spatial: bool = False) -> None:
         self.batch, self.xp, self.bat, self.ball, self.st = batch, batch.xp, bat, ball, settings
+        # out of the swing plane: the 3D measures (geometry module docstring)
+        self.spatial = spatial
+        self.geometry = g.contact_geometry_3d if spatial else g.contact_geometry
+        self.jumped = g.jumped_3d if spatial else g.jumped
         xp, n = self.xp, batch.n
         self.max_steps = settings.approach_steps + math.ceil(settings.max_contact_s
                                                              / settings.dt_s) + 2
@@ -163,7 +174,7 @@ class _Stepper:
         self.out = Episodes(ended=xp.full(n, ""), steps=xp.full(n, self.max_steps), end=starts,
                             first=None, last=None, peak_m=None, side_m=xp.full(n, math.nan))
         self.prev = starts
-        side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(starts))[3]
+        side = self.geometry(xp, self.bat, self.ball, xp.cols(starts))[3]
         self.came_from = xp.where(side < 0.0, -1.0, 1.0)
         cols = xp.cols(starts)
         vx0, vy0 = cols[g.BALL_VX], cols[g.BALL_VY]
@@ -206,16 +217,16 @@ class _Stepper:
         finite = xp.finite(S)
         self.finish(look & no(finite), "non_finite", step, S)
         cols = xp.cols(S)
-        jumped = g.jumped(xp, xp.cols(self.prev), cols, (step - self.prev_step) * st.dt_s,
-                          self.limit_m)
+        jumped = self.jumped(xp, xp.cols(self.prev), cols, (step - self.prev_step) * st.dt_s,
+                             self.limit_m)
         self.finish(look & finite & jumped, "jumped", step, S)
         ok = look & finite & no(jumped)
         if not xp.any(ok):
             return
         self.prev = xp.where_rows(ok, S, self.prev)
         self.prev_step = xp.where(ok, step, self.prev_step)
-        pen, apart, off_span, side = g.contact_geometry(xp, self.bat, self.ball, cols,
-                                                        self.came_from)
+        pen, apart, off_span, side = self.geometry(xp, self.bat, self.ball, cols,
+                                                   self.came_from)
         self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
         # a contact that began and ended between two readings shows in the ball's velocity
         vx0, vy0, limit2 = self.ball_v0
@@ -242,15 +253,18 @@ class _Stepper:
         self.finish(after & (off_span > 0.0), "left_cylinder", step, S, side)
         after = after & self.active & apart
         t_left, dt = (self.max_steps - step) * self.st.dt_s, self.st.dt_s
-        gone = after & xp.separates(cols, reach_m=bat.radius_m + ball.radius_m,
-                                    ball_radius_m=ball.radius_m, t_max_s=t_left)
+        # out of the plane there is no cheap bound: the 3D search decides (``analytic.spatial``)
+        gone = after & (False if self.spatial else xp.separates(
+            cols, reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
+            t_max_s=t_left))
         self.finish(gone, "separated", step, S, side)
         search = after & no(gone) & (self.check_at <= step)
         if not xp.any(search):
             return
-        t, why = xp.free_flights(cols, search, reach_m=bat.radius_m + ball.radius_m,
-                                 ball_radius_m=ball.radius_m, s_min_m=bat.s_min_m,
-                                 s_max_m=bat.s_max_m, t_max_s=t_left)
+        kw = dict(reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
+                  s_min_m=bat.s_min_m, s_max_m=bat.s_max_m, t_max_s=t_left)
+        t, why = (g.free_flights_3d(xp, cols, search, **kw) if self.spatial
+                  else xp.free_flights(cols, search, **kw))
         ahead = why == "contact"
         self.finish(search & (why == "left_cylinder"), "left_cylinder", step, S, side)
         self.finish(search & no(ahead), "separated", step, S, side)
@@ -265,15 +279,16 @@ class _Stepper:
         self.finish(xp.not_(finite), "non_finite", self.max_steps, S)
         if not xp.any(self.active):
             return
-        pen, _, _, side = g.contact_geometry(xp, self.bat, self.ball, xp.cols(S), self.came_from)
+        pen, _, _, side = self.geometry(xp, self.bat, self.ball, xp.cols(S), self.came_from)
         self.peak = xp.where(self.active, xp.maximum(self.peak, pen), self.peak)
         self.finish(self.active, "budget", self.max_steps, S, side)
 
 
-def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts) -> Episodes:
+def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts,
+                  spatial: bool = False) -> Episodes:
     """Step every world of ``batch`` (a ``OneWorld`` or ``ManyWorlds``) from its start until
-    its episode is over (module docstring)."""
-    return _Stepper(batch, bat, ball, settings).run(starts)
+    its episode is over (module docstring); ``spatial``: measured in 3D (out of the plane)."""
+    return _Stepper(batch, bat, ball, settings, spatial).run(starts)
 
 
 def classify(xp, ended, first, peak_m, side_m, reach_m: float, ke0, ke1, allowance: float):

@@ -173,9 +173,10 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
     return FiredSeq(parts)
 
 
-#: What the jobs of one batch share: engine, settings, swing, bat, ball and e (equal tuples
+#: What the jobs of one batch share: engine, settings, swing, bat, ball, e and mu (equal tuples
 #: compare their shared objects by identity first, so a grid's jobs compare fast).
-batch_key = attrgetter("engine", "settings", "swing", "case.bat", "case.ball", "case.e")
+batch_key = attrgetter("engine", "settings", "swing", "case.bat", "case.ball", "case.e",
+                       "case.mu")
 
 
 def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
@@ -205,10 +206,16 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     cases, each = [j.case for j in jobs], [j.settings for j in jobs]
     if jobs[0].swing is not None:
         planned = [swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
-                              swing=jobs[0].swing, settings=k) for c, k in zip(cases, each)]
+                              swing=jobs[0].swing, settings=k, mu=c.mu,
+                              undercut_m=c.undercut_m, spin_radps=c.spin_radps)
+                   for c, k in zip(cases, each)]
         cases, plans = [p[0] for p in planned], [p[1] for p in planned]
     bat, ball = cases[0].bat, cases[0].ball
-    batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e), len(cases))
+    spatial = any(c.out_of_plane for c in cases)
+    lacking = _lacking(host.record, cases[0].mu, spatial)
+    if lacking:
+        return _failed(host, cases, each, plans, Status.UNSUPPORTED, lacking, t0)
+    batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e, mu=cases[0].mu), len(cases))
     xp = batch.xp
     cc = case_columns(xp, cases)
     cc.contact_phase = (each[0].contact_phase if each.count(each[0]) == len(each)
@@ -219,14 +226,14 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     try:
         if plans is not None:
             starts, release = _swing_into_place(batch, plans, starts, bat)
-        episodes = step_episodes(batch, bat, ball, st, starts)
+        episodes = step_episodes(batch, bat, ball, st, starts, spatial)
     except NotImplementedError:  # an engine that cannot drive the bat
         return _failed(host, cases, each, plans, Status.UNSUPPORTED, "no set_drive", t0)
     except (KeyboardInterrupt, SceneMismatch):
         raise
     except Exception as err:  # the engine raised while stepping: a failure, not a crash
         return _failed(host, cases, each, plans, Status.ERROR, f"error: {err!r}"[:200], t0)
-    cols = _measure(xp, host, cc, starts, episodes, bat, ball)
+    cols = _measure(xp, host, cc, starts, episodes, bat, ball, spatial)
     cols["release_omega_radps"], cols["release_angle_rad"] = release
     cols["steps"] = cols["steps"] + (plans[0].steps if plans else 0)
     wall = (time.perf_counter() - t0) / len(cases)
@@ -239,11 +246,12 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     return FiredBlock(cases, cols, engine=host.name, settings=each, wall_s=wall)
 
 
-def _measure(xp, host: Hosted, cc, start, ep, bat, ball) -> dict:
+def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:
     """Every world's outcome, measured from its start and end states, as columns named as
     ``SimOutcome``'s fields (``q`` is (v1 - V)/(v0n + V), V = u0n + omega0 s)."""
     S0, S1 = xp.cols(start), xp.cols(ep.end)
-    ke0, ke1 = g.kinetic_energy_j(bat, ball, S0), g.kinetic_energy_j(bat, ball, S1)
+    energy = g.kinetic_energy_3d if spatial else g.kinetic_energy_j
+    ke0, ke1 = energy(bat, ball, S0), energy(bat, ball, S1)
     v1, u1, w1 = S1[g.BALL_VY], S1[g.BAT_VY], S1[g.BAT_W]
     V = cc.u0n_mps + cc.omega0_radps * cc.s_m
     allowance = energy_allowance(host.record.eps, host.settings)
@@ -260,7 +268,18 @@ def _measure(xp, host: Hosted, cc, start, ep, bat, ball) -> dict:
         "contact_duration_s": xp.where(ep.first >= 0,
                                        (ep.last - ep.first + 1) * host.settings.dt_s, 0.0),
         "peak_penetration_m": ep.peak_m, "steps": ep.steps, "ended": ep.ended,
-        "ball_side_m": ep.side_m}
+        "ball_side_m": ep.side_m, "v1_z_mps": S1[g.BALL_VZ], "spin1_radps": S1[g.BALL_W],
+        "backspin1_radps": S1[g.BALL_WX]}
+
+
+def _lacking(record: adapters.EngineRecord, mu: float, spatial: bool) -> str:
+    """What the engine lacks for these impacts ('' for nothing): friction, or a third
+    dimension for an impact out of the swing plane."""
+    if spatial and record.planar:
+        return "planar engine: the impact leaves the swing plane"
+    if mu > 0.0 and record.friction_rule is None:
+        return "no friction in the adapter"
+    return ""
 
 
 def _swing_into_place(batch, plans: list[SwingPlan], starts, bat):

@@ -26,7 +26,8 @@ from .judge import Status
 FLOAT_FIELDS = ("v1_mps", "u1_mps", "omega1_radps", "impulse_ns", "q", "closing_speed_mps",
                 "hand_dv_mps", "ke_before_j", "ke_after_j", "v1_t_mps", "u1_t_mps",
                 "contact_duration_s", "peak_penetration_m", "ball_side_m",
-                "release_omega_radps", "release_angle_rad")
+                "release_omega_radps", "release_angle_rad", "v1_z_mps", "spin1_radps",
+                "backspin1_radps")
 
 
 class Fired(NamedTuple):

@@ -1,7 +1,9 @@
 """Sphere against capsule, on one world or on a batch of them.
 
-A batch of states is an array of shape (n, 11), one row per world in ``adapters.STATE_FIELDS``
-order (m, m/s, rad, rad/s); one world's state is an ``adapters.State``. The functions below take
+A batch of states is an array of shape (n, 20), one row per world in ``adapters.STATE_FIELDS``
+order (m, m/s, rad, rad/s); one world's state is an ``adapters.State``. An impact that stays in
+the swing plane is measured on the 11 planar columns alone, as it always was; one that leaves
+it (``spatial``: an undercut, a spin about x or y) in 3D. The functions below take
 an array namespace ``xp`` and the state's columns (``xp.cols(states)``), so the same code runs
 on a batch in numpy and on one world in Python floats (``SCALARS``): numpy's overhead per call
 on arrays of one row is ten times what an engine's step costs.
@@ -14,7 +16,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from adapters import STATE_FIELDS, State
+from adapters import PLANAR_FIELDS, STATE_FIELDS, State
 from analytic import Ball, Bat
 from analytic.collide import (
     PlanarState,
@@ -23,9 +25,20 @@ from analytic.collide import (
     separates_for_good,
     separates_for_good_many,
 )
+from analytic.spatial import free_flight_3d
 
-(BALL_X, BALL_Y, BALL_VX, BALL_VY, BALL_W, BAT_X, BAT_Y, BAT_ANGLE, BAT_VX, BAT_VY,
- BAT_W) = range(len(STATE_FIELDS))
+(BALL_X, BALL_Y, BALL_VX, BALL_VY, BALL_W, BAT_X, BAT_Y, BAT_ANGLE, BAT_VX, BAT_VY, BAT_W,
+ BALL_Z, BALL_VZ, BALL_WX, BALL_WY, BAT_Z, BAT_TILT, BAT_VZ, BAT_WX,
+ BAT_WY) = range(len(STATE_FIELDS))
+#: The bat's columns (the planar ones, then those out of the plane).
+BAT_COLUMNS = (*range(BAT_X, BAT_W + 1), *range(BAT_Z, BAT_WY + 1))
+
+
+def padded(states: np.ndarray) -> np.ndarray:
+    """A batch of states with every column: a planar engine's 11 columns padded with zeros."""
+    if states.shape[1] == len(PLANAR_FIELDS):
+        return np.pad(states, ((0, 0), (0, len(STATE_FIELDS) - len(PLANAR_FIELDS))))
+    return states
 
 
 def _finite_rows(states: np.ndarray) -> np.ndarray:
@@ -38,8 +51,12 @@ def _indices(mask) -> np.ndarray | tuple:
 
 def _with_bat(starts: np.ndarray, swung: np.ndarray) -> np.ndarray:
     out = starts.copy()
-    out[:, BAT_X:] = swung[:, BAT_X:]
+    out[:, BAT_COLUMNS] = swung[:, BAT_COLUMNS]
     return out
+
+
+def _state_with_bat(start: State, swung: State) -> State:
+    return start._replace(**{STATE_FIELDS[i]: swung[i] for i in BAT_COLUMNS})
 
 
 def _put(values: np.ndarray, i: int, value) -> np.ndarray:
@@ -69,7 +86,7 @@ ARRAYS = SimpleNamespace(
     where_rows=lambda mask, a, b: np.where(mask[:, None], a, b),
     cols=lambda states: states.T, row=lambda states, i: states[i],
     stack=lambda rows: np.array(rows, dtype=float), finite=_finite_rows, indices=_indices,
-    with_bat=_with_bat, from_cols=lambda cols: np.column_stack(cols),
+    with_bat=_with_bat, from_cols=lambda cols: padded(np.column_stack(cols)),
     separates=lambda S, **kw: separates_for_good_many(_planar_cols(S), **kw),
     free_flights=_free_flights, floor=np.floor)
 
@@ -82,7 +99,7 @@ SCALARS = SimpleNamespace(
     cols=lambda state: state, row=lambda state, i: state,
     stack=lambda rows: State(*rows[0]), finite=lambda state: math.isfinite(sum(state)),
     indices=lambda flag: (0,) if flag else (),
-    with_bat=lambda start, swung: State(*start[:BAT_X], *swung[BAT_X:]),
+    with_bat=_state_with_bat,
     from_cols=lambda cols: State(*cols),
     separates=lambda S, **kw: separates_for_good(planar(S), **kw),
     free_flights=lambda S, flag, **kw: free_flight(planar(S), **kw) if flag else (0.0, ""),
@@ -145,3 +162,77 @@ def planar(row) -> PlanarState:
                        ball_vy_mps=r[BALL_VY], bat_x_m=r[BAT_X], bat_y_m=r[BAT_Y],
                        bat_vx_mps=r[BAT_VX], bat_vy_mps=r[BAT_VY], bat_angle_rad=r[BAT_ANGLE],
                        bat_omega_radps=r[BAT_W])
+
+
+def contact_geometry_3d(xp, bat: Bat, ball: Ball, S, came_from=1.0):
+    """``contact_geometry`` out of the swing plane: the bat's axis tilted by ``bat_tilt_rad``,
+    the ball centre's z, and the bat's angular velocity in 3D. ``side`` stays the coordinate
+    along the swing plane's normal to the axis, (dy cos a - dx sin a) times ``came_from``."""
+    ca, sa = xp.cos(S[BAT_ANGLE]), xp.sin(S[BAT_ANGLE])
+    cb, sb = xp.cos(S[BAT_TILT]), xp.sin(S[BAT_TILT])
+    ax, ay, az = ca * cb, sa * cb, sb
+    dx, dy, dz = S[BALL_X] - S[BAT_X], S[BALL_Y] - S[BAT_Y], S[BALL_Z] - S[BAT_Z]
+    along = dx * ax + dy * ay + dz * az
+    t = xp.clip(along, bat.s_min_m, bat.s_max_m)
+    nx, ny, nz = dx - t * ax, dy - t * ay, dz - t * az
+    dist = (nx * nx + ny * ny + nz * nz) ** 0.5
+    side = (dy * ca - dx * sa) * came_from
+    pen = bat.radius_m + ball.radius_m - xp.where(side > 0.0, dist, -dist)
+    wx, wy, wz = S[BAT_WX], S[BAT_WY], S[BAT_W]
+    # the axis point's velocity: V + w x (t a)
+    rvx = S[BALL_VX] - (S[BAT_VX] + t * (wy * az - wz * ay))
+    rvy = S[BALL_VY] - (S[BAT_VY] + t * (wz * ax - wx * az))
+    rvz = S[BALL_VZ] - (S[BAT_VZ] + t * (wx * ay - wy * ax))
+    apart = (rvx * nx + rvy * ny + rvz * nz > 0.0) & (dist != 0.0)
+    off_span = xp.maximum(bat.s_min_m - along, along - bat.s_max_m)
+    return pen, apart, off_span, side
+
+
+def kinetic_energy_3d(bat: Bat, ball: Ball, S):
+    """Kinetic energy of both bodies in 3D (J): the ball's spin about every axis, the bat's
+    about its own axis with I_axial and across it with J."""
+    cb = np.cos(S[BAT_TILT])
+    ax, ay, az = np.cos(S[BAT_ANGLE]) * cb, np.sin(S[BAT_ANGLE]) * cb, np.sin(S[BAT_TILT])
+    wx, wy, wz = S[BAT_WX], S[BAT_WY], S[BAT_W]
+    w_axial = wx * ax + wy * ay + wz * az
+    w2 = wx * wx + wy * wy + wz * wz
+    return 0.5 * (ball.mass_kg * (S[BALL_VX]**2 + S[BALL_VY]**2 + S[BALL_VZ]**2)
+                  + ball.inertia_kgm2 * (S[BALL_W]**2 + S[BALL_WX]**2 + S[BALL_WY]**2)
+                  + bat.mass_kg * (S[BAT_VX]**2 + S[BAT_VY]**2 + S[BAT_VZ]**2)
+                  + bat.axial_inertia_kgm2 * w_axial**2
+                  + bat.inertia_cm_kgm2 * (w2 - w_axial**2))
+
+
+def jumped_3d(xp, before, after, elapsed_s, limit_m: float):
+    """``jumped`` with the bodies' z in their displacement and speed."""
+    out = False
+    for x, y, z, vx, vy, vz in ((BALL_X, BALL_Y, BALL_Z, BALL_VX, BALL_VY, BALL_VZ),
+                                (BAT_X, BAT_Y, BAT_Z, BAT_VX, BAT_VY, BAT_VZ)):
+        dx, dy, dz = after[x] - before[x], after[y] - before[y], after[z] - before[z]
+        speed2 = xp.maximum(before[vx] ** 2 + before[vy] ** 2 + before[vz] ** 2,
+                            after[vx] ** 2 + after[vy] ** 2 + after[vz] ** 2)
+        allowed = 2.0 * elapsed_s * speed2 ** 0.5 + limit_m
+        out = out | (dx * dx + dy * dy + dz * dz > allowed * allowed)
+    return out
+
+
+def free_flights_3d(xp, S, mask, **kw) -> tuple:
+    """``analytic.spatial.free_flight_3d`` from each world in ``mask``: (time, why) per world
+    ('' where not searched), in the batch's namespace."""
+    rows = [S] if xp is SCALARS else list(np.asarray(S).T)
+    flags = [mask] if xp is SCALARS else list(mask)
+    out = []
+    for r, flag in zip(rows, flags):
+        if not flag:
+            out.append((0.0, ""))
+            continue
+        cb = math.cos(r[BAT_TILT])
+        axis = np.array([math.cos(r[BAT_ANGLE]) * cb, math.sin(r[BAT_ANGLE]) * cb,
+                         math.sin(r[BAT_TILT])])
+        rel = np.array([r[BALL_X] - r[BAT_X], r[BALL_Y] - r[BAT_Y], r[BALL_Z] - r[BAT_Z]])
+        rv = np.array([r[BALL_VX] - r[BAT_VX], r[BALL_VY] - r[BAT_VY], r[BALL_VZ] - r[BAT_VZ]])
+        omega = np.array([r[BAT_WX], r[BAT_WY], r[BAT_W]])
+        out.append(free_flight_3d(rel, rv, axis, omega, **kw))
+    if xp is SCALARS:
+        return out[0]
+    return np.array([t for t, _ in out]), np.array([w for _, w in out], dtype=object)

@@ -47,11 +47,11 @@ import numpy as np
 
 import adapters
 from analytic import CollisionEpisode, ImpactCase, collide, compliant, predict_arrays
+from analytic.frictional import frictional_episode
 
 
 class Status(str, Enum):
     """How a fired impact ended. Only ``ok`` rows matched the answer that applies."""
-
     OK = "ok"
     TUNNELLED = "tunnelled"    #: the ball's centre ended beyond the bat's axis: it passed
     NO_CONTACT = "no_contact"  #: no contact seen when due, and the ball did not pass either
@@ -109,7 +109,6 @@ DEFLECTED = 0.01
 
 def mass_allowance(eps: float) -> float:  # relative, between mass properties set and read back
     return max(MASS_CHECK_REL, MASS_CHECK_ULPS * eps)
-
 
 def energy_allowance(eps: float, settings: adapters.Settings | None = None) -> float:
     """Relative kinetic-energy gain allowed before ``energy_gained``: rounding, 4 times a
@@ -176,8 +175,11 @@ def _speed(case: ImpactCase) -> float:  # the speed scale of rounding: v0 + |u0|
 @functools.lru_cache(maxsize=1 << 16)
 def rigid(case: ImpactCase, max_episode_s: float) -> CollisionEpisode:
     """The rigid-body answer an engine's impact is judged against: the whole episode, followed
-    as long as the engine follows its own (its ``max_contact_s``). Cached: studies fire the same
-    case at many settings."""
+    as long as the engine follows its own (its ``max_contact_s``); with friction or out of the
+    swing plane, one frictional impulse (``analytic.frictional``, ``friction_judge``). Cached:
+    studies fire the same case at many settings."""
+    if not case.frictionless_planar:
+        return frictional_episode(case, max_episode_s=max_episode_s)
     return collide(case, max_episode_s=max_episode_s)
 
 
@@ -215,7 +217,8 @@ def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarr
     for i, (case, o, w_r, ep) in enumerate(zip(cases, outcomes, release_omega_radps,
                                                rigid_episodes)):
         st = o.settings
-        if st.contact_reference() is not adapters.ContactReference.RIGID_IMPULSE:
+        if (st.contact_reference() is not adapters.ContactReference.RIGID_IMPULSE
+                or not case.frictionless_planar):  # (friction: ``friction_judge``)
             continue
         eps = adapters.record(o.engine).eps
         if ep.impacts > 1 or ep.sustained_contact_s > 0.0:
@@ -244,18 +247,6 @@ def _swing_terms(case: ImpactCase, dt_s: float, w_r: float, v1: float, slope: fl
     return 2 * (slope * swing_slide + 0.5 * curvature * swing_slide**2
                 + (case.v0_mps + abs(v1)) * d_theta**2
                 + (1 + q) * (abs(arm) + abs(case.s_m)) * d_omega)
-
-
-def tangential_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
-                         impulse_ns: float, mass_kg: float) -> float:
-    """Allowed error of a tangential velocity after a frictionless impact: rounding, and the
-    normal tilted by the bat's turn omega0 delta / v_c when the contact is seen (and by a
-    collision routine's own bias, its slide over r1 + r2), which leaks the impulse P/mass
-    times that tilt into it."""
-    tilt = (abs(case.omega0_radps) * settings.overlap_m / case.closing_speed_mps
-            + settings.collision_slide_m(case.bat) / (case.bat.radius_m + case.ball.radius_m))
-    return (precision_rel(settings, eps, case) * case.v0_mps
-            + GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt)
 
 
 def output_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
@@ -348,7 +339,7 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
     past the cylinder's end during the contact, its answer is not the engine's, and the row is
     unjudged; so is a step whose estimated restitution error exceeds LAW_MAX_REL_ERROR."""
     law = o.settings.contact_law(case.e)
-    if law is None:
+    if law is None or not case.frictionless_planar:  # the laws are frictionless, planar
         return math.nan, math.nan
     ref = law_answer(case, law)
     bat, ball = case.bat, case.ball

@@ -41,9 +41,10 @@ def check_hittable(case: ImpactCase) -> None:
 def min_dt_s(case: ImpactCase, settings: Settings) -> float:
     """The smallest step at which the start lies before the contact (T > 0): below it the
     ``overlap_m`` the contact is first seen at takes more than ``approach_steps`` steps of
-    closing, and the bodies would start inside each other (s)."""
-    return settings.overlap_m / (case.closing_speed_mps
-                                 * (settings.approach_steps - settings.contact_phase))
+    closing (along the normal: an undercut's is tilted), and the bodies would start inside each
+    other (s)."""
+    closing = case.closing_speed_mps * (math.cos(case.tilt_rad) if case.undercut_m else 1.0)
+    return settings.overlap_m / (closing * (settings.approach_steps - settings.contact_phase))
 
 
 def check_placement(case: ImpactCase, settings: Settings) -> None:
@@ -66,17 +67,29 @@ CASE_FIELDS = ("s_m", "v0_mps", "u0_mps", "omega0_radps", "theta_rad", "phi_rad"
 
 def case_columns(xp, cases: Sequence[ImpactCase]) -> SimpleNamespace:
     """The cases' CASE_FIELDS and normal speeds (v0n, u0n, closing) in the namespace ``xp``
-    of ``geometry`` (arrays over a batch; one case's own floats for one world)."""
+    of ``geometry`` (arrays over a batch; one case's own floats for one world), and
+    ``turned``: None, or where a case has an undercut or a spinning ball, their columns
+    (``undercut_m``, ``cos_tilt``, ``spin_x``/``_y``/``_z`` rad/s)."""
+    turned = None
+    if any(c.undercut_m != 0.0 or c.spin_radps != (0.0, 0.0, 0.0) for c in cases):
+        pick = (lambda f: f(cases[0])) if xp is g.SCALARS else \
+            (lambda f: np.array([f(c) for c in cases]))
+        turned = SimpleNamespace(
+            undercut_m=pick(attrgetter("undercut_m")),
+            cos_tilt=pick(lambda c: math.cos(c.tilt_rad)),
+            **{f"spin_{k}": pick(lambda c, i=i: c.spin_radps[i]) for i, k in enumerate("xyz")})
     if xp is g.SCALARS:
         (c,) = cases
         return SimpleNamespace(**{f: getattr(c, f) for f in CASE_FIELDS}, v0n_mps=c.v0n_mps,
-                               u0n_mps=c.u0n_mps, closing_speed_mps=c.closing_speed_mps)
+                               u0n_mps=c.u0n_mps, closing_speed_mps=c.closing_speed_mps,
+                               turned=turned)
     values = np.fromiter(chain.from_iterable(map(attrgetter(*CASE_FIELDS), cases)), float,
                          count=len(CASE_FIELDS) * len(cases)).reshape(len(cases), -1)
     cc = SimpleNamespace(**dict(zip(CASE_FIELDS, values.T)))
     cc.v0n_mps = cc.v0_mps * np.cos(cc.theta_rad)
     cc.u0n_mps = cc.u0_mps * np.cos(cc.phi_rad)
     cc.closing_speed_mps = cc.v0n_mps + cc.u0n_mps + cc.omega0_radps * cc.s_m
+    cc.turned = turned
     return cc
 
 
@@ -87,21 +100,34 @@ def check_placements(xp, cases: Sequence[ImpactCase], cc: SimpleNamespace,
     flag are checked one by one, which raises with the message."""
     bat, st = cases[0].bat, each[0]
     off = (cc.s_m < bat.s_min_m - HITTABLE_SLACK_M) | (cc.s_m > bat.s_max_m + HITTABLE_SLACK_M)
-    smallest = st.overlap_m / (cc.closing_speed_mps * (st.approach_steps - cc.contact_phase))
+    closing = cc.closing_speed_mps * (1.0 if cc.turned is None else cc.turned.cos_tilt)
+    smallest = st.overlap_m / (closing * (st.approach_steps - cc.contact_phase))
     for i in xp.indices(off | xp.not_(st.dt_s > smallest)):
         check_placement(cases[i], each[i])
 
 
 def start_states(xp, bat: Bat, ball: Ball, cc: SimpleNamespace, settings: Settings):
     """The states T seconds before contact (module docstring), one per case of the columns
-    ``cc`` (each with its ``contact_phase``), as the batch takes them; returns (states, T)."""
-    vc = cc.closing_speed_mps
+    ``cc`` (each with its ``contact_phase``), as the batch takes them; returns (states, T).
+    An undercut ball touches at (s, R cos tilt, undercut), first seen ``overlap_m`` deep along
+    the tilted normal, which it closes at cos(tilt) times the planar closing speed; a spinning
+    ball keeps its spin in free flight."""
+    vc, turned = cc.closing_speed_mps, cc.turned
+    if turned is not None:
+        vc = vc * turned.cos_tilt
     T = (settings.approach_steps - cc.contact_phase) * settings.dt_s - settings.overlap_m / vc
     v_t, v_n = cc.v0_mps * xp.sin(cc.theta_rad), -cc.v0n_mps
     u_t, u_n = cc.u0_mps * xp.sin(cc.phi_rad), cc.u0n_mps
     reach = bat.radius_m + ball.radius_m
-    return xp.from_cols((cc.s_m - T * v_t, reach - T * v_n, v_t, v_n, 0.0 * T, -T * u_t,
-                         -T * u_n, -T * cc.omega0_radps, u_t, u_n, cc.omega0_radps)), T
+    if turned is None:
+        return xp.from_cols((cc.s_m - T * v_t, reach - T * v_n, v_t, v_n, 0.0 * T, -T * u_t,
+                             -T * u_n, -T * cc.omega0_radps, u_t, u_n, cc.omega0_radps)), T
+    zero = 0.0 * T
+    return xp.from_cols((cc.s_m - T * v_t, reach * turned.cos_tilt - T * v_n, v_t, v_n,
+                         turned.spin_z + zero, -T * u_t, -T * u_n, -T * cc.omega0_radps, u_t,
+                         u_n, cc.omega0_radps, turned.undercut_m + zero, zero,
+                         turned.spin_x + zero, turned.spin_y + zero, zero, zero, zero, zero,
+                         zero)), T
 
 
 def start_state(case: ImpactCase, settings: Settings) -> tuple[State, float]:
@@ -142,7 +168,8 @@ def hands_for(drive: Drive, bat: Bat, pivot_xy_m: tuple[float, float] = (0.0, 0.
 
 
 def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
-               swing: HingedSwing, settings: Settings) -> tuple[ImpactCase, SwingPlan]:
+               swing: HingedSwing, settings: Settings,
+               **contact) -> tuple[ImpactCase, SwingPlan]:
     """The impact that a hinged swing delivers, and the plan to simulate it in one run.
 
     The swing lasts a whole number of steps n = round(t/dt); at release (t_r = n dt, torque off,
@@ -150,6 +177,8 @@ def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
     the hands' circle. ``approach_steps`` later the free bat meets the ball at s: by then it has
     turned omega0 T, so the impact frame sees the COM velocity tilted by phi = omega0 T (its
     straight-line motion from release). The ball waits far away during the swing.
+    ``contact``: the case's friction and out-of-plane fields (``mu``, ``undercut_m``,
+    ``spin_radps``), passed on to it.
     """
     dt = settings.dt_s
     steps = max(1, round(swing.duration_s(bat) / dt))
@@ -160,11 +189,11 @@ def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
     for _ in range(3):  # T depends on the closing speed, which depends on phi; converges at once
         case = ImpactCase(bat=bat, ball=ball, s_m=s_m, v0_mps=v0_mps, u0_mps=w0 * d,
                           omega0_radps=w0, e=e, phi_rad=phi,
-                          hands_from_knob_m=swing.hands_from_knob_m)
+                          hands_from_knob_m=swing.hands_from_knob_m, **contact)
         release, T = start_state(case, settings)
         phi = w0 * T
     case = ImpactCase(bat=bat, ball=ball, s_m=s_m, v0_mps=v0_mps, u0_mps=w0 * d, omega0_radps=w0,
-                      e=e, phi_rad=phi, hands_from_knob_m=swing.hands_from_knob_m)
+                      e=e, phi_rad=phi, hands_from_knob_m=swing.hands_from_knob_m, **contact)
     release, _ = start_state(case, settings)
     px = release.bat_x_m - d * math.cos(release.bat_angle_rad)
     py = release.bat_y_m - d * math.sin(release.bat_angle_rad)

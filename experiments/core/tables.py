@@ -19,7 +19,7 @@ import adapters
 from analytic import Bat, ImpactCase, center_of_percussion, predict_arrays, presets, sweet_spot
 from analytic.dynamics import HingedSwing
 
-from . import judge
+from . import friction_judge, judge
 from .fire import Fired, Job, fire_jobs
 
 #: Columns of a sweep table, in order. Units are in the names.
@@ -54,12 +54,17 @@ class Firing:
     #: Swing the bat about the hands in the engine before each impact (u0, omega0 then come from
     #: the swing; ``u0_mps`` and ``omega0_radps`` are its nominal values).
     swing: HingedSwing | None = None
+    #: Friction and the third dimension, as ``ImpactCase`` takes them (0: frictionless, planar).
+    mu: float = 0.0
+    undercut_m: float = 0.0
+    spin_radps: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def case(self, s_m: float) -> ImpactCase:
         """The impact at one grid point (validates every field)."""
         return ImpactCase(bat=self.bat, ball=presets.BASEBALL, s_m=s_m, v0_mps=self.v0_mps,
                           u0_mps=self.u0_mps, omega0_radps=self.omega0_radps, e=self.e,
-                          theta_rad=self.theta_rad, hands_from_knob_m=self.hands_from_knob_m)
+                          theta_rad=self.theta_rad, hands_from_knob_m=self.hands_from_knob_m,
+                          mu=self.mu, undercut_m=self.undercut_m, spin_radps=self.spin_radps)
 
     def cases(self) -> list[ImpactCase]:
         return [self.case(s) for s in self.s_m]
@@ -101,12 +106,26 @@ def _single_impulse_v1(cases: Sequence[ImpactCase]) -> np.ndarray:
     return impulse
 
 
+def _with_friction(cases, outs, rigid, tol, impulse):
+    """With friction or out of the swing plane: the columns ``friction_judge`` adds, v1's
+    tolerance and single impulse from the frictional impulse where it applies, and whether every
+    added output is within its tolerance ({}, and as given, where every case is plain)."""
+    if all(c.frictionless_planar for c in cases):
+        return {}, tol, impulse, np.ones(len(cases), dtype=bool)
+    extra, friction_tol, within = friction_judge.columns(cases, outs, rigid)
+    plain = np.array([c.frictionless_planar for c in cases])
+    v1 = np.array([r.v1_mps for r in rigid])
+    return extra, np.where(plain, tol, friction_tol), np.where(plain, impulse, v1), within
+
+
 def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
     """The tidy table of fired impacts, one row per impact in order: the case, the rigid-body
     answer (``analytic.collide``'s whole episode, followed as long as the engine's budget; the
     single impulse beside it), the engine's outcome, their difference and the tolerance it is
     judged against (``judge``): a sound impact outside it gets the status
-    ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too."""
+    ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too; with friction
+    or out of the swing plane, ``friction_judge.columns`` (every one of its outputs judged
+    too)."""
     cases = [f.case for f in fired]
     outs = [f.outcome for f in fired]
     n = len(cases)
@@ -119,8 +138,11 @@ def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
     tol = judge.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
     law = np.array([judge.soft_judgement(c, o) for c, o in zip(cases, outs)]).reshape(-1, 2)
     law_err = np.abs(v1 - law[:, 0])
+    extra, tol, impulse, within = _with_friction(cases, outs, rigid, tol, impulse)
     status = [judge.verdict(o.status.value, err[i], tol[i], law_err[i], law[i, 1])
               for i, o in enumerate(outs)]
+    status = [judge.Status.INACCURATE.value if s == judge.Status.OK.value and not ok else s
+              for s, ok in zip(status, within)]
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
     cols = {
@@ -147,6 +169,7 @@ def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
         "peak_penetration_m": [o.peak_penetration_m for o in outs],
         "steps": [o.steps for o in outs], "wall_s": [o.wall_s for o in outs],
     }
+    cols.update(extra)
     if any(math.isfinite(f.release_omega_radps) for f in fired):
         cols["release_omega_engine_radps"] = [o.release_omega_radps for o in outs]
         cols["release_omega_analytic_radps"] = [f.release_omega_radps for f in fired]

@@ -1,0 +1,151 @@
+"""What the judge allows on an impact with friction or out of the swing plane, and the columns
+such an impact adds to a table.
+
+The answer that applies is one frictional impulse (``analytic.frictional``: Routh's method
+through slip and stick, energetic restitution), where free flight then parts the bodies for
+good; a rigid engine's outputs are judged against it. Each output X (v1; the ball's velocity
+along the bat, vt1, and out of the swing plane, vz1; its spin about z, spin1, and about x,
+backspin1) is allowed what the single impulse's v1 is allowed (``judge``):
+
+    allowed_X = precision_rel scale_X + GEOM_SAFETY (|dX/ds| slide + |d2X/ds2| slide^2 / 2
+                + leak_X)  (+ a lingering contact's share, for velocities)
+
+- scale_X: the impact's speed scale for velocities, that over r_ball for spins;
+- slide: how far the contact foot moves along the axis while the contact is seen late, as for
+  v1; |dX/ds| the larger one-sided difference over CURVATURE_STEP_M (a slip that stops makes
+  X(s) kinked, not smooth);
+- leak_X: the normal seen turned by tilt = |omega0| delta / v_n (the bat's turn while the
+  contact is seen late) + delta / R for an undercut (the foot's angle in the plane across the
+  axis) turns a share tilt of the impulse P into the tangent plane and back, and Coulomb's
+  bound with it: (1 + mu) P tilt / m on a velocity, (5/2)(1 + mu) P tilt / (m r) on a spin
+  (I = 2 m r^2 / 5).
+An engine whose contact is not a rigid impulse (a soft contact) has no frictional reference
+here: its rows are unjudged, as are those where the bodies would meet again.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+import adapters
+from analytic import ImpactCase
+
+from . import judge
+
+#: Column stem -> (index into the analytic ball velocity or spin, the engine outcome's field,
+#: 'velocity' or 'spin').
+OUTPUTS = {
+    "vt1": (0, "v1_t_mps", "velocity"),
+    "vz1": (2, "v1_z_mps", "velocity"),
+    "spin1": (2, "spin1_radps", "spin"),
+    "backspin1": (0, "backspin1_radps", "spin"),
+}
+UNITS = {"velocity": "mps", "spin": "radps"}
+#: The case's own columns in a table with friction (what it was fired with).
+CASE_COLUMNS = ("mu", "undercut_m", "spin0_x_radps", "spin0_y_radps", "spin0_z_radps")
+
+
+
+
+def tangential_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
+                         impulse_ns: float, mass_kg: float) -> float:
+    """Allowed error of a tangential velocity after a frictionless impact: rounding, and the
+    normal tilted by the bat's turn omega0 delta / v_c when the contact is seen (and by a
+    collision routine's own bias, its slide over r1 + r2), which leaks the impulse P/mass
+    times that tilt into it."""
+    tilt = (abs(case.omega0_radps) * settings.overlap_m / case.closing_speed_mps
+            + settings.collision_slide_m(case.bat) / (case.bat.radius_m + case.ball.radius_m))
+    return (judge.precision_rel(settings, eps, case) * case.v0_mps
+            + judge.GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt)
+
+
+def _analytic(ep, stem: str) -> float:
+    index, _, kind = OUTPUTS[stem]
+    vector = ep.ball_velocity_mps if kind == "velocity" else ep.ball_spin_radps
+    return float(vector[index])
+
+
+def _late(case: ImpactCase, st: adapters.Settings) -> tuple[float, float]:
+    """(slide along the axis, m; tilt of the normal, rad) of a contact seen late."""
+    v_n = case.closing_speed_mps * math.cos(case.tilt_rad)
+    reach = case.bat.radius_m + case.ball.radius_m
+    early = min(st.speculative_margin_m(), v_n * st.dt_s)
+    delta = st.overlap_m + max(st.contact_phase * v_n * st.dt_s, early)
+    slide = ((reach * abs(case.omega0_radps) + judge._tangential(case)) * delta / v_n
+             + st.collision_slide_m(case.bat))
+    tilt = (abs(case.omega0_radps) * delta / v_n + st.collision_slide_m(case.bat) / reach
+            + (delta / reach if case.undercut_m else 0.0))
+    return slide, tilt
+
+
+def _neighbours(case: ImpactCase, max_episode_s: float) -> tuple[list, float]:
+    """The rigid episodes at s - h, s, s + h (h = CURVATURE_STEP_M, kept on the cylinder)."""
+    bat, h = case.bat, judge.CURVATURE_STEP_M
+    lo, hi = max(case.s_m - h, bat.s_min_m), min(case.s_m + h, bat.s_max_m)
+    eps = [judge.rigid(replace(case, s_m=s), max_episode_s) for s in (lo, case.s_m, hi)]
+    return eps, min(case.s_m - lo, hi - case.s_m) or h
+
+
+def tolerances(case: ImpactCase, settings: adapters.Settings, eps: float) -> dict[str, float]:
+    """Allowed |engine - frictional impulse| of v1 and of every OUTPUTS stem (module docstring);
+    NaN for each where no frictional reference applies."""
+    nan = dict.fromkeys(("v1", *OUTPUTS), math.nan)
+    if settings.contact_reference() is not adapters.ContactReference.RIGID_IMPULSE:
+        return nan
+    episodes, h = _neighbours(case, settings.max_contact_s)
+    if any(ep.ended == "meets_again" for ep in episodes):
+        return nan
+    ball = case.ball
+    slide, tilt = _late(case, settings)
+    impulse = float(np.linalg.norm(episodes[1].friction.impulse_ns))
+    leak = (1.0 + case.mu) * impulse * tilt / ball.mass_kg
+    rounding = judge.precision_rel(settings, eps, case) * judge._speed(case)
+    lingering = judge._lingering(case, settings.dt_s, judge._tangential(case))
+    out = {}
+    for stem in ("v1", *OUTPUTS):
+        spin = stem != "v1" and OUTPUTS[stem][2] == "spin"
+        x = [ep.v1_mps if stem == "v1" else _analytic(ep, stem) for ep in episodes]
+        slope = max(abs(x[2] - x[1]), abs(x[1] - x[0])) / h
+        curvature = abs(x[2] - 2.0 * x[1] + x[0]) / h**2
+        geometric = slope * slide + 0.5 * curvature * slide**2
+        if spin:
+            out[stem] = (rounding / ball.radius_m
+                         + judge.GEOM_SAFETY * (geometric + 2.5 * leak / ball.radius_m))
+        else:
+            out[stem] = rounding + judge.GEOM_SAFETY * (geometric + leak) + lingering
+    return out
+
+
+def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
+    """The columns an impact with friction or out of the plane adds (the case's own, then per
+    OUTPUTS stem the analytic and engine values, |difference| and tolerance, the impulse's
+    phases and the engine's friction cone), v1's tolerance, and whether every added output is
+    within its tolerance (False where one is outside it; True where none is judged)."""
+    n = len(cases)
+    cols: dict[str, list] = {k: [] for k in CASE_COLUMNS}
+    for c in cases:
+        cols["mu"].append(c.mu)
+        cols["undercut_m"].append(c.undercut_m)
+        for axis, w in zip("xyz", c.spin_radps):
+            cols[f"spin0_{axis}_radps"].append(w)
+    tols = [tolerances(c, o.settings, adapters.record(o.engine).eps) if
+            not c.frictionless_planar else dict.fromkeys(("v1", *OUTPUTS), math.nan)
+            for c, o in zip(cases, outcomes)]
+    within = np.ones(n, dtype=bool)
+    for stem, (_, field, kind) in OUTPUTS.items():
+        unit = UNITS[kind]
+        want = np.array([_analytic(ep, stem) if hasattr(ep, "friction") else math.nan
+                         for ep in episodes])
+        got = np.array([getattr(o, field) for o in outcomes])
+        tol = np.array([t[stem] for t in tols])
+        err = np.abs(got - want)
+        within &= ~(err > tol)
+        cols[f"{stem}_analytic_{unit}"], cols[f"{stem}_engine_{unit}"] = want, got
+        cols[f"{stem}_abs_err_{unit}"], cols[f"{stem}_tol_{unit}"] = err, tol
+    cols["friction_phases"] = [",".join(p for p, _ in ep.friction.phases)
+                               if hasattr(ep, "friction") else "" for ep in episodes]
+    cols["friction_cone"] = [o.settings.friction_cone() for o in outcomes]
+    return cols, np.array([t["v1"] for t in tols]), within
