@@ -30,3 +30,20 @@ def angle_and_tilt(w: float, x: float, y: float, z: float) -> tuple[float, float
     az = 2.0 * (x * z - w * y)
     return math.atan2(ay, ax), math.atan2(az, math.hypot(ax, ay))
 
+
+
+def rotate(q: tuple[float, float, float, float], v: tuple[float, float, float],
+           inverse: bool = False) -> tuple[float, float, float]:
+    """v turned by the rotation of the unit quaternion q = (w, x, y, z) (its inverse if asked):
+    an angular velocity from a body's frame to the world's, or back. A rotation about z leaves
+    a vector along z as it is (returned unchanged: planar states stay bit for bit)."""
+    w, x, y, z = q
+    if x == 0.0 and y == 0.0 and v[0] == 0.0 and v[1] == 0.0:
+        return tuple(v)
+    if inverse:
+        x, y, z = -x, -y, -z
+    # v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z)
+    cx, cy, cz = y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0]
+    return (v[0] + 2.0 * (w * cx + y * cz - z * cy),
+            v[1] + 2.0 * (w * cy + z * cx - x * cz),
+            v[2] + 2.0 * (w * cz + x * cy - y * cx))

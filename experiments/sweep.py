@@ -24,9 +24,10 @@ import pandas as pd
 import adapters
 from analytic import Bat, compliant, predict, presets
 from analytic.dynamics import HingedSwing
+from analytic.model import MAX_MU
 
 from . import sweep_chart
-from .core import cli, estimate, judge, runs, tables
+from .core import carry, cli, estimate, judge, runs, tables
 from .core.estimate import duration
 from .core.fire import Job
 from .core.io import json_bytes, provenance
@@ -49,6 +50,8 @@ class Sweep:
     settings: Mapping[str, adapters.Settings]
     #: A compliant law (analytic.compliant.LAWS) whose prediction goes beside the rigid one.
     law: str | None = None
+    #: Add each batted ball's flight (``core.carry``).
+    flight: bool = False
 
     def jobs(self) -> list[Job]:
         """Every impact of the sweep: each engine over the grid."""
@@ -119,6 +122,14 @@ def build_parser() -> argparse.ArgumentParser:
                    help="coefficient of restitution")
     p.add_argument("--theta", type=num(-1.5707, 1.5707, unit="rad"), default=0.0, metavar="RAD",
                    help="ball's angle to the contact normal")
+    p.add_argument("--friction", type=num(0.0, MAX_MU), default=0.0, metavar="MU",
+                   help="Coulomb friction between ball and bat (default 0: frictionless)")
+    p.add_argument("--undercut", type=num(unit="m"), default=0.0, metavar="M",
+                   help="ball centre above (+) or below the bat's axis, out of the swing plane")
+    p.add_argument("--spin", type=num(-1e4, 1e4, unit="rad/s"), default=0.0, metavar="RADPS",
+                   help="the pitch's backspin about the bat's axis (- : topspin)")
+    p.add_argument("--flight", action="store_true",
+                   help="add launch_*_deg, carry_*_m and hang_*_s per row (analytic, engine)")
     p.add_argument("--swing", action="store_true",
                    help="swing the bat about the hands in the engine before each impact, with "
                         "the constant torque that reaches --omega0 over --swing-angle; u0 is "
@@ -164,9 +175,11 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
             f"2..{MAX_POINTS} ({MAX_POINTS} take about {duration(MAX_POINTS * per)})")
     s = tables.grid(bat, args.points, *(args.s_range or (None, None)))
     swing, u0 = _swing(args, bat)
+    # the pitch's backspin lifts it: about -x for a ball coming along -y (impact frame)
     firing = tables.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=u0, omega0_radps=args.omega0,
                            e=args.e, theta_rad=args.theta, hands_from_knob_m=args.hands,
-                           swing=swing)
+                           swing=swing, mu=args.friction, undercut_m=args.undercut,
+                           spin_radps=(-args.spin, 0.0, 0.0))
     cases = firing.cases()  # every impact validated before anything runs
     dt = {} if args.dt is None else {"dt_s": args.dt}
     settings = {n: adapters.settings_for(n, args.profile, **dt) for n in args.engine}
@@ -178,8 +191,10 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     name = default_name(runs.engine_label(args.engine), args.profile, args.dt,
                         presets.BATS[args.bat], args.corked, args.u0 == 0 and args.omega0 == 0,
                         args.swing, args.e) + (f"_{law}" if law else "")
+    name += "".join(f"_{k}{v:g}" for k, v in (("mu", args.friction), ("undercut", args.undercut),
+                                             ("spin", args.spin)) if v)
     return Sweep(engines=args.engine, profile=args.profile, dt_s=args.dt, firing=firing,
-                 name=name, law=law, settings=settings)
+                 name=name, law=law, settings=settings, flight=args.flight)
 
 
 def _bat(args: argparse.Namespace) -> Bat:
@@ -235,7 +250,9 @@ def run(sweep: Sweep, runner: Runner | None = None, *, locate: bool = True,
     runner = runner or Runner()
     settings = sweep.settings
     t0 = time.perf_counter()
-    table = tables.table(runner.fire(sweep.jobs()), sweep.profile)
+    table = tables.table(runner.fire(sweep.jobs()), sweep.profile, spin_columns=sweep.flight)
+    if sweep.flight:
+        table = carry.with_flight(table)
     if sweep.law:
         table = with_compliant(table, sweep.firing, sweep.law)
     elapsed = time.perf_counter() - t0

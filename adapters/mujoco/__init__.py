@@ -27,6 +27,7 @@ from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 from ..record import (
     ContactReference,
     EngineRecord,
+    FrictionRule,
     Integrator,
     KnobFamily,
     ReportNotes,
@@ -36,6 +37,9 @@ from ..record import (
 
 INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
 CONTACT_MODELS = ("impulse", "soft", "native")
+#: MuJoCo's friction cones: the pyramid (its default: 2 (condim - 1) edges, each a normal-plus-
+#: friction direction) or the elliptic cone (Coulomb's own, the friction's norm bounded by mu).
+CONES = ("pyramidal", "elliptic")
 DEFAULT_SOLREF = (0.02, 1.0)                       # MuJoCo's documented defaults
 DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
 
@@ -48,7 +52,7 @@ class MujocoSettings(Settings):
     the native model; ``diagexact`` exact constraint diagonals; ``iterations``/``tolerance`` of
     the Newton solver; ``speculative`` MuJoCo's speculative contacts (margin ahead of touching);
     ``hinge_solref`` of the hands' releasable connect constraint (None: (2 dt, 1), the stiffest
-    MuJoCo recommends)."""
+    MuJoCo recommends); ``cone``: one of CONES (friction's)."""
 
     integrator: str = "Euler"
     contact_model: str = "impulse"
@@ -61,6 +65,7 @@ class MujocoSettings(Settings):
     tolerance: float = 1e-8
     speculative: bool = False
     hinge_solref: tuple[float, float] | None = None
+    cone: str = "elliptic"
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -74,6 +79,15 @@ class MujocoSettings(Settings):
         checks.in_range("impedance", self.impedance, 0.0001, 0.9999)
         checks.integer("iterations", self.iterations, 1, 10_000)
         checks.non_negative("tolerance", self.tolerance)
+        if self.cone not in CONES:
+            raise ValueError(f"cone={self.cone!r} is unknown; allowed: {', '.join(CONES)}")
+
+    def friction_cone(self) -> str:
+        # a native contact's friction is the geoms' (condim 3); a tuned one is an explicit pair
+        # whose solreffriction (0, -1/dt) takes the slip to rest in a step, bounded by the cone
+        if self.cone == "pyramidal":
+            return "pyramidal, 4 edges (condim 3)"
+        return "elliptic (Coulomb's cone, condim 3)"
 
     def contact_reference(self) -> ContactReference:
         # impulse: one Euler step reverses the normal velocity as Newton's law asks; soft: a
@@ -124,7 +138,7 @@ RECORD = EngineRecord(
         # Out of the box: 2 ms step, Euler, solref (0.02, 1), default solimp, no diagexact; the
         # contact instant falls mid-step as it would in an unaligned simulation.
         "default": MujocoSettings(dt_s=0.002, integrator="Euler", contact_model="native",
-                                  diagexact=False, contact_phase=0.5),
+                                  diagexact=False, contact_phase=0.5, cone="pyramidal"),
     },
     color="tab:green", marker="^",
     speed_accuracy=_speed_accuracy(),
@@ -132,9 +146,11 @@ RECORD = EngineRecord(
                                  order=4 if name == "RK4" else 1)
                       for name in ("Euler", "implicitfast", "RK4")),
     restitution_rule=RestitutionRule.MAPPED,
+    friction_rule=FrictionRule.MAX,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
-                     "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler"},
+                     "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler",
+                     "cone": "pyramidal"},
     step_cost_s=3e-6,
     label="MuJoCo",
     notes=ReportNotes(

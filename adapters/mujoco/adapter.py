@@ -6,10 +6,11 @@ import math
 
 import numpy as np
 
+from ..frames import angle_and_tilt, bat_quaternion, rotate
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
 from . import INTEGRATORS, RECORD
-from .model import contact_parameters, mjcf
+from .model import contact_parameters, friction_reference, mjcf
 
 mujoco = import_engine(RECORD)
 # MuJoCo's own warning handler prints and appends to MUJOCO_LOG.TXT in the working directory;
@@ -36,11 +37,15 @@ class MujocoEngine(Engine):
                 "solimp": tuple(m.geom_solimp[0].tolist()), "iterations": int(m.opt.iterations),
                 "tolerance": float(m.opt.tolerance), "dt_s": float(m.opt.timestep),
                 "integrator": next(i for i in INTEGRATORS if m.opt.integrator
-                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}"))}
+                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")),
+                "cone": "elliptic" if m.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
+                else "pyramidal"}
 
     def build(self, scene: Scene) -> None:
         st = self.settings
-        m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball))
+        paired = st.contact_model != "native"
+        m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball, scene.mu, paired))
+        m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")
         m.opt.timestep = st.dt_s
         m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
         m.opt.iterations = st.iterations
@@ -53,11 +58,19 @@ class MujocoEngine(Engine):
         self._bat_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "bat")
         self._ball_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")
         self._bat_geom = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "bat")
+        self._ball_geom = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "ball")
         self._qpos, self._qvel = self.data.qpos, self.data.qvel
         self._site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "load")
         m.site_sameframe[self._site] = 0  # else kinematics ignores site_pos set at run time
         m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
         m.geom_solref[:], m.geom_solimp[:] = contact_parameters(st, scene.e)
+        if m.npair:
+            m.pair_solref[0], m.pair_solimp[0] = contact_parameters(st, scene.e)
+            m.pair_solreffriction[0] = friction_reference(st)
+
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        self.model.geom_friction[self._bat_geom][0] = bat
+        self.model.geom_friction[self._ball_geom][0] = ball
 
     def mass_properties(self) -> MassProperties:
         m = self.model
@@ -84,12 +97,15 @@ class MujocoEngine(Engine):
         data.qacc_warmstart[:] = 0.0
         for w in BLOW_UPS:
             data.warning[w].number = 0
-        half = 0.5 * state.bat_angle_rad
-        self._qpos[:] = (state.bat_x_m, state.bat_y_m, 0.0, math.cos(half), 0.0, 0.0,
-                         math.sin(half), state.ball_x_m, state.ball_y_m, 0.0, 1.0, 0.0, 0.0, 0.0)
-        self._qvel[:] = (state.bat_vx_mps, state.bat_vy_mps, 0.0, 0.0, 0.0,
-                         state.bat_omega_radps, state.ball_vx_mps, state.ball_vy_mps, 0.0, 0.0,
-                         0.0, state.ball_omega_radps)
+        q = bat_quaternion(state.bat_angle_rad, state.bat_tilt_rad)
+        # free joints: qvel[3:6] is the angular velocity in the body's frame (the ball's is
+        # the world's: it starts unturned)
+        w = rotate(q, (state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps), True)
+        self._qpos[:] = (state.bat_x_m, state.bat_y_m, state.bat_z_m, *q, state.ball_x_m,
+                         state.ball_y_m, state.ball_z_m, 1.0, 0.0, 0.0, 0.0)
+        self._qvel[:] = (state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps, *w,
+                         state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps,
+                         state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps)
 
     def set_drive(self, hands: Hands | None) -> None:
         # Site actuators act in the bat's frame and are evaluated at every integrator stage;
@@ -113,10 +129,16 @@ class MujocoEngine(Engine):
 
     def read(self) -> State:
         q, v = self._qpos.tolist(), self._qvel.tolist()  # Python floats: cheaper downstream
+        bat_w = rotate(q[3:7], v[3:6])
+        ball_w = rotate(q[10:14], v[9:12])
+        angle, tilt = angle_and_tilt(*q[3:7])
         return State(ball_x_m=q[7], ball_y_m=q[8], ball_vx_mps=v[6], ball_vy_mps=v[7],
-                     ball_omega_radps=v[11], bat_x_m=q[0], bat_y_m=q[1],
-                     bat_angle_rad=2.0 * math.atan2(q[6], q[3]), bat_vx_mps=v[0],
-                     bat_vy_mps=v[1], bat_omega_radps=v[5])
+                     ball_omega_radps=ball_w[2], bat_x_m=q[0], bat_y_m=q[1],
+                     bat_angle_rad=angle, bat_vx_mps=v[0], bat_vy_mps=v[1],
+                     bat_omega_radps=bat_w[2], ball_z_m=q[9], ball_vz_mps=v[8],
+                     ball_wx_radps=ball_w[0], ball_wy_radps=ball_w[1], bat_z_m=q[2],
+                     bat_tilt_rad=tilt, bat_vz_mps=v[2], bat_wx_radps=bat_w[0],
+                     bat_wy_radps=bat_w[1])
 
     def in_contact(self) -> bool:
         return self.data.ncon > 0

@@ -9,14 +9,31 @@ from analytic.compliant import damping_ratio_for
 from . import MujocoSettings
 
 
-def mjcf(bat: Bat, ball: Ball) -> str:
-    """The scene as MJCF: body frames at the COMs, mass properties set explicitly."""
+def friction_xml(mu: float, paired: bool) -> tuple[str, str]:
+    """The MJCF for a contact with friction mu: (geom defaults, contact section). Frictionless:
+    condim 1, no friction, no section (the model every frictionless run had). Paired: the
+    bat-ball contact an explicit ``<pair>`` (condim 3, friction mu along both tangents), for
+    its own ``solreffriction``, the automatic geom contact excluded; else (an untuned, native
+    contact) condim 3 on both geoms, whose friction MuJoCo combines by its own rule (max)."""
+    if mu == 0.0:
+        return 'condim="1" friction="0 0 0"', ""
+    if not paired:
+        return f'condim="3" friction="{mu!r} 0 0"', ""
+    return ('condim="3" friction="0 0 0"',
+            '<contact><exclude body1="bat" body2="ball"/><pair name="bat_ball" geom1="bat" '
+            f'geom2="ball" condim="3" friction="{mu!r} {mu!r} 0 0 0"/></contact>')
+
+
+def mjcf(bat: Bat, ball: Ball, mu: float = 0.0, paired: bool = True) -> str:
+    """The scene as MJCF: body frames at the COMs, mass properties set explicitly; friction
+    as ``friction_xml`` makes it."""
     a, b = bat.s_min_m, bat.s_max_m
     ib = ball.inertia_kgm2
+    geoms, contact = friction_xml(mu, paired)
     return f"""<mujoco model="bat_ball">
   <compiler angle="radian" inertiafromgeom="false"/>
   <option gravity="0 0 0"/>
-  <default><geom condim="1" friction="0 0 0" margin="0" gap="0"/></default>
+  <default><geom {geoms} margin="0" gap="0"/></default>
   <worldbody>
     <body name="bat">
       <freejoint name="bat"/>
@@ -32,7 +49,7 @@ def mjcf(bat: Bat, ball: Ball) -> str:
       <geom name="ball" type="sphere" size="{ball.radius_m!r}"/>
     </body>
   </worldbody>
-  <equality><connect name="hands" body1="bat" anchor="0 0 0" active="false"/></equality>
+  {contact}<equality><connect name="hands" body1="bat" anchor="0 0 0" active="false"/></equality>
   <actuator>
     <motor name="fx" site="load" gear="1 0 0 0 0 0"/>
     <motor name="fy" site="load" gear="0 1 0 0 0 0"/>
@@ -50,3 +67,9 @@ def contact_parameters(settings: MujocoSettings, e: float) -> tuple[tuple, tuple
         w, zeta = settings.soft_omega_radps, damping_ratio_for(max(e, 1e-9))
         return (-w * w, -2.0 * zeta * w), (d, d, 0.001, 0.5, 2.0)
     return settings.solref, settings.solimp
+
+
+def friction_reference(settings: MujocoSettings) -> tuple[float, float]:
+    """The paired contact's ``solreffriction``: (0, -1/dt) in the direct form asks each step to
+    take the slip to rest, which the cone then bounds (Coulomb's law over one step)."""
+    return 0.0, -1.0 / settings.dt_s

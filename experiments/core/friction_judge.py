@@ -63,7 +63,11 @@ def tangential_tolerance(case: ImpactCase, settings: adapters.Settings, eps: flo
 
 
 def _analytic(ep, stem: str) -> float:
+    """The rigid answer's value of an OUTPUTS stem: the frictional impulse's, or a frictionless
+    planar episode's (the ball leaves in the plane, without spin)."""
     index, _, kind = OUTPUTS[stem]
+    if not hasattr(ep, "friction"):
+        return (ep.v1_t_mps, ep.v1_mps, 0.0)[index] if kind == "velocity" else 0.0
     vector = ep.ball_velocity_mps if kind == "velocity" else ep.ball_spin_radps
     return float(vector[index])
 
@@ -137,8 +141,7 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
     within = np.ones(n, dtype=bool)
     for stem, (_, field, kind) in OUTPUTS.items():
         unit = UNITS[kind]
-        want = np.array([_analytic(ep, stem) if hasattr(ep, "friction") else math.nan
-                         for ep in episodes])
+        want = np.array([_analytic(ep, stem) for ep in episodes])
         got = np.array([getattr(o, field) for o in outcomes])
         tol = np.array([t[stem] for t in tols])
         err = np.abs(got - want)

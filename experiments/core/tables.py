@@ -106,11 +106,12 @@ def _single_impulse_v1(cases: Sequence[ImpactCase]) -> np.ndarray:
     return impulse
 
 
-def _with_friction(cases, outs, rigid, tol, impulse):
-    """With friction or out of the swing plane: the columns ``friction_judge`` adds, v1's
-    tolerance and single impulse from the frictional impulse where it applies, and whether every
-    added output is within its tolerance ({}, and as given, where every case is plain)."""
-    if all(c.frictionless_planar for c in cases):
+def _with_friction(cases, outs, rigid, tol, impulse, spin_columns: bool):
+    """With friction or out of the swing plane (or ``spin_columns``): the columns
+    ``friction_judge`` adds, v1's tolerance and single impulse from the frictional impulse where
+    it applies, and whether every added output is within its tolerance ({}, and as given, where
+    every case is plain)."""
+    if all(c.frictionless_planar for c in cases) and not spin_columns:
         return {}, tol, impulse, np.ones(len(cases), dtype=bool)
     extra, friction_tol, within = friction_judge.columns(cases, outs, rigid)
     plain = np.array([c.frictionless_planar for c in cases])
@@ -118,14 +119,14 @@ def _with_friction(cases, outs, rigid, tol, impulse):
     return extra, np.where(plain, tol, friction_tol), np.where(plain, impulse, v1), within
 
 
-def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
+def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> pd.DataFrame:
     """The tidy table of fired impacts, one row per impact in order: the case, the rigid-body
     answer (``analytic.collide``'s whole episode, followed as long as the engine's budget; the
     single impulse beside it), the engine's outcome, their difference and the tolerance it is
     judged against (``judge``): a sound impact outside it gets the status
     ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too; with friction
-    or out of the swing plane, ``friction_judge.columns`` (every one of its outputs judged
-    too)."""
+    or out of the swing plane (or ``spin_columns``: a flight needs them),
+    ``friction_judge.columns`` (every one of its outputs judged too)."""
     cases = [f.case for f in fired]
     outs = [f.outcome for f in fired]
     n = len(cases)
@@ -138,7 +139,8 @@ def table(fired: Sequence[Fired], profile: str) -> pd.DataFrame:
     tol = judge.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
     law = np.array([judge.soft_judgement(c, o) for c, o in zip(cases, outs)]).reshape(-1, 2)
     law_err = np.abs(v1 - law[:, 0])
-    extra, tol, impulse, within = _with_friction(cases, outs, rigid, tol, impulse)
+    extra, tol, impulse, within = _with_friction(cases, outs, rigid, tol, impulse,
+                                                 spin_columns)
     status = [judge.verdict(o.status.value, err[i], tol[i], law_err[i], law[i, 1])
               for i, o in enumerate(outs)]
     status = [judge.Status.INACCURATE.value if s == judge.Status.OK.value and not ok else s
