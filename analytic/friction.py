@@ -243,6 +243,57 @@ def _from_rest(imp: _Impact) -> str:
     return "slip"
 
 
+def one_step_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m: ArrayLike,
+                     normal: ArrayLike, e: float, mu: float) -> FrictionalImpulse:
+    """The impulse an impulse-based engine solves in one step: Newton's restitution on the
+    total normal impulse (v_n' = -e v_n) and Coulomb's cone on the total impulse, sticking
+    (v_t' = 0) where the cone allows it, else sliding against the final slip,
+    P = p (n - mu T d) with T'(v + K P) = lambda d, lambda >= 0 (Stewart & Trinkle's time
+    step, without Anitescu's relaxation). Not Routh's integration: the two differ where K
+    couples the normal and tangential directions and the slip stops or turns within the impact
+    (``frictional_impulse``); ``phases`` is (('stick' or 'slip', p),)."""
+    r_a, r_b, n = _vec3("r_a_m", r_a_m), _vec3("r_b_m", r_b_m), _vec3("normal", normal)
+    n = n / np.linalg.norm(n)
+    checks.in_range("e", e, 0.0, 1.0)
+    checks.in_range("mu", mu, 0.0, 1e6)
+    v0 = a.point_velocity(r_a) - b.point_velocity(r_b)
+    vn = float(n @ v0)
+    if not vn < 0.0:
+        raise ValueError(f"relative normal velocity v_rel={vn!r} m/s: the bodies do not "
+                         "approach; allowed: v_rel < 0")
+    K, T = collision_matrix(a, b, r_a, r_b), _tangents(n)
+    P = np.linalg.solve(K, -(1.0 + e) * vn * n - T @ (T.T @ v0))  # sticking
+    mode = "stick"
+    if math.hypot(*(T.T @ P)) > mu * float(n @ P):
+        mode, P = "slip", _one_step_slide(K, T, n, v0, vn, e, mu)
+    a1, b1 = apply_impulse(a, b, r_a, r_b, P)
+    return FrictionalImpulse(impulse_ns=P, a=a1, b=b1, compression_ns=math.nan,
+                             phases=((mode, float(n @ P)),))
+
+
+def _one_step_slide(K, T, n, v0, vn: float, e: float, mu: float) -> np.ndarray:
+    """The sliding impulse of ``one_step_impulse``: the slip direction d (angle phi in the
+    tangent plane) for which the final slip is along +d."""
+    def impulse(phi: float) -> np.ndarray:
+        d = T @ np.array([math.cos(phi), math.sin(phi)])
+        return -(1.0 + e) * vn / float(n @ K @ (n - mu * d)) * (n - mu * d)
+
+    def parts(phi: float) -> tuple[float, float]:
+        slip = T.T @ (v0 + K @ impulse(phi))
+        c, s = math.cos(phi), math.sin(phi)
+        return float(slip[1] * c - slip[0] * s), float(slip[0] * c + slip[1] * s)
+
+    grid = np.linspace(-math.pi, math.pi, 721)
+    cross = [parts(phi)[0] for phi in grid]
+    for lo, hi, f_lo, f_hi in zip(grid, grid[1:], cross, cross[1:]):
+        if f_lo == 0.0 or f_lo * f_hi < 0.0:
+            phi = lo if f_lo == 0.0 else optimize.brentq(lambda x: parts(x)[0], lo, hi,
+                                                         xtol=1e-15)
+            if parts(phi)[1] >= 0.0:
+                return impulse(phi)
+    raise ArithmeticError("no sliding direction satisfies the one-step law")
+
+
 @dataclass(frozen=True, kw_only=True)
 class FrictionOutcome:
     """Ball and bat just after a frictional impact, in the impact frame: x along the bat's axis
@@ -280,12 +331,14 @@ class FrictionOutcome:
         return self.ball_spin_radps[0]
 
 
-def predict_friction(case, *, hypothesis: str = "energetic") -> FrictionOutcome:
+def predict_friction(case, *, hypothesis: str = "energetic",
+                     one_step: bool = False) -> FrictionOutcome:
     """The impact of ``case`` (an ``ImpactCase``) with its Coulomb friction ``case.mu``, the
     ball's centre ``case.undercut_m`` off the swing plane (+z) and spinning at
     ``case.spin_radps`` (impact frame). The bat turns about z at omega0 with its inertia tensor
     diag(I_axial, J, J) about the COM; the contact normal tilts by ``case.tilt_rad`` out of the
-    plane."""
+    plane. Routh's integration (``frictional_impulse``), or with ``one_step`` the law an
+    impulse engine solves in one step (``one_step_impulse``)."""
     bat, ball = case.bat, case.ball
     tilt = case.tilt_rad
     n = np.array([0.0, math.cos(tilt), math.sin(tilt)])
@@ -299,9 +352,11 @@ def predict_friction(case, *, hypothesis: str = "energetic") -> FrictionOutcome:
                     velocity_mps=np.array([case.u0_mps * math.sin(case.phi_rad),
                                            case.u0n_mps, 0.0]),
                     omega_radps=np.array([0.0, 0.0, case.omega0_radps]))
-    out = frictional_impulse(a, b, r_a_m=-ball.radius_m * n,
-                             r_b_m=np.array([case.s_m, 0.0, 0.0]) + bat.radius_m * n,
-                             normal=n, e=case.e, mu=case.mu, hypothesis=hypothesis)
+    contact = dict(r_a_m=-ball.radius_m * n,
+                   r_b_m=np.array([case.s_m, 0.0, 0.0]) + bat.radius_m * n, normal=n, e=case.e,
+                   mu=case.mu)
+    out = (one_step_impulse(a, b, **contact) if one_step
+           else frictional_impulse(a, b, hypothesis=hypothesis, **contact))
     return FrictionOutcome(
         ball_velocity_mps=tuple(map(float, out.a.velocity_mps)),
         ball_spin_radps=tuple(map(float, out.a.omega_radps)),

@@ -52,7 +52,8 @@ class MujocoSettings(Settings):
     the native model; ``diagexact`` exact constraint diagonals; ``iterations``/``tolerance`` of
     the Newton solver; ``speculative`` MuJoCo's speculative contacts (margin ahead of touching);
     ``hinge_solref`` of the hands' releasable connect constraint (None: (2 dt, 1), the stiffest
-    MuJoCo recommends); ``cone``: one of CONES (friction's)."""
+    MuJoCo recommends); ``cone``: one of CONES (friction's); ``friction_impedance``: the
+    constant impedance d of a frictional contact (``model.pair_parameters``)."""
 
     integrator: str = "Euler"
     contact_model: str = "impulse"
@@ -66,6 +67,7 @@ class MujocoSettings(Settings):
     speculative: bool = False
     hinge_solref: tuple[float, float] | None = None
     cone: str = "elliptic"
+    friction_impedance: float = 0.9999
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -79,6 +81,7 @@ class MujocoSettings(Settings):
         checks.in_range("impedance", self.impedance, 0.0001, 0.9999)
         checks.integer("iterations", self.iterations, 1, 10_000)
         checks.non_negative("tolerance", self.tolerance)
+        checks.in_range("friction_impedance", self.friction_impedance, 0.0001, 0.9999)
         if self.cone not in CONES:
             raise ValueError(f"cone={self.cone!r} is unknown; allowed: {', '.join(CONES)}")
 

@@ -10,7 +10,7 @@ from ..frames import angle_and_tilt, bat_quaternion, rotate
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
 from . import INTEGRATORS, RECORD
-from .model import contact_parameters, friction_reference, mjcf
+from .model import contact_parameters, mjcf, pair_parameters
 
 mujoco = import_engine(RECORD)
 # MuJoCo's own warning handler prints and appends to MUJOCO_LOG.TXT in the working directory;
@@ -65,8 +65,8 @@ class MujocoEngine(Engine):
         m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
         m.geom_solref[:], m.geom_solimp[:] = contact_parameters(st, scene.e)
         if m.npair:
-            m.pair_solref[0], m.pair_solimp[0] = contact_parameters(st, scene.e)
-            m.pair_solreffriction[0] = friction_reference(st)
+            m.pair_solref[0], m.pair_solimp[0], m.pair_solreffriction[0] = \
+                pair_parameters(st, scene.e)
 
     def set_body_friction(self, *, bat: float, ball: float) -> None:
         self.model.geom_friction[self._bat_geom][0] = bat
