@@ -121,6 +121,11 @@ class Settings:
         to a whole step early; 0 for engines that see a contact once the bodies overlap."""
         return 0.0
 
+    def friction_mapping_error_rel(self) -> float:
+        """The share of a slip the engine's friction mapping leaves where Coulomb's law would
+        stop it within the step (a regularised friction row); 0 for an exact one."""
+        return 0.0
+
     def friction_cone(self) -> str:
         """How the engine's contact approximates Coulomb's cone with these settings, in words
         (tables and the friction study record it); '' for an engine without friction."""
@@ -254,7 +259,9 @@ class EngineRecord:
     same model; ``twin_steps`` the comparisons that find what makes them differ.
     ``friction_rule``: how it combines two bodies' friction (None: its adapter does not set
     friction, and an impact with friction is ``unsupported``); ``planar``: a 2-D engine, which
-    cannot fire an impact out of the swing plane (an undercut, a spin about x or y).
+    cannot fire an impact out of the swing plane (an undercut, a spin about x or y);
+    ``friction_families``: its friction models besides the reference's (another cone, friction
+    solved otherwise), for the friction study.
     """
 
     name: str
@@ -282,6 +289,7 @@ class EngineRecord:
     twin_steps: tuple[TwinStep, ...] = ()
     friction_rule: FrictionRule | None = None
     planar: bool = False
+    friction_families: tuple[KnobFamily, ...] = ()
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

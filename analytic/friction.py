@@ -299,7 +299,8 @@ class FrictionOutcome:
     """Ball and bat just after a frictional impact, in the impact frame: x along the bat's axis
     (toward the barrel), y the swing's normal (toward the incoming ball), z = x cross y (the
     side of the swing plane an undercut ball's centre is on). Velocities m/s, spins rad/s,
-    impulse N s (on the ball), energies J; ``phases`` as ``FrictionalImpulse.phases``."""
+    impulse N s (on the ball), energies J; ``phases`` as ``FrictionalImpulse.phases``;
+    ``slip0_mps`` the contact points' tangential speed before the impact."""
 
     ball_velocity_mps: tuple[float, float, float]
     ball_spin_radps: tuple[float, float, float]
@@ -309,6 +310,7 @@ class FrictionOutcome:
     phases: tuple[tuple[str, float], ...]
     ke_before_j: float
     ke_after_j: float
+    slip0_mps: float = 0.0
 
     @property
     def v1_mps(self) -> float:
@@ -357,7 +359,9 @@ def predict_friction(case, *, hypothesis: str = "energetic",
                    mu=case.mu)
     out = (one_step_impulse(a, b, **contact) if one_step
            else frictional_impulse(a, b, hypothesis=hypothesis, **contact))
+    v0 = a.point_velocity(contact["r_a_m"]) - b.point_velocity(contact["r_b_m"])
     return FrictionOutcome(
+        slip0_mps=float(np.linalg.norm(v0 - (v0 @ n) * n)),
         ball_velocity_mps=tuple(map(float, out.a.velocity_mps)),
         ball_spin_radps=tuple(map(float, out.a.omega_radps)),
         bat_velocity_mps=tuple(map(float, out.b.velocity_mps)),

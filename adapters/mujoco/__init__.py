@@ -85,6 +85,11 @@ class MujocoSettings(Settings):
         if self.cone not in CONES:
             raise ValueError(f"cone={self.cone!r} is unknown; allowed: {', '.join(CONES)}")
 
+    def friction_mapping_error_rel(self) -> float:
+        # the frictional pair's rows are regularised at d = friction_impedance: (1 - d) of the
+        # slip is left (measured 0.3-0.7 (1 - d) on the paper's swing; model.pair_parameters)
+        return 0.0 if self.contact_model == "native" else 1.0 - self.friction_impedance
+
     def friction_cone(self) -> str:
         # a native contact's friction is the geoms' (condim 3); a tuned one is an explicit pair
         # whose solreffriction (0, -1/dt) takes the slip to rest in a step, bounded by the cone
@@ -150,6 +155,7 @@ RECORD = EngineRecord(
                       for name in ("Euler", "implicitfast", "RK4")),
     restitution_rule=RestitutionRule.MAPPED,
     friction_rule=FrictionRule.MAX,
+    friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
                      "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler",

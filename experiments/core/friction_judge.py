@@ -1,30 +1,39 @@
 """What the judge allows on an impact with friction or out of the swing plane, and the columns
 such an impact adds to a table.
 
-The answer that applies is one frictional impulse (``analytic.frictional``: Routh's method
-through slip and stick, energetic restitution), where free flight then parts the bodies for
-good; a rigid engine's outputs are judged against it. Each output X (v1; the ball's velocity
-along the bat, vt1, and out of the swing plane, vz1; its spin about z, spin1, and about x,
-backspin1) is allowed what the single impulse's v1 is allowed (``judge``):
+Two rigid answers apply. Theory is Routh's: one impulse integrated through slip and stick
+(``analytic.friction``, energetic restitution); it is the ``*_analytic_*`` columns. A rigid
+engine resolves the impact in one step, and as its step shrinks it converges to another law:
+Newton's restitution and Coulomb's cone on the total impulse (``one_step_impulse``, the
+``*_law_*`` columns). The two differ by the law's own gap from theory (where the collision
+matrix couples the normal and the tangent and the slip stops within the impact: 1e-5 to 1e-3
+relative on the paper's swing), which no setting removes; so, as a soft contact is judged
+against its own contact law, a rigid engine's frictional impact is judged against the one-step
+law, and its error against theory is beside it. Both count only where free flight then parts
+the bodies for good (``analytic.frictional``); elsewhere, and for a soft contact (no frictional
+law here), the row is unjudged. Each output X (v1; the ball's velocity along the bat, vt1, and
+out of the swing plane, vz1; its spin about z, spin1, and about x, backspin1) is allowed what
+the single impulse's v1 is allowed (``judge``):
 
-    allowed_X = precision_rel scale_X + GEOM_SAFETY (|dX/ds| slide + |d2X/ds2| slide^2 / 2
-                + leak_X)  (+ a lingering contact's share, for velocities)
+    allowed_X = precision_rel scale_X + mapping slip0 [/ r] + GEOM_SAFETY (|dX/ds| slide
+                + |d2X/ds2| slide^2 / 2 + leak_X)  (+ a lingering contact's share, velocities)
 
-- scale_X: the impact's speed scale for velocities, that over r_ball for spins;
+- scale_X: the impact's speed scale for velocities, that over r_ball for spins; mapping: the
+  share of the slip slip0 (the contact points' tangential speed before the impact) the
+  engine's friction mapping leaves (``Settings.friction_mapping_error_rel``; times 5/2 for
+  spins, I = 2 m r^2 / 5);
 - slide: how far the contact foot moves along the axis while the contact is seen late, as for
   v1; |dX/ds| the larger one-sided difference over CURVATURE_STEP_M (a slip that stops makes
   X(s) kinked, not smooth);
 - leak_X: the normal seen turned by tilt = |omega0| delta / v_n (the bat's turn while the
   contact is seen late) + delta / R for an undercut (the foot's angle in the plane across the
   axis) turns a share tilt of the impulse P into the tangent plane and back, and Coulomb's
-  bound with it: (1 + mu) P tilt / m on a velocity, (5/2)(1 + mu) P tilt / (m r) on a spin
-  (I = 2 m r^2 / 5).
-An engine whose contact is not a rigid impulse (a soft contact) has no frictional reference
-here: its rows are unjudged, as are those where the bodies would meet again.
+  bound with it: (1 + mu) P tilt / m on a velocity, (5/2)(1 + mu) P tilt / (m r) on a spin.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import replace
 
@@ -32,6 +41,7 @@ import numpy as np
 
 import adapters
 from analytic import ImpactCase
+from analytic.frictional import FrictionEpisode, frictional_episode
 
 from . import judge
 
@@ -85,28 +95,36 @@ def _late(case: ImpactCase, st: adapters.Settings) -> tuple[float, float]:
     return slide, tilt
 
 
+@functools.lru_cache(maxsize=1 << 16)
+def law(case: ImpactCase, max_episode_s: float) -> FrictionEpisode:
+    """The one-step law's episode for ``case`` (module docstring). Cached as ``judge.rigid``."""
+    return frictional_episode(case, max_episode_s=max_episode_s, one_step=True)
+
+
 def _neighbours(case: ImpactCase, max_episode_s: float) -> tuple[list, float]:
-    """The rigid episodes at s - h, s, s + h (h = CURVATURE_STEP_M, kept on the cylinder)."""
+    """The law's episodes at s - h, s, s + h (h = CURVATURE_STEP_M, kept on the cylinder)."""
     bat, h = case.bat, judge.CURVATURE_STEP_M
     lo, hi = max(case.s_m - h, bat.s_min_m), min(case.s_m + h, bat.s_max_m)
-    eps = [judge.rigid(replace(case, s_m=s), max_episode_s) for s in (lo, case.s_m, hi)]
+    eps = [law(replace(case, s_m=s), max_episode_s) for s in (lo, case.s_m, hi)]
     return eps, min(case.s_m - lo, hi - case.s_m) or h
 
 
 def tolerances(case: ImpactCase, settings: adapters.Settings, eps: float) -> dict[str, float]:
-    """Allowed |engine - frictional impulse| of v1 and of every OUTPUTS stem (module docstring);
-    NaN for each where no frictional reference applies."""
+    """Allowed |engine - one-step law| of v1 and of every OUTPUTS stem (module docstring); NaN
+    for each where no frictional answer applies."""
     nan = dict.fromkeys(("v1", *OUTPUTS), math.nan)
     if settings.contact_reference() is not adapters.ContactReference.RIGID_IMPULSE:
         return nan
     episodes, h = _neighbours(case, settings.max_contact_s)
-    if any(ep.ended == "meets_again" for ep in episodes):
+    if any(ep.ended == "meets_again" for ep in episodes) \
+            or judge.rigid(case, settings.max_contact_s).ended == "meets_again":
         return nan
     ball = case.ball
     slide, tilt = _late(case, settings)
     impulse = float(np.linalg.norm(episodes[1].friction.impulse_ns))
     leak = (1.0 + case.mu) * impulse * tilt / ball.mass_kg
     rounding = judge.precision_rel(settings, eps, case) * judge._speed(case)
+    rounding += settings.friction_mapping_error_rel() * episodes[1].friction.slip0_mps
     lingering = judge._lingering(case, settings.dt_s, judge._tangential(case))
     out = {}
     for stem in ("v1", *OUTPUTS):
@@ -124,10 +142,11 @@ def tolerances(case: ImpactCase, settings: adapters.Settings, eps: float) -> dic
 
 
 def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
-    """The columns an impact with friction or out of the plane adds (the case's own, then per
-    OUTPUTS stem the analytic and engine values, |difference| and tolerance, the impulse's
-    phases and the engine's friction cone), v1's tolerance, and whether every added output is
-    within its tolerance (False where one is outside it; True where none is judged)."""
+    """The columns an impact with friction or out of the plane adds: the case's own, then per
+    OUTPUTS stem Routh's value (analytic), the one-step law's (law), the engine's, |engine -
+    analytic|, |engine - law| and the tolerance on the latter; the impulse's phases under
+    Routh and the engine's friction cone. Also v1's law and tolerance (columns of 2), and
+    whether every added output is within its tolerance (True where none is judged)."""
     n = len(cases)
     cols: dict[str, list] = {k: [] for k in CASE_COLUMNS}
     for c in cases:
@@ -135,20 +154,26 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
         cols["undercut_m"].append(c.undercut_m)
         for axis, w in zip("xyz", c.spin_radps):
             cols[f"spin0_{axis}_radps"].append(w)
-    tols = [tolerances(c, o.settings, adapters.record(o.engine).eps) if
-            not c.frictionless_planar else dict.fromkeys(("v1", *OUTPUTS), math.nan)
-            for c, o in zip(cases, outcomes)]
+    plain = [c.frictionless_planar for c in cases]
+    laws = [ep if p else law(c, o.settings.max_contact_s)
+            for c, o, ep, p in zip(cases, outcomes, episodes, plain)]
+    tols = [dict.fromkeys(("v1", *OUTPUTS), math.nan) if p else
+            tolerances(c, o.settings, adapters.record(o.engine).eps)
+            for c, o, p in zip(cases, outcomes, plain)]
     within = np.ones(n, dtype=bool)
     for stem, (_, field, kind) in OUTPUTS.items():
         unit = UNITS[kind]
         want = np.array([_analytic(ep, stem) for ep in episodes])
+        at_law = np.array([_analytic(ep, stem) for ep in laws])
         got = np.array([getattr(o, field) for o in outcomes])
         tol = np.array([t[stem] for t in tols])
-        err = np.abs(got - want)
-        within &= ~(err > tol)
-        cols[f"{stem}_analytic_{unit}"], cols[f"{stem}_engine_{unit}"] = want, got
-        cols[f"{stem}_abs_err_{unit}"], cols[f"{stem}_tol_{unit}"] = err, tol
+        within &= ~(np.abs(got - at_law) > tol)
+        cols[f"{stem}_analytic_{unit}"], cols[f"{stem}_law_{unit}"] = want, at_law
+        cols[f"{stem}_engine_{unit}"] = got
+        cols[f"{stem}_abs_err_{unit}"] = np.abs(got - want)
+        cols[f"{stem}_law_err_{unit}"], cols[f"{stem}_tol_{unit}"] = np.abs(got - at_law), tol
     cols["friction_phases"] = [",".join(p for p, _ in ep.friction.phases)
                                if hasattr(ep, "friction") else "" for ep in episodes]
     cols["friction_cone"] = [o.settings.friction_cone() for o in outcomes]
-    return cols, np.array([t["v1"] for t in tols]), within
+    v1_law = np.column_stack([[ep.v1_mps for ep in laws], [t["v1"] for t in tols]])
+    return cols, v1_law, within

@@ -106,17 +106,19 @@ def _single_impulse_v1(cases: Sequence[ImpactCase]) -> np.ndarray:
     return impulse
 
 
-def _with_friction(cases, outs, rigid, tol, impulse, spin_columns: bool):
+def _with_friction(cases, outs, rigid, tol, law, impulse, spin_columns: bool):
     """With friction or out of the swing plane (or ``spin_columns``): the columns
-    ``friction_judge`` adds, v1's tolerance and single impulse from the frictional impulse where
-    it applies, and whether every added output is within its tolerance ({}, and as given, where
-    every case is plain)."""
+    ``friction_judge`` adds; where a frictional answer applies, v1 judged against the one-step
+    law as against a contact law (rigid tolerance NaN, ``law`` from the one-step law) with
+    Routh's impulse as its single impulse; and whether every added output is within its
+    tolerance ({}, and as given, where every case is plain)."""
     if all(c.frictionless_planar for c in cases) and not spin_columns:
-        return {}, tol, impulse, np.ones(len(cases), dtype=bool)
-    extra, friction_tol, within = friction_judge.columns(cases, outs, rigid)
+        return {}, tol, law, impulse, np.ones(len(cases), dtype=bool)
+    extra, v1_law, within = friction_judge.columns(cases, outs, rigid)
     plain = np.array([c.frictionless_planar for c in cases])
     v1 = np.array([r.v1_mps for r in rigid])
-    return extra, np.where(plain, tol, friction_tol), np.where(plain, impulse, v1), within
+    return (extra, np.where(plain, tol, math.nan), np.where(plain[:, None], law, v1_law),
+            np.where(plain, impulse, v1), within)
 
 
 def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> pd.DataFrame:
@@ -138,9 +140,9 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
     err = np.abs(v1 - ref["v1_mps"])
     tol = judge.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
     law = np.array([judge.soft_judgement(c, o) for c, o in zip(cases, outs)]).reshape(-1, 2)
+    extra, tol, law, impulse, within = _with_friction(cases, outs, rigid, tol, law, impulse,
+                                                      spin_columns)
     law_err = np.abs(v1 - law[:, 0])
-    extra, tol, impulse, within = _with_friction(cases, outs, rigid, tol, impulse,
-                                                 spin_columns)
     status = [judge.verdict(o.status.value, err[i], tol[i], law_err[i], law[i, 1])
               for i, o in enumerate(outs)]
     status = [judge.Status.INACCURATE.value if s == judge.Status.OK.value and not ok else s
