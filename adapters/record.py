@@ -121,6 +121,13 @@ class Settings:
         to a whole step early; 0 for engines that see a contact once the bodies overlap."""
         return 0.0
 
+    def friction_law(self) -> str:
+        """The frictional impulse law (``analytic.friction.LAWS``) the contact converges to as
+        its step shrinks: an impulse engine's 'one_step' (Newton's restitution and Coulomb's
+        cone on the total impulse), or a convex solver's 'relaxed' one (a slide leaves faster
+        by mu times its final slip)."""
+        return "one_step"
+
     def friction_mapping_error_rel(self) -> float:
         """The share of a slip the engine's friction mapping leaves where Coulomb's law would
         stop it within the step (a regularised friction row); 0 for an exact one."""

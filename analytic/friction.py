@@ -244,13 +244,17 @@ def _from_rest(imp: _Impact) -> str:
 
 
 def one_step_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m: ArrayLike,
-                     normal: ArrayLike, e: float, mu: float) -> FrictionalImpulse:
+                     normal: ArrayLike, e: float, mu: float,
+                     relaxed: bool = False) -> FrictionalImpulse:
     """The impulse an impulse-based engine solves in one step: Newton's restitution on the
     total normal impulse (v_n' = -e v_n) and Coulomb's cone on the total impulse, sticking
     (v_t' = 0) where the cone allows it, else sliding against the final slip,
     P = p (n - mu T d) with T'(v + K P) = lambda d, lambda >= 0 (Stewart & Trinkle's time
-    step, without Anitescu's relaxation). Not Routh's integration: the two differ where K
-    couples the normal and tangential directions and the slip stops or turns within the impact
+    step). ``relaxed``: Anitescu's convex relaxation of it, which a convex contact solver
+    (MuJoCo's) solves: a sliding contact leaves faster along the normal by mu times its final
+    slip, v_n' = -e v_n + mu |v_t'| (the optimality condition of min 1/2 P'K P + P'(v - v*)
+    over the cone). Not Routh's integration: the laws differ where K couples the normal and
+    tangential directions and the slip stops or turns within the impact
     (``frictional_impulse``); ``phases`` is (('stick' or 'slip', p),)."""
     r_a, r_b, n = _vec3("r_a_m", r_a_m), _vec3("r_b_m", r_b_m), _vec3("normal", normal)
     n = n / np.linalg.norm(n)
@@ -265,18 +269,33 @@ def one_step_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m:
     P = np.linalg.solve(K, -(1.0 + e) * vn * n - T @ (T.T @ v0))  # sticking
     mode = "stick"
     if math.hypot(*(T.T @ P)) > mu * float(n @ P):
-        mode, P = "slip", _one_step_slide(K, T, n, v0, vn, e, mu)
+        mode, P = "slip", _one_step_slide(K, T, n, v0, vn, e, mu, relaxed)
     a1, b1 = apply_impulse(a, b, r_a, r_b, P)
     return FrictionalImpulse(impulse_ns=P, a=a1, b=b1, compression_ns=math.nan,
                              phases=((mode, float(n @ P)),))
 
 
-def _one_step_slide(K, T, n, v0, vn: float, e: float, mu: float) -> np.ndarray:
+def _one_step_slide(K, T, n, v0, vn: float, e: float, mu: float,
+                    relaxed: bool) -> np.ndarray:
     """The sliding impulse of ``one_step_impulse``: the slip direction d (angle phi in the
-    tangent plane) for which the final slip is along +d."""
+    tangent plane) for which the final slip is along +d; relaxed, for each d the normal
+    impulse p solves (1 + e) v_n + p n.K u = mu |T'(v + p K u)|, u = n - mu d (it exceeds the
+    unrelaxed one, where the left side is 0)."""
     def impulse(phi: float) -> np.ndarray:
-        d = T @ np.array([math.cos(phi), math.sin(phi)])
-        return -(1.0 + e) * vn / float(n @ K @ (n - mu * d)) * (n - mu * d)
+        u = n - mu * (T @ np.array([math.cos(phi), math.sin(phi)]))
+        k_n = float(n @ K @ u)
+        p = -(1.0 + e) * vn / k_n
+        if relaxed:
+            s0, g = T.T @ v0, T.T @ K @ u
+
+            def excess(q: float) -> float:
+                return (1.0 + e) * vn + q * k_n - mu * math.hypot(*(s0 + q * g))
+
+            hi = 2.0 * p
+            while excess(hi) < 0.0:
+                hi *= 2.0
+            p = optimize.brentq(excess, p, hi, xtol=1e-15 * hi, rtol=4 * np.finfo(float).eps)
+        return p * u
 
     def parts(phi: float) -> tuple[float, float]:
         slip = T.T @ (v0 + K @ impulse(phi))
@@ -333,14 +352,20 @@ class FrictionOutcome:
         return self.ball_spin_radps[0]
 
 
+#: The laws ``predict_friction`` computes: Routh's integration, and the two one-step laws.
+LAWS = ("routh", "one_step", "relaxed")
+
+
 def predict_friction(case, *, hypothesis: str = "energetic",
-                     one_step: bool = False) -> FrictionOutcome:
+                     law: str = "routh") -> FrictionOutcome:
     """The impact of ``case`` (an ``ImpactCase``) with its Coulomb friction ``case.mu``, the
     ball's centre ``case.undercut_m`` off the swing plane (+z) and spinning at
     ``case.spin_radps`` (impact frame). The bat turns about z at omega0 with its inertia tensor
     diag(I_axial, J, J) about the COM; the contact normal tilts by ``case.tilt_rad`` out of the
-    plane. Routh's integration (``frictional_impulse``), or with ``one_step`` the law an
-    impulse engine solves in one step (``one_step_impulse``)."""
+    plane. ``law`` one of LAWS: Routh's integration (``frictional_impulse``), or the law an
+    impulse engine solves in one step (``one_step_impulse``), relaxed or not."""
+    if law not in LAWS:
+        raise ValueError(f"law={law!r} is unknown; allowed: {', '.join(LAWS)}")
     bat, ball = case.bat, case.ball
     tilt = case.tilt_rad
     n = np.array([0.0, math.cos(tilt), math.sin(tilt)])
@@ -357,8 +382,8 @@ def predict_friction(case, *, hypothesis: str = "energetic",
     contact = dict(r_a_m=-ball.radius_m * n,
                    r_b_m=np.array([case.s_m, 0.0, 0.0]) + bat.radius_m * n, normal=n, e=case.e,
                    mu=case.mu)
-    out = (one_step_impulse(a, b, **contact) if one_step
-           else frictional_impulse(a, b, hypothesis=hypothesis, **contact))
+    out = (frictional_impulse(a, b, hypothesis=hypothesis, **contact) if law == "routh"
+           else one_step_impulse(a, b, relaxed=law == "relaxed", **contact))
     v0 = a.point_velocity(contact["r_a_m"]) - b.point_velocity(contact["r_b_m"])
     return FrictionOutcome(
         slip0_mps=float(np.linalg.norm(v0 - (v0 @ n) * n)),

@@ -48,12 +48,11 @@ class FrictionEpisode(CollisionEpisode):
 
 
 def frictional_episode(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S,
-                       one_step: bool = False) -> FrictionEpisode:
-    """One frictional impulse for ``case`` (Routh's, or with ``one_step`` the law an impulse
-    engine solves in one step: ``analytic.friction.one_step_impulse``), then free flight
-    (module docstring)."""
+                       law: str = "routh") -> FrictionEpisode:
+    """One frictional impulse for ``case`` under ``law`` (``analytic.friction.LAWS``: Routh's,
+    or a law an impulse engine solves in one step), then free flight (module docstring)."""
     bat, ball = case.bat, case.ball
-    out = predict_friction(case, one_step=one_step)
+    out = predict_friction(case, law=law)
     reach = bat.radius_m + ball.radius_m
     y0 = first_touch(case)
     bv, bw = np.array(out.bat_velocity_mps), np.array(out.bat_omega_radps)

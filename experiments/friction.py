@@ -10,7 +10,8 @@ oblique in the swing plane (THETAS_RAD, undercut 0) and, in the 3-D engines, und
 (UNDERCUTS_M, theta 0). Each impact is compared, as a sweep compares it
 (``experiments.core.friction_judge``), with Routh's impulse (theory, ``analytic.friction``)
 and with the law an impulse engine solves in one step (Newton's restitution and Coulomb's cone
-on the total impulse, ``one_step_impulse``), which its status judges: the engine's error splits
+on the total impulse, ``one_step_impulse``, or its relaxation a convex solver converges to:
+``Settings.friction_law``), which its status judges: the engine's error splits
 into the law's own gap from Routh's (``law_*``) and the engine's from its law (``*_law``),
 where a pyramid, a relaxed cone or friction solved apart from the normal show.
 Writes friction.csv (one row per impact), friction.json (per engine and family: the largest
@@ -104,6 +105,7 @@ def summary(t: pd.DataFrame) -> list[dict]:
         costly = df[df.spin_rel_err_law > SPIN_COST_REL]
         out.append({
             "engine": name, "family": family, "friction_cone": df.friction_cone.iloc[0],
+            "friction_law": df.friction_law.iloc[0],
             "statuses": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
             **{f"max_{c}": float(df[c].max()) for c in (
                 "spin_rel_err", "spin_rel_err_law", "tangential_rel_err",

@@ -58,7 +58,7 @@ def _panel(ax, df: pd.DataFrame, what: str, label: str, title: str) -> None:
         return
     gap = df.groupby("mu")[f"law_{what}_rel_gap"].max()
     ax.plot(gap.index, np.maximum(gap.values, FLOOR), "k--", lw=1.5,
-            label="one-step law vs Routh (the model's own gap)")
+            label="the engines' one-step law vs Routh (the law's own gap)")
     for (name, family), part in df.groupby(["engine", "family"], sort=False):
         rec = adapters.record(name)
         err = part.groupby("mu")[f"{what}_rel_err"].max()

@@ -4,12 +4,14 @@ such an impact adds to a table.
 Two rigid answers apply. Theory is Routh's: one impulse integrated through slip and stick
 (``analytic.friction``, energetic restitution); it is the ``*_analytic_*`` columns. A rigid
 engine resolves the impact in one step, and as its step shrinks it converges to another law:
-Newton's restitution and Coulomb's cone on the total impulse (``one_step_impulse``, the
-``*_law_*`` columns). The two differ by the law's own gap from theory (where the collision
-matrix couples the normal and the tangent and the slip stops within the impact: 1e-5 to 1e-3
-relative on the paper's swing), which no setting removes; so, as a soft contact is judged
-against its own contact law, a rigid engine's frictional impact is judged against the one-step
-law, and its error against theory is beside it. Both count only where free flight then parts
+Newton's restitution and Coulomb's cone on the total impulse (``one_step_impulse``), or for a
+convex solver (MuJoCo's) that law's relaxation, where a slide leaves faster by mu times its
+final slip (``Settings.friction_law`` says which; the ``*_law_*`` columns). A law differs
+from theory by its own gap (where the collision matrix couples the normal and the tangent and
+the slip stops within the impact: 1e-5 to 1e-3 relative on the paper's swing; the relaxation
+adds mu |v_t'| to a slide's v1), which no setting removes; so, as a soft contact is judged
+against its own contact law, a rigid engine's frictional impact is judged against its law, and
+its error against theory is beside it. Both count only where free flight then parts
 the bodies for good (``analytic.frictional``); elsewhere, and for a soft contact (no frictional
 law here), the row is unjudged. Each output X (v1; the ball's velocity along the bat, vt1, and
 out of the swing plane, vz1; its spin about z, spin1, and about x, backspin1) is allowed what
@@ -96,16 +98,18 @@ def _late(case: ImpactCase, st: adapters.Settings) -> tuple[float, float]:
 
 
 @functools.lru_cache(maxsize=1 << 16)
-def law(case: ImpactCase, max_episode_s: float) -> FrictionEpisode:
-    """The one-step law's episode for ``case`` (module docstring). Cached as ``judge.rigid``."""
-    return frictional_episode(case, max_episode_s=max_episode_s, one_step=True)
+def law(case: ImpactCase, max_episode_s: float, which: str) -> FrictionEpisode:
+    """The episode of the one-step law ``which`` (``Settings.friction_law``) for ``case``
+    (module docstring). Cached as ``judge.rigid``."""
+    return frictional_episode(case, max_episode_s=max_episode_s, law=which)
 
 
-def _neighbours(case: ImpactCase, max_episode_s: float) -> tuple[list, float]:
+def _neighbours(case: ImpactCase, st: adapters.Settings) -> tuple[list, float]:
     """The law's episodes at s - h, s, s + h (h = CURVATURE_STEP_M, kept on the cylinder)."""
     bat, h = case.bat, judge.CURVATURE_STEP_M
     lo, hi = max(case.s_m - h, bat.s_min_m), min(case.s_m + h, bat.s_max_m)
-    eps = [law(replace(case, s_m=s), max_episode_s) for s in (lo, case.s_m, hi)]
+    eps = [law(replace(case, s_m=s), st.max_contact_s, st.friction_law())
+           for s in (lo, case.s_m, hi)]
     return eps, min(case.s_m - lo, hi - case.s_m) or h
 
 
@@ -115,7 +119,7 @@ def tolerances(case: ImpactCase, settings: adapters.Settings, eps: float) -> dic
     nan = dict.fromkeys(("v1", *OUTPUTS), math.nan)
     if settings.contact_reference() is not adapters.ContactReference.RIGID_IMPULSE:
         return nan
-    episodes, h = _neighbours(case, settings.max_contact_s)
+    episodes, h = _neighbours(case, settings)
     if any(ep.ended == "meets_again" for ep in episodes) \
             or judge.rigid(case, settings.max_contact_s).ended == "meets_again":
         return nan
@@ -124,7 +128,7 @@ def tolerances(case: ImpactCase, settings: adapters.Settings, eps: float) -> dic
     impulse = float(np.linalg.norm(episodes[1].friction.impulse_ns))
     leak = (1.0 + case.mu) * impulse * tilt / ball.mass_kg
     rounding = judge.precision_rel(settings, eps, case) * judge._speed(case)
-    rounding += settings.friction_mapping_error_rel() * episodes[1].friction.slip0_mps
+    mapping = settings.friction_mapping_error_rel() * episodes[1].friction.slip0_mps
     lingering = judge._lingering(case, settings.dt_s, judge._tangential(case))
     out = {}
     for stem in ("v1", *OUTPUTS):
@@ -134,10 +138,10 @@ def tolerances(case: ImpactCase, settings: adapters.Settings, eps: float) -> dic
         curvature = abs(x[2] - 2.0 * x[1] + x[0]) / h**2
         geometric = slope * slide + 0.5 * curvature * slide**2
         if spin:
-            out[stem] = (rounding / ball.radius_m
+            out[stem] = ((rounding + 2.5 * mapping) / ball.radius_m
                          + judge.GEOM_SAFETY * (geometric + 2.5 * leak / ball.radius_m))
         else:
-            out[stem] = rounding + judge.GEOM_SAFETY * (geometric + leak) + lingering
+            out[stem] = rounding + mapping + judge.GEOM_SAFETY * (geometric + leak) + lingering
     return out
 
 
@@ -155,7 +159,7 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
         for axis, w in zip("xyz", c.spin_radps):
             cols[f"spin0_{axis}_radps"].append(w)
     plain = [c.frictionless_planar for c in cases]
-    laws = [ep if p else law(c, o.settings.max_contact_s)
+    laws = [ep if p else law(c, o.settings.max_contact_s, o.settings.friction_law())
             for c, o, ep, p in zip(cases, outcomes, episodes, plain)]
     tols = [dict.fromkeys(("v1", *OUTPUTS), math.nan) if p else
             tolerances(c, o.settings, adapters.record(o.engine).eps)
@@ -175,5 +179,6 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
     cols["friction_phases"] = [",".join(p for p, _ in ep.friction.phases)
                                if hasattr(ep, "friction") else "" for ep in episodes]
     cols["friction_cone"] = [o.settings.friction_cone() for o in outcomes]
+    cols["friction_law"] = [o.settings.friction_law() for o in outcomes]
     v1_law = np.column_stack([[ep.v1_mps for ep in laws], [t["v1"] for t in tols]])
     return cols, v1_law, within
