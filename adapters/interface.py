@@ -245,6 +245,10 @@ class BatchedEngine(abc.ABC):
         """Per world, a numerical failure since the last ``set_state`` (bool (n,)), or None."""
         return None
 
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        """As ``Engine.set_body_friction``, in every world. Optional."""
+        raise NotImplementedError(f"{type(self).__name__} has no per-body friction")
+
     def close(self) -> None:
         """Release engine resources."""
 

@@ -268,7 +268,10 @@ class EngineRecord:
     friction, and an impact with friction is ``unsupported``); ``planar``: a 2-D engine, which
     cannot fire an impact out of the swing plane (an undercut, a spin about x or y);
     ``friction_families``: its friction models besides the reference's (another cone, friction
-    solved otherwise), for the friction study.
+    solved otherwise), for the friction study; ``friction_rule_overrides``: the reference
+    settings overridden so that the two bodies' own friction values make the contact's (where
+    the reference's contact takes a mu of its own, as MuJoCo's explicit pair does), for the
+    test that pins ``friction_rule``.
     """
 
     name: str
@@ -297,6 +300,7 @@ class EngineRecord:
     friction_rule: FrictionRule | None = None
     planar: bool = False
     friction_families: tuple[KnobFamily, ...] = ()
+    friction_rule_overrides: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]
@@ -310,6 +314,8 @@ class EngineRecord:
                              "adapter class's module and name, joined by ':'")
         object.__setattr__(self, "profiles", MappingProxyType(dict(self.profiles)))
         object.__setattr__(self, "engine_defaults", MappingProxyType(dict(self.engine_defaults)))
+        object.__setattr__(self, "friction_rule_overrides",
+                           MappingProxyType(dict(self.friction_rule_overrides)))
         if (self.soft_contact is None) != (self.stiffness_setting is None):
             raise ValueError(f"engine {self.name!r}: soft_contact and stiffness_setting go "
                              "together; allowed: both or neither")

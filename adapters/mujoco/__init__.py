@@ -40,6 +40,11 @@ CONTACT_MODELS = ("impulse", "soft", "native")
 #: MuJoCo's friction cones: the pyramid (its default: 2 (condim - 1) edges, each a normal-plus-
 #: friction direction) or the elliptic cone (Coulomb's own, the friction's norm bounded by mu).
 CONES = ("pyramidal", "elliptic")
+#: The geoms' own contact (no pair), stiff and damped at dt = 1e-5 s as the impulse contact:
+#: there MuJoCo combines the geoms' friction (max); a slide's friction is mu times its normal
+#: force whatever the friction rows' reference (the test of ``friction_rule``).
+NATIVE_FRICTION = {"contact_model": "native", "solref": (0.0, -1.5e5),
+                   "solimp": (0.99, 0.99, 0.001, 0.5, 2.0)}
 DEFAULT_SOLREF = (0.02, 1.0)                       # MuJoCo's documented defaults
 DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
 
@@ -162,6 +167,7 @@ RECORD = EngineRecord(
     restitution_rule=RestitutionRule.MAPPED,
     friction_rule=FrictionRule.MAX,
     friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
+    friction_rule_overrides=NATIVE_FRICTION,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
                      "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler",

@@ -1,0 +1,128 @@
+"""Friction in every engine that sets it, pinned against closed forms: how two bodies' friction
+combines, the ball-on-a-wall limits, and out-of-plane impacts that end with a status that
+says what happened (never an error)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import adapters
+from adapters import Scene
+from analytic import Bat, ImpactCase, presets
+from experiments.core import Job, Status, fire_jobs, judge, table
+from experiments.core.fire import Hosted
+from experiments.core.placement import start_state
+
+R161, BALL = presets.R161, presets.BASEBALL
+FRICTION = [n for n in adapters.names() if adapters.record(n).friction_rule is not None]
+SPATIAL = [n for n in FRICTION if not adapters.record(n).planar]
+#: A bat a thousand kilograms heavy, with inertia to match: a wall to 1.5e-4 (m / M).
+WALL = Bat(name="wall", length_m=0.84, radius_m=0.03, mass_kg=1e3, com_from_knob_m=0.42,
+           inertia_cm_kgm2=1e3, inertia_axial_kgm2=1e3)
+#: The wall's own difference from an immovable one: the ball's velocities move by m / M.
+WALL_REL = BALL.mass_kg / WALL.mass_kg
+
+
+def _sliding_mu(name: str, bat: float, ball: float) -> float:
+    """The contact's mu measured on a sliding impact with the bodies' own values set by hand:
+    a central hit (s = 0: no lever) at theta = 0.8 rad, 20 m/s, slides throughout for any mu
+    up to 0.2 (the slip is spent at mu (1 + e) v_n (1/m + r^2/I + 1/M + R^2/J) > v_t), so the
+    ball's velocity turns by dv_t = -mu dv_n exactly."""
+    st = adapters.settings_for(name, **adapters.record(name).friction_rule_overrides)
+    case = ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=20.0, theta_rad=0.8, e=0.5, mu=0.1)
+    host = Hosted(name, st)
+    try:
+        batch = host.batch(Scene(bat=R161, ball=BALL, e=0.5, mu=0.1), 1)
+        host.adapter.set_body_friction(bat=bat, ball=ball)
+        start = start_state(case, st)[0]
+        batch.set_state(batch.xp.stack([start]))
+        touched = False
+        for _ in range(st.approach_steps + round(0.01 / st.dt_s)):  # at most 10 ms
+            batch.step()
+            touching = bool(batch.any_contact())
+            if touched and not touching:
+                break
+            touched |= touching
+        end = batch.xp.row(batch.read(), 0)
+    finally:
+        host.close()
+    dvt, dvn = end[2] - start.ball_vx_mps, end[3] - start.ball_vy_mps
+    return -dvt / dvn
+
+
+@pytest.mark.parametrize("name", FRICTION)
+def test_body_frictions_combine_as_the_record_says(name):
+    # Set by hand, bat 0.1 and ball 0.15 make mu = 0.015 (product), 0.15 (max), 0.125
+    # (mean), 0.1 (min), 0.1225 (geometric) or 0.12 (harmonic): rules 2.5e-3 apart at least,
+    # measured to rounding (ROUND_OPS eps: 1.2e-3 in float32).
+    want = adapters.record(name).friction_rule.combine(0.1, 0.15)
+    got = _sliding_mu(name, 0.1, 0.15)
+    assert got == pytest.approx(want, abs=judge.ROUND_OPS * adapters.record(name).eps)
+
+
+def _on_wall(name: str, mu: float):
+    """The ball at 20 m/s and 0.5 rad onto the resting wall at s = 0, e = 0.5, judged."""
+    case = ImpactCase(bat=WALL, ball=BALL, s_m=0.0, v0_mps=20.0, theta_rad=0.5, e=0.5, mu=mu)
+    job = Job(engine=name, settings=adapters.settings_for(name), case=case)
+    return table(fire_jobs([job]), "reference").iloc[0]
+
+
+@pytest.mark.parametrize("name", FRICTION)
+def test_a_sliding_ball_on_a_wall(name):
+    # mu = 0.05 slides throughout (below 2 v_t / (7 (1 + e) v_n) = 0.145): the ball's normal
+    # velocity changes by dv_n, its tangential one by -mu dv_n and its spin by 5 mu dv_n / (2 r)
+    # (I = 2 m r^2 / 5; Stronge sec. 4.2). Newton's restitution (the one-step law, and
+    # Routh's): dv_n = (1 + e) v_n. A convex solver's relaxed law adds mu times the final
+    # slip v_t - (7/2) mu dv_n to the normal exit speed: dv_n = ((1 + e) v_n + mu v_t) /
+    # (1 + (7/2) mu^2). To the row's tolerance plus the wall's finite mass (m / M of each).
+    row = _on_wall(name, 0.05)
+    assert row.status == Status.OK.value, row.episode_end
+    vn, vt, mu = 20.0 * math.cos(0.5), 20.0 * math.sin(0.5), 0.05
+    dvn = 1.5 * vn
+    if adapters.settings_for(name).friction_law() == "relaxed":
+        dvn = (1.5 * vn + mu * vt) / (1.0 + 3.5 * mu * mu)
+    drop = mu * dvn
+    assert row.vt1_engine_mps == pytest.approx(vt - drop, abs=row.vt1_tol_mps + WALL_REL * vt)
+    spin = 5 * drop / (2 * BALL.radius_m)
+    assert -row.spin1_engine_radps == pytest.approx(spin, abs=row.spin1_tol_radps
+                                                    + WALL_REL * spin)
+
+
+@pytest.mark.parametrize("name", FRICTION)
+def test_a_gripping_ball_leaves_a_wall_rolling(name):
+    # mu = 1 stops the slip: the ball leaves rolling with v_t = 5/7 of its incoming value and
+    # omega = -v_t / r (angular momentum about the contact point is conserved).
+    row = _on_wall(name, 1.0)
+    assert row.status == Status.OK.value, row.episode_end
+    vt = 5 / 7 * 20.0 * math.sin(0.5)
+    assert row.vt1_engine_mps == pytest.approx(vt, abs=row.vt1_tol_mps + WALL_REL * vt)
+    assert -row.spin1_engine_radps * BALL.radius_m == pytest.approx(
+        vt, abs=(row.spin1_tol_radps + WALL_REL * vt / BALL.radius_m) * BALL.radius_m)
+
+
+@pytest.mark.parametrize("name", SPATIAL)
+def test_undercut_hits_end_with_a_status_that_says_why(name):
+    # Undercut 0 to 3 cm at mu = 0.5 on the paper's swing: every row measured (ok, or
+    # inaccurate against the engine's own frictional law) or failed with a status that names
+    # the failure; never an exception, and an ok row leaves with backspin of the undercut's sign.
+    firing = [ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=46.9, u0_mps=17.87,
+                         omega0_radps=32.0, e=0.5, mu=0.5, undercut_m=u)
+              for u in (0.0, 0.01, 0.02, 0.03)]
+    st = adapters.settings_for(name)
+    rows = table(fire_jobs([Job(engine=name, settings=st, case=c) for c in firing]),
+                 "reference")
+    assert not (rows.status == Status.ERROR.value).any(), list(rows.episode_end)
+    ok = rows[(rows.status == Status.OK.value) & (rows.undercut_m > 0)]
+    assert (ok.backspin1_engine_radps > 0).all()
+
+
+@pytest.mark.parametrize("name", [n for n in adapters.names()
+                                  if adapters.record(n).planar])
+def test_a_planar_engine_refuses_an_undercut(name):
+    # A 2-D engine cannot put the ball off the swing plane: 'unsupported', not a wrong answer.
+    case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=40.0, e=0.5, mu=0.5,
+                      undercut_m=0.01)
+    fired = fire_jobs([Job(engine=name, settings=adapters.settings_for(name), case=case)])
+    assert fired[0].outcome.status is Status.UNSUPPORTED
