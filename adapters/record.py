@@ -271,7 +271,9 @@ class EngineRecord:
     solved otherwise), for the friction study; ``friction_rule_overrides``: the reference
     settings overridden so that the two bodies' own friction values make the contact's (where
     the reference's contact takes a mu of its own, as MuJoCo's explicit pair does), for the
-    test that pins ``friction_rule``.
+    test that pins ``friction_rule``; ``friction_defect``: a measured failure of its friction at
+    impact that no setting removes ('' for none): the wall tests then pin that the engine still
+    misses Coulomb's limits, and the report quotes it.
     """
 
     name: str
@@ -301,6 +303,7 @@ class EngineRecord:
     planar: bool = False
     friction_families: tuple[KnobFamily, ...] = ()
     friction_rule_overrides: Mapping[str, Any] = field(default_factory=dict)
+    friction_defect: str = ""
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

@@ -43,13 +43,45 @@ Traps this adapter handles (measured on the R161 bat unless said otherwise):
   re-enables both bodies, which destroys them (b2Body_Disable), so that no impulse of one impact
   can warm-start the next (in the cases measured the stale impulse happened to cancel within the
   first step, so a used engine gave a fresh one's bits even without it);
-- sleeping is off (a body at rest would fall asleep) and gravity zero; friction is 0;
+- sleeping is off (a body at rest would fall asleep) and gravity zero;
 - out of the box (1/60 s, 4 sub-steps) the ball tunnels: a step's travel (about 1 m) dwarfs the
   2 cm speculative margin, and time of impact between two dynamic bodies needs ``bullet``, which
   does not save the mid-step contact either (measured: tunnelled both ways).
 The soft contact (contact_hertz, contact_damping_ratio, contact push speed) moves only positions:
 the relax iterations and the restitution impulse set the velocities (the paper's swing at s = 0.1
 gives the same bits with 30 or 1e4 Hz, damping ratio 10 or 1, push speed 3 or 100 m/s).
+
+A 2-D engine (the record's ``planar``): impacts out of the swing plane are 'unsupported'. The
+ball's spin is its ``angular_velocity``, counter-clockwise positive, as the State's.
+
+Friction (Box2D 3.1.1's source, which pyb2d3's headers match, and measurements):
+- the contact's coefficient is sqrt(f_a f_b) of the shapes' ``friction`` (b2DefaultFrictionCallback;
+  pyb2d3 does not bind b2World_SetFrictionCallback), mixed anew every step (b2UpdateContact):
+  bat 0.02 and ball 0.08, either way round, slide at mu = 0.0399996 (e = 0), so both get mu. One
+  coefficient (no static/dynamic pair), no friction threshold; rolling resistance 0 (Box2D's
+  default, read back from b2SurfaceMaterial, set explicitly) and tangent speed 0;
+- the law is Coulomb's, exact in the plane (one tangent): in each sub-step's solve and relax
+  passes the tangent impulse is accumulated after the normal's and clamped to mu times it. No
+  knob selects another model, and the soft step's values hardly touch it (the sliding wall impact
+  below: the same bits with 1e4 Hz, damping ratio 1 or push speed 100 m/s at e = 0.5; at e = 0,
+  damping ratio 1 moves the spin by 6e-8 of itself);
+- but the restitution impulse, applied once after the sub-steps, carries no friction, and the
+  speculative contact has the relax pass of the sub-step before the bodies touch stop only the share
+  of the approach that would overlap them in the next sub-step, p = 1 - gap / (v_n h), the gap being
+  what that sub-step leaves (p = ``contact_phase`` at one sub-step a step); restitution then adds
+  the rest and the bounce. A sliding impact so gets mu p P / (1 + e) of tangential impulse where
+  Coulomb gives mu P (measured on a heavy wall, 20 m/s at theta 0.5, e = 0.5, mu = 0.05: the spin
+  Routh's times 0.1670, 0.3337, 0.5004 at p = 0.25, 0.5, 0.75, 0.667 where the contact falls on a
+  sub-step boundary of a longer step; with e = 0 the rest is solved in the next step, with friction:
+  1.0002). At p = 0 (the reference's contact on a step boundary) rounding decides: a relax pass that
+  leaves any normal impulse lets the restitution bounce the ball a step's closing before it touches,
+  without friction (7 of 11 impacts of the paper's swing at mu 0.05, theta 0.5: spin 0 where Routh's
+  is -98 to -265 rad/s), one that leaves none gives the next step the whole compression (the other
+  4: 2/3 of Routh's spin). A ball that leaves rolling (mu = 1) still does at p = 0.5 (vt1 1.4e-3 m/s
+  off); the adapter cannot change any of this;
+- the lever arms are fixed at the manifold point of the step's start, midway across the gap: a
+  ball's spin from a sliding impulse is (r + gap / 2) / r of Coulomb's (measured 1 + 1.45e-4 at a
+  10 m/s approach with 1 us steps).
 """
 
 from __future__ import annotations
@@ -59,7 +91,15 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import EngineRecord, Integrator, KnobFamily, ReportNotes, RestitutionRule, Settings
+from ..record import (
+    EngineRecord,
+    FrictionRule,
+    Integrator,
+    KnobFamily,
+    ReportNotes,
+    RestitutionRule,
+    Settings,
+)
 
 #: Box2D's speculative distance, 4 linear slops of 5 mm (compile-time, with 1 length unit = 1 m):
 #: a pair closer than this gets a contact; the stability map's theory and a test measure it.
@@ -115,6 +155,11 @@ class Box2dSettings(Settings):
     def speculative_margin_m(self) -> float:
         return SPECULATIVE_M
 
+    def friction_cone(self) -> str:
+        return ("planar, one tangent: |P_t| <= mu P_n of the sub-steps' passes; the restitution "
+                "impulse frictionless")
+
+
 RECORD = EngineRecord(
     name="box2d", adapter="adapters.box2d.adapter:Box2dEngine", package="pyb2d3",
     import_name="pyb2d3", extra="box2d",
@@ -154,6 +199,15 @@ RECORD = EngineRecord(
                             hinge_order=1),),
     precision="float32",
     restitution_rule=RestitutionRule.MAX,
+    friction_rule=FrictionRule.GEOMETRIC,
+    # The rule pinned with the restitution pass off (threshold above every approach speed):
+    # that pass is frictionless, so with it an impact's friction is a share of mu (docstring).
+    friction_rule_overrides={"restitution_threshold_mps": 1e4},
+    friction_defect=("the restitution impulse, applied after the sub-steps, carries no friction: "
+                     "a slide gets mu p P / (1 + e) of tangential impulse for Coulomb's mu P, p "
+                     "the share of the approach the speculative relax pass stops (at the "
+                     "reference's step-aligned contact 0 or 2/3 of the spin; package docstring)"),
+    planar=True,
     threshold_setting="restitution_threshold_mps",
     # All four read back from a fresh b2DefaultWorldDef; the push speed (3 m/s) is not exposed
     # by pyb2d3 and moves no velocity here, so it is neither quoted nor measurable.

@@ -72,6 +72,7 @@ class Box2dEngine(Engine):
         mat = b2.SurfaceMaterial()
         mat.friction = 0.0
         mat.restitution = 1.0
+        mat.rolling_resistance = 0.0  # Box2D's default already: no rolling friction
         sd.material = mat
         self._bat_shape = self._bat.create_capsule_shape(
             sd, b2.capsule((bat.s_min_m, 0.0), (bat.s_max_m, 0.0), bat.radius_m))
@@ -84,6 +85,8 @@ class Box2dEngine(Engine):
             body.mass_data = md
         self._v_before: tuple[float, float, float] | None = None
         self.set_body_restitution(bat=0.0, ball=scene.e)  # Box2D takes the larger of the two
+        bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)  # sqrt(mu mu) = mu
+        self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def mass_properties(self) -> MassProperties:
         bat, ball = self._bat.mass_data, self._ball.mass_data
@@ -96,6 +99,10 @@ class Box2dEngine(Engine):
 
     def set_body_restitution(self, *, bat: float, ball: float) -> None:
         self._bat_shape.restitution, self._ball_shape.restitution = bat, ball
+
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        # Box2D mixes the shapes' values into the contact's every step (b2UpdateContact)
+        self._bat_shape.friction, self._ball_shape.friction = bat, ball
 
     def set_state(self, state: State) -> None:
         for body in (self._ball, self._bat):

@@ -36,12 +36,12 @@ class PymunkEngine(Engine):
                                          bat.radius_m)
         self._ball = pymunk.Body(ball.mass_kg, ball.inertia_kgm2)
         self._ball_shape = pymunk.Circle(self._ball, ball.radius_m)
-        for shape in (self._bat_shape, self._ball_shape):
-            shape.friction = 0.0
         space.add(self._bat, self._bat_shape, self._ball, self._ball_shape)
         self._space = space
         self._joint: pymunk.PivotJoint | None = None
         self.set_body_restitution(bat=1.0, ball=scene.e)  # arbiter e = 1.0 * e
+        bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)  # arbiter u = mu * 1.0
+        self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def mass_properties(self) -> MassProperties:
         knob_x = self._bat_shape.a.x - self._bat_shape.radius
@@ -55,6 +55,9 @@ class PymunkEngine(Engine):
 
     def set_body_restitution(self, *, bat: float, ball: float) -> None:
         self._bat_shape.elasticity, self._ball_shape.elasticity = bat, ball
+
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        self._bat_shape.friction, self._ball_shape.friction = bat, ball
 
     def set_state(self, state: State) -> None:
         bat, ball = self._bat, self._ball

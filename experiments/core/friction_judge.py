@@ -74,12 +74,13 @@ def tangential_tolerance(case: ImpactCase, settings: adapters.Settings, eps: flo
             + judge.GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt)
 
 
-def _analytic(ep, stem: str) -> float:
+def _analytic(ep, stem: str, case: ImpactCase) -> float:
     """The rigid answer's value of an OUTPUTS stem: the frictional impulse's, or a frictionless
-    planar episode's (the ball leaves in the plane, without spin)."""
+    planar episode's (the ball leaves in the plane, its spin as it came)."""
     index, _, kind = OUTPUTS[stem]
     if not hasattr(ep, "friction"):
-        return (ep.v1_t_mps, ep.v1_mps, 0.0)[index] if kind == "velocity" else 0.0
+        return (ep.v1_t_mps, ep.v1_mps, 0.0)[index] if kind == "velocity" \
+            else case.spin_radps[index]
     vector = ep.ball_velocity_mps if kind == "velocity" else ep.ball_spin_radps
     return float(vector[index])
 
@@ -133,7 +134,7 @@ def tolerances(case: ImpactCase, settings: adapters.Settings, eps: float) -> dic
     out = {}
     for stem in ("v1", *OUTPUTS):
         spin = stem != "v1" and OUTPUTS[stem][2] == "spin"
-        x = [ep.v1_mps if stem == "v1" else _analytic(ep, stem) for ep in episodes]
+        x = [ep.v1_mps if stem == "v1" else _analytic(ep, stem, case) for ep in episodes]
         slope = max(abs(x[2] - x[1]), abs(x[1] - x[0])) / h
         curvature = abs(x[2] - 2.0 * x[1] + x[0]) / h**2
         geometric = slope * slide + 0.5 * curvature * slide**2
@@ -167,8 +168,8 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
     within = np.ones(n, dtype=bool)
     for stem, (_, field, kind) in OUTPUTS.items():
         unit = UNITS[kind]
-        want = np.array([_analytic(ep, stem) for ep in episodes])
-        at_law = np.array([_analytic(ep, stem) for ep in laws])
+        want = np.array([_analytic(ep, stem, c) for ep, c in zip(episodes, cases)])
+        at_law = np.array([_analytic(ep, stem, c) for ep, c in zip(laws, cases)])
         got = np.array([getattr(o, field) for o in outcomes])
         tol = np.array([t[stem] for t in tols])
         within &= ~(np.abs(got - at_law) > tol)
