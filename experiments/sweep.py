@@ -92,6 +92,19 @@ def _add_cork(p: argparse.ArgumentParser) -> None:
                        help=f"with --corked: {text}")
 
 
+def _add_contact(p: argparse.ArgumentParser) -> None:
+    """Friction, the third dimension and the flight (``analytic.friction``, ``core.carry``)."""
+    num = cli.number
+    p.add_argument("--friction", type=num(0.0, MAX_MU), default=0.0, metavar="MU",
+                   help="Coulomb friction between ball and bat (default 0: frictionless)")
+    p.add_argument("--undercut", type=num(unit="m"), default=0.0, metavar="M",
+                   help="ball centre above (+) or below the bat's axis, out of the swing plane")
+    p.add_argument("--spin", type=num(-1e4, 1e4, unit="rad/s"), default=0.0, metavar="RADPS",
+                   help="the pitch's backspin about the bat's axis (- : topspin)")
+    p.add_argument("--flight", action="store_true",
+                   help="add launch_*_deg, carry_*_m and hang_*_s per row (analytic, engine)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     swing, pitch = presets.PAPER_SWING, presets.PAPER_PITCH_MPS
     num = cli.number
@@ -122,14 +135,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="coefficient of restitution")
     p.add_argument("--theta", type=num(-1.5707, 1.5707, unit="rad"), default=0.0, metavar="RAD",
                    help="ball's angle to the contact normal")
-    p.add_argument("--friction", type=num(0.0, MAX_MU), default=0.0, metavar="MU",
-                   help="Coulomb friction between ball and bat (default 0: frictionless)")
-    p.add_argument("--undercut", type=num(unit="m"), default=0.0, metavar="M",
-                   help="ball centre above (+) or below the bat's axis, out of the swing plane")
-    p.add_argument("--spin", type=num(-1e4, 1e4, unit="rad/s"), default=0.0, metavar="RADPS",
-                   help="the pitch's backspin about the bat's axis (- : topspin)")
-    p.add_argument("--flight", action="store_true",
-                   help="add launch_*_deg, carry_*_m and hang_*_s per row (analytic, engine)")
+    _add_contact(p)
     p.add_argument("--swing", action="store_true",
                    help="swing the bat about the hands in the engine before each impact, with "
                         "the constant torque that reaches --omega0 over --swing-angle; u0 is "
