@@ -31,6 +31,41 @@ Traps this adapter handles (measured with this adapter, SAPIEN 3.0.3 / PhysX 5.3
 - Importing SAPIEN warns about Vulkan on stderr; ``import_engine`` silences it (and the
   adapter filters the Python warning), and no renderer is ever created (the scene holds a
   PhysX system only).
+
+3-D state: SAPIEN's poses take (w, x, y, z) quaternions, as ``adapters.frames``; velocities,
+angular ones included, are the world frame's both ways (a tilted bat turning about a world axis
+keeps its axis on the world-frame rotation to 5e-5, float32, after 0.1 s). An undercut
+contact, speculative like every other, is solved with the normal of the step's start: the
+frictionless undercut of 2 cm on the paper's swing leaves 0.146 m/s off at 10 us, 0.0148 at
+1 us (first order in the step).
+
+Friction (measured on a ball sliding across a heavy still bat; PhysX 5.3.1's source agrees):
+- combined as the MEAN of the two materials' values (PhysX's default combine mode, eAVERAGE,
+  which SAPIEN neither sets nor exposes: 0.2 and 0.8 slide as 0.5, 0 and 1 as 0.5); both
+  materials get mu, static and dynamic alike. Frictionless, both stay at 0, as before.
+- SAPIEN's scene uses PhysX's patch friction (``frictionType`` is not set: ePATCH) with
+  eIMPROVED_PATCH_FRICTION on; the ball meets the bat at one point, one anchor with two
+  friction rows, the first along the tangential part of the bodies' relative COM velocity at
+  the step's start (not the contact point's slip). Torsional friction, PhysX's only kind
+  besides these (it has no rolling friction), is off: both shapes' ``patch_radius`` and
+  ``min_patch_radius`` are set to 0, SAPIEN's default (read back).
+- How the two rows are bounded depends on the solver (``solver``). TGS: the pair's impulse is
+  scaled back to mu N (a cone: a slip at 45 degrees is resisted by mu N, opposite the slip),
+  solved in every position iteration whatever ``friction_every_iteration`` says (same bits).
+  PGS: each row is clamped to mu N alone (a box: a slip at 45 degrees to the first row gets
+  sqrt(2) mu N, one at 18 degrees 1.12 mu N turned 8.5 degrees off the slip); with
+  ``friction_every_iteration`` False, friction only in the last 3 position iterations (SAPIEN
+  turns it on; PhysX's own default is off).
+- TGS's friction rows also pull each anchor back toward where it was when the step began
+  (their target carries a bias proportional to the anchors' tangential drift since then:
+  PhysX's "strong friction", whose eDISABLE_STRONG_FRICTION material flag SAPIEN does not
+  expose). A contact that slides
+  throughout is exact (mu = 0.05 at 20 m/s on the still bat: 8e-6 m/s off), but one that slips
+  then sticks within a step does not stop where the slip stops: at mu = 1 (20 m/s, theta 0.5,
+  e = 0.5, Routh's spin -187.12 rad/s) the ball leaves spinning at -158 to -315 rad/s as the
+  contact instant moves through the step (``contact_phase`` 0 to 0.99), -269, -193 and -69
+  with 1, 10 and 50 position iterations; the step size does not matter (the same at 1 us).
+  PGS, whose friction bias is fixed when the step begins, gives -187.1218.
 """
 
 from __future__ import annotations
@@ -39,7 +74,14 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import EngineRecord, KnobFamily, ReportNotes, RestitutionRule, Settings
+from ..record import (
+    EngineRecord,
+    FrictionRule,
+    KnobFamily,
+    ReportNotes,
+    RestitutionRule,
+    Settings,
+)
 
 SOLVERS = ("TGS", "PGS")
 #: SAPIEN's contact offset per shape (m), read back from a fresh shape (a test pins it).
@@ -55,7 +97,9 @@ class PhysxSettings(Settings):
     the separation the solver keeps; ``position_iterations``/``velocity_iterations`` of the
     solver per body; ``max_angular_velocity_radps`` the bodies' spin cap;
     ``max_depenetration_velocity_mps`` the cap on the speed that removes overlap;
-    ``sleep_threshold`` (J/kg, kinetic energy per mass below which a body may sleep)."""
+    ``sleep_threshold`` (J/kg, kinetic energy per mass below which a body may sleep);
+    ``friction_every_iteration``: PGS solves friction in every position iteration, not only in
+    the last 3 (TGS always does)."""
 
     solver: str | None = None
     bounce_threshold_mps: float | None = None
@@ -67,13 +111,16 @@ class PhysxSettings(Settings):
     max_angular_velocity_radps: float | None = None
     max_depenetration_velocity_mps: float | None = None
     sleep_threshold: float | None = None
+    friction_every_iteration: bool | None = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.solver is not None and self.solver not in SOLVERS:
             raise ValueError(f"solver={self.solver!r} is unknown; allowed: {', '.join(SOLVERS)}")
-        if self.enable_pcm is not None and not isinstance(self.enable_pcm, bool):
-            raise ValueError(f"enable_pcm={self.enable_pcm!r} is not a bool; allowed: True, False")
+        for name in ("enable_pcm", "friction_every_iteration"):
+            if getattr(self, name) is not None and not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name}={getattr(self, name)!r} is not a bool; allowed: True, "
+                                 "False")
         for name in ("bounce_threshold_mps", "rest_offset_m", "sleep_threshold"):
             if getattr(self, name) is not None:
                 checks.non_negative(name, getattr(self, name))
@@ -91,6 +138,13 @@ class PhysxSettings(Settings):
                              f"={self.contact_offset_m!r}; allowed: rest_offset_m < "
                              "contact_offset_m (PhysX rejects the shape otherwise)")
 
+
+    def friction_cone(self) -> str:
+        if self.solver == "PGS":
+            late = "" if self.friction_every_iteration is not False else ", last 3 iterations"
+            return f"patch friction, PGS box: 2 directions each clamped to mu N{late}"
+        # None: SAPIEN's choice, TGS (read_back_defaults)
+        return "patch friction, TGS cone: 2 directions scaled back to mu N, anchors pulled back"
 
     def speculative_margin_m(self) -> float:
         # each shape makes contacts contact_offset ahead of touching: the pair, both offsets
@@ -112,9 +166,10 @@ RECORD = EngineRecord(
         # SAPIEN's 10 position iterations: 100 change the paper's swing by < 1e-5 m/s, and
         # 150 break the plastic slide even with speculative contacts (2.45 m/s off). No bounce
         # threshold; the spin cap lifted so that a blow-up shows as it is; no body may sleep;
-        # a 10 us step.
+        # a 10 us step; friction in every iteration (SAPIEN's choice; TGS ignores it).
         "reference": PhysxSettings(dt_s=1e-5, bounce_threshold_mps=0.0,
-                                   max_angular_velocity_radps=1e4, sleep_threshold=0.0),
+                                   max_angular_velocity_radps=1e4, sleep_threshold=0.0,
+                                   friction_every_iteration=True),
         # Out of the box: SAPIEN's 10 ms step and every solver value left to SAPIEN (TGS,
         # bounce threshold 2 m/s, 10 mm contact offset), the contact instant mid-step as in any
         # unaligned simulation.
@@ -129,6 +184,13 @@ RECORD = EngineRecord(
     ),
     precision="float32",  # PhysX computes and stores in single precision
     restitution_rule=RestitutionRule.MEAN,
+    friction_rule=FrictionRule.MEAN,
+    friction_defect=("TGS ends an impact that slips then sticks within a step wrong (on a wall "
+                     "at mu = 1 the spin comes out -158 to -315 rad/s for -187.1, by where the "
+                     "contact falls in the step and the iteration count, not dt; a slide "
+                     "throughout is exact): its strong friction pulls the anchors back, and "
+                     "SAPIEN exposes no flag to turn it off (package docstring); PGS is right"),
+    friction_families=(KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),),
     threshold_setting="bounce_threshold_mps",
     # All read back from a fresh system, body and shape (SAPIEN's process-wide defaults, which
     # PhysX copies at creation; the adapter restores them after building its own scene).
@@ -137,7 +199,8 @@ RECORD = EngineRecord(
                      "rest_offset_m": 0.0,
                      "position_iterations": 10, "velocity_iterations": 1,
                      "max_angular_velocity_radps": 100.0,
-                     "max_depenetration_velocity_mps": 1e32, "sleep_threshold": 0.005},
+                     "max_depenetration_velocity_mps": 1e32, "sleep_threshold": 0.005,
+                     "friction_every_iteration": True},
     step_cost_s=7e-6,
     label="PhysX",
     notes=ReportNotes(

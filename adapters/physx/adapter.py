@@ -7,6 +7,7 @@ import math
 import warnings
 from collections.abc import Iterator
 
+from ..frames import angle_and_tilt, bat_quaternion
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
 from . import RECORD, PhysxSettings
@@ -31,7 +32,8 @@ def _sapien_defaults(st: PhysxSettings) -> Iterator[None]:
             enable_tgs=scene.enable_tgs if st.solver is None else st.solver == "TGS",
             enable_ccd=scene.enable_ccd,
             enable_enhanced_determinism=scene.enable_enhanced_determinism,
-            enable_friction_every_iteration=scene.enable_friction_every_iteration)
+            enable_friction_every_iteration=_or(st.friction_every_iteration,
+                                                scene.enable_friction_every_iteration))
         physx.set_body_config(
             solver_position_iterations=_or(st.position_iterations,
                                            body.solver_position_iterations),
@@ -63,6 +65,7 @@ class PhysxEngine(Engine):
         shape = physx.PhysxCollisionShapeSphere(1.0, physx.get_default_material())
         cfg = system.config
         return {"dt_s": system.timestep, "solver": "TGS" if cfg.enable_tgs else "PGS",
+                "friction_every_iteration": cfg.enable_friction_every_iteration,
                 "bounce_threshold_mps": cfg.bounce_threshold, "enable_pcm": cfg.enable_pcm,
                 "contact_offset_m": shape.contact_offset, "rest_offset_m": shape.rest_offset,
                 "position_iterations": body.solver_position_iterations,
@@ -102,9 +105,13 @@ class PhysxEngine(Engine):
             self._ball = self._body(sphere, ball.mass_kg, (ball.inertia_kgm2,) * 3)
         self._pair = {id(self._bat), id(self._ball)}
         self.set_body_restitution(bat=scene.e, ball=scene.e)  # PhysX averages the two
+        if scene.mu > 0.0:  # frictionless: both stay at 0, as every frictionless run was built
+            bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)  # (mu + mu) / 2
+            self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def _body(self, shape, mass: float, inertia: tuple[float, float, float]):
         st = self.settings
+        shape.patch_radius = shape.min_patch_radius = 0.0  # no torsional friction
         body = physx.PhysxRigidDynamicComponent()
         body.attach(shape)
         body.mass = mass
@@ -135,17 +142,23 @@ class PhysxEngine(Engine):
         self._bat_material.restitution = bat
         self._ball_material.restitution = ball
 
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        for material, value in ((self._bat_material, bat), (self._ball_material, ball)):
+            material.static_friction = material.dynamic_friction = value
+
     def set_state(self, state: State) -> None:
-        half = 0.5 * state.bat_angle_rad
+        # SAPIEN's quaternions are (w, x, y, z), as ours; velocities are the world frame's
+        q = bat_quaternion(state.bat_angle_rad, state.bat_tilt_rad)
         for body, pose, v, w in (
-                (self._bat, sapien.Pose([state.bat_x_m, state.bat_y_m, 0.0],
-                                        [math.cos(half), 0.0, 0.0, math.sin(half)]),
-                 (state.bat_vx_mps, state.bat_vy_mps, 0.0), state.bat_omega_radps),
-                (self._ball, sapien.Pose([state.ball_x_m, state.ball_y_m, 0.0]),
-                 (state.ball_vx_mps, state.ball_vy_mps, 0.0), state.ball_omega_radps)):
+                (self._bat, sapien.Pose([state.bat_x_m, state.bat_y_m, state.bat_z_m], q),
+                 (state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps),
+                 (state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps)),
+                (self._ball, sapien.Pose([state.ball_x_m, state.ball_y_m, state.ball_z_m]),
+                 (state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps),
+                 (state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps))):
             body.entity.pose = pose
             body.linear_velocity = v
-            body.angular_velocity = (0.0, 0.0, w)
+            body.angular_velocity = w
 
     def set_drive(self, hands: Hands | None) -> None:
         if hands is None:
@@ -180,10 +193,13 @@ class PhysxEngine(Engine):
         cp = ball.entity.pose.p.tolist()
         bv, bw = bat.linear_velocity.tolist(), bat.angular_velocity.tolist()
         cv, cw = ball.linear_velocity.tolist(), ball.angular_velocity.tolist()
+        angle, tilt = angle_and_tilt(*bq)
         return State(ball_x_m=cp[0], ball_y_m=cp[1], ball_vx_mps=cv[0], ball_vy_mps=cv[1],
-                     ball_omega_radps=cw[2], bat_x_m=bp[0], bat_y_m=bp[1],
-                     bat_angle_rad=2.0 * math.atan2(bq[3], bq[0]), bat_vx_mps=bv[0],
-                     bat_vy_mps=bv[1], bat_omega_radps=bw[2])
+                     ball_omega_radps=cw[2], bat_x_m=bp[0], bat_y_m=bp[1], bat_angle_rad=angle,
+                     bat_vx_mps=bv[0], bat_vy_mps=bv[1], bat_omega_radps=bw[2], ball_z_m=cp[2],
+                     ball_vz_mps=cv[2], ball_wx_radps=cw[0], ball_wy_radps=cw[1],
+                     bat_z_m=bp[2], bat_tilt_rad=tilt, bat_vz_mps=bv[2], bat_wx_radps=bw[0],
+                     bat_wy_radps=bw[1])
 
     def in_contact(self) -> bool:
         for contact in self._system.get_contacts():
