@@ -62,8 +62,9 @@ def test_friction_and_flight_columns(tmp_path):
 
 
 def test_friction_study_files_and_summary(tmp_path):
-    # The study over one exact-Coulomb engine: its files, and every row within 1% of its own
-    # law's spin (SPIN_COST_REL), where the summary lists no costly cell.
+    # The study over one exact-Coulomb engine: its files, and every row of its reference
+    # profile within 1% of its own law's spin (SPIN_COST_REL), where the summary lists no
+    # costly cell (its other friction families may cost more: that is what they show).
     assert friction.main(["--engine", EXACT, "--quick", "--out", str(tmp_path), "--name",
                           "s"]) == 0
     names = {p.name for p in (tmp_path / "s").iterdir()}
@@ -71,5 +72,5 @@ def test_friction_study_files_and_summary(tmp_path):
     summary = json.loads((tmp_path / "s" / "friction.json").read_text())["summary"]
     assert summary[0]["engine"] == EXACT and summary[0]["spin_cost_cells"] == []
     t = pd.read_csv(tmp_path / "s" / "friction.csv")
-    assert t.spin_rel_err_law.max() <= friction.SPIN_COST_REL
+    assert t[t.family == "reference"].spin_rel_err_law.max() <= friction.SPIN_COST_REL
     assert math.isfinite(t.law_spin_rel_gap.max())
