@@ -1,4 +1,4 @@
-"""Drake: a MultibodyPlant with a free sphere ball and a planar capsule bat.
+"""Drake: a MultibodyPlant with a free sphere ball and a capsule bat on a six-joint chain.
 
 Drake has no coefficient of restitution: its contact is compliant. Point contact pushes with
 Hunt-Crossley's F = k x (1 + d x') (x the overlap, x' its rate), k and d combined from the two
@@ -30,14 +30,42 @@ against rigid theory. Traps this adapter handles (measured with Drake 1.51.1):
   (computed and written by the adapter: the Simulator would add an update at t = 0).
 - The continuous integrator is made afresh by ``set_state``: its step-size guess would
   otherwise carry over from the last impact (a used engine then differs in the last bits).
-- The bat hangs on a planar chain (x, y prismatic, z revolute) whose revolute child frame is a
-  ``FixedOffsetFrame`` on the bat: its pose is a context parameter, so ``pin`` moves the hinge
-  to the hands and locks x and y (Joint.Lock), ``unpin`` unlocks; no rebuild, every solver,
-  continuous too (hinged torque: omega exact to 6e-13 rad/s after 0.1 s at 0.1 ms).
+- The bat hangs on a chain of massless links (x, y, z prismatic, then revolutes: the yaw about
+  z, the tilt about -y, the roll about x, ``adapters.frames``' order) whose last child frame is
+  a ``FixedOffsetFrame`` on the bat: its pose is a context parameter, so ``pin`` moves the
+  hinge to the hands and locks every joint but the yaw (Joint.Lock), ``unpin`` unlocks; no
+  rebuild, every solver, continuous too. The revolutes' rates are Euler-angle rates: the
+  adapter turns the state's world angular velocity into them and back (exact to 1e-15 rad/s;
+  the orientation and angular velocity Drake then reports equal ``frames.bat_quaternion`` and
+  the state's). In the swing plane the extra joints stay at exactly 0: every frictionless
+  planar impact gives the bits of the former planar chain (x, y, yaw; 41-point sweeps, both
+  profiles). The ball's free joint takes (w, x, y, z, position) and its velocities are the
+  spatial velocity in the world frame, angular first.
 - A body-frame load is an ExternallyAppliedSpatialForce expressed in the world: the adapter
   turns it with the bat at the start of every step (what a first-order step samples anyway;
   the continuous mode holds it over each reading interval, which is why it is not one of the
   swing study's integrators).
+- Friction: each geometry carries ``CoulombFriction(mu, mu)`` (static and dynamic both mu);
+  Drake combines two geometries' values as 2 mu1 mu2 / (mu1 + mu2), static and dynamic apart
+  (``CalcContactFrictionFromSurfaceProperties``; measured: bat 0.1 and ball 0.3 slide at
+  0.15000 on the heavy wall, either way round). The properties live in SceneGraph's context,
+  where ``set_body_friction`` replaces them. No rolling or torsional friction (Drake's point
+  contact has none). A frictionless scene is built as before (CoulombFriction(0, 0)).
+- The friction model: the continuous plant's is Stribeck's regularised Coulomb law, mu rising
+  from 0 at no slip to mu_s at the stiction tolerance v_s and settling to mu_d by 3 v_s (Drake's
+  documentation), circular in the tangent plane (measured: a slide at 45 degrees to the axis
+  gets 0.99 of the mu of one along it, the surface's curve the rest, not a pyramid's sqrt(2)
+  mu); TAMSI, lagged and similar regularise theirs with the same v_s and SAP with its own sigma
+  (1e-3, a constant of Drake's SAP driver); the discrete ones use mu_d alone. v_s is the plant
+  config's ``stiction_tolerance``, 1e-4 m/s out of the box (read back), set only for a scene
+  with friction. A small v_s makes a sticking contact stiff: the reference's RK3 took 35 s an
+  impact at 1e-4 on the paper's swing (mu 0.5, theta 0.3) and 2.6 s at 1e-3, the reference's,
+  which moves vt1 by 3e-4 m/s and the spin by 0.02 rad/s. The lagged approximation bounds
+  friction with the normal force of the step's start (its "lagged" one): at Drake's 1 ms a slide
+  on the heavy wall (8 m/s along, 2 m/s in) gets 3.3 times mu's impulse, exact at 10 us and with
+  SAP or similar at 1 ms. A compliant contact has no frictional law here: its frictional rows
+  are unjudged, and its errors against Routh's answer follow its own normal impulse (e falls
+  with speed).
 - Drake raises when a solver fails (TAMSI not converging, the integrator's step underflowing):
   the adapter counts it as a numerical failure and the impact ends ``non_finite``. TAMSI is
   deprecated (Drake logs a warning when a TAMSI plant is built).
@@ -59,6 +87,7 @@ from analytic.compliant import (
 from ..record import (
     ContactReference,
     EngineRecord,
+    FrictionRule,
     Integrator,
     KnobFamily,
     ReportNotes,
@@ -85,6 +114,12 @@ NEAR_ELASTIC = 1e-6
 #: The combined point stiffness of two geometries that declare none (N/m): SceneGraph's default
 #: per geometry, 1e6 N/m, in series (read back by ``read_back_defaults``; a test pins it).
 DEFAULT_POINT_STIFFNESS_NPM = 5e5
+#: MultibodyPlantConfig's stiction tolerance (m/s): the slip speed at which a regularised
+#: friction reaches mu (read back by ``read_back_defaults``; a test pins it).
+DEFAULT_STICTION_TOLERANCE_MPS = 1e-4
+#: SAP's friction regularisation, a constant of Drake's SAP driver (sigma = 1e-3, "consider
+#: exposing": not a knob), quoted in ``friction_cone``.
+SAP_SIGMA = 1e-3
 
 
 def dissipation_spm(e: float, speed_mps: float) -> float:
@@ -104,7 +139,10 @@ class DrakeSettings(Settings):
     hydroelastic modulus (Pa; the bat is rigid); ``resolution_hint_m`` the ball's hydroelastic
     mesh size (m); ``sap_near_rigid_threshold`` SAP's beta (1; None: Drake's); ``accuracy``
     the relative error target of the continuous mode's RK3 (its largest step is dt_s);
-    ``relaxation_mass_kg`` the reduced mass (kg) at which SAP's linear damper gives e."""
+    ``relaxation_mass_kg`` the reduced mass (kg) at which SAP's linear damper gives e;
+    ``stiction_tolerance_mps`` the slip speed (m/s) below which a regularised friction falls
+    short of mu (None: Drake's own): the continuous Stribeck model, TAMSI, lagged, similar;
+    set only for a scene with friction."""
 
     solver: str = "lagged"
     contact_model: str = "point"
@@ -115,6 +153,7 @@ class DrakeSettings(Settings):
     sap_near_rigid_threshold: float | None = None
     accuracy: float = 1e-8
     relaxation_mass_kg: float = 0.125
+    stiction_tolerance_mps: float | None = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -132,6 +171,8 @@ class DrakeSettings(Settings):
             checks.non_negative("sap_near_rigid_threshold", self.sap_near_rigid_threshold)
         checks.in_range("accuracy", self.accuracy, 0.0, 0.1, lo_open=True)
         checks.positive("relaxation_mass_kg", self.relaxation_mass_kg)
+        if self.stiction_tolerance_mps is not None:
+            checks.positive("stiction_tolerance_mps", self.stiction_tolerance_mps)
 
     def contact_reference(self) -> ContactReference:
         return ContactReference.HUNT_CROSSLEY
@@ -154,6 +195,14 @@ class DrakeSettings(Settings):
         if self.solver == "continuous":
             return 10.0 * self.accuracy
         return math.pi**2 / 2.0 * dt_over_contact
+
+    def friction_cone(self) -> str:
+        vs = self.stiction_tolerance_mps or DEFAULT_STICTION_TOLERANCE_MPS
+        if self.solver == "continuous":
+            return f"circular, Stribeck-regularised (mu_s to v_s = {vs:g} m/s, mu_d beyond 3 v_s)"
+        if self.solver == "sap":
+            return f"circular, SAP's convex regularised cone (sigma = {SAP_SIGMA:g})"
+        return f"circular, {self.solver}: friction regularised below v_s = {vs:g} m/s"
 
     def stiffness_npm(self) -> float:
         """The contact's combined point stiffness (N/m)."""
@@ -195,10 +244,11 @@ RECORD = EngineRecord(
         # cost, 1e-4 gives 1e-5 m/s) at about 25 ms an impact; every discrete approximation is
         # first order (-4.1% of v1 at 10 us, -0.4% at 1 us, 10x the cost). dt = 10 us is then
         # only the interval at which the harness reads the state (the contact is still seen
-        # 1e-9 m deep); no SAP saturation (beta = 0), though only SAP-based solvers read it.
+        # 1e-9 m deep); no SAP saturation (beta = 0), though only SAP-based solvers read it;
+        # friction's stiction tolerance 1e-3 m/s (vt1 3e-4 m/s from 1e-4 at 1/13 of the cost).
         "reference": DrakeSettings(dt_s=1e-5, solver="continuous", accuracy=1e-6,
                                    contact_model="point", point_stiffness_npm=1e6,
-                                   sap_near_rigid_threshold=0.0),
+                                   sap_near_rigid_threshold=0.0, stiction_tolerance_mps=1e-3),
         # Out of the box: MultibodyPlantConfig's 1 ms step, lagged approximation, hydroelastic
         # with fallback (our geometries declare no hydroelastic properties: point contact),
         # SceneGraph's default point stiffness per geometry; e mapped onto d as in the
@@ -216,11 +266,13 @@ RECORD = EngineRecord(
                       for a in ("lagged", "sap", "tamsi")),
     precision="float64",
     restitution_rule=RestitutionRule.MAPPED,
+    friction_rule=FrictionRule.HARMONIC,
     # Every value read back from a fresh MultibodyPlantConfig / DefaultProximityProperties.
     engine_defaults={"dt_s": 1e-3, "solver": "lagged",
                      "contact_model": "hydroelastic_with_fallback",
                      "sap_near_rigid_threshold": 1.0,
-                     "point_stiffness_npm": DEFAULT_POINT_STIFFNESS_NPM},
+                     "point_stiffness_npm": DEFAULT_POINT_STIFFNESS_NPM,
+                     "stiction_tolerance_mps": DEFAULT_STICTION_TOLERANCE_MPS},
     step_cost_s=1.5e-4,
     label="Drake",
     notes=ReportNotes(

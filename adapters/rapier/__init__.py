@@ -38,6 +38,36 @@ Traps this adapter handles (measured with rapier3d 0.36.1, the binding pinned by
 - Restitution combines as the mean of the two colliders' values (Average, the default rule):
   ``set_restitution`` gives both e. User forces persist across steps until reset; the world runs
   on one thread (a shared machine; results then do not depend on a pool).
+
+Out of the swing plane: a rigid body's ``angvel`` is the world's (measured: omega_x on a body
+turned by pi/2 about z turns its x axis, the world's y, toward z), so both bodies' angular
+velocities go in and out as they are; ``Rotation3`` takes (w, x, y, z) and reads back as .w,
+.i, .j, .k. A bat in the swing plane keeps the f32 rotation Rapier makes about z (bit for bit
+what planar runs always had); a tilted one takes ``frames.bat_quaternion``.
+
+Friction (rapier's source at 0.35.2, the binding's stubs and measurements):
+- each collider's ``friction`` (1 by default) combines by the stronger of the two colliders'
+  ``friction_combine_rule`` (GeometricMean > ClampedSum > Max > Multiply > Min > Average),
+  Average by default (read back from ``ColliderMaterial``): bat 0.1 and ball 0.3, either way
+  round, slide at 0.2 against the compression impulse (below), so both get mu. One coefficient
+  (no static/dynamic pair); colliders have no rolling or spinning friction. A frictionless
+  scene is built as before (both 0, Rapier's own friction model);
+- the cone is circular: in 3D each point's two tangent impulses are solved together (an exact
+  2x2 solve) and the pair is capped at mu times that point's normal impulse (measured: a slide
+  at 45 degrees to the bat's axis gets the same mu as one along it, not the pyramid's sqrt(2)
+  mu). ``friction_model`` picks one such constraint per point (``coulomb``) or one per manifold
+  at its friction centre plus a twist constraint (``simplified``, Rapier's default): a ball on
+  a capsule is a one-point manifold, whose twist has no lever, so both give the same bits here.
+  Friction is solved in each substep's relax pass only unless ``friction_in_bias_pass`` (then
+  4e-4 m/s and 0.03 rad/s apart on the paper's swing at mu = 0.5);
+- the defect: restitution is applied once after the substeps (rapier 0.35.0's end-of-step pass,
+  the fix of issue #974), and that pass carries no friction, so the cone is bounded by the
+  compression impulse alone: a slide gets mu P / (1 + e) of tangential impulse where Coulomb
+  gives mu P (measured on the heavy wall, 20 m/s at theta 0.5, e = 0.5, mu = 0.05: spin 59.935
+  rad/s for Routh's 89.903, 2/3 of it; vt1 0.44 m/s high), and rows that stick are off too
+  (vt1 0.19 m/s, spin 13 rad/s on the paper's swing at mu = 0.5, theta = 0.3). At e = 0 (no
+  restitution pass) an undercut row there is within 1e-2 m/s and 0.5 rad/s of Routh's answer.
+  No setting changes it.
 """
 
 from __future__ import annotations
@@ -46,12 +76,24 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import EngineRecord, Integrator, KnobFamily, ReportNotes, RestitutionRule, Settings
+from ..record import (
+    EngineRecord,
+    FrictionRule,
+    Integrator,
+    KnobFamily,
+    ReportNotes,
+    RestitutionRule,
+    Settings,
+)
 
 #: The hands' releasable hinge: an impulse joint, or a multibody (reduced-coordinate) joint.
 HINGES = ("impulse", "multibody")
 #: Which bodies are CCD bullets (``ccd_enabled``).
 CCD_BODIES = ("none", "ball", "both")
+#: Rapier's friction models (``IntegrationParameters.friction_model``): one friction constraint
+#: per group of up to four contact points plus a twist constraint (its default), or one Coulomb
+#: friction constraint per point.
+FRICTION_MODELS = ("simplified", "coulomb")
 #: f32's largest value: Rapier's "no cap" for its linear speed clamp.
 F32_MAX = 3.4028234663852886e38
 
@@ -71,7 +113,9 @@ class RapierSettings(Settings):
     [0, 1]; ``contact_recycling``: keep contact points while the pair moved under 0.05 m;
     ``max_ccd_substeps``: the world's CCD switch (0: off); ``ccd_bodies`` one of CCD_BODIES;
     ``soft_ccd_prediction_m`` (m): both bodies' soft-CCD distance; ``hinge`` one of HINGES,
-    ``hinge_frequency_hz``/``hinge_damping_ratio`` the impulse joint's softness.
+    ``hinge_frequency_hz``/``hinge_damping_ratio`` the impulse joint's softness;
+    ``friction_model`` one of FRICTION_MODELS; ``friction_in_bias_pass``: friction solved in the
+    biased pass too, not only in the relax pass (both set only for a scene with friction).
     """
 
     solver_iterations: int = 4
@@ -92,6 +136,8 @@ class RapierSettings(Settings):
     hinge: str = "impulse"
     hinge_frequency_hz: float = 1.0e6
     hinge_damping_ratio: float = 1.0
+    friction_model: str = "simplified"
+    friction_in_bias_pass: bool = False
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -106,18 +152,25 @@ class RapierSettings(Settings):
                      "prediction_distance_m", "soft_ccd_prediction_m"):
             checks.non_negative(name, getattr(self, name))
         checks.in_range("warmstart_coefficient", self.warmstart_coefficient, 0.0, 1.0)
-        for name in ("allow_fast_rotation", "contact_recycling"):
+        for name in ("allow_fast_rotation", "contact_recycling", "friction_in_bias_pass"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name}={getattr(self, name)!r} is not a bool; allowed: "
                                  "True, False")
-        for name, allowed in (("ccd_bodies", CCD_BODIES), ("hinge", HINGES)):
+        for name, allowed in (("ccd_bodies", CCD_BODIES), ("hinge", HINGES),
+                              ("friction_model", FRICTION_MODELS)):
             if getattr(self, name) not in allowed:
                 raise ValueError(f"{name}={getattr(self, name)!r} is unknown; allowed: "
                                  f"{', '.join(allowed)}")
 
-
     def speculative_margin_m(self) -> float:
         return self.prediction_distance_m
+
+    def friction_cone(self) -> str:
+        # a ball on a capsule is a one-point manifold: no twist lever, both models alike
+        model = ("one per point" if self.friction_model == "coulomb"
+                 else "one per manifold + twist")
+        return (f"circular, |P_t| <= mu P_n of the substeps ({model}); the restitution "
+                "impulse frictionless")
 
 RECORD = EngineRecord(
     name="rapier", adapter="adapters.rapier.adapter:RapierEngine", package="rapier3d",
@@ -130,11 +183,13 @@ RECORD = EngineRecord(
         # rounding still makes a contact); contact points recomputed every step; a stiff contact
         # (10 kHz, damping ratio 1: penetration removed within a few steps; e = 0 slide |dv1|
         # 9e-3 m/s instead of 0.18, bounces unchanged); the speed caps lifted so that a blow-up
-        # shows as it is; the hands a multibody joint (omega exact, see the module docstring).
+        # shows as it is; the hands a multibody joint (omega exact, see the module docstring);
+        # Coulomb's friction constraint at each contact point.
         "reference": RapierSettings(dt_s=1e-5, solver_iterations=1, prediction_distance_m=1e-6,
                                     contact_frequency_hz=1e4, contact_damping_ratio=1.0,
                                     contact_recycling=False, max_linear_velocity_mps=F32_MAX,
-                                    allow_fast_rotation=True, hinge="multibody"),
+                                    allow_fast_rotation=True, hinge="multibody",
+                                    friction_model="coulomb"),
         # Out of the box: 1/60 s, every solver value Rapier's own, the hands an impulse joint
         # (Rapier's usual joint) of default softness; the contact instant mid-step as in any
         # unaligned simulation.
@@ -153,6 +208,14 @@ RECORD = EngineRecord(
     integrators=(Integrator(label="semi-implicit Euler"),),
     precision="float32",
     restitution_rule=RestitutionRule.MEAN,
+    friction_rule=FrictionRule.MEAN,
+    friction_families=(
+        KnobFamily(label="simplified friction", overrides=(("friction_model", "simplified"),)),
+        KnobFamily(label="friction in the bias pass", overrides=(("friction_in_bias_pass", True),)),
+    ),
+    friction_defect=("the restitution impulse, applied once after the substeps, carries no "
+                     "friction: a slide gets mu P / (1 + e) of tangential impulse for Coulomb's "
+                     "mu P (2/3 of the spin at e = 0.5; package docstring)"),
     # Every value read back from a fresh IntegrationParameters, rigid body and joint.
     engine_defaults={"dt_s": 1 / 60, "solver_iterations": 4, "pgs_iterations": 1,
                      "stabilization_iterations": 1, "contact_frequency_hz": 30.0,
@@ -161,7 +224,8 @@ RECORD = EngineRecord(
                      "max_linear_velocity_mps": 400.0, "allow_fast_rotation": False,
                      "warmstart_coefficient": 1.0, "contact_recycling": True,
                      "max_ccd_substeps": 1, "ccd_bodies": "none", "soft_ccd_prediction_m": 0.0,
-                     "hinge_frequency_hz": 1.0e6, "hinge_damping_ratio": 1.0},
+                     "hinge_frequency_hz": 1.0e6, "hinge_damping_ratio": 1.0,
+                     "friction_model": "simplified", "friction_in_bias_pass": False},
     step_cost_s=3e-5,  # bench_engines measured 18 and 47 us a step on two runs
     label="Rapier",
     notes=ReportNotes(

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import math
 
+from ..frames import angle_and_tilt, bat_quaternion
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
-from . import RECORD
+from . import FRICTION_MODELS, RECORD
 
 rapier = import_engine(RECORD)
 
@@ -37,7 +38,9 @@ class RapierEngine(Engine):
                 "ccd_bodies": "both" if body.ccd_enabled else "none",
                 "soft_ccd_prediction_m": body.soft_ccd_prediction,
                 "hinge_frequency_hz": joint.natural_frequency,
-                "hinge_damping_ratio": joint.damping_ratio}
+                "hinge_damping_ratio": joint.damping_ratio,
+                "friction_model": FRICTION_MODELS[int(p.friction_model)],
+                "friction_in_bias_pass": p.friction_in_bias_pass}
 
     def __init__(self, settings) -> None:
         super().__init__(settings)
@@ -66,6 +69,9 @@ class RapierEngine(Engine):
         p.warmstart_coefficient = st.warmstart_coefficient
         p.contact_recycling = st.contact_recycling
         p.max_ccd_substeps = st.max_ccd_substeps
+        if scene.mu > 0.0:  # frictionless: Rapier's own model, as every frictionless run had it
+            p.friction_model = getattr(rapier.FrictionModel, st.friction_model.upper())
+            p.friction_in_bias_pass = st.friction_in_bias_pass
         self._world = w
         ib = ball.inertia_kgm2
         self._bat = self._add_body(
@@ -84,6 +90,9 @@ class RapierEngine(Engine):
         self._anchor = w.add_body(rapier.RigidBody.fixed())  # the world end of the hinge
         self._joint = self._load = None
         self.set_body_restitution(bat=scene.e, ball=scene.e)  # the mean of e and e is e
+        if scene.mu > 0.0:
+            bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)
+            self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def _add_body(self, mprops, collider, ccd: bool):
         """A dynamic body with exactly ``mprops`` (its collider massless), undamped, awake."""
@@ -117,18 +126,28 @@ class RapierEngine(Engine):
         self._world.colliders[self._bat_col].restitution = bat
         self._world.colliders[self._ball_col].restitution = ball
 
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        self._world.colliders[self._bat_col].friction = bat
+        self._world.colliders[self._ball_col].friction = ball
+
     def set_state(self, state: State) -> None:
         w = self._world
         self._failed = False
         bat, ball = w.rigid_bodies[self._bat], w.rigid_bodies[self._ball]
-        bat.translation = (state.bat_x_m, state.bat_y_m, 0.0)
-        bat.rotation = rapier.Rotation3.from_axis_angle((0.0, 0.0, 1.0), state.bat_angle_rad)
-        bat.linvel = (state.bat_vx_mps, state.bat_vy_mps, 0.0)
-        bat.angvel = (0.0, 0.0, state.bat_omega_radps)
-        ball.translation = (state.ball_x_m, state.ball_y_m, 0.0)
+        bat.translation = (state.bat_x_m, state.bat_y_m, state.bat_z_m)
+        if state.bat_tilt_rad == 0.0:  # Rapier's own f32 rotation, as planar runs always had
+            bat.rotation = rapier.Rotation3.from_axis_angle((0.0, 0.0, 1.0), state.bat_angle_rad)
+        else:
+            q = bat_quaternion(state.bat_angle_rad, state.bat_tilt_rad)
+            bat.rotation = rapier.Rotation3.from_quaternion(*q)
+        bat.linvel = (state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps)
+        # a rigid body's angvel is the world's (measured: omega_x on a body turned about z by
+        # pi/2 turns its x axis, the world's y, toward z)
+        bat.angvel = (state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps)
+        ball.translation = (state.ball_x_m, state.ball_y_m, state.ball_z_m)
         ball.rotation = rapier.Rotation3.identity()
-        ball.linvel = (state.ball_vx_mps, state.ball_vy_mps, 0.0)
-        ball.angvel = (0.0, 0.0, state.ball_omega_radps)
+        ball.linvel = (state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps)
+        ball.angvel = (state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps)
         # Re-inserting the ball's collider drops the pair's contact manifold and the impulses
         # it keeps for warm starts: without it a used engine differs from a fresh one.
         self._ball_col = w.add_collider(w.remove_collider(self._ball_col), self._ball)
@@ -211,15 +230,19 @@ class RapierEngine(Engine):
     def read(self) -> State:
         bodies = self._world.rigid_bodies
         bat, ball = bodies[self._bat], bodies[self._ball]
-        bx, by, _ = ball.translation.to_tuple()
-        bvx, bvy, _ = ball.linvel.to_tuple()
-        cx, cy, _ = bat.translation.to_tuple()
-        cvx, cvy, _ = bat.linvel.to_tuple()
+        bx, by, bz = ball.translation.to_tuple()
+        bvx, bvy, bvz = ball.linvel.to_tuple()
+        bwx, bwy, bwz = ball.angvel.to_tuple()
+        cx, cy, cz = bat.translation.to_tuple()
+        cvx, cvy, cvz = bat.linvel.to_tuple()
+        cwx, cwy, cwz = bat.angvel.to_tuple()
         rot = bat.rotation
+        angle, tilt = angle_and_tilt(rot.w, rot.i, rot.j, rot.k)
         return State(ball_x_m=bx, ball_y_m=by, ball_vx_mps=bvx, ball_vy_mps=bvy,
-                     ball_omega_radps=ball.angvel.z, bat_x_m=cx, bat_y_m=cy,
-                     bat_angle_rad=2.0 * math.atan2(rot.k, rot.w), bat_vx_mps=cvx,
-                     bat_vy_mps=cvy, bat_omega_radps=bat.angvel.z)
+                     ball_omega_radps=bwz, bat_x_m=cx, bat_y_m=cy, bat_angle_rad=angle,
+                     bat_vx_mps=cvx, bat_vy_mps=cvy, bat_omega_radps=cwz, ball_z_m=bz,
+                     ball_vz_mps=bvz, ball_wx_radps=bwx, ball_wy_radps=bwy, bat_z_m=cz,
+                     bat_tilt_rad=tilt, bat_vz_mps=cvz, bat_wx_radps=cwx, bat_wy_radps=cwy)
 
     def in_contact(self) -> bool:
         # A speculative contact (bodies apart, no impulse) is not a touch.
