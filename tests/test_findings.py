@@ -29,11 +29,12 @@ def test_report_is_complete(tmp_path):
     tmp_path = tmp_path / "f"
     text = (tmp_path / "findings.md").read_text()
     for heading in ("## 1. Where is the sweet spot?", "## 2. Does corking help?",
-                    "## 3. Why are metal bats restricted?", "## 4. The ball as it really is",
+                    "## 3. Why are metal bats restricted?", "## 3b. How far does the ball go?",
+                    "## 4. The ball as it really is",
                     "## 5. Audit of the paper", "## 6. The engines", "## References"):
         assert heading in text
     images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
-    assert len(images) == 4
+    assert len(images) == 5
     for name in images:
         assert (tmp_path / name).stat().st_size > 0
     for key in findings.REFS:  # every reference is cited somewhere in the text

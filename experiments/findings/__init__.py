@@ -18,6 +18,7 @@ from ..core import cli
 from ..core.cli import Command
 from ..core.io import figure_png, provenance
 from . import answers as A
+from .carry_text import carry_section
 from .questions import cork_section, metal_section, sweet_spot_section
 from .report import (
     REFS,
@@ -40,12 +41,13 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     sweet_text, sweet_figs, sweet = sweet_spot_section(engines)
     cork_text, cork_figs, cork = cork_section()
     metal_text, metal_figs, metal = metal_section()
+    carry_text, carry_figs, _ = carry_section()
     ball_text, ball_figs, _ = ball_section()
     head = head_section(provenance()["commit"], engines, sweet, cork, metal)
-    body = head + "\n".join([sweet_text, cork_text, metal_text, ball_text,
+    body = head + "\n".join([sweet_text, cork_text, metal_text, carry_text, ball_text,
                              audit_section(sweet, cork), engine_section(checks, engines),
                              references_section()])
-    figs = {**sweet_figs, **cork_figs, **metal_figs, **ball_figs}
+    figs = {**sweet_figs, **cork_figs, **metal_figs, **carry_figs, **ball_figs}
     files = {name: figure_png(fig) for name, fig in figs.items()}
     plt = pyplot()
     for fig in figs.values():

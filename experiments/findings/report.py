@@ -65,6 +65,24 @@ REFS = {
     "rules": "Official Baseball Rules (MLB): ball 5-5.25 oz, 9-9.25 in around (3.01); bats of "
              "one piece of solid wood, barrel at most 2.61 in (3.02), a wood-only rule, not a "
              "BBCOR one; pitching rubber 60 ft 6 in (18.44 m) from home plate.",
+    "sawicki2003": "G. S. Sawicki, M. Hubbard, W. J. Stronge, Am. J. Phys. 71, 1152 (2003), "
+                   "\"How to hit home runs\" (abstract): undercut and upward swing angle set for "
+                   "the longest carry, e falling with closing speed; post-impact conditions "
+                   "independent of ball-bat friction; a curveball carries farther than a fastball.",
+    "popmech2009": "D. Coburn, Popular Mechanics, 18 Dec 2009: Hubbard's 94 mph fastball leaves "
+                   "the bat 3 mph faster than a 78 mph curveball but flies 442 ft to its 455 ft.",
+    "crossnathan2006": "R. Cross, A. M. Nathan, Am. J. Phys. 74, 896 (2006): a curveball can be "
+                       "hit with more backspin than a fastball, by less than rigid rolling gives.",
+    "kensrud2017": "J. R. Kensrud, A. M. Nathan, L. V. Smith, Am. J. Phys. 85, 503 (2017): the "
+                   "ball grips the bat, leaving with up to 40% more spin than rigid rolling.",
+    "nathan2012": "A. M. Nathan et al., \"Spin of a batted baseball\", Procedia Eng. 34, 182 "
+                  "(2012): the scattered spin is nearly independent of the incident spin.",
+    "statcast": "Statcast: 2016 four-seam fastballs 2,264 rpm (MLB.com, 3 Jan 2017); 2024 "
+                "curveballs 2,569 rpm at 79.4 mph (statcast_2024_grouped.csv, TJStats).",
+    "nathancalc": "A. M. Nathan's trajectory calculator (drag and lift fitted to Statcast fly "
+                  "balls) and Am. J. Phys. 76, 119 (2008), as in `analytic.flight`.",
+    "adair": "R. K. Adair, The Physics of Baseball, 3rd ed. (2002), ch. 2: C_D uncertain by 10%.",
+    "mlbrelease": "MLB.com, 3 Jun 2023: release 6.4 ft before the rubber, 16.5 m from the plate.",
 }
 
 #: the ball section's table of rigid theory against the compliant ball, as the text has it

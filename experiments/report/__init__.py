@@ -5,7 +5,8 @@
 Reads the baseline sweeps (sweep_*.csv/.json, summary.md), the benchmarks (bench_*.json/.csv),
 the speed-accuracy study (pareto*.csv, convergence.csv), the stability maps (stability*.csv),
 the swing study (swing*.csv), the out-of-the-box study (defaults*.csv/.json), the soft-contact
-calibration (soft_calibration.csv) and the findings (findings.md) from DIR (default results/),
+calibration (soft_calibration.csv), the friction study (friction.csv/.json) and the findings
+(findings.md) from DIR (default results/),
 and writes report.md: one section per study, its charts linked beside it, its narrative with
 every number formatted from those files (the model's inputs from ``analytic.presets``, engine
 defaults from the engines' records). The same files give the same report, byte for byte;
@@ -21,7 +22,7 @@ from pathlib import Path
 
 from ..core.cli import Command
 from ..core.runs import RESULTS
-from . import accuracy, dynamics, engines, failures, performance, questions, sweeps
+from . import accuracy, dynamics, engines, failures, friction, performance, questions, sweeps
 from .base import Missing, Results
 
 TITLE = "# batsim results: what the engines do with a baseball bat"
@@ -33,6 +34,7 @@ SECTIONS = (
     ("Speed vs accuracy", accuracy.section),
     ("Where methods fail", failures.section),
     ("Swing dynamics", dynamics.section),
+    ("Friction at impact", friction.section),
     ("Findings: the paper's questions", questions.section),
     ("Sources", questions.sources),
 )
