@@ -30,6 +30,7 @@ from analytic.dynamics import HingedSwing
 from . import friction_judge, judge
 from .fire import Hosted, Job, SceneMismatch, check_mass_properties, fire_group, fire_jobs, hosted
 from .judge import Status
+from .tables import table
 
 R161, BALL = presets.R161, presets.BASEBALL
 S_GRID = tuple(float(s) for s in np.linspace(-0.2, 0.25, 10))
@@ -336,14 +337,34 @@ def law_conformance(ctx: Ctx) -> str:
     return f"{judged} impacts within the law's bound"
 
 
+def friction_wall(ctx: Ctx) -> str:
+    """A ball on a wall (a tonne, 1e3 kg m^2) with friction, 20 m/s at 0.5 rad, e = 0.5: one
+    that slides throughout (mu = 0.05: dv_t = -mu dv_n, spin 5 mu dv_n / (2 r)) and one that
+    leaves rolling (mu = 1: v_t = 5/7 of its own), each ok against the engine's frictional law
+    (``friction_judge``; at a wall the one-step law meets Routh's and these closed forms)."""
+    wall = replace(R161, name="wall", mass_kg=1e3, inertia_cm_kgm2=1e3,
+                   inertia_axial_kgm2=1e3)
+    cases = [ImpactCase(bat=wall, ball=BALL, s_m=0.0, v0_mps=20.0, theta_rad=0.5, e=0.5,
+                        mu=mu) for mu in (0.05, 1.0)]
+    rows = table(fire_jobs([Job(engine=ctx.name, settings=ctx.settings, case=c)
+                            for c in cases]), "check")
+    for r in rows.itertuples():
+        _expect(r.status == Status.OK.value,
+                f"mu = {r.mu:g}: {r.status} ({r.episode_end}); vt1 {r.vt1_engine_mps!r} vs "
+                f"{r.vt1_law_mps!r}, spin {r.spin1_engine_radps!r} vs {r.spin1_law_radps!r}")
+    return "a slide and a grip within their tolerance of the law"
+
+
 #: Every check, and the engines it applies to: "all", "rigid" (held to rigid theory), "law"
-#: (a compliant contact, held to its own law) or "batched" (an engine that steps many worlds).
+#: (a compliant contact, held to its own law), "batched" (an engine that steps many worlds) or
+#: "friction" (a rigid contact with friction and no declared friction defect).
 CHECKS: dict[str, tuple[Callable[[Ctx], str], str]] = {
     f.__name__: (f, applies) for f, applies in (
         (mass_read_back, "all"), (bad_settings_rejected, "all"), (restitution, "rigid"),
         (still_bat, "rigid"), (energy_at_e1, "rigid"), (swinging_bat, "rigid"),
         (corked_bat, "rigid"), (large_batch, "batched"), (oblique, "rigid"), (cop_located, "rigid"),
-        (tunnelling_bound, "rigid"), (stateless, "all"), (law_conformance, "law"))}
+        (tunnelling_bound, "rigid"), (stateless, "all"), (law_conformance, "law"),
+        (friction_wall, "friction"))}
 
 
 def _context(name: str) -> Ctx:
@@ -353,7 +374,9 @@ def _context(name: str) -> Ctx:
 def applicable(name: str) -> tuple[str, ...]:
     """The checks that apply to an engine's reference contact and kind (reads its record)."""
     ctx = _context(name)
-    kinds = {"all", "rigid" if ctx.rigid else "law", "batched" if ctx.record.batched else ""}
+    kinds = {"all", "rigid" if ctx.rigid else "law", "batched" if ctx.record.batched else "",
+             "friction" if ctx.rigid and ctx.record.friction_rule is not None
+             and not ctx.record.friction_defect else ""}
     return tuple(c for c, (_, applies) in CHECKS.items() if applies in kinds)
 
 
