@@ -7,7 +7,8 @@ The paper's swing (R161, v0 46.9 m/s, u0 17.87 m/s, omega0 32 rad/s, e = 0.5) at
 every engine with friction at its reference profile and each of its record's
 ``friction_families`` (another cone, friction solved otherwise): mu in MUS with the ball
 oblique in the swing plane (THETAS_RAD, undercut 0) and, in the 3-D engines, undercut
-(UNDERCUTS_M, theta 0). Each impact is compared, as a sweep compares it
+(UNDERCUTS_M, theta 0) and both at once (DIAGONAL). Each impact is compared, as a sweep
+compares it
 (``experiments.core.friction_judge``), with Routh's impulse (theory, ``analytic.friction``)
 and with the law an impulse engine solves in one step (Newton's restitution and Coulomb's cone
 on the total impulse, ``one_step_impulse``, or its relaxation a convex solver converges to:
@@ -40,6 +41,9 @@ from .core.io import json_bytes, provenance
 MUS = (0.1, 0.25, 0.5, 1.0)
 THETAS_RAD = (0.0, 0.2, 0.4)
 UNDERCUTS_M = (0.01, 0.02, 0.03)
+#: Oblique and undercut at once: the slip turns across both tangents, where a pyramid or a
+#: box of two friction rows departs from Coulomb's cone.
+DIAGONAL = ((0.4, 0.02), (0.2, 0.03))
 POINTS_M = (-0.05, 0.1, 0.2)
 #: A spin error beyond this fraction of the spin is where an engine's cone costs (the cells
 #: the summary lists).
@@ -65,6 +69,7 @@ def cells(planar: bool, quick: bool) -> list[dict]:
     out = [dict(mu=mu, theta_rad=t, undercut_m=0.0) for mu in mus for t in THETAS_RAD]
     if not planar:
         out += [dict(mu=mu, theta_rad=0.0, undercut_m=u) for mu in mus for u in UNDERCUTS_M]
+        out += [dict(mu=mu, theta_rad=t, undercut_m=u) for mu in mus for t, u in DIAGONAL]
     return out
 
 
@@ -82,13 +87,18 @@ def relative_errors(table: pd.DataFrame) -> pd.DataFrame:
     """The table with relative errors of the ball's tangential velocity (vt1, vz1) and spin
     (backspin1, spin1) as vectors: the engine's against Routh's impulse (``*_rel_err``) and
     against the one-step law (``*_rel_err_law``), and the law's own gap from Routh's
-    (``law_*_rel_gap``), each over the size of Routh's vector; and the law's v1 gap (m/s)."""
+    (``law_*_rel_gap``), each over the size of Routh's vector, or where that is smaller, what
+    the contact's slip before the impact makes of it (a ball leaving rolling on it: slip0 for
+    the velocity, slip0 / r for the spin; a near-square hit leaves with almost no spin, and
+    its relative error would say nothing); and the law's v1 gap (m/s)."""
     t = table.copy()
     pairs = {"tangential": ("vt1", "vz1", "mps"), "spin": ("backspin1", "spin1", "radps")}
+    r = presets.BASEBALL.radius_m
     for what, (a, b, unit) in pairs.items():
         routh, engine, law = (t[[f"{a}_{k}_{unit}", f"{b}_{k}_{unit}"]].to_numpy()
                               for k in ("analytic", "engine", "law"))
-        scale = np.linalg.norm(routh, axis=1)
+        floor = t.slip0_mps.to_numpy() / (r if what == "spin" else 1.0)
+        scale = np.maximum(np.linalg.norm(routh, axis=1), floor)
         with np.errstate(divide="ignore", invalid="ignore"):
             t[f"{what}_rel_err"] = np.linalg.norm(engine - routh, axis=1) / scale
             t[f"{what}_rel_err_law"] = np.linalg.norm(engine - law, axis=1) / scale

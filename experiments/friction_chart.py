@@ -15,7 +15,7 @@ FLOOR = 1e-9
 PANELS = (("spin", "spin"), ("tangential", "tangential velocity"))
 UNITS = {"spin": "(rad/s) / (rad/s)", "tangential": "(m/s) / (m/s)"}
 CASES = (("in the swing plane (theta 0-0.4 rad)", lambda df: df.undercut_m == 0.0),
-         ("undercut 1-3 cm", lambda df: df.undercut_m != 0.0))
+         ("undercut 1-3 cm (theta 0-0.4 rad)", lambda df: df.undercut_m != 0.0))
 
 
 def render(table: pd.DataFrame) -> bytes:

@@ -179,6 +179,8 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
         cols[f"{stem}_law_err_{unit}"], cols[f"{stem}_tol_{unit}"] = np.abs(got - at_law), tol
     cols["friction_phases"] = [",".join(p for p, _ in ep.friction.phases)
                                if hasattr(ep, "friction") else "" for ep in episodes]
+    cols["slip0_mps"] = [ep.friction.slip0_mps if hasattr(ep, "friction") else math.nan
+                         for ep in episodes]
     cols["friction_cone"] = [o.settings.friction_cone() for o in outcomes]
     cols["friction_law"] = [o.settings.friction_law() for o in outcomes]
     v1_law = np.column_stack([[ep.v1_mps for ep in laws], [t["v1"] for t in tols]])
