@@ -5,8 +5,8 @@
 - sweeps: the sweeps listed in BASELINES (R161, 41 points), each as <stem>.csv/.json/.png, then
   thresholds.json (what the regression test allows) and summary.md;
 - the studies, each into its usual file names: pareto, stability, swing, defaults,
-  calibrate_soft, twins, findings, bench_analytic, bench_engines (run the benchmarks on a
-  quiet machine);
+  calibrate_soft, twins, friction, findings, bench_analytic, bench_engines (run the benchmarks
+  on a quiet machine);
 - report: results/report.md, written from the files above as they are in results/ (so it runs
   last, whatever order --only names the parts in), and the README's engines table from them.
 Each part's files are written together, atomically; an interrupted part leaves its old files.
@@ -24,6 +24,7 @@ from . import (
     calibrate_soft,
     defaults,
     findings,
+    friction,
     pareto,
     report,
     stability,
@@ -46,7 +47,8 @@ BASELINES = {
     "swing, default solver at dt = 1e-4 s": ["--profile", "default", "--dt", "1e-4"],
 }
 STUDIES = {"pareto": pareto, "stability": stability, "swing": swing, "defaults": defaults,
-           "calibrate_soft": calibrate_soft, "twins": twins, "findings": findings,
+           "calibrate_soft": calibrate_soft, "twins": twins, "friction": friction,
+           "findings": findings,
            "bench_analytic": bench_analytic, "bench_engines": bench_engines,
            "report": report}  # the report reads the others' files: last
 PARTS = ("sweeps", *STUDIES)
