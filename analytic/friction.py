@@ -277,39 +277,30 @@ def one_step_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m:
 
 def _one_step_slide(K, T, n, v0, vn: float, e: float, mu: float,
                     relaxed: bool) -> np.ndarray:
-    """The sliding impulse of ``one_step_impulse``: the slip direction d (angle phi in the
-    tangent plane) for which the final slip is along +d; relaxed, for each d the normal
-    impulse p solves (1 + e) v_n + p n.K u = mu |T'(v + p K u)|, u = n - mu d (it exceeds the
-    unrelaxed one, where the left side is 0)."""
-    def impulse(phi: float) -> np.ndarray:
-        u = n - mu * (T @ np.array([math.cos(phi), math.sin(phi)]))
-        k_n = float(n @ K @ u)
-        p = -(1.0 + e) * vn / k_n
-        if relaxed:
-            s0, g = T.T @ v0, T.T @ K @ u
+    """The sliding impulse of ``one_step_impulse``: P = p (n - mu d) with the final relative
+    velocity v* + c (d + mu n) (relaxed) or v* + c d (plain), v* = -e v_n n the target, c >= 0
+    the final slip's speed: p K (n - mu d) - c (d [+ mu n]) = v* - v, linear in (p, c) for a
+    given d, solvable where det[K (n - mu d), d [+ mu n], v* - v] = 0 (a root in d's angle
+    in the tangent plane), with p, c >= 0."""
+    b = -e * vn * n - v0
 
-            def excess(q: float) -> float:
-                return (1.0 + e) * vn + q * k_n - mu * math.hypot(*(s0 + q * g))
+    def columns(phi: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        d = T @ np.array([math.cos(phi), math.sin(phi)])
+        return d, K @ (n - mu * d), d + (mu * n if relaxed else 0.0)
 
-            hi = 2.0 * p
-            while excess(hi) < 0.0:
-                hi *= 2.0
-            p = optimize.brentq(excess, p, hi, xtol=1e-15 * hi, rtol=4 * np.finfo(float).eps)
-        return p * u
-
-    def parts(phi: float) -> tuple[float, float]:
-        slip = T.T @ (v0 + K @ impulse(phi))
-        c, s = math.cos(phi), math.sin(phi)
-        return float(slip[1] * c - slip[0] * s), float(slip[0] * c + slip[1] * s)
+    def det(phi: float) -> float:
+        _, a1, a2 = columns(phi)
+        return float(np.linalg.det(np.column_stack([a1, a2, b])))
 
     grid = np.linspace(-math.pi, math.pi, 721)
-    cross = [parts(phi)[0] for phi in grid]
-    for lo, hi, f_lo, f_hi in zip(grid, grid[1:], cross, cross[1:]):
+    dets = [det(phi) for phi in grid]
+    for lo, hi, f_lo, f_hi in zip(grid, grid[1:], dets, dets[1:]):
         if f_lo == 0.0 or f_lo * f_hi < 0.0:
-            phi = lo if f_lo == 0.0 else optimize.brentq(lambda x: parts(x)[0], lo, hi,
-                                                         xtol=1e-15)
-            if parts(phi)[1] >= 0.0:
-                return impulse(phi)
+            phi = lo if f_lo == 0.0 else optimize.brentq(det, lo, hi, xtol=1e-15)
+            d, a1, a2 = columns(phi)
+            (p, c), *_ = np.linalg.lstsq(np.column_stack([a1, -a2]), b, rcond=None)
+            if p >= 0.0 and c >= 0.0:
+                return p * (n - mu * d)
     raise ArithmeticError("no sliding direction satisfies the one-step law")
 
 

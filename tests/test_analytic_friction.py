@@ -198,3 +198,58 @@ def test_a_gripping_ball_leaves_without_sliding(s, undercut, e):
            - np.array(out.bat_velocity_mps) - np.cross(out.bat_omega_radps, r_b))
     tangential = rel - (rel @ n) * n
     assert np.linalg.norm(tangential) <= 1e-6 * case.closing_speed_mps
+
+
+def one_step_on_wall(vn, vt, e, mu, relaxed=False):
+    """``one_step_impulse`` for a ball at normal speed vn and tangential speed vt (along x)
+    onto a wall y = 0."""
+    from analytic.friction import one_step_impulse
+
+    return one_step_impulse(ball([vt, -vn, 0.0]), WALL, r_a_m=[0.0, -R, 0.0],
+                            r_b_m=[0.0, 0.0, 0.0], normal=[0.0, 1.0, 0.0], e=e, mu=mu,
+                            relaxed=relaxed)
+
+
+@given(vn=st.floats(1.0, 60.0), vt=st.floats(1.0, 40.0), e=st.floats(0.0, 1.0),
+       frac=st.floats(0.01, 0.99))
+def test_the_one_step_law_slides_on_a_wall_as_routh(vn, vt, e, frac):
+    # On a wall the collision matrix does not couple the normal and the tangent, so the one-step
+    # law meets Routh's limits: a slide throughout drops v_t by mu (1 + e) v_n; relaxed, the
+    # normal exit speed gains mu times the final slip s' = v_t - (7/2) mu dv_n, so
+    # dv_n = ((1 + e) v_n + mu v_t) / (1 + (7/2) mu^2) (worked out by hand), dv_t = -mu dv_n.
+    mu = frac * 2.0 * vt / (7.0 * (1.0 + e) * vn)
+    plain = one_step_on_wall(vn, vt, e, mu)
+    assert plain.phases[0][0] == "slip"
+    assert plain.a.velocity_mps[0] == pytest.approx(vt - mu * (1 + e) * vn, rel=TOL_REL)
+    assert plain.a.velocity_mps[1] == pytest.approx(e * vn, rel=TOL_REL)
+    relaxed = one_step_on_wall(vn, vt, e, mu, relaxed=True)
+    dvn = ((1 + e) * vn + mu * vt) / (1 + 3.5 * mu * mu)
+    slip = vt - 3.5 * mu * dvn
+    assume(slip > 1e-6 * vt)  # (a slide that just stops is a stick: the plain law's case)
+    assert relaxed.a.velocity_mps[1] == pytest.approx(dvn - vn, rel=TOL_REL, abs=TOL_REL * vn)
+    assert relaxed.a.velocity_mps[0] == pytest.approx(vt - mu * dvn, rel=TOL_REL)
+
+
+@given(vn=st.floats(1.0, 60.0), vt=st.floats(1.0, 40.0), e=st.floats(0.0, 1.0),
+       extra=st.floats(1.01, 100.0), relaxed=st.booleans())
+def test_the_one_step_law_grips_on_a_wall(vn, vt, e, extra, relaxed):
+    # Above the sliding limit the one step sticks (the total impulse inside the cone): the ball
+    # leaves rolling, v_t = 5/7 of its incoming value, the normal exit speed e v_n (a stick
+    # has no slip for the relaxation to add).
+    mu = extra * 2.0 * vt / (7.0 * (1.0 + e) * vn)
+    out = one_step_on_wall(vn, vt, e, mu, relaxed)
+    assert out.phases[0][0] == "stick"
+    assert out.a.velocity_mps[0] == pytest.approx(5 / 7 * vt, rel=TOL_REL)
+    assert out.a.velocity_mps[1] == pytest.approx(e * vn, rel=TOL_REL)
+
+
+@given(s=st.floats(-0.3, 0.25), undercut=st.floats(-0.05, 0.05), e=st.floats(0.0, 1.0),
+       spin=vec)
+def test_the_laws_without_friction_are_the_frictionless_impulse(s, undercut, e, spin):
+    # mu = 0: every law is EQ 141's impulse along the (tilted) normal, whatever the spin.
+    case = swing_case(s, 0.0, e, undercut_m=undercut, spin_radps=tuple(spin * 100))
+    want = predict_friction(case)
+    for law in ("one_step", "relaxed"):
+        got = predict_friction(case, law=law)
+        np.testing.assert_allclose(got.impulse_ns, want.impulse_ns, rtol=TOL_REL,
+                                   atol=TOL_REL * np.linalg.norm(want.impulse_ns))

@@ -30,6 +30,17 @@ changes decides the rest (measured with mujoco-warp 4.0.0, warp-lang 1.19.0, on 
 - Model fields have a leading batch dimension: the hands' site position and hinge anchors are
   put per world, so every world may have its own hands.
 - Its sphere-capsule routine projects onto the segment exactly (no guard term, unlike MJX).
+- Friction (scene mu > 0), MuJoCo C's MJCF and parameters as in MJX (``adapters.mjx``): a
+  tuned contact an explicit ``<pair>`` (condim 3) with C's solref, solimp and solreffriction
+  (0, -1/dt), each times d + (1-d) ``invweight_scale``; a native one the geoms' condim 3,
+  their friction combined by max (``contact_material_params``: ``wp.max`` of the two geoms'
+  friction, priorities aside), floored at MJ_MINMU. ``put_model`` takes pairs, solreffriction
+  and both cones (``cone``: elliptic at the reference, its pyramid by default, read back);
+  it warns that the pair's geoms (condim 3, friction 0) "may cause NaN": they never make a
+  contact of their own (the pair replaces it), the warning is dropped. As in C and MJX,
+  solreffriction acts only in an elliptic cone (a pyramid's edges take the contact's solref),
+  and an explicit pair keeps the friction it was compiled with (``set_body_friction`` sets
+  the geoms'). Free joints keep their angular velocity in the body's frame (``frames_batch``).
 Kernels compile once into Warp's cache (~/.cache/warp; 36 modules, 16 s cold for an Euler
 step): the world count, dt, solref, tolerance and ``iterations`` are launch arguments;
 ``ls_iterations``, the integrator (implicitfast: 2 modules) and the overflow print mask are
@@ -40,9 +51,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..mujoco import RegularisedSettings
+from ..mujoco import NATIVE_FRICTION, RegularisedSettings
 from ..record import (
     EngineRecord,
+    FrictionRule,
     Integrator,
     KnobFamily,
     ReportNotes,
@@ -55,7 +67,7 @@ INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
 #: (``read_back_defaults``): MuJoCo C's, but the tolerance raised to 1e-6.
 ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
                    "iterations": 100, "tolerance": 1e-6, "ls_iterations": 50, "dt_s": 0.002,
-                   "integrator": "Euler"}
+                   "integrator": "Euler", "cone": "pyramidal"}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -108,7 +120,7 @@ RECORD = EngineRecord(
         # Out of the box: MuJoCo's 2 ms step, Euler, solref (0.02, 1), default solimp, MuJoCo
         # Warp's tolerance (1e-6) and regulariser, the contact instant mid-step.
         "default": MjwarpSettings(dt_s=0.002, contact_model="native", tolerance=1e-6,
-                                  contact_phase=0.5),
+                                  contact_phase=0.5, cone="pyramidal"),
     },
     color="seagreen", marker="<",
     speed_accuracy=(
@@ -123,6 +135,9 @@ RECORD = EngineRecord(
                       for name in ("Euler", "implicitfast", "RK4")),
     precision="float32",
     restitution_rule=RestitutionRule.MAPPED,
+    friction_rule=FrictionRule.MAX,
+    friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
+    friction_rule_overrides=NATIVE_FRICTION,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults=ENGINE_DEFAULTS,
     step_cost_s=3e-3, world_step_cost_s=1e-5,

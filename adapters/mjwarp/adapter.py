@@ -9,13 +9,15 @@ messages are not printed (the print mask is zero): ``failed`` reads the per-worl
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Sequence
 
 import mujoco
 import numpy as np
 
-from ..interface import BatchedEngine, Hands, MassProperties, Scene
-from ..mujoco.model import contact_parameters, mjcf
+from ..frames import in_plane, mujoco_coordinates, mujoco_rows
+from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene
+from ..mujoco.model import contact_parameters, mjcf, pair_parameters
 from ..record import _stdout_silenced, import_engine
 from . import INTEGRATORS, RECORD
 
@@ -42,8 +44,11 @@ def _device(settings) -> str:
 
 
 def _host_model(scene: Scene, st) -> mujoco.MjModel:
-    """The MJCF compiled by MuJoCo C, with the settings' options and contact parameters."""
-    m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball))
+    """The MJCF compiled by MuJoCo C, with the settings' options and contact parameters; with
+    friction, the cone and (a tuned contact: an explicit pair) the pair's solref, solimp and
+    solreffriction as MuJoCo C's, each carrying its d as the geoms' solref does."""
+    paired = st.contact_model != "native"
+    m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball, scene.mu, paired))
     m.opt.timestep = st.dt_s
     m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
     m.opt.iterations = st.iterations
@@ -51,12 +56,22 @@ def _host_model(scene: Scene, st) -> mujoco.MjModel:
         m.opt.ls_iterations = st.ls_iterations
     m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
     solref, solimp = contact_parameters(st, scene.e)
-    if st.contact_model != "native":  # carry d where R no longer cancels it (package doc)
-        d = st.impedance
-        solref = tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
+    if paired:  # carry d where R no longer cancels it (package doc)
+        solref = _carried(solref, st.impedance, st)
     m.geom_solref[:], m.geom_solimp[:] = solref, solimp
+    if scene.mu > 0.0:
+        m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")
+    if m.npair:
+        solref, solimp, solreffriction = pair_parameters(st, scene.e)
+        m.pair_solref[0], m.pair_solimp[0] = _carried(solref, solimp[0], st), solimp
+        m.pair_solreffriction[0] = _carried(solreffriction, solimp[0], st)
     m.body_invweight0[:] *= st.invweight_scale
     return m
+
+
+def _carried(solref: tuple, d: float, st) -> tuple:
+    """A direct-form solref times d + (1 - d) invweight_scale (package docstring)."""
+    return tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
 
 
 class MjwarpEngine(BatchedEngine):
@@ -76,7 +91,9 @@ class MjwarpEngine(BatchedEngine):
                 "iterations": int(o.iterations), "tolerance": float(o.tolerance.numpy()[0]),
                 "ls_iterations": int(o.ls_iterations), "dt_s": float(o.timestep.numpy()[0]),
                 "integrator": next(i for i in INTEGRATORS if int(o.integrator)
-                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}"))}
+                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")),
+                "cone": "elliptic" if int(o.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC
+                else "pyramidal"}
 
     def device(self) -> str:
         return _device(self.settings)
@@ -88,14 +105,27 @@ class MjwarpEngine(BatchedEngine):
             (mujoco.mjtObj.mjOBJ_BODY, "bat"), (mujoco.mjtObj.mjOBJ_BODY, "ball"),
             (mujoco.mjtObj.mjOBJ_GEOM, "bat"), (mujoco.mjtObj.mjOBJ_SITE, "load"))}
         self._bat, self._ball, self._geom, self._site = ids.values()
+        self._ball_geom = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "ball")
         self.n, self._dev = worlds, _device(st)
-        with wp.ScopedDevice(self._dev):
+        with wp.ScopedDevice(self._dev), warnings.catch_warnings():
+            # a pair's geoms carry condim 3 and friction 0, never combined (the pair is the
+            # contact): put_model's warning that such a geom "may cause NaN" does not apply
+            warnings.filterwarnings("ignore", message=r"geom \d+: friction\[0\]")
             self.model = mjw.put_model(m, batch_sizes={f: worlds for f in PER_WORLD})
             self.model.opt.tolerance.fill_(st.tolerance)  # put_model raised it to >= 1e-6
             self.model.opt.warn_overflow = 0
             self.data = mjw.make_data(m, nworld=worlds, nconmax=NCONMAX, njmax=NJMAX)
         self._site_pos0 = self.model.site_pos.numpy()
         self._eq_data0 = self.model.eq_data.numpy()
+        self._planar = np.ones(worlds, dtype=bool)
+
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        """Each geom's own sliding friction (MuJoCo Warp combines them by max); as in MuJoCo
+        C, an explicit pair (a tuned contact with friction) keeps the friction it was built
+        with."""
+        friction = self.model.geom_friction.numpy()
+        friction[:, [self._geom, self._ball_geom], 0] = (bat, ball)
+        self.model.geom_friction.assign(friction)
 
     def mass_properties(self) -> MassProperties:
         mw = self.model
@@ -120,12 +150,9 @@ class MjwarpEngine(BatchedEngine):
         """Every world's pose and velocity; time, warm starts and overflow bits zeroed, the
         hands let go (the harness sets a drive after the state)."""
         s = np.asarray(states, dtype=float)
-        half = 0.5 * s[:, 7]
-        zero, one = np.zeros(len(s)), np.ones(len(s))
-        qpos = np.stack([s[:, 5], s[:, 6], zero, np.cos(half), zero, zero, np.sin(half),
-                         s[:, 0], s[:, 1], zero, one, zero, zero, zero], axis=1)
-        qvel = np.stack([s[:, 8], s[:, 9], zero, zero, zero, s[:, 10], s[:, 2], s[:, 3], zero,
-                         zero, zero, s[:, 4]], axis=1)
+        s = np.pad(s, ((0, 0), (0, len(STATE_FIELDS) - s.shape[1])))
+        qpos, qvel = mujoco_coordinates(s)
+        self._planar = in_plane(s)
         d = self.data
         d.qpos.assign(qpos.astype(np.float32))
         d.qvel.assign(qvel.astype(np.float32))
@@ -166,11 +193,8 @@ class MjwarpEngine(BatchedEngine):
             mjw.step(self.model, self.data)
 
     def read(self) -> np.ndarray:
-        q = self.data.qpos.numpy().astype(float)
-        v = self.data.qvel.numpy().astype(float)
-        return np.stack([q[:, 7], q[:, 8], v[:, 6], v[:, 7], v[:, 11], q[:, 0], q[:, 1],
-                         2.0 * np.arctan2(q[:, 6], q[:, 3]), v[:, 0], v[:, 1], v[:, 5]],
-                        axis=1)
+        return mujoco_rows(self.data.qpos.numpy().astype(float),
+                           self.data.qvel.numpy().astype(float), self._planar)
 
     def in_contact(self) -> np.ndarray:
         """A contact of the world in the list and overlapping (margin 0: the list holds only

@@ -13,6 +13,26 @@ model, MuJoCo C's without ``diagexact`` (its twin).
 
 Two engines share this adapter: ``mjx`` computes in JAX's default float32, ``mjx64`` in
 float64 (JAX's x64 mode, scoped to this adapter's calls).
+
+Friction (scene mu > 0; checked with mujoco-mjx 3.17.0): MuJoCo C's MJCF
+(``adapters.mujoco.model.mjcf``). A tuned contact (impulse, soft) is an explicit ``<pair>``
+(condim 3, mu along both tangents) with C's solref, solimp (d = ``friction_impedance``) and
+solreffriction (0, -1/dt) (``model.pair_parameters``), each times d + (1-d)
+``invweight_scale`` as the geoms' solref (1 at MJX's own regulariser: C's very values). A
+native contact (the default profile) is the geoms' own, condim 3, their friction combined
+by max (MJX's collision driver takes ``jp.maximum`` of the two geoms' friction, priorities
+aside: the record's ``friction_rule``). ``put_model`` takes pairs, solreffriction and both
+cones (``cone``: elliptic at the reference, MJX's pyramid by default, read back). Traps:
+- ``make_data`` refuses an elliptic cone with any condim-1 contact ("condim=1 with
+  ConeType.ELLIPTIC not implemented"): a frictionless model keeps MJX's default cone,
+  whatever ``cone`` says (and is built exactly as before).
+- solreffriction acts only in an elliptic cone: a pyramid's edge rows take the contact's
+  solref, the impulse reversal (1+e)/dt, so a contact that sticks leaves with its slip
+  reversed by e instead of stopped (as in MuJoCo C).
+- ``set_body_friction`` sets the geoms' friction, which an explicit pair does not read (its
+  friction is fixed when the MJCF compiles): the combine rule shows on a native contact.
+- Free joints keep their angular velocity in the body's frame: ``frames_batch`` turns the
+  bat's into the world's and back (rows turned about z alone are left bit for bit).
 """
 
 from __future__ import annotations
@@ -20,9 +40,10 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from ..mujoco import RegularisedSettings
+from ..mujoco import NATIVE_FRICTION, RegularisedSettings
 from ..record import (
     EngineRecord,
+    FrictionRule,
     Integrator,
     KnobFamily,
     ReportNotes,
@@ -85,7 +106,7 @@ TWIN_STEPS = (
 #: MJX's out-of-the-box values, read back from a freshly put model (``read_back_defaults``).
 ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
                    "iterations": 100, "tolerance": 1e-8, "ls_iterations": 50, "dt_s": 0.002,
-                   "integrator": "Euler"}
+                   "integrator": "Euler", "cone": "pyramidal"}
 
 RECORD = EngineRecord(
     name="mjx", adapter="adapters.mjx.adapter:MjxEngine", package="mujoco-mjx",
@@ -100,7 +121,8 @@ RECORD = EngineRecord(
                                  overlap_m=1e-6),
         # Out of the box: MJX's 2 ms step, Euler, solref (0.02, 1), default solimp, its own
         # regulariser, the contact instant mid-step.
-        "default": MjxSettings(dt_s=0.002, contact_model="native", contact_phase=0.5),
+        "default": MjxSettings(dt_s=0.002, contact_model="native", contact_phase=0.5,
+                               cone="pyramidal"),
     },
     color="darkgreen", marker="v",
     speed_accuracy=(
@@ -114,6 +136,9 @@ RECORD = EngineRecord(
                       for name in ("Euler", "RK4")),
     precision="float32",
     restitution_rule=RestitutionRule.MAPPED,
+    friction_rule=FrictionRule.MAX,
+    friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
+    friction_rule_overrides=NATIVE_FRICTION,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults=ENGINE_DEFAULTS,
     step_cost_s=1e-3, world_step_cost_s=1e-5,

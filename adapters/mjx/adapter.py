@@ -19,8 +19,9 @@ from unittest import mock
 import mujoco
 import numpy as np
 
-from ..interface import BatchedEngine, Hands, MassProperties, Scene
-from ..mujoco.model import contact_parameters, mjcf
+from ..frames import in_plane, mujoco_coordinates, mujoco_rows
+from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene
+from ..mujoco.model import contact_parameters, mjcf, pair_parameters
 from ..record import import_engine
 from . import COLLISIONS, INTEGRATORS, RECORD, RECORD_64
 
@@ -61,9 +62,10 @@ def bucket(n: int) -> int:
 
 
 def _advance(m, d, bad):
-    """One step of one world; its state row (STATE_FIELDS order), whether the bat and ball
-    touch (the step's collision found them overlapping: MuJoCo's ncon > 0 at margin 0), and
-    whether any reading so far was not finite."""
+    """One step of one world; its planar state row (the 11 PLANAR_FIELDS, the bat's yaw in
+    the engine's precision), whether the bat and ball touch (the step's collision found them
+    overlapping: MuJoCo's ncon > 0 at margin 0), and whether any reading so far was not
+    finite (``read`` takes the rest of the state from the data's qpos and qvel)."""
     d = mjx.step(m, d)
     q, v = d.qpos, d.qvel
     row = jnp.stack([q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * jnp.arctan2(q[6], q[3]),
@@ -135,27 +137,18 @@ class MjxEngine(BatchedEngine):
                 "iterations": int(o.iterations), "tolerance": float(o.tolerance),
                 "ls_iterations": int(o.ls_iterations), "dt_s": float(o.timestep),
                 "integrator": next(i for i in INTEGRATORS if int(o.integrator)
-                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}"))}
+                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")),
+                "cone": "elliptic" if int(o.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC
+                else "pyramidal"}
 
     def build(self, scene: Scene, worlds: int) -> None:
         st = self.settings
-        m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball))
-        m.opt.timestep = st.dt_s
-        m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
-        m.opt.iterations, m.opt.tolerance = st.iterations, st.tolerance
-        if st.ls_iterations is not None:
-            m.opt.ls_iterations = st.ls_iterations
-        m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
-        solref, solimp = contact_parameters(st, scene.e)
-        if st.contact_model != "native":  # carry d where R no longer cancels it (package doc)
-            d = st.impedance
-            solref = tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
-        m.geom_solref[:], m.geom_solimp[:] = solref, solimp
-        m.body_invweight0[:] *= st.invweight_scale
+        m = _host_model(scene, st)
         self._site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "load")
         self._ids = {kind: mujoco.mj_name2id(m, obj, "bat") for kind, obj in
                      (("body", mujoco.mjtObj.mjOBJ_BODY), ("geom", mujoco.mjtObj.mjOBJ_GEOM))}
         self._ball = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")
+        self._geoms = (self._ids["geom"], mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "ball"))
         self.n, self.rows = worlds, bucket(worlds)
         with self._scope():
             self.model = mjx.put_model(m, impl="jax")
@@ -164,8 +157,18 @@ class MjxEngine(BatchedEngine):
             # step a second time: 6 s more)
             self.data = jax.vmap(lambda _: one)(jnp.arange(self.rows))
             self._bad = jnp.zeros(self.rows, dtype=bool)
-        self._row, self._shift = np.zeros((self.rows, 11)), np.zeros((self.rows, 2))
-        self._touching = np.zeros(self.rows, dtype=bool)
+        self._row, self._shift = np.zeros((self.rows, len(STATE_FIELDS))), np.zeros((self.rows, 2))
+        self._stepped, self._touching = False, np.zeros(self.rows, dtype=bool)
+        self._planar = np.ones(self.rows, dtype=bool)
+
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        """Each geom's own sliding friction (MuJoCo combines them by max); as in MuJoCo C, an
+        explicit pair (a tuned contact with friction) keeps the friction it was built with."""
+        with self._scope():
+            mx = self.model
+            friction = np.asarray(mx.geom_friction).copy()
+            friction[list(self._geoms), 0] = (bat, ball)
+            self.model = mx.replace(geom_friction=jnp.asarray(friction, mx.geom_friction.dtype))
 
     def mass_properties(self) -> MassProperties:
         mx = self.model
@@ -187,13 +190,10 @@ class MjxEngine(BatchedEngine):
 
     def set_state(self, states: np.ndarray) -> None:
         s = np.asarray(states, dtype=float)
-        s = np.concatenate([s, np.repeat(s[:1], self.rows - len(s), axis=0)])
-        half = 0.5 * s[:, 7]
-        zero, one = np.zeros(self.rows), np.ones(self.rows)
-        qpos = np.stack([s[:, 5], s[:, 6], zero, np.cos(half), zero, zero, np.sin(half),
-                         s[:, 0], s[:, 1], zero, one, zero, zero, zero], axis=1)
-        qvel = np.stack([s[:, 8], s[:, 9], zero, zero, zero, s[:, 10], s[:, 2], s[:, 3], zero,
-                         zero, zero, s[:, 4]], axis=1)
+        s = np.pad(s, ((0, self.rows - len(s)), (0, len(STATE_FIELDS) - s.shape[1])))
+        s[len(states):] = s[0]
+        qpos, qvel = mujoco_coordinates(s)
+        self._planar = in_plane(s)
         with self._scope():
             d = self.data
             self.data = d.replace(qpos=jnp.asarray(qpos, d.qpos.dtype),
@@ -201,7 +201,7 @@ class MjxEngine(BatchedEngine):
                                   time=jnp.zeros_like(d.time),
                                   qacc_warmstart=jnp.zeros_like(d.qacc_warmstart))
             self._bad = jnp.zeros(self.rows, dtype=bool)
-        self._row, self._touching = s, np.zeros(self.rows, dtype=bool)
+        self._row, self._stepped, self._touching = s, False, np.zeros(self.rows, dtype=bool)
         self._shift = np.zeros((self.rows, 2))
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
@@ -260,9 +260,15 @@ class MjxEngine(BatchedEngine):
             advance = _ADVANCE[self.settings.collision]
             self.data, self._row, self._touching, self._bad = advance(self.model, self.data,
                                                                       self._bad)
+            self._stepped = True
 
     def read(self) -> np.ndarray:
         row = np.array(self._row, dtype=float)[: self.n]
+        if self._stepped:  # the yaw of a row turned about z alone as MJX computed it
+            d = self.data
+            row = mujoco_rows(np.array(d.qpos, dtype=float)[: self.n],
+                              np.array(d.qvel, dtype=float)[: self.n], self._planar[: self.n],
+                              angle_rad=row[:, 7])
         shift = self._shift[: self.n]
         row[:, [0, 1]] += shift
         row[:, [5, 6]] += shift
@@ -273,6 +279,39 @@ class MjxEngine(BatchedEngine):
 
     def failed(self) -> np.ndarray:
         return np.asarray(self._bad)[: self.n]
+
+
+def _host_model(scene: Scene, st) -> mujoco.MjModel:
+    """The MJCF compiled by MuJoCo C with the settings' options and contact parameters; with
+    friction, the cone and (a tuned contact: an explicit pair) the pair's solref, solimp and
+    solreffriction as MuJoCo C's, each carrying its d as the geoms' solref does (package
+    doc)."""
+    paired = st.contact_model != "native"
+    m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball, scene.mu, paired))
+    m.opt.timestep = st.dt_s
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
+    m.opt.iterations, m.opt.tolerance = st.iterations, st.tolerance
+    if st.ls_iterations is not None:
+        m.opt.ls_iterations = st.ls_iterations
+    m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
+    solref, solimp = contact_parameters(st, scene.e)
+    if paired:  # carry d where R no longer cancels it (package doc)
+        solref = _carried(solref, st.impedance, st)
+    m.geom_solref[:], m.geom_solimp[:] = solref, solimp
+    if scene.mu > 0.0:  # frictionless: MJX's default cone (it refuses condim 1 in an elliptic)
+        m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")
+    if m.npair:
+        solref, solimp, solreffriction = pair_parameters(st, scene.e)
+        m.pair_solref[0], m.pair_solimp[0] = _carried(solref, solimp[0], st), solimp
+        m.pair_solreffriction[0] = _carried(solreffriction, solimp[0], st)
+    m.body_invweight0[:] *= st.invweight_scale
+    return m
+
+
+def _carried(solref: tuple, d: float, st) -> tuple:
+    """A direct-form solref times d + (1 - d) invweight_scale: 1 for MJX's own regulariser
+    (MuJoCo C's values), d once the regulariser is scaled away (package docstring)."""
+    return tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
 
 
 class Mjx64Engine(MjxEngine):

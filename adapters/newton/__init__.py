@@ -3,7 +3,7 @@
 Two free bodies per world, replicated with ``ModelBuilder.replicate`` (one Newton world each, so
 only the bat and the ball of one world collide): the bat a massless capsule (density 0) on a
 body whose origin is its COM, mass and principal inertia (axial, I_cm, I_cm) set on the body;
-the ball a sphere. No gravity, no friction (mu, torsional and rolling friction 0). Solvers
+the ball a sphere. No gravity; friction as below (torsional and rolling friction 0). Solvers
 (``solver``), e mapped as each allows:
 
 - ``xpbd``: ``SolverXPBD`` with ``enable_restitution`` (off by default: e is then ignored and
@@ -27,6 +27,29 @@ the ball a sphere. No gravity, no friction (mu, torsional and rolling friction 0
   m the contact's effective mass: ke, kd are tuned (``soft_omega_radps``) for e at
   ``penalty_mass_kg`` and judged against that law (``PenaltyLaw``) at the real masses.
 
+Friction (scene mu > 0; none, and the model built as before, at mu = 0): each shape's ``mu``
+(``ShapeConfig``: one coefficient, static = dynamic), torsional and rolling 0. XPBD and the
+penalty solvers combine two shapes' mu as their mean (the contact kernels sum the shapes' and
+divide by their count), SolverMuJoCo as their max (Newton writes each shape's mu into MuJoCo
+Warp's ``geom_friction``); measured on a sliding impact with (0.02, 0.08): 0.0320 (XPBD: 0.64 of
+the mean, below), 0.0500 (SemiImplicit), 0.0800 (MuJoCo). The record's rule is XPBD's.
+- ``xpbd``: friction is positional only. The position pass undoes the contact points' slip,
+  capped at mu times that pass's normal correction; the restitution (velocity) pass is
+  frictionless. In an impact the position pass removes the approach (m v_n), the restitution
+  pass adds e m v_n: a sliding impact gets mu/(1+e) of Coulomb's friction impulse (ball on a
+  wall, e = 0.5, mu = 0.05: the tangential speed drops 0.878 m/s against 1.316, x 0.667, at
+  20 iterations; 0.843 at XPBD's 2 iterations and relaxation 0.8). A sticking impact (mu = 1)
+  stops the slip only with relaxation 1 (v_t 6.8488 against 6.8490 m/s; 6.958 at 0.8).
+  No knob chooses another friction model.
+- ``semi_implicit``, ``featherstone``: regularised Coulomb, F_t = kf v_t up to mu |F_n|, kf
+  the shapes' mean ``friction_gain_nspm`` (Newton's 1000 N s/m, read back; 0 when
+  frictionless, as before): on the wall, sliding mu 0.0500, rolling (mu = 1) to 2e-4 m/s.
+- ``mujoco``: condim 3 (1 when frictionless), ``cone`` (Newton's pyramid by default, read
+  back). A geom contact has no solreffriction: its friction rows take the contact's solref,
+  the impulse solref's (1+e)/dt reversal, so a sticking contact leaves with its slip reversed
+  by e (wall, mu = 1: ball spin -281 rad/s against -187, either cone); MuJoCo C's pair with
+  solreffriction (0, -1/dt) would need Newton's ``mujoco:pair`` custom attributes.
+
 Traps (measured with newton 1.8.0, warp-lang 1.19.0, mujoco-warp 4.0.0 on the CPU):
 - ``State.body_qd`` is (v_com, omega), world frame, linear first (a body spun with (0, 0, 0,
   0, 0, 1) about a COM 0.5 m off its origin keeps the COM still); ``body_q`` is (p, quat x y z
@@ -48,6 +71,10 @@ Traps (measured with newton 1.8.0, warp-lang 1.19.0, mujoco-warp 4.0.0 on the CP
   paper's swing, 5e-5 at 1 us (where float32 rounding over a long slide's steps costs more).
   XPBD zeroes a body's velocity below 1e-4 m/s (spin below 1e-4 rad/s) in every position
   pass; rotation is a normalised first-order quaternion update.
+- ``body_qd`` and a free joint's ``joint_qd`` are world-frame twists: a tilted, spinning bat
+  reads back the same through XPBD, Featherstone and MuJoCo (three steps, measured), and
+  no frame turn is needed; a world set in the plane reads its yaw as before
+  (``adapters.mjx.frames_batch``: float32 rounding leaves the plane, 1.5e-4 rad/s about x).
 - SemiImplicit and Featherstone damp every body's spin (``angular_damping`` 0.05 1/s by
   default): 0 in the reference and its knob families.
 - Warp prints its banner and a line per compiled module on stdout (``config.log_level``: the
@@ -69,6 +96,7 @@ from analytic import checks
 from ..record import (
     ContactReference,
     EngineRecord,
+    FrictionRule,
     KnobFamily,
     ReportNotes,
     RestitutionRule,
@@ -79,6 +107,9 @@ SOLVERS = ("xpbd", "mujoco", "semi_implicit", "featherstone")
 PENALTY_SOLVERS = ("semi_implicit", "featherstone")
 MUJOCO_CONTACT_MODELS = ("impulse", "soft", "native")
 MUJOCO_INTEGRATORS = ("euler", "implicitfast", "rk4")
+#: SolverMuJoCo's friction cones; Newton's own (``SolverMuJoCo(cone=None)``) is the first.
+CONES = ("pyramidal", "elliptic")
+DEFAULT_CONE = CONES[0]
 #: Newton's per-shape contact gap (ModelBuilder.rigid_gap), m.
 DEFAULT_GAP_M = 0.1
 #: Newton's shape contact stiffness and damping (ModelBuilder.ShapeConfig ke, kd).
@@ -140,7 +171,9 @@ class NewtonSettings(Settings):
     ``contact_model`` one of MUJOCO_CONTACT_MODELS, ``impedance`` (solimp d), ``integrator``
     one of MUJOCO_INTEGRATORS, ``tolerance`` of its solver (0: until no improvement). MuJoCo
     ``soft`` and the penalty solvers: ``soft_omega_radps`` w, the contact's natural frequency
-    (rad/s) at ``penalty_mass_kg`` for a penalty (None: Newton's ke, kd)."""
+    (rad/s) at ``penalty_mass_kg`` for a penalty (None: Newton's ke, kd). Friction (scene mu >
+    0): ``cone`` MuJoCo's, one of CONES; ``friction_gain_nspm`` the penalty solvers' viscous
+    friction gain kf (N s/m), below Coulomb's cap (package docstring)."""
 
     solver: str = "xpbd"
     iterations: int | None = None
@@ -155,6 +188,8 @@ class NewtonSettings(Settings):
     tolerance: float | None = None
     soft_omega_radps: float | None = 3000.0
     penalty_mass_kg: float = CENTRAL_MASS_KG
+    cone: str | None = None
+    friction_gain_nspm: float | None = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -186,6 +221,21 @@ class NewtonSettings(Settings):
             raise ValueError("soft_omega_radps=None leaves MuJoCo's soft contact without a "
                              "frequency; allowed: a positive value (rad/s)")
         checks.positive("penalty_mass_kg", self.penalty_mass_kg)
+        if self.cone is not None and self.cone not in CONES:
+            raise ValueError(f"cone={self.cone!r} is unknown; allowed: None, "
+                             f"{', '.join(CONES)}")
+        if self.friction_gain_nspm is not None:
+            checks.positive("friction_gain_nspm", self.friction_gain_nspm)
+
+    def friction_cone(self) -> str:
+        # package docstring: XPBD's restitution pass carries no friction
+        if self.solver == "xpbd":
+            return "positional, capped by the position pass's normal push (XPBD)"
+        if self.solver == "mujoco":
+            if (self.cone or DEFAULT_CONE) == "pyramidal":
+                return "pyramidal, 4 edges (condim 3)"
+            return "elliptic (Coulomb's cone, condim 3)"
+        return "regularised: viscous kf v_t up to mu f_n"
 
     def penalty_gains(self, e: float) -> tuple[float, float]:
         """ke (N/m) and kd (N s/m) of a penalty solver's contact at restitution e."""
@@ -256,7 +306,7 @@ def _speed_accuracy() -> tuple[KnobFamily, ...]:
 #: defaults, the builder's contact gap, and the cradle example's step (60 fps, 10 substeps).
 ENGINE_DEFAULTS = {"dt_s": 1 / 600, "iterations": 2, "contact_relaxation": 0.8,
                    "restitution_iterations": 2, "contact_gap_m": DEFAULT_GAP_M,
-                   "angular_damping": 0.0}
+                   "angular_damping": 0.0, "friction_gain_nspm": 1000.0, "cone": DEFAULT_CONE}
 
 RECORD = EngineRecord(
     name="newton", adapter="adapters.newton.adapter:NewtonEngine", package="newton",
@@ -282,6 +332,18 @@ RECORD = EngineRecord(
     integrators=(),  # no set_drive: the engine sits out the swing studies
     precision="float32",
     restitution_rule=RestitutionRule.MEAN,
+    friction_rule=FrictionRule.MEAN,
+    friction_defect=("XPBD's friction is positional, capped by its position pass's normal "
+                     "correction: the restitution pass carries none, so a slide gets mu P / "
+                     "(1 + e) of tangential impulse for Coulomb's mu P (2/3 at e = 0.5; "
+                     "package docstring)"),
+    friction_families=(
+        KnobFamily(label="XPBD, relaxation 1", overrides=(("contact_relaxation", 1.0),)),
+        KnobFamily(label="MuJoCo Warp, impulse solref, elliptic cone, tolerance 0",
+                   overrides=(("solver", "mujoco"), ("tolerance", 0.0), ("cone", "elliptic"))),
+        KnobFamily(label="SemiImplicit, penalty w = 3000, Newton's kf",
+                   overrides=(("solver", "semi_implicit"),)),
+    ),
     engine_defaults=ENGINE_DEFAULTS,
     step_cost_s=8e-4, world_step_cost_s=2e-6,
     label="Newton",

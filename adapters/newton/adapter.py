@@ -4,16 +4,18 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..frames import angles_and_tilts, bat_quaternions, in_plane
 from ..interface import STATE_FIELDS, BatchedEngine, MassProperties, Scene
 from . import RECORD, NewtonSettings
 from . import scene as sc
 
 newton, wp = sc.newton, sc.wp
-BX, BY, BVX, BVY, BW, CX, CY, CA, CVX, CVY, CW = range(11)
+(BX, BY, BVX, BVY, BW, CX, CY, CA, CVX, CVY, CW, BZ, BVZ, BWX, BWY, CZ, CT, CVZ, CWX,
+ CWY) = range(len(STATE_FIELDS))
 
 
 class StateRows(np.ndarray):
-    """(n, 11) states whose columns also read by ``State`` field name (a batch of one then
+    """(n, 20) states whose columns also read by ``State`` field name (a batch of one then
     reads like a ``State``)."""
 
     def __getattr__(self, name: str):
@@ -43,13 +45,13 @@ class NewtonEngine(BatchedEngine):
         self.close()
         self.scene, self.n = scene, worlds
         self.model = sc.model(scene, worlds, st)
-        self.solver = sc.solver(self.model, st)
+        self.solver = sc.solver(self.model, st, scene.mu)
         self.pipeline = sc.pipeline(self.model, st)
         self.contacts = self.pipeline.contacts() if self.pipeline is not None else None
         self.control = self.model.control()
         self.states = [self.model.state(), self.model.state()]
         self.shape_world = self.model.shape_world.numpy()
-        self.touching = np.zeros(worlds, dtype=bool)
+        self.touching, self.planar = np.zeros(worlds, dtype=bool), np.ones(worlds, dtype=bool)
         self.ball_v = np.zeros((worlds, 2), dtype=np.float32)
 
     def mass_properties(self) -> MassProperties:
@@ -69,15 +71,18 @@ class NewtonEngine(BatchedEngine):
             ball_mass_kg=float(mass[sc.BALL]), ball_inertia_kgm2=float(inertia[sc.BALL][2, 2]))
 
     def set_state(self, states: np.ndarray) -> None:
+        """Both bodies of every world; Newton's twists are (v_com, omega), both in the world
+        frame (a free joint's too), and its quaternions (x, y, z, w)."""
         s = np.atleast_2d(np.asarray(states, dtype=float))
+        s = np.pad(s, ((0, 0), (0, len(STATE_FIELDS) - s.shape[1])))
         n = self.n
         q = np.zeros((n, 2, 7))
-        q[:, sc.BAT, :2], q[:, sc.BALL, :2] = s[:, [CX, CY]], s[:, [BX, BY]]
-        q[:, sc.BAT, 5], q[:, sc.BAT, 6] = np.sin(0.5 * s[:, CA]), np.cos(0.5 * s[:, CA])
+        q[:, sc.BAT, :3], q[:, sc.BALL, :3] = s[:, [CX, CY, CZ]], s[:, [BX, BY, BZ]]
+        q[:, sc.BAT, 3:] = bat_quaternions(s[:, CA], s[:, CT])[:, [1, 2, 3, 0]]
         q[:, sc.BALL, 6] = 1.0
         qd = np.zeros((n, 2, 6))
-        qd[:, sc.BAT, :2], qd[:, sc.BAT, 5] = s[:, [CVX, CVY]], s[:, CW]
-        qd[:, sc.BALL, :2], qd[:, sc.BALL, 5] = s[:, [BVX, BVY]], s[:, BW]
+        qd[:, sc.BAT] = s[:, [CVX, CVY, CVZ, CWX, CWY, CW]]
+        qd[:, sc.BALL] = s[:, [BVX, BVY, BVZ, BWX, BWY, BW]]
         q, qd = q.reshape(-1).astype(np.float32), qd.reshape(-1).astype(np.float32)
         for state in self.states:
             # free joints at the world origin: joint coordinates = body pose and twist
@@ -89,7 +94,8 @@ class NewtonEngine(BatchedEngine):
         if self.settings.solver == "mujoco":
             self.solver.mjw_data.qacc_warmstart.zero_()
         self.touching[:] = False
-        self.ball_v = qd.reshape(n, 2, 6)[:, sc.BALL, :2].copy()
+        self.ball_v = qd.reshape(n, 2, 6)[:, sc.BALL, :3].copy()
+        self.planar = in_plane(s)
 
     def step(self) -> None:
         s0, s1 = self.states
@@ -97,9 +103,12 @@ class NewtonEngine(BatchedEngine):
             self.pipeline.collide(s0, self.contacts)
         self.solver.step(s0, s1, self.control, self.contacts, self.settings.dt_s)
         self.states = [s1, s0]
-        v = s1.body_qd.numpy().reshape(self.n, 2, 6)[:, sc.BALL, :2]
-        # only a contact changes the ball's velocity: no gravity, no damping on it
-        self.touching = self._listed() & np.any(v != self.ball_v, axis=1)
+        v = s1.body_qd.numpy().reshape(self.n, 2, 6)[:, sc.BALL, :3]
+        # only a contact changes the ball's velocity: no gravity, no damping on it (its vz
+        # counts only out of the plane: in it, it is float32 rounding, never read before)
+        moved = np.any(v[:, :2] != self.ball_v[:, :2], axis=1) | (
+            ~self.planar & (v[:, 2] != self.ball_v[:, 2]))
+        self.touching = self._listed() & moved
         self.ball_v = v.copy()
 
     def _listed(self) -> np.ndarray:
@@ -121,12 +130,15 @@ class NewtonEngine(BatchedEngine):
         s = self.states[0]
         q = s.body_q.numpy().astype(float).reshape(self.n, 2, 7)
         qd = s.body_qd.numpy().astype(float).reshape(self.n, 2, 6)
-        out = np.empty((self.n, 11))
-        out[:, [BX, BY]], out[:, [BVX, BVY]] = q[:, sc.BALL, :2], qd[:, sc.BALL, :2]
-        out[:, BW] = qd[:, sc.BALL, 5]
-        out[:, [CX, CY]], out[:, [CVX, CVY]] = q[:, sc.BAT, :2], qd[:, sc.BAT, :2]
-        out[:, CA] = 2.0 * np.arctan2(q[:, sc.BAT, 5], q[:, sc.BAT, 6])
-        out[:, CW] = qd[:, sc.BAT, 5]
+        out = np.empty((self.n, len(STATE_FIELDS)))
+        out[:, [BX, BY, BZ]] = q[:, sc.BALL, :3]
+        out[:, [BVX, BVY, BVZ, BWX, BWY, BW]] = qd[:, sc.BALL]
+        out[:, [CX, CY, CZ]] = q[:, sc.BAT, :3]
+        out[:, [CVX, CVY, CVZ, CWX, CWY, CW]] = qd[:, sc.BAT]
+        yaw, out[:, CT] = angles_and_tilts(q[:, sc.BAT, [6, 3, 4, 5]])
+        # a world set in the plane: its yaw as it was always read (``frames_batch``)
+        out[:, CA] = np.where(self.planar, 2.0 * np.arctan2(q[:, sc.BAT, 5], q[:, sc.BAT, 6]),
+                              yaw)
         return out.view(StateRows)
 
     def in_contact(self) -> np.ndarray:
@@ -144,6 +156,13 @@ class NewtonEngine(BatchedEngine):
             raise NotImplementedError(f"{self.settings.solver} has no restitution parameter")
         values = np.tile(np.array([bat, ball], dtype=np.float32), self.n)
         self.model.shape_material_restitution.assign(values)
+        self.solver.notify_model_changed(newton.ModelFlags.SHAPE_PROPERTIES)
+
+    def set_body_friction(self, *, bat: float, ball: float) -> None:
+        """Each shape's friction coefficient (XPBD and the penalty solvers combine them as
+        their mean, MuJoCo's as their max)."""
+        values = np.tile(np.array([bat, ball], dtype=np.float32), self.n)
+        self.model.shape_material_mu.assign(values)
         self.solver.notify_model_changed(newton.ModelFlags.SHAPE_PROPERTIES)
 
     def close(self) -> None:

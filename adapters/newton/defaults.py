@@ -31,8 +31,8 @@ def example_dt_s(solver: str = "xpbd") -> float:
 
 
 def read_back() -> dict:
-    """XPBD's constructor defaults on a one-body model, the builder's contact gap and the
-    example's time step."""
+    """XPBD's constructor defaults on a one-body model, the builder's contact gap and shape
+    friction gain, SolverMuJoCo's cone, and the example's time step."""
     builder = newton.ModelBuilder(gravity=(0.0, 0.0, 0.0))
     builder.add_body(mass=1.0, inertia=wp.mat33(1, 0, 0, 0, 1, 0, 0, 0, 1))
     solver = newton.solvers.SolverXPBD(builder.finalize(device=sc.DEVICE))
@@ -40,4 +40,19 @@ def read_back() -> dict:
             "contact_relaxation": solver.rigid_contact_relaxation,
             "restitution_iterations": solver.rigid_contact_restitution_iterations,
             "contact_gap_m": newton.ModelBuilder().rigid_gap,
-            "angular_damping": solver.angular_damping}
+            "angular_damping": solver.angular_damping,
+            "friction_gain_nspm": newton.ModelBuilder.ShapeConfig().kf,
+            "cone": _mujoco_cone()}
+
+
+def _mujoco_cone() -> str:
+    """The cone of a SolverMuJoCo left to choose it, on a one-body model."""
+    import mujoco
+
+    builder = newton.ModelBuilder(gravity=(0.0, 0.0, 0.0))
+    newton.solvers.SolverMuJoCo.register_custom_attributes(builder)
+    body = builder.add_body(mass=1.0, inertia=wp.mat33(1, 0, 0, 0, 1, 0, 0, 0, 1))
+    builder.add_shape_sphere(body, radius=0.1)
+    solver = sc.mujoco_solver(builder.finalize(device=sc.DEVICE))
+    return "elliptic" if int(solver.mjw_model.opt.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC \
+        else "pyramidal"

@@ -31,13 +31,18 @@ Z_TO_MINUS_X = (0.0, -math.sin(math.pi / 4), 0.0, math.cos(math.pi / 4))
 
 
 def _shape_config(scene: Scene, st: NewtonSettings):
-    """Massless, frictionless shapes bouncing with e (the penalty solvers' ke, kd for e)."""
-    cfg = newton.ModelBuilder.ShapeConfig(density=0.0, mu=0.0, mu_torsional=0.0,
+    """Massless shapes bouncing with e (the penalty solvers' ke, kd for e), each with friction
+    mu (every solver combines two shapes' into the same mu: the mean, MuJoCo's max), no
+    torsional or rolling friction; frictionless, the penalty's friction gain kf is 0 too."""
+    cfg = newton.ModelBuilder.ShapeConfig(density=0.0, mu=scene.mu, mu_torsional=0.0,
                                           mu_rolling=0.0, restitution=scene.e,
                                           gap=st.contact_gap_m)
     if st.solver in PENALTY_SOLVERS:
         cfg.ke, cfg.kd = st.penalty_gains(scene.e)
-        cfg.kf = 0.0
+        if scene.mu == 0.0:
+            cfg.kf = 0.0
+        elif st.friction_gain_nspm is not None:
+            cfg.kf = st.friction_gain_nspm
     return cfg
 
 
@@ -75,10 +80,12 @@ def model(scene: Scene, worlds: int, st: NewtonSettings):
 
 
 def _mujoco_contact(m, scene: Scene, st: NewtonSettings) -> None:
-    """Frictionless (condim 1) contacts; impulse/soft: solref and solimp as for MuJoCo C, raw
-    (``native`` keeps Newton's ke, kd, which it turns into solref (0.02, 1))."""
+    """Frictionless (condim 1) contacts, else Newton's condim 3; impulse/soft: solref and
+    solimp as for MuJoCo C, raw (``native`` keeps Newton's ke, kd, which it turns into solref
+    (0.02, 1)). A geom contact has no solreffriction: its friction rows take that solref."""
     attrs = m.mujoco
-    attrs.condim.fill_(1)
+    if scene.mu == 0.0:
+        attrs.condim.fill_(1)
     if st.contact_model == "native":
         return
     solref, solimp = contact_parameters(st, scene.e)
@@ -92,8 +99,9 @@ def _given(**kw) -> dict:
     return {k: v for k, v in kw.items() if v is not None}
 
 
-def solver(m, st: NewtonSettings):
-    """The settings' solver on model ``m`` (None: Newton's own value)."""
+def solver(m, st: NewtonSettings, mu: float = 0.0):
+    """The settings' solver on model ``m`` (None: Newton's own value); ``mu``: the contact's
+    friction (MuJoCo's cone is set only with friction)."""
     solvers = newton.solvers
     if st.solver == "xpbd":
         return solvers.SolverXPBD(m, enable_restitution=st.enable_restitution, **_given(
@@ -101,28 +109,33 @@ def solver(m, st: NewtonSettings):
             rigid_contact_restitution_iterations=st.restitution_iterations,
             angular_damping=st.angular_damping))
     if st.solver == "mujoco":
-        return _mujoco_solver(m, st)
+        return _mujoco_solver(m, st, st.cone if mu > 0.0 else None)
     cls = solvers.SolverSemiImplicit if st.solver == "semi_implicit" else \
         solvers.SolverFeatherstone
     return cls(m, **_given(angular_damping=st.angular_damping))
 
 
-def _mujoco_solver(m, st: NewtonSettings):
-    """SolverMuJoCo on MuJoCo Warp, its own collision; it warns that the mujoco installed (4.0)
-    is not the one Newton 1.8 declares (3.17), which the project pins on purpose, and MuJoCo
-    Warp prints a line per step that reaches its iteration limit (a float32 solve at a small
-    tolerance often does): both dropped."""
+def _mujoco_solver(m, st: NewtonSettings, cone: str | None):
+    """SolverMuJoCo on MuJoCo Warp, its own collision (``mujoco_solver``); MuJoCo Warp prints
+    a line per step that reaches its iteration limit (a float32 solve at a small tolerance
+    often does): dropped."""
     from mujoco_warp import OverflowType
 
-    with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", message="MuJoCo dependency version mismatch")
-        out = newton.solvers.SolverMuJoCo(m, **_given(iterations=st.iterations,
-                                                       integrator=st.integrator))
+    out = mujoco_solver(m, **_given(iterations=st.iterations, integrator=st.integrator,
+                                    cone=cone))
     if st.tolerance is not None:  # MuJoCo Warp raises a model's tolerance to 1e-6 as it loads it
         out.mjw_model.opt.tolerance.fill_(st.tolerance)
     quiet = ~int(OverflowType.ITERATIONS | OverflowType.LS_ITERATIONS)
     out.mjw_model.opt.warn_overflow = int(out.mjw_model.opt.warn_overflow) & quiet
     return out
+
+
+def mujoco_solver(m, **kwargs):
+    """``SolverMuJoCo(m, **kwargs)``; it warns that the mujoco installed (4.0) is not the one
+    Newton 1.8 declares (3.17), which the project pins on purpose: dropped."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="MuJoCo dependency version mismatch")
+        return newton.solvers.SolverMuJoCo(m, **kwargs)
 
 
 def pipeline(m, st: NewtonSettings):
