@@ -23,14 +23,24 @@ def bat_quaternion(angle_rad: float, tilt_rad: float = 0.0) -> tuple[float, floa
     return ca * cb, sa * sb, -ca * sb, sa * cb
 
 
-def angle_and_tilt(w: float, x: float, y: float, z: float) -> tuple[float, float]:
-    """The bat's yaw and tilt (rad) from its orientation quaternion (any roll about its axis)."""
+def angle_and_tilt(w: float, x: float, y: float, z: float,
+                   planar: bool = False) -> tuple[float, float]:
+    """The bat's yaw and tilt (rad) from its orientation quaternion (any roll about its axis).
+    ``planar``: the world was set in the swing plane, so its yaw is read as the planar
+    adapters always read it, 2 atan2(z, w), whatever rounding put into x and y (the tilt
+    still reports that drift)."""
     if x == 0.0 and y == 0.0:
         return 2.0 * math.atan2(z, w), 0.0
     ax = 1.0 - 2.0 * (y * y + z * z)   # the body x axis in the world: R e_x
     ay = 2.0 * (x * y + w * z)
     az = 2.0 * (x * z - w * y)
-    return math.atan2(ay, ax), math.atan2(az, math.hypot(ax, ay))
+    yaw = 2.0 * math.atan2(z, w) if planar else math.atan2(ay, ax)
+    return yaw, math.atan2(az, math.hypot(ax, ay))
+
+
+def in_the_plane(state) -> bool:
+    """Whether a ``State`` lies in the swing plane (every out-of-plane field 0)."""
+    return not any(state[11:])
 
 
 

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..frames import angle_and_tilt, bat_quaternion, rotate
+from ..frames import angle_and_tilt, bat_quaternion, in_the_plane, rotate
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
 from . import INTEGRATORS, RECORD
@@ -92,6 +92,7 @@ class MujocoEngine(Engine):
         )
 
     def set_state(self, state: State) -> None:
+        self._planar = in_the_plane(state)  # read back as set (frames.angle_and_tilt)
         data = self.data
         data.time = 0.0
         data.qacc_warmstart[:] = 0.0
@@ -131,7 +132,7 @@ class MujocoEngine(Engine):
         q, v = self._qpos.tolist(), self._qvel.tolist()  # Python floats: cheaper downstream
         bat_w = rotate(q[3:7], v[3:6])
         ball_w = rotate(q[10:14], v[9:12])
-        angle, tilt = angle_and_tilt(*q[3:7])
+        angle, tilt = angle_and_tilt(*q[3:7], self._planar)
         return State(ball_x_m=q[7], ball_y_m=q[8], ball_vx_mps=v[6], ball_vy_mps=v[7],
                      ball_omega_radps=ball_w[2], bat_x_m=q[0], bat_y_m=q[1],
                      bat_angle_rad=angle, bat_vx_mps=v[0], bat_vy_mps=v[1],

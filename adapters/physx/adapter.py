@@ -7,7 +7,7 @@ import math
 import warnings
 from collections.abc import Iterator
 
-from ..frames import angle_and_tilt, bat_quaternion
+from ..frames import angle_and_tilt, bat_quaternion, in_the_plane
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
 from . import RECORD, PhysxSettings
@@ -147,6 +147,7 @@ class PhysxEngine(Engine):
             material.static_friction = material.dynamic_friction = value
 
     def set_state(self, state: State) -> None:
+        self._planar = in_the_plane(state)  # read back as set (frames.angle_and_tilt)
         # SAPIEN's quaternions are (w, x, y, z), as ours; velocities are the world frame's
         q = bat_quaternion(state.bat_angle_rad, state.bat_tilt_rad)
         for body, pose, v, w in (
@@ -193,7 +194,7 @@ class PhysxEngine(Engine):
         cp = ball.entity.pose.p.tolist()
         bv, bw = bat.linear_velocity.tolist(), bat.angular_velocity.tolist()
         cv, cw = ball.linear_velocity.tolist(), ball.angular_velocity.tolist()
-        angle, tilt = angle_and_tilt(*bq)
+        angle, tilt = angle_and_tilt(*bq, self._planar)
         return State(ball_x_m=cp[0], ball_y_m=cp[1], ball_vx_mps=cv[0], ball_vy_mps=cv[1],
                      ball_omega_radps=cw[2], bat_x_m=bp[0], bat_y_m=bp[1], bat_angle_rad=angle,
                      bat_vx_mps=bv[0], bat_vy_mps=bv[1], bat_omega_radps=bw[2], ball_z_m=cp[2],

@@ -7,7 +7,7 @@ import math
 
 from analytic import Ball, Bat
 
-from ..frames import angle_and_tilt, bat_quaternion
+from ..frames import angle_and_tilt, bat_quaternion, in_the_plane
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
 from . import ENGINE_PARAMETERS, RECORD
@@ -108,6 +108,7 @@ class PybulletEngine(Engine):
             pb.changeDynamics(body, -1, lateralFriction=value, physicsClientId=self._client)
 
     def set_state(self, state: State) -> None:
+        self._planar = in_the_plane(state)  # read back as set (frames.angle_and_tilt)
         c = self._client
         w, x, y, z = bat_quaternion(state.bat_angle_rad, state.bat_tilt_rad)
         # Bullet's quaternions are (x, y, z, w); a base's angular velocity is the world's
@@ -158,7 +159,7 @@ class PybulletEngine(Engine):
         (cx, cy, cz), (qx, qy, qz, qw) = pb.getBasePositionAndOrientation(self._bat,
                                                                            physicsClientId=c)
         (cvx, cvy, cvz), (cwx, cwy, cw) = pb.getBaseVelocity(self._bat, physicsClientId=c)
-        angle, tilt = angle_and_tilt(qw, qx, qy, qz)
+        angle, tilt = angle_and_tilt(qw, qx, qy, qz, self._planar)
         return State(ball_x_m=bx, ball_y_m=by, ball_vx_mps=bvx, ball_vy_mps=bvy,
                      ball_omega_radps=bw, bat_x_m=cx, bat_y_m=cy, bat_angle_rad=angle,
                      bat_vx_mps=cvx, bat_vy_mps=cvy, bat_omega_radps=cw, ball_z_m=bz,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from ..frames import angle_and_tilt, bat_quaternion
+from ..frames import angle_and_tilt, bat_quaternion, in_the_plane
 from ..interface import Engine, Hands, MassProperties, Scene, State
 from ..record import import_engine
 from . import FRICTION_MODELS, RECORD
@@ -131,6 +131,7 @@ class RapierEngine(Engine):
         self._world.colliders[self._ball_col].friction = ball
 
     def set_state(self, state: State) -> None:
+        self._planar = in_the_plane(state)  # read back as set (frames.angle_and_tilt)
         w = self._world
         self._failed = False
         bat, ball = w.rigid_bodies[self._bat], w.rigid_bodies[self._ball]
@@ -237,7 +238,7 @@ class RapierEngine(Engine):
         cvx, cvy, cvz = bat.linvel.to_tuple()
         cwx, cwy, cwz = bat.angvel.to_tuple()
         rot = bat.rotation
-        angle, tilt = angle_and_tilt(rot.w, rot.i, rot.j, rot.k)
+        angle, tilt = angle_and_tilt(rot.w, rot.i, rot.j, rot.k, self._planar)
         return State(ball_x_m=bx, ball_y_m=by, ball_vx_mps=bvx, ball_vy_mps=bvy,
                      ball_omega_radps=bwz, bat_x_m=cx, bat_y_m=cy, bat_angle_rad=angle,
                      bat_vx_mps=cvx, bat_vy_mps=cvy, bat_omega_radps=cwz, ball_z_m=bz,
