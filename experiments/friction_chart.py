@@ -25,7 +25,7 @@ def render(table: pd.DataFrame) -> bytes:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 2, figsize=(12, 8.5), sharex=True)
+    fig, axes = plt.subplots(2, 2, figsize=(12, 11), sharex=True)
     for row, (what, label) in enumerate(PANELS):
         for col, (title, pick) in enumerate(CASES):
             _panel(axes[row, col], table[pick(table)], what, label, title)
@@ -39,7 +39,7 @@ def render(table: pd.DataFrame) -> bytes:
     fig.suptitle("Friction at impact: the ball's spin and tangential speed against Routh's "
                  "impulse (paper's swing, e = 0.5; largest over 3 impact points and the angles)",
                  fontsize=10)
-    fig.tight_layout(rect=(0, 0.12, 1, 0.96))
+    fig.tight_layout(rect=(0, 0.2, 1, 0.96))
     png = figure_png(fig)
     plt.close(fig)
     return png
@@ -57,7 +57,7 @@ def _panel(ax, df: pd.DataFrame, what: str, label: str, title: str) -> None:
         ax.text(0.5, 0.5, "no 3-D engine", transform=ax.transAxes, ha="center")
         return
     gap = df.groupby("mu")[f"law_{what}_rel_gap"].max()
-    ax.plot(gap.index, np.maximum(gap.values, FLOOR), "k--", lw=1.5,
+    ax.plot(gap.index, np.maximum(gap.values, FLOOR), "k--", lw=2, zorder=5,
             label="the engines' one-step law vs Routh (the law's own gap)")
     for (name, family), part in df.groupby(["engine", "family"], sort=False):
         rec = adapters.record(name)

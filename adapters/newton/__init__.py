@@ -227,6 +227,10 @@ class NewtonSettings(Settings):
         if self.friction_gain_nspm is not None:
             checks.positive("friction_gain_nspm", self.friction_gain_nspm)
 
+    def friction_law(self) -> str:
+        # its MuJoCo-Warp solver is MuJoCo's convex one: a slide separates by mu |v_t'|
+        return "relaxed" if self.solver == "mujoco" else "one_step"
+
     def friction_cone(self) -> str:
         # package docstring: XPBD's restitution pass carries no friction
         if self.solver == "xpbd":
