@@ -23,6 +23,7 @@ friction.png.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from dataclasses import replace
 
@@ -37,6 +38,7 @@ from .core import cli, runs, tables
 from .core.cli import Command
 from .core.fire import Job
 from .core.io import json_bytes, provenance
+from .core.judge import Status
 
 MUS = (0.1, 0.25, 0.5, 1.0)
 THETAS_RAD = (0.0, 0.2, 0.4)
@@ -108,18 +110,21 @@ def relative_errors(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def summary(t: pd.DataFrame) -> list[dict]:
-    """Per engine and family: statuses, the largest errors, and the cells where the spin
-    misses the one-step law by more than SPIN_COST_REL (the cone's cost)."""
+    """Per engine and family: statuses, the largest errors (against its law over the rows
+    judged against it: NaN for a compliant contact, which follows no one-step law), and the
+    cells where the spin misses its law by more than SPIN_COST_REL (the cone's cost)."""
     out = []
     for (name, family), df in t.groupby(["engine", "family"], sort=False):
-        costly = df[df.spin_rel_err_law > SPIN_COST_REL]
+        judged = df[df.status != Status.UNJUDGED.value]
+        costly = judged[judged.spin_rel_err_law > SPIN_COST_REL]
         out.append({
             "engine": name, "family": family, "friction_cone": df.friction_cone.iloc[0],
-            "friction_law": df.friction_law.iloc[0],
+            "friction_law": df.friction_law.iloc[0] if len(judged) else "none (compliant)",
             "statuses": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
             **{f"max_{c}": float(df[c].max()) for c in (
-                "spin_rel_err", "spin_rel_err_law", "tangential_rel_err",
-                "tangential_rel_err_law", "v1_abs_err_mps", "v1_law_err_mps")},
+                "spin_rel_err", "tangential_rel_err", "v1_abs_err_mps")},
+            **{f"max_{c}": float(judged[c].max()) if len(judged) else math.nan for c in (
+                "spin_rel_err_law", "tangential_rel_err_law", "v1_law_err_mps")},
             "spin_cost_cells": sorted({f"mu={r.mu:g} theta={r.theta_rad:g} "
                                        f"undercut={r.undercut_m:g}"
                                        for r in costly.itertuples()})})

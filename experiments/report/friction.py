@@ -4,6 +4,8 @@ against Routh's impulse; and the defects an engine's record declares."""
 
 from __future__ import annotations
 
+import math
+
 import pandas as pd
 
 import adapters
@@ -33,6 +35,8 @@ def section(res: Results) -> str:
     costly = [f"{label(r['engine'])} ({r['family']}): {len(r['spin_cost_cells'])} of "
               f"{sum(r['statuses'].values()) // len(data['points_m'])} cells"
               for r in data["summary"] if r["spin_cost_cells"]]
+    compliant = [f"{label(r['engine'])} ({r['family']})" for r in data["summary"]
+                 if math.isnan(r["max_spin_rel_err_law"])]
     intro = (
         f"`python -m experiments.friction` fires the paper's swing at "
         f"{len(data['points_m'])} impact points with mu in "
@@ -48,6 +52,10 @@ def section(res: Results) -> str:
              f"{pct(data['spin_cost_rel'])} (the cost of its cone or solver): "
              + ("; ".join(costly) if costly else "nowhere") + ".",
              res.chart("friction.png", "friction errors against mu")]
+    if compliant:
+        parts.insert(2, "Unjudged, a compliant contact with friction (no frictional contact "
+                        "law here to judge it against; its errors against Routh's impulse "
+                        "stand): " + ", ".join(compliant) + ".")
     if defects:
         parts.insert(2, "Declared friction defects (records' `friction_defect`, pinned by "
                         "tests):\n\n" + "\n".join(f"- {d}" for d in defects))
@@ -58,5 +66,7 @@ def _cell(key: str, value) -> str:
     if key == "statuses":
         return ", ".join(f"{k} {v}" for k, v in value.items())
     if isinstance(value, float):
+        if math.isnan(value):
+            return "-"
         return pct(value) if key.startswith("max_spin") else sci(value)
     return str(value)
