@@ -21,7 +21,7 @@ import numpy as np
 
 from ..frames import in_plane, mujoco_coordinates, mujoco_rows
 from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene
-from ..mujoco.model import contact_parameters, mjcf, pair_parameters
+from ..mujoco.model import port_model
 from ..record import import_engine
 from . import COLLISIONS, INTEGRATORS, RECORD, RECORD_64
 
@@ -282,36 +282,10 @@ class MjxEngine(BatchedEngine):
 
 
 def _host_model(scene: Scene, st) -> mujoco.MjModel:
-    """The MJCF compiled by MuJoCo C with the settings' options and contact parameters; with
-    friction, the cone and (a tuned contact: an explicit pair) the pair's solref, solimp and
-    solreffriction as MuJoCo C's, each carrying its d as the geoms' solref does (package
-    doc)."""
-    paired = st.contact_model != "native"
-    m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball, scene.mu, paired))
-    m.opt.timestep = st.dt_s
-    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
-    m.opt.iterations, m.opt.tolerance = st.iterations, st.tolerance
-    if st.ls_iterations is not None:
-        m.opt.ls_iterations = st.ls_iterations
-    m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
-    solref, solimp = contact_parameters(st, scene.e)
-    if paired:  # carry d where R no longer cancels it (package doc)
-        solref = _carried(solref, st.impedance, st)
-    m.geom_solref[:], m.geom_solimp[:] = solref, solimp
-    if scene.mu > 0.0:  # frictionless: MJX's default cone (it refuses condim 1 in an elliptic)
-        m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")
-    if m.npair:
-        solref, solimp, solreffriction = pair_parameters(st, scene.e)
-        m.pair_solref[0], m.pair_solimp[0] = _carried(solref, solimp[0], st), solimp
-        m.pair_solreffriction[0] = _carried(solreffriction, solimp[0], st)
-    m.body_invweight0[:] *= st.invweight_scale
+    """MuJoCo's ports' model (``mujoco.model.port_model``) with MJX's solver tolerance."""
+    m = port_model(mujoco, scene, st)
+    m.opt.tolerance = st.tolerance
     return m
-
-
-def _carried(solref: tuple, d: float, st) -> tuple:
-    """A direct-form solref times d + (1 - d) invweight_scale: 1 for MJX's own regulariser
-    (MuJoCo C's values), d once the regulariser is scaled away (package docstring)."""
-    return tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
 
 
 class Mjx64Engine(MjxEngine):

@@ -80,3 +80,37 @@ def pair_parameters(settings: MujocoSettings, e: float) -> tuple[tuple, tuple, t
     d = settings.friction_impedance
     solref, solimp = contact_parameters(settings, e)
     return solref, (d, d, *solimp[2:]), (0.0, -1.0 / settings.dt_s)
+
+
+def port_model(mujoco, scene, st):
+    """The MJCF compiled by MuJoCo C for its ports (MJX, MuJoCo Warp), with the settings'
+    options and contact parameters (a ``RegularisedSettings``); with friction, the cone and (a
+    tuned contact: an explicit pair) the pair's solref, solimp and solreffriction as MuJoCo
+    C's, each carrying its d as the geoms' solref does (``carried``). ``mujoco``: the imported
+    module (this one imports no engine)."""
+    paired = st.contact_model != "native"
+    m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball, scene.mu, paired))
+    m.opt.timestep = st.dt_s
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
+    m.opt.iterations = st.iterations
+    if st.ls_iterations is not None:
+        m.opt.ls_iterations = st.ls_iterations
+    m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
+    solref, solimp = contact_parameters(st, scene.e)
+    if paired:  # carry d where R no longer cancels it (the ports' package docstrings)
+        solref = carried(solref, st.impedance, st)
+    m.geom_solref[:], m.geom_solimp[:] = solref, solimp
+    if scene.mu > 0.0:  # frictionless: the port's default cone (MJX refuses condim 1 in an
+        m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")  # elliptic one)
+    if m.npair:
+        solref, solimp, solreffriction = pair_parameters(st, scene.e)
+        m.pair_solref[0], m.pair_solimp[0] = carried(solref, solimp[0], st), solimp
+        m.pair_solreffriction[0] = carried(solreffriction, solimp[0], st)
+    m.body_invweight0[:] *= st.invweight_scale
+    return m
+
+
+def carried(solref: tuple, d: float, st) -> tuple:
+    """A direct-form solref times d + (1 - d) invweight_scale: 1 for a port's own regulariser
+    (MuJoCo C's values), d once the regulariser is scaled away (the ports' docstrings)."""
+    return tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
