@@ -25,10 +25,12 @@ $(STAMP): pyproject.toml constraints.txt | check-python
 	$(PY) -m pip install --quiet -c constraints.txt -e '.[test]'
 	touch $(STAMP)
 
-# the linter first (rules in pyproject.toml), then the suite
+# the linter first (rules in pyproject.toml), then the suite (TESTS: a part of it, for .ci/run),
+# its slowest tests listed at the end
+TESTS ?=
 test: check-python $(STAMP)
 	$(PY) -m ruff check .
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q --durations=20 $(TESTS)
 
 sweep: check-python $(STAMP)
 	$(PY) -m experiments.sweep --engine mujoco

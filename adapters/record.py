@@ -235,7 +235,10 @@ class EngineRecord:
     the reference's contact takes a mu of its own, as MuJoCo's explicit pair does), for the
     test that pins ``friction_rule``; ``friction_defect``: a measured failure of its friction at
     impact that no setting removes ('' for none): the wall tests then pin that the engine still
-    misses Coulomb's limits, and the report quotes it.
+    misses Coulomb's limits, and the report quotes it. ``host_rounding``: its kernels are
+    compiled for the host's CPU (XLA), whose instruction set orders the rounding: its rows differ
+    from host to host by rounding (amplified where its solve is ill-conditioned), so a committed
+    baseline is reproduced bit for bit only where it was made.
     """
 
     name: str
@@ -266,6 +269,7 @@ class EngineRecord:
     friction_families: tuple[KnobFamily, ...] = ()
     friction_rule_overrides: Mapping[str, Any] = field(default_factory=dict)
     friction_defect: str = ""
+    host_rounding: bool = False
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

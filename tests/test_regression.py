@@ -42,11 +42,17 @@ def test_agreement_does_not_regress_and_the_baseline_is_what_the_code_produces(b
     # Engines are deterministic, so re-firing every 5th point of a committed baseline must give
     # its rows again: v1 to the 12 significant digits the CSV keeps (relative 1e-11 allows the
     # last printed digit), and the status. A table left from older code, or edited, fails here.
+    # An engine compiled for the host's CPU (``host_rounding``) rounds in another order on
+    # another host: each host's rows then scatter about theory by the engine's own error, whose
+    # committed worst is the baseline's, so two hosts' rows differ by at most twice it.
     committed = pd.read_csv(ROOT / "results" / f"{baseline}.csv")
     committed = committed[committed.engine == engine].iloc[::5].reset_index(drop=True)
     assert list(rows.status) == list(committed.status)
-    np.testing.assert_allclose(rows.v1_engine_mps, committed.v1_engine_mps, rtol=1e-11,
-                               atol=1e-12)
+    if adapters.record(engine).host_rounding:
+        rtol, atol = 0.0, 2 * spec["engines"][engine]["baseline_max_abs_err_mps"]
+    else:
+        rtol, atol = 1e-11, 1e-12
+    np.testing.assert_allclose(rows.v1_engine_mps, committed.v1_engine_mps, rtol=rtol, atol=atol)
     # ok, or still touching at the budget where the rigid bodies are too (e = 0 near the COM)
     still_on = (rows.status == "no_separation") & (rows.rigid_end == "time_limit")
     # a compliant contact beyond its law's single contact is unjudged (experiments.core.judge)

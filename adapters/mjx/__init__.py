@@ -142,6 +142,8 @@ RECORD = EngineRecord(
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults=ENGINE_DEFAULTS,
     step_cost_s=1e-3, world_step_cost_s=1e-5,
+    # measured: float32 rows 0.086 m/s apart (2.8%) between two x86-64 hosts, float64 2e-8 m/s
+    host_rounding=True,
     label="MJX",
     twin_of="mujoco",
     twin_steps=TWIN_STEPS,
