@@ -217,6 +217,10 @@ def _gap(y, t, reach):
 
 #: Samples of the gap evaluated at once while looking for the end of a free flight.
 _CHUNK = 32
+#: The shortest sample, as a fraction of the longest: a gap that opens at g' ~ 0 (a sample on
+#: its minimum) asks for h ~ g'/|g''| ~ 0, which t + h no longer moves (a search that never
+#: ended); a bounce that closes again within 1e-13 s opens the gap by less than a femtometre.
+MIN_SAMPLE_FRACTION = 1e-9
 
 
 def _sample_step(y, h_max: float) -> float:
@@ -224,7 +228,7 @@ def _sample_step(y, h_max: float) -> float:
     opening = float((y[2:4] - y[6:8]) @ n) - y[9] * float(d @ tt)
     curving = _curving(y)
     if opening > 0.0 and -curving * h_max > 0.5 * opening:  # (no overflow for tiny g'')
-        return 0.5 * opening / -curving
+        return max(0.5 * opening / -curving, MIN_SAMPLE_FRACTION * h_max)
     return h_max
 
 
@@ -292,9 +296,10 @@ def free_flight_many(y, *, reach_m: float, ball_radius_m: float, s_min_m: float,
         dx, dy = now[0] - now[4], now[1] - now[5]
         opening = -rv[0] * s + rv[1] * c - now[9] * (dx * c + dy * s)
         curving = -2 * now[9] * (rv[0] * c + rv[1] * s) - now[9] ** 2 * (dy * c - dx * s)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             h = np.where((opening > 0.0) & (-curving * h_max[live] > 0.5 * opening),
-                         0.5 * opening / -curving, h_max[live])
+                         np.maximum(0.5 * opening / -curving,
+                                    MIN_SAMPLE_FRACTION * h_max[live]), h_max[live])
         t = np.minimum(t0[:, None] + h[:, None] * np.arange(1, _CHUNK + 1), t_max_s)
         g, ax = _gap(Y[:, :, None], t, reach_m)
         prev = np.concatenate((g0[:, None], g[:, :-1]), axis=1)
