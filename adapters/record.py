@@ -238,7 +238,8 @@ class EngineRecord:
     misses Coulomb's limits, and the report quotes it. ``host_rounding``: its kernels are
     compiled for the host's CPU (XLA), whose instruction set orders the rounding: its rows differ
     from host to host by rounding (amplified where its solve is ill-conditioned), so a committed
-    baseline is reproduced bit for bit only where it was made.
+    baseline is reproduced bit for bit only where it was made. ``chain_adapter``: "module:Class"
+    of its segmented-bat adapter (``adapters.segmented.ChainEngine``), None where it has none.
     """
 
     name: str
@@ -270,6 +271,7 @@ class EngineRecord:
     friction_rule_overrides: Mapping[str, Any] = field(default_factory=dict)
     friction_defect: str = ""
     host_rounding: bool = False
+    chain_adapter: str | None = None
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

@@ -147,6 +147,7 @@ def _speed_accuracy() -> tuple[KnobFamily, ...]:
 
 
 RECORD = EngineRecord(
+    chain_adapter="adapters.mujoco.chain:MujocoChain",
     name="mujoco", adapter="adapters.mujoco.adapter:MujocoEngine", package="mujoco",
     import_name="mujoco",
     profiles={

@@ -1,0 +1,195 @@
+"""Firing a ball at an engine's segmented bat and judging it against the linear chain.
+
+    row = fire_chain("mujoco", settings, impact)
+
+The chain starts straight, moving rigidly, the ball ``APPROACH_STEPS`` steps short of the
+touch; the engine steps until the episode is over (no contact for one period of the chain's
+lowest mode after the reference's last release) and the row compares the ball's exit speed and
+the energy left in bending with ``analytic.chain_impact``: Newton's restitution at every touch
+for a rigid-contact engine, its own compliant law for a soft one (its settings'
+``contact_law``). Failures are rows with a status, as everywhere.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+import adapters
+from adapters.segmented import ChainScene
+from analytic.chain import Chain
+from analytic.chain_impact import ChainImpact, ChainOutcome, compliant_reference, \
+    impulse_reference
+
+from .judge import Status
+
+#: Free steps before the touch.
+APPROACH_STEPS = 2
+#: The mass read back may differ from the chain's by this many ulps of the engine's float
+MASS_ULPS = 1e3  # (its own conversions of mass and inertia, a few operations each).
+#: An episode that lasts longer than this is 'no_separation' (s).
+MAX_EPISODE_S = 0.05
+#: Energy after may exceed energy before by this share before the row is 'energy_gained'.
+ENERGY_SLACK = 1e-3
+
+
+@dataclass(frozen=True, kw_only=True)
+class ChainTolerance:
+    """The exit speed an engine's chain may miss the linear chain by (m/s): rounding,
+    ``ROUND_OPS`` operations of the closing speed in the engine's float, plus, wherever the
+    chain's springs act while the ball can still meet it (a soft contact, or a rigid one that
+    touches again), a step's worth of the fastest mode: the contact point's velocity turns by
+    up to omega_max dt of its amplitude (at most the closing speed) in a step, and a step is
+    how far off a re-touch or a force's timing may fall. One touch of a rigid contact: the
+    springs pass no impulse, and the exit speed is the impulse's alone."""
+
+    round_ops: float = 1e4
+
+    def mps(self, chain: Chain, dt_s: float, closing_mps: float, eps: float,
+            spring_phases: int) -> float:
+        omega_max = float(chain.modes[0].max())
+        return closing_mps * (self.round_ops * eps + spring_phases * omega_max * dt_s)
+
+
+def reference(settings, impact: ChainImpact) -> ChainOutcome:
+    """The answer that applies to an engine with ``settings``: its compliant law's, or
+    Newton's restitution at every touch."""
+    law = settings.contact_law(impact.e)
+    if law is None:
+        return impulse_reference(impact, max_s=MAX_EPISODE_S)
+    return compliant_reference(impact, law, max_s=MAX_EPISODE_S)
+
+
+def start_states(impact: ChainImpact, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """The ball (4,) and segments (N, 6) ``APPROACH_STEPS`` steps before the touch."""
+    chain = impact.chain
+    x_cm = chain.bat.com_from_knob_m
+    coms = np.asarray(chain.coms_m) - x_cm
+    lead = APPROACH_STEPS * dt_s
+    vy = impact.u0_mps + impact.omega0_radps * coms
+    segs = np.zeros((chain.segments, 6))
+    segs[:, 0] = coms
+    segs[:, 1] = -vy * lead
+    segs[:, 2] = -impact.omega0_radps * lead
+    segs[:, 4] = vy
+    segs[:, 5] = impact.omega0_radps
+    reach = chain.bat.radius_m + impact.ball.radius_m
+    ball = np.array([impact.s_m, reach + impact.v0_mps * lead, 0.0, -impact.v0_mps])
+    return ball, segs
+
+
+def bending_energy_j(chain: Chain, segments: np.ndarray) -> float:
+    """Kinetic energy plus the springs' less the rigid motion's P^2/2M + L^2/2J (J of the
+    straight chain: the chain bends by milliradians)."""
+    m, inertia = np.asarray(chain.masses_kg), np.asarray(chain.inertias_kgm2)
+    v, w = segments[:, 3:5], segments[:, 5]
+    ke = 0.5 * float(np.sum(m * np.sum(v * v, axis=1)) + np.sum(inertia * w * w))
+    bends = np.diff(segments[:, 2])
+    pe = 0.5 * float(np.sum(np.asarray(chain.stiffnesses_nmprad) * bends * bends))
+    total_m = float(m.sum())
+    com = (m @ segments[:, 0:2]) / total_m
+    p = m @ v
+    r = segments[:, 0:2] - com
+    ang = float(np.sum(m * (r[:, 0] * v[:, 1] - r[:, 1] * v[:, 0])) + np.sum(inertia * w))
+    return ke + pe - float(p @ p) / (2 * total_m) - ang**2 / (2 * chain.bat.inertia_cm_kgm2)
+
+
+def fire_chain(name: str, settings, impact: ChainImpact,
+               tolerance: ChainTolerance = ChainTolerance()) -> dict:
+    """One row: the engine's exit speed and bending energy beside the chain's reference."""
+    ref = reference(settings, impact)
+    closing = impact.v0_mps + impact.u0_mps + impact.omega0_radps * impact.s_m
+    row = {"engine": name, "segments": impact.chain.segments, "dt_s": settings.dt_s,
+           "x_m": impact.x_m, "v0_mps": impact.v0_mps, "e": impact.e,
+           "v1_ref_mps": ref.v1_mps, "vibration_ref_j": ref.vibration_j,
+           "contacts_ref": ref.contacts}
+    rec = adapters.record(name)
+    phases = ref.contacts if settings.contact_law(impact.e) is not None else ref.contacts - 1
+    row["tol_mps"] = tolerance.mps(impact.chain, settings.dt_s, closing, rec.eps, phases)
+    if rec.chain_adapter is None:
+        return row | _failed(Status.UNSUPPORTED, "no segmented-bat adapter")
+    t0 = time.perf_counter()
+    try:
+        got = _run(rec, settings, impact, ref)
+    except _Mismatch as err:
+        return row | _failed(Status.ERROR, f"scene mismatch: {err}")
+    except Exception as err:  # noqa: BLE001 - an engine failure is a row, not a crash
+        return row | _failed(Status.ERROR, f"{type(err).__name__}: {err}"[:200])
+    row |= got | {"wall_s": time.perf_counter() - t0}
+    if row["status"] == Status.OK.value:
+        row["err_mps"] = abs(row["v1_mps"] - ref.v1_mps)
+        if row["err_mps"] > row["tol_mps"]:
+            row["status"] = Status.INACCURATE.value
+    return row
+
+
+class _Mismatch(RuntimeError):
+    pass
+
+
+def _failed(status: Status, why: str) -> dict:
+    return {"status": status.value, "why": why, "v1_mps": math.nan, "vibration_j": math.nan,
+            "err_mps": math.nan, "steps": 0, "wall_s": math.nan}
+
+
+def _run(rec, settings, impact: ChainImpact, ref: ChainOutcome) -> dict:
+    module, attr = rec.chain_adapter.split(":")
+    import importlib
+    engine = getattr(importlib.import_module(module), attr)(settings)
+    chain = impact.chain
+    try:
+        engine.build(ChainScene(chain=chain, ball=impact.ball, e=impact.e))
+        _check_mass(engine.mass_properties(), chain, rec.eps)
+        ball, segs = start_states(impact, settings.dt_s)
+        engine.set_state(ball, segs)
+        before = 0.5 * impact.ball.mass_kg * impact.v0_mps**2 + bending_energy_j(chain, segs) \
+            + _rigid_ke(chain, segs)
+        return _step(engine, chain, impact, ref, settings.dt_s, before)
+    finally:
+        engine.close()
+
+
+def _rigid_ke(chain: Chain, segs: np.ndarray) -> float:
+    m = np.asarray(chain.masses_kg)
+    return 0.5 * float(np.sum(m * np.sum(segs[:, 3:5] ** 2, axis=1))
+                       + np.sum(np.asarray(chain.inertias_kgm2) * segs[:, 5] ** 2))
+
+
+def _check_mass(got: np.ndarray, chain: Chain, eps: float) -> None:
+    want = np.column_stack([chain.masses_kg, chain.coms_m, chain.inertias_kgm2])
+    if got.shape != want.shape or not np.allclose(got, want, rtol=MASS_ULPS * eps, atol=0.0):
+        worst = np.max(np.abs(got / want - 1.0)) if got.shape == want.shape else math.inf
+        raise _Mismatch(f"segment mass properties off by {worst:.1e} relative")
+
+
+def _step(engine, chain, impact, ref, dt, before) -> dict:
+    """Step until no contact has come for a lowest-mode period past the reference's end."""
+    quiet = 2 * math.pi / float(chain.modes[0][chain.modes[0] > 0].min())
+    end = APPROACH_STEPS * dt + ref.contact_s + quiet
+    steps, touched, last_touch = 0, False, -math.inf
+    while True:
+        engine.step()
+        steps += 1
+        t = steps * dt
+        if engine.in_contact():
+            touched, last_touch = True, t
+        ball, segs = engine.read()
+        if engine.failed() or not (np.all(np.isfinite(ball)) and np.all(np.isfinite(segs))):
+            return _failed(Status.NON_FINITE, "non-finite state or engine failure") | \
+                {"steps": steps}
+        if t >= end and t - last_touch >= quiet:
+            break
+        if t > MAX_EPISODE_S:
+            return _failed(Status.NO_SEPARATION, "still in contact") | {"steps": steps}
+    if not touched:
+        return _failed(Status.NO_CONTACT, "no contact") | {"steps": steps}
+    vib = bending_energy_j(chain, segs)
+    after = 0.5 * impact.ball.mass_kg * float(ball[2:] @ ball[2:]) + _rigid_ke(chain, segs) \
+        + 0.5 * float(np.sum(np.asarray(chain.stiffnesses_nmprad) * np.diff(segs[:, 2]) ** 2))
+    status = Status.OK if after <= before * (1 + ENERGY_SLACK) else Status.ENERGY_GAINED
+    return {"status": status.value, "why": "", "v1_mps": float(ball[3]), "vibration_j": vib,
+            "err_mps": math.nan, "steps": steps, "energy_before_j": before,
+            "energy_after_j": after}
