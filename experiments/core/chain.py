@@ -193,3 +193,37 @@ def _step(engine, chain, impact, ref, dt, before) -> dict:
     return {"status": status.value, "why": "", "v1_mps": float(ball[3]), "vibration_j": vib,
             "err_mps": math.nan, "steps": steps, "energy_before_j": before,
             "energy_after_j": after}
+
+
+def mode_states(chain: Chain, mode: int, speed_mps: float) -> np.ndarray:
+    """Segments (N, 6) of the straight chain moving in bending mode ``mode`` (0: the lowest),
+    its fastest point at ``speed_mps``: velocities the joints agree with, for pinning an
+    engine's springs by the mode's period."""
+    omega, vec = chain.modes
+    qd = vec[:, np.flatnonzero(omega > 0)[mode]]
+    rows = np.array([chain.point_row(x) for x in np.linspace(0, chain.bat.length_m, 201)])
+    qd = qd * speed_mps / np.max(np.abs(rows @ qd))
+    x_cm = chain.bat.com_from_knob_m
+    segs = np.zeros((chain.segments, 6))
+    for i, c in enumerate(chain.coms_m):
+        row = np.zeros(chain.segments + 1)
+        row[0], row[1:i + 1], row[i + 1] = 1.0, chain.segment_length_m, c - i * chain.segment_length_m
+        segs[i] = (c - x_cm, 0.0, 0.0, 0.0, row @ qd, qd[i + 1])
+    return segs
+
+
+def measured_period_s(engine, chain: Chain, ball_parked: np.ndarray, segs: np.ndarray,
+                      dt_s: float, periods: int = 3) -> float:
+    """The period of the first joint's angle, from its zero crossings over ``periods``
+    periods of the lowest mode (the ball parked out of reach)."""
+    engine.set_state(ball_parked, segs)
+    omega = chain.modes[0]
+    steps = int(periods * 2 * math.pi / float(omega[omega > 0].min()) / dt_s) + 1
+    angles = []
+    for _ in range(steps):
+        engine.step()
+        angles.append(np.diff(engine.read()[1][:, 2])[0])
+    a = np.asarray(angles)
+    ups = np.flatnonzero((a[:-1] < 0.0) & (a[1:] >= 0.0))
+    t = (ups + a[ups] / (a[ups] - a[ups + 1]) + 1) * dt_s
+    return float(np.mean(np.diff(t)))
