@@ -21,7 +21,6 @@ bending modes, which springs and dampers cannot raise), is open and opening.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 from scipy import integrate, linalg, optimize

@@ -21,8 +21,7 @@ import numpy as np
 import adapters
 from adapters.segmented import ChainScene
 from analytic.chain import Chain
-from analytic.chain_impact import ChainImpact, ChainOutcome, compliant_reference, \
-    impulse_reference
+from analytic.chain_impact import ChainImpact, ChainOutcome, compliant_reference, impulse_reference
 
 from .judge import Status
 
@@ -207,7 +206,8 @@ def mode_states(chain: Chain, mode: int, speed_mps: float) -> np.ndarray:
     segs = np.zeros((chain.segments, 6))
     for i, c in enumerate(chain.coms_m):
         row = np.zeros(chain.segments + 1)
-        row[0], row[1:i + 1], row[i + 1] = 1.0, chain.segment_length_m, c - i * chain.segment_length_m
+        row[0], row[1:i + 1] = 1.0, chain.segment_length_m
+        row[i + 1] = c - i * chain.segment_length_m
         segs[i] = (c - x_cm, 0.0, 0.0, 0.0, row @ qd, qd[i + 1])
     return segs
 
