@@ -164,8 +164,9 @@ def _episode(impact: ChainImpact, touch, max_s: float) -> ChainOutcome:
     reach = chain.bat.radius_m + impact.ball.radius_m
     z = np.concatenate([np.zeros(free.n), impact.initial_velocities()])
     ball = np.array([reach, -impact.v0_mps])
-    energy = lambda z, b: float(0.5 * m * b[1] ** 2 + 0.5 * z[free.n:] @ free.M @ z[free.n:]
-                                + 0.5 * z[:free.n] @ free.K @ z[:free.n])
+    def energy(z, b):
+        return float(0.5 * m * b[1] ** 2 + 0.5 * z[free.n:] @ free.M @ z[free.n:]
+                                    + 0.5 * z[:free.n] @ free.K @ z[:free.n])
     before = energy(z, ball)
     t, contacts, last_release, ended = 0.0, 0, 0.0, "time_limit"
     while t < max_s:
