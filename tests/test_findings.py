@@ -30,6 +30,7 @@ def test_report_is_complete(tmp_path):
     text = (tmp_path / "findings.md").read_text()
     for heading in ("## 1. Where is the sweet spot?", "## 2. Does corking help?",
                     "## 3. Why are metal bats restricted?", "## 3b. How far does the ball go?",
+                    "## 3c. The flexible bat: two sweet spots",
                     "## 4. The ball as it really is",
                     "## 5. Audit of the paper", "## 6. The engines", "## References"):
         assert heading in text

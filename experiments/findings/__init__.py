@@ -19,6 +19,7 @@ from ..core.cli import Command
 from ..core.io import figure_png, provenance
 from . import answers as A
 from .carry_text import carry_section
+from .flex_text import flex_section
 from .questions import cork_section, metal_section, sweet_spot_section
 from .report import (
     REFS,
@@ -42,9 +43,11 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     cork_text, cork_figs, cork = cork_section()
     metal_text, metal_figs, metal = metal_section()
     carry_text, carry_figs, _ = carry_section()
+    flex_text, _, _ = flex_section()
     ball_text, ball_figs, _ = ball_section()
     head = head_section(provenance()["commit"], engines, sweet, cork, metal)
-    body = head + "\n".join([sweet_text, cork_text, metal_text, carry_text, ball_text,
+    body = head + "\n".join([sweet_text, cork_text, metal_text, carry_text, flex_text,
+                             ball_text,
                              audit_section(sweet, cork), engine_section(checks, engines),
                              references_section()])
     figs = {**sweet_figs, **cork_figs, **metal_figs, **carry_figs, **ball_figs}
