@@ -147,3 +147,23 @@ def test_fine_chain_and_beam_agree_on_the_exit_speed(r161):
                       v0_mps=40.0, u0_mps=0.0, omega0_radps=0.0, e=0.5)
     want = flexible.predict(case, eb, BASEBALL_HERTZ).v1_mps
     assert compliant_reference(impact, BASEBALL_HERTZ).v1_mps == pytest.approx(want, abs=0.05)
+
+
+def test_beam_tends_to_the_rigid_bat_as_1_over_its_stiffness(r161):
+    # E and G x S: the bending compliance in series with the ball's falls as 1/S, and so does
+    # v1's gap from analytic.compliant's rigid bat (measured 1.1e-3, 1.1e-4, 9.9e-6 at
+    # S = 1e3, 1e4, 1e5: under 1e-4 at 1e4, a tenth of it at ten times the stiffness)
+    from analytic import ImpactCase, flexible
+    from analytic.compliant import BASEBALL_HERTZ
+    from analytic.compliant import predict as rigid_predict
+
+    def gap(scale):
+        b = beam.Beam(profile=r161[0], wood=r161[1], shear=True, stiffness_scale=scale)
+        case = ImpactCase(bat=b.rigid_bat(presets.R161), ball=presets.BASEBALL, s_m=0.0,
+                          v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5)
+        rigid = rigid_predict(case, BASEBALL_HERTZ).v1_mps
+        return abs(flexible.predict(case, b, BASEBALL_HERTZ, modes=1).v1_mps / rigid - 1)
+
+    coarse, fine = gap(1e3), gap(1e4)
+    assert fine < 2e-4
+    assert 8.0 < coarse / fine < 12.0
