@@ -239,7 +239,9 @@ class EngineRecord:
     compiled for the host's CPU (XLA), whose instruction set orders the rounding: its rows differ
     from host to host by rounding (amplified where its solve is ill-conditioned), so a committed
     baseline is reproduced bit for bit only where it was made. ``chain_adapter``: "module:Class"
-    of its segmented-bat adapter (``adapters.segmented.ChainEngine``), None where it has none.
+    of its segmented-bat adapter (``adapters.segmented.ChainEngine``), None where it has none;
+    ``chain_defect``: a measured failure of its segmented bat that no setting removes ('' for
+    none): the chain tests then pin that the engine still misses the linear chain.
     """
 
     name: str
@@ -272,6 +274,7 @@ class EngineRecord:
     friction_defect: str = ""
     host_rounding: bool = False
     chain_adapter: str | None = None
+    chain_defect: str = ""
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

@@ -5,7 +5,7 @@
 - sweeps: the sweeps listed in BASELINES (R161, 41 points), each as <stem>.csv/.json/.png, then
   thresholds.json (what the regression test allows) and summary.md;
 - the studies, each into its usual file names: pareto, stability, swing, defaults,
-  calibrate_soft, twins, friction, findings, bench_analytic, bench_engines (run the benchmarks
+  calibrate_soft, twins, friction, flex, findings, bench_analytic, bench_engines (run the benchmarks
   on a quiet machine);
 - report: results/report.md, written from the files above as they are in results/ (so it runs
   last, whatever order --only names the parts in), and the README's engines table from them.
@@ -24,6 +24,7 @@ from . import (
     calibrate_soft,
     defaults,
     findings,
+    flex,
     friction,
     pareto,
     report,
@@ -48,7 +49,7 @@ BASELINES = {
 }
 STUDIES = {"pareto": pareto, "stability": stability, "swing": swing, "defaults": defaults,
            "calibrate_soft": calibrate_soft, "twins": twins, "friction": friction,
-           "findings": findings,
+           "flex": flex, "findings": findings,
            "bench_analytic": bench_analytic, "bench_engines": bench_engines,
            "report": report}  # the report reads the others' files: last
 PARTS = ("sweeps", *STUDIES)

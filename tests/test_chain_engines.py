@@ -5,7 +5,8 @@ Springs: a chain set moving in its lowest bending mode oscillates with the mode'
 integrator moves a period by O((omega dt)^2) (a symplectic or implicit scheme), so within
 ``PERIOD_K`` (omega dt)^2 plus a step's resolution of the crossing (dt / period / periods).
 Impacts: the ball's exit speed within the stated tolerance of ``analytic.chain_impact``
-(``experiments.core.chain.ChainTolerance``) at 11 points of the barrel, N = 8.
+(``experiments.core.chain.ChainTolerance``) at 11 points of the barrel, N = 8. An engine whose
+record declares a ``chain_defect`` is pinned to still show it.
 """
 
 from __future__ import annotations
@@ -56,7 +57,10 @@ def test_spring_gives_the_chain_its_lowest_mode(name, r161_chain):
     w1 = float(omega[omega > 0].min())
     want = 2 * math.pi / w1
     tol = PERIOD_K * (w1 * settings.dt_s) ** 2 + settings.dt_s / want / 3
-    assert got == pytest.approx(want, rel=tol)
+    if adapters.record(name).chain_defect:  # the record's measured defect: still there
+        assert got != pytest.approx(want, rel=tol)
+    else:
+        assert got == pytest.approx(want, rel=tol)
 
 
 @pytest.mark.parametrize("name", ENGINES)
@@ -66,6 +70,13 @@ def test_chain_impacts_match_the_linear_chain(name, r161_chain):
     rows = [fire_chain(name, settings, ChainImpact(chain=r161_chain, ball=presets.BASEBALL,
                                                    x_m=float(x), v0_mps=40.0, e=0.5))
             for x in POINTS_M]
+    # a row is ok, or unjudged where the step resolves the chain too coarsely for a verdict
+    # (its bound over a quarter of the closing speed: a re-touch at N = 8, dt = 1e-5 s)
+    statuses = [r["status"] for r in rows]
+    if adapters.record(name).chain_defect:  # the record's measured defect: still there
+        assert "inaccurate" in statuses
+        return
     bad = [(r["x_m"], r["status"], r.get("why"), r["err_mps"], r["tol_mps"]) for r in rows
-           if r["status"] != "ok"]
+           if r["status"] not in ("ok", "unjudged")]
     assert not bad
+    assert statuses.count("ok") >= 4

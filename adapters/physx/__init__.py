@@ -152,6 +152,7 @@ class PhysxSettings(Settings):
         return 2 * (DEFAULT_CONTACT_OFFSET_M if offset is None else offset)
 
 RECORD = EngineRecord(
+    chain_adapter="adapters.physx.chain:PhysxChain",
     name="physx", adapter="adapters.physx.adapter:PhysxEngine", package="sapien",
     import_name="sapien", extra="physx",
     profiles={

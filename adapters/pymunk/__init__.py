@@ -69,6 +69,7 @@ class PymunkSettings(Settings):
 
 
 RECORD = EngineRecord(
+    chain_adapter="adapters.pymunk.chain:PymunkChain",
     name="pymunk", adapter="adapters.pymunk.adapter:PymunkEngine", package="pymunk",
     import_name="pymunk",
     profiles={

@@ -173,6 +173,7 @@ class RapierSettings(Settings):
                 "impulse frictionless")
 
 RECORD = EngineRecord(
+    chain_adapter="adapters.rapier.chain:RapierChain",
     name="rapier", adapter="adapters.rapier.adapter:RapierEngine", package="rapier3d",
     import_name="rapier3d", extra="rapier",
     profiles={

@@ -41,17 +41,20 @@ class ChainTolerance:
     closing speed: rounding (``round_ops`` operations in the engine's float); a step's
     stiffening (omega_max dt)^2, omega_max the chain's highest mode (an implicit spring solved
     with the contact makes the impulse see M + dt^2 K, where the reference's springs pass no
-    impulse); and, wherever the springs act while the ball can still meet the chain (each
-    touch of a soft contact, each re-touch of a rigid one), omega_max dt: in a step the
-    contact point's velocity turns by up to that share of its amplitude (at most the closing
-    speed), and a step is how far a re-touch or a force may fall off its time."""
+    impulse); and, where the springs act while the ball can still meet the chain (a soft
+    contact, or a rigid one that touches again), omega_max dt: in a step the contact point's
+    velocity turns by up to that share of its amplitude (at most the closing speed), and a
+    step is how far a re-touch or a force may fall off its time. A tolerance over
+    ``judged_share`` of the closing speed judges nothing: the step resolves the chain too
+    coarsely for a verdict, and the row is 'unjudged'."""
 
     round_ops: float = 1e4
+    judged_share: float = 0.25
 
     def mps(self, chain: Chain, dt_s: float, closing_mps: float, eps: float,
-            spring_phases: int) -> float:
+            springs_act: bool) -> float:
         w_dt = float(chain.modes[0].max()) * dt_s
-        return closing_mps * (self.round_ops * eps + w_dt**2 + spring_phases * w_dt)
+        return closing_mps * (self.round_ops * eps + w_dt**2 + springs_act * w_dt)
 
 
 def reference(settings, impact: ChainImpact) -> ChainOutcome:
@@ -67,8 +70,11 @@ def reference_for_law(impact: ChainImpact, law) -> ChainOutcome:
     return compliant_reference(impact, law, max_s=MAX_EPISODE_S)
 
 
-def start_states(impact: ChainImpact, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """The ball (4,) and segments (N, 6) ``APPROACH_STEPS`` steps before the touch."""
+def start_states(impact: ChainImpact, dt_s: float,
+                 overlap_m: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The ball (4,) and segments (N, 6) ``APPROACH_STEPS`` steps before the touch, the ball
+    ``overlap_m`` deeper (the settings' overlap at the first step that sees the contact: an
+    engine that detects after it moves would otherwise meet the ball a whole step deep)."""
     chain = impact.chain
     x_cm = chain.bat.com_from_knob_m
     coms = np.asarray(chain.coms_m) - x_cm
@@ -81,7 +87,7 @@ def start_states(impact: ChainImpact, dt_s: float) -> tuple[np.ndarray, np.ndarr
     segs[:, 4] = vy
     segs[:, 5] = impact.omega0_radps
     reach = chain.bat.radius_m + impact.ball.radius_m
-    ball = np.array([impact.s_m, reach + impact.v0_mps * lead, 0.0, -impact.v0_mps])
+    ball = np.array([impact.s_m, reach + impact.v0_mps * lead - overlap_m, 0.0, -impact.v0_mps])
     return ball, segs
 
 
@@ -114,8 +120,8 @@ def fire_chain(name: str, settings, impact: ChainImpact,
            "v1_ref_mps": ref.v1_mps, "vibration_ref_j": ref.vibration_j,
            "contacts_ref": ref.contacts, "ended_ref": ref.ended}
     rec = adapters.record(name)
-    phases = ref.contacts if settings.contact_law(impact.e) is not None else ref.contacts - 1
-    row["tol_mps"] = tolerance.mps(impact.chain, settings.dt_s, closing, rec.eps, phases)
+    springs_act = settings.contact_law(impact.e) is not None or ref.contacts > 1
+    row["tol_mps"] = tolerance.mps(impact.chain, settings.dt_s, closing, rec.eps, springs_act)
     if rec.chain_adapter is None:
         return row | _failed(Status.UNSUPPORTED, "no segmented-bat adapter")
     t0 = time.perf_counter()
@@ -128,7 +134,7 @@ def fire_chain(name: str, settings, impact: ChainImpact,
     row |= got | {"wall_s": time.perf_counter() - t0}
     if row["status"] == Status.OK.value:
         row["err_mps"] = abs(row["v1_mps"] - ref.v1_mps)
-        if ref.ended != "separated":
+        if ref.ended != "separated" or row["tol_mps"] > tolerance.judged_share * closing:
             row["status"] = Status.UNJUDGED.value
         elif row["err_mps"] > row["tol_mps"]:
             row["status"] = Status.INACCURATE.value
@@ -152,7 +158,7 @@ def _run(rec, settings, impact: ChainImpact, ref: ChainOutcome) -> dict:
     try:
         engine.build(ChainScene(chain=chain, ball=impact.ball, e=impact.e))
         _check_mass(engine.mass_properties(), chain, rec.eps)
-        ball, segs = start_states(impact, settings.dt_s)
+        ball, segs = start_states(impact, settings.dt_s, settings.overlap_m)
         engine.set_state(ball, segs)
         before = 0.5 * impact.ball.mass_kg * impact.v0_mps**2 + bending_energy_j(chain, segs) \
             + _rigid_ke(chain, segs)
