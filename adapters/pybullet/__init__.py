@@ -115,6 +115,7 @@ class PybulletSettings(Settings):
 
 
 RECORD = EngineRecord(
+    chain_adapter="adapters.pybullet.chain:PybulletChain",
     name="pybullet", adapter="adapters.pybullet.adapter:PybulletEngine", package="pybullet",
     import_name="pybullet",
     profiles={
