@@ -39,7 +39,7 @@ def _csv(rows) -> bytes:
 def beam_part(quick: bool) -> tuple[list, list, dict]:
     """Impacts along the barrel, the sweet spots and the zones."""
     swings = B.SWINGS[:1] if quick else B.SWINGS
-    points = B.POINTS_M[::3] if quick else B.POINTS_M
+    points = B.POINTS_M[::3] if quick else sorted(set(B.POINTS_M) | set(B.ZONE_POINTS_M))
     scales = (1.0,) if quick else B.MODULUS_SCALES
     with runs.Progress(len(swings) * len(points), "beam impacts") as bar:
         rows = []

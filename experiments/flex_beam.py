@@ -23,8 +23,10 @@ from analytic.compliant import predict as rigid_predict
 
 #: The wood's Young's modulus relative to the handbook's, for the sensitivity columns.
 MODULUS_SCALES = (0.8, 1.0, 1.2)
-#: Impact points along the barrel (m from the knob) of the exit-speed curves.
+#: Impact points along the barrel (m from the knob) of the exit-speed curves, and the finer
+#: ones around the sweet spots that the sweet zone is read from (1 cm apart).
 POINTS_M = tuple(np.round(np.linspace(0.45, 0.80, 15), 4))
+ZONE_POINTS_M = tuple(np.round(np.arange(0.60, 0.7251, 0.01), 4))
 #: The sweet zone: exit speed within this share of its peak ...
 SPEED_SHARE = 0.02
 #: ... and the first mode's energy below this share of the collision's kinetic energy in
@@ -133,7 +135,7 @@ def sweet_zone(rows: list[dict], sw_key: str) -> tuple[float, float] | None:
     best = max(r["v1_beam_mps"] for r in mine)
     good = [presets.R161.length_m - r["x_m"] for r in mine
             if r["v1_beam_mps"] >= (1 - SPEED_SHARE) * best and r["sting_share"] <= STING_SHARE]
-    return (min(good), max(good)) if good else None
+    return (float(min(good)), float(max(good))) if good else None
 
 
 def chain_rows(points_m=(0.50, 0.66, 0.75)) -> list[dict]:

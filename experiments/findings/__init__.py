@@ -43,9 +43,9 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     cork_text, cork_figs, cork = cork_section()
     metal_text, metal_figs, metal = metal_section()
     carry_text, carry_figs, _ = carry_section()
-    flex_text, _, _ = flex_section()
+    flex_text, _, flex = flex_section()
     ball_text, ball_figs, _ = ball_section()
-    head = head_section(provenance()["commit"], engines, sweet, cork, metal)
+    head = head_section(provenance()["commit"], engines, sweet, cork, metal, flex)
     body = head + "\n".join([sweet_text, cork_text, metal_text, carry_text, flex_text,
                              ball_text,
                              audit_section(sweet, cork), engine_section(checks, engines),

@@ -19,7 +19,8 @@ def flex_section() -> Section:
     spots = pd.DataFrame([B.sweet_spots(sw, k) for sw in SWINGS.values()
                           for k in B.MODULUS_SCALES])
     rows = [B.impact_row(sw, x) for sw in SWINGS.values() for x in B.POINTS_M[::2]]
-    zones = {key: B.sweet_zone(rows, key) for key in SWINGS}
+    fine = [B.impact_row(sw, x) for sw in SWINGS.values() for x in B.ZONE_POINTS_M]
+    zones = {key: B.sweet_zone(fine, key) for key in SWINGS}
     text = "\n".join([_modes_text(modes), _spots_text(spots, zones, modes, rows),
                       _efficiency_text(rows)])
     stats = {"spots": spots.to_dict("records"), "zones": zones}
@@ -59,7 +60,8 @@ def _spots_text(spots: pd.DataFrame, zones: dict, modes: pd.DataFrame, rows: lis
     table = pd.DataFrame({
         "swing": base.swing, "speed peak, beam (cm from end)": 100 * base.speed_peak_from_tip_m,
         "first-mode node (cm)": 100 * base.node1_from_tip_m,
-        "apart (cm)": 100 * (base.speed_peak_from_tip_m - base.node1_from_tip_m),
+        "speed peak - node (cm)": 100 * (base.speed_peak_from_tip_m - base.node1_from_tip_m)
+        + 0.0,
         "speed peak, rigid bat (cm)": 100 * base.rigid_peak_from_tip_m,
         "v1 peak beam / rigid (m/s)": [f"{a:.1f} / {b:.1f}" for a, b in
                                        zip(base.v1_peak_mps, base.v1_rigid_peak_mps,
@@ -72,7 +74,7 @@ def _spots_text(spots: pd.DataFrame, zones: dict, modes: pd.DataFrame, rows: lis
 24 modes driven through the contact, the bat moving and turning as a rigid body beneath them,
 integrated until the ball leaves), for the paper's swing and the MLB-like one:
 
-{md_table(table.round(1))}
+{md_table(table, floatfmt="{:.1f}")}
 
 **On the beam the two sweet spots lie {apart.max():.1f} cm apart at most**, while the rigid bat
 under the same ball peaks {shift.min():.1f}-{shift.max():.1f} cm farther from the end. Where the
@@ -85,7 +87,7 @@ the compression speed (section 4): a bat that gives locally slows the compressio
 ball loses less. With the wood's modulus
 20% lower or higher the speed peak moves by at most
 {100 * max(s.max() - s.min() for s in sens.values()):.1f} cm. The sweet zone, where v1 is
-within {100 * B.SPEED_SHARE:.0f}% of the best on the grid and the first mode takes under
+within {100 * B.SPEED_SHARE:.0f}% of the best on a 1 cm grid and the first mode takes under
 {100 * B.STING_SHARE:.0f}% of the collision's available energy: {zone_text}.
 """
 
@@ -104,5 +106,5 @@ numbers are not compared here. The hollow metal barrel's trampoline effect (its 
 a shell's, not a beam's) is out of scope: a beam has no section that deforms, so the metal bat
 of section 3 keeps its e as an input.
 
-{md_table(table.round(3))}
+{md_table(table, floatfmt="{:.3g}")}
 """

@@ -66,9 +66,11 @@ def along_the_barrel(ax: Axes, title: str) -> None:
 # -- head ----------------------------------------------------------------------------------------
 
 def head_section(commit: str, engines: tuple[str, ...], sweet: Stats, cork: Stats,
-                 metal: Stats) -> str:
+                 metal: Stats,
+                 flex: Stats | None = None) -> str:
     """The title, what the report rests on, and the short answers."""
-    return _intro_text(commit, engines) + "\n" + _short_answers_text(sweet, cork, metal) + "\n"
+    return (_intro_text(commit, engines) + "\n" + _short_answers_text(sweet, cork, metal, flex)
+            + "\n")
 
 
 def _intro_text(commit: str, engines: tuple[str, ...]) -> str:
@@ -85,7 +87,19 @@ rigid-bat impact model with e = 0.5 (section 4 says how a real ball changes them
 """
 
 
-def _short_answers_text(sweet: Stats, cork: Stats, metal: Stats) -> str:
+def _felt(flex: Stats | None) -> str:
+    """The flexible bat's answer to where the sweet spot is felt (section 3c)."""
+    if not flex:
+        return "Where a batter *feels* it is a vibration question a rigid bat cannot answer."
+    spots = [s for s in flex["spots"] if s["modulus_scale"] == 1.0]
+    lo = min(min(s["speed_peak_from_tip_m"], s["node1_from_tip_m"]) for s in spots)
+    hi = max(max(s["speed_peak_from_tip_m"], s["node1_from_tip_m"]) for s in spots)
+    return (f"On a flexible (beam) R161 the fastest point and the first mode's node, where the "
+            f"hit stings least, both lie {100 * lo:.1f}-{100 * hi:.1f} cm from the end "
+            "(section 3c).")
+
+
+def _short_answers_text(sweet: Stats, cork: Stats, metal: Stats, flex: Stats | None) -> str:
     """One paragraph per question, from the numbers the sections computed."""
     region = "{:.0f}-{:.0f}".format(*sweet["region"])
     zone = "{:.1f}-{:.1f}".format(*sweet["zone_cm"])
@@ -96,8 +110,7 @@ def _short_answers_text(sweet: Stats, cork: Stats, metal: Stats) -> str:
     return f"""**Short answers** (model results):
 - **Sweet spot**: in a rigid-bat model the best point moves with the swing, {region} cm
   from the barrel end for swings from the hands; for one swing v1 stays within 1% of its best
-  over a zone {zone} cm long. Where a batter *feels* it is a vibration question the model cannot
-  answer.
+  over a zone {zone} cm long. {_felt(flex)}
 - **Corking**: in a rigid-bat model with e = 0.5 and swing speed ~ I_knob^-0.27 (measured),
   a 1 x 10 in cork fill lowers v1 by {loss_paper:.2f} m/s (paper's swing) and
   {loss_mlb:.2f} m/s (MLB-like); it pays only if swing speed grows faster than
