@@ -37,24 +37,38 @@ ENERGY_SLACK = 1e-3
 
 @dataclass(frozen=True, kw_only=True)
 class ChainTolerance:
-    """The exit speed an engine's chain may miss the linear chain by (m/s), in shares of the
-    closing speed: rounding (``round_ops`` operations in the engine's float); a step's
-    stiffening (omega_max dt)^2, omega_max the chain's highest mode (an implicit spring solved
-    with the contact makes the impulse see M + dt^2 K, where the reference's springs pass no
-    impulse); and, where the springs act while the ball can still meet the chain (a soft
-    contact, or a rigid one that touches again), omega_max dt: in a step the contact point's
-    velocity turns by up to that share of its amplitude (at most the closing speed), and a
-    step is how far a re-touch or a force may fall off its time. A tolerance over
-    ``judged_share`` of the closing speed judges nothing: the step resolves the chain too
-    coarsely for a verdict, and the row is 'unjudged'."""
+    """The exit speed an engine's chain may miss the linear chain by (m/s):
+
+    - rounding: ``round_ops`` operations of the closing speed in the engine's float;
+    - a step's stiffening, computed for the impact: a spring integrated implicitly and solved
+      with the contact makes the impulse see the chain with dt^2 K added to its mass matrix,
+      where the reference's springs pass no impulse; the gap between the two one-step answers,
+      (1 + e) v (1/w' - 1/w) / m with w = 1/m + b M^-1 b^T and w' its stiffened value;
+    - where the springs act while the ball can still meet the chain (a rigid contact that
+      touches again), omega_max dt of the closing speed: in a step the contact point's velocity
+      turns by up to that share of its amplitude, and a step is how far a re-touch may fall;
+    - for a soft contact, the step's error of its law (``Settings.law_restitution_error``).
+
+    A tolerance over ``judged_share`` of the closing speed judges nothing: the step resolves
+    the chain too coarsely for a verdict, and the row is 'unjudged'."""
 
     round_ops: float = 1e4
     judged_share: float = 0.25
 
-    def mps(self, chain: Chain, dt_s: float, closing_mps: float, eps: float,
-            springs_act: bool) -> float:
-        w_dt = float(chain.modes[0].max()) * dt_s
-        return closing_mps * (self.round_ops * eps + w_dt**2 + springs_act * w_dt)
+    def mps(self, impact: ChainImpact, settings, eps: float, ref: ChainOutcome) -> float:
+        chain, dt = impact.chain, settings.dt_s
+        closing = impact.v0_mps + impact.u0_mps + impact.omega0_radps * impact.s_m
+        M, K, _ = chain.matrices
+        b, m = chain.point_row(impact.x_m), impact.ball.mass_kg
+        w = 1 / m + b @ np.linalg.solve(M, b)
+        w_stiff = 1 / m + b @ np.linalg.solve(M + dt * dt * K, b)
+        stiffening = (1 + impact.e) * closing * abs(1 / w_stiff - 1 / w) / m
+        tol = closing * self.round_ops * eps + stiffening
+        if settings.contact_law(impact.e) is not None:
+            return tol + closing * settings.law_restitution_error(dt / ref.contact_s)
+        if ref.contacts > 1:
+            return tol + closing * float(chain.modes[0].max()) * dt
+        return tol
 
 
 def reference(settings, impact: ChainImpact) -> ChainOutcome:
@@ -120,8 +134,7 @@ def fire_chain(name: str, settings, impact: ChainImpact,
            "v1_ref_mps": ref.v1_mps, "vibration_ref_j": ref.vibration_j,
            "contacts_ref": ref.contacts, "ended_ref": ref.ended}
     rec = adapters.record(name)
-    springs_act = settings.contact_law(impact.e) is not None or ref.contacts > 1
-    row["tol_mps"] = tolerance.mps(impact.chain, settings.dt_s, closing, rec.eps, springs_act)
+    row["tol_mps"] = tolerance.mps(impact, settings, rec.eps, ref)
     if rec.chain_adapter is None:
         return row | _failed(Status.UNSUPPORTED, "no segmented-bat adapter")
     t0 = time.perf_counter()
