@@ -10,7 +10,8 @@ The chain lies along x, its knob end at x = -x_cm (the whole bat's COM at the or
 ball comes along -y. Segment i is a capsule of the bat's capsule radius whose cylinder spans
 [i l, (i+1) l] from the knob, l = L/N; it holds exactly ``chain.masses_kg[i]`` at its COM
 ``chain.coms_m[i]`` (from the knob) and ``chain.inertias_kgm2[i]`` about z there (axial
-inertia: a solid cylinder's, m r^2 / 2; the planar impact does not excite it). Neighbours are
+inertia: a solid cylinder's, m r^2 / 2, capped at 2 J where a short thin segment would break
+the triangle inequality; the planar impact does not excite it). Neighbours are
 joined at their common end by the engine's own revolute joint about z, with a torsional spring
 ``chain.stiffnesses_nmprad[j]`` (N m/rad, zero torque when straight) and damper
 ``chain.dampings_nmsprad[j]``; segments do not collide with each other. The ball-segment

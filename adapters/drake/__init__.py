@@ -235,6 +235,7 @@ def _speed_accuracy() -> tuple[KnobFamily, ...]:
 
 
 RECORD = EngineRecord(
+    chain_adapter="adapters.drake.chain:DrakeChain",
     name="drake", adapter="adapters.drake.adapter:DrakeEngine", package="drake",
     import_name="pydrake", extra="drake",
     profiles={

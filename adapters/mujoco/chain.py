@@ -24,7 +24,7 @@ def chain_mjcf(scene: ChainScene) -> str:
     opened, closed = [], []
     for i, (m, c, J) in enumerate(zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2,
                                       strict=True)):
-        axial = 0.5 * m * r * r
+        axial = min(0.5 * m * r * r, 2.0 * J)  # a valid tensor (adapters.segmented)
         joint = ('<freejoint name="root"/>' if i == 0 else
                  f'<joint name="j{i}" type="hinge" axis="0 0 1" '
                  f'stiffness="{chain.stiffnesses_nmprad[i - 1]!r}" '

@@ -129,7 +129,8 @@ class PhysxChain(ChainEngine):
             capsule.set_collision_groups(_SEGMENT_GROUPS)
             link = physx.PhysxArticulationLinkComponent(links[-1] if links else None)
             _as_rigid_body(link)
-            self._body_setup(link, capsule, m, (0.5 * m * r * r, inertia, inertia))
+            axial = min(0.5 * m * r * r, 2.0 * inertia)  # a valid tensor (adapters.segmented)
+            self._body_setup(link, capsule, m, (axial, inertia, inertia))
             if i > 0:
                 self._hinge(link.joint, i * ell - chain.coms_m[i - 1], i * ell - c,
                             chain.stiffnesses_nmprad[i - 1], chain.dampings_nmsprad[i - 1])

@@ -105,7 +105,8 @@ class PybulletChain(ChainEngine):
             linkJointAxis=[[0.0, 0.0, 1.0]] * links, physicsClientId=c)
         for i, (m, inertia) in enumerate(zip(chain.masses_kg, chain.inertias_kgm2,
                                              strict=True)):
-            self._dynamics(body, i - 1, m, [0.5 * m * r * r, inertia, inertia], restitution=1.0)
+            axial = min(0.5 * m * r * r, 2.0 * inertia)  # a valid tensor (adapters.segmented)
+            self._dynamics(body, i - 1, m, [axial, inertia, inertia], restitution=1.0)
         return body
 
     def _dynamics(self, body: int, link: int, mass: float, inertia: list[float],

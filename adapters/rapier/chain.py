@@ -82,7 +82,7 @@ class RapierChain(ChainEngine):
         for i, (m, c, J) in enumerate(zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2,
                                           strict=True)):
             mprops = rapier.MassProperties(local_com=(0.0, 0.0, 0.0), mass=m,
-                                           principal_inertia=(0.5 * m * r * r, J, J))
+                                           principal_inertia=(min(0.5 * m * r * r, 2.0 * J), J, J))
             capsule = (rapier.Collider.capsule_from_endpoints((i * ell - c, 0.0, 0.0),
                                                               ((i + 1) * ell - c, 0.0, 0.0), r)
                        .collision_groups(rapier.InteractionGroups(rapier.Group.GROUP_1,

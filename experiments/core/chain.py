@@ -117,8 +117,9 @@ def bending_energy_j(chain: Chain, segments: np.ndarray) -> float:
     com = (m @ segments[:, 0:2]) / total_m
     p = m @ v
     r = segments[:, 0:2] - com
-    ang = float(np.sum(m * (r[:, 0] * v[:, 1] - r[:, 1] * v[:, 0])) + np.sum(inertia * w))
-    return ke + pe - float(p @ p) / (2 * total_m) - ang**2 / (2 * chain.bat.inertia_cm_kgm2)
+    ang = np.sum(m * (r[:, 0] * v[:, 1] - r[:, 1] * v[:, 0])) + np.sum(inertia * w)
+    with np.errstate(over="ignore", invalid="ignore"):  # a blown-up chain: inf, not a raise
+        return float(ke + pe - (p @ p) / (2 * total_m) - ang**2 / (2 * chain.bat.inertia_cm_kgm2))
 
 
 def fire_chain(name: str, settings, impact: ChainImpact,
