@@ -20,7 +20,7 @@ bending modes, which springs and dampers cannot raise), is open and opening.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy import integrate, linalg, optimize
@@ -78,8 +78,9 @@ class ChainOutcome:
     """After the episode: the ball's ``v1_mps`` (m/s, away from the bat), the bat's rigid
     motion ``u1_mps`` (COM, m/s) and ``omega1_radps`` (rad/s), ``vibration_j`` (J, the energy
     left in the bending modes), ``ke_before_j``/``energy_after_j`` (J, everything: kinetic,
-    springs), ``contacts`` (separate touches), ``contact_s`` (s, first touch to last release)
-    and ``ended`` ('separated', 'zeno' or 'time_limit')."""
+    springs), ``contacts`` (separate touches), ``contact_s`` (s, first touch to last release),
+    ``ended`` ('separated', 'zeno' or 'time_limit') and ``peak_overlap_m`` (m, the deepest
+    overlap of a compliant contact; 0 for impulses)."""
 
     v1_mps: float
     u1_mps: float
@@ -90,6 +91,7 @@ class ChainOutcome:
     contacts: int
     contact_s: float
     ended: str
+    peak_overlap_m: float = 0.0
 
 
 class _Free:
@@ -225,6 +227,7 @@ def compliant_reference(impact: ChainImpact, law, *, max_s: float = 0.02) -> Cha
     """The episode under a continuous force ``law`` (``analytic.compliant``: soft engines)."""
     m = impact.ball.mass_kg
     reach = impact.chain.bat.radius_m + impact.ball.radius_m
+    peaks: list[float] = []
 
     def touch(free, z, ball):
         n = free.n
@@ -251,6 +254,7 @@ def compliant_reference(impact: ChainImpact, law, *, max_s: float = 0.02) -> Cha
                                   atol=RTOL * 1e-3 * (np.abs(y0).max() + 1.0),
                                   events=released)
         y = sol.y[:, -1]
+        peaks.append(max(contact(sol.y[:, i])[0] for i in range(sol.y.shape[1])))
         return y[:2 * n], y[2 * n:], float(sol.t[-1])
 
-    return _episode(impact, touch, max_s)
+    return replace(_episode(impact, touch, max_s), peak_overlap_m=max(peaks, default=0.0))

@@ -148,11 +148,22 @@ def fire_chain(name: str, settings, impact: ChainImpact,
     row |= got | {"wall_s": time.perf_counter() - t0}
     if row["status"] == Status.OK.value:
         row["err_mps"] = abs(row["v1_mps"] - ref.v1_mps)
-        if ref.ended != "separated" or row["tol_mps"] > tolerance.judged_share * closing:
+        if (ref.ended != "separated" or row["tol_mps"] > tolerance.judged_share * closing
+                or _patch_reaches_a_joint(impact, ref)):
             row["status"] = Status.UNJUDGED.value
         elif row["err_mps"] > row["tol_mps"]:
             row["status"] = Status.INACCURATE.value
     return row
+
+
+def _patch_reaches_a_joint(impact: ChainImpact, ref: ChainOutcome) -> bool:
+    """Whether a compliant contact, sunk ``ref.peak_overlap_m`` deep, reaches along the axis
+    (sqrt(2 (R + r) depth)) to a joint, where the ball meets the neighbour's capsule too: the
+    reference, one contact point on one segment, does not apply there."""
+    chain = impact.chain
+    reach = math.sqrt(2 * (chain.bat.radius_m + impact.ball.radius_m) * ref.peak_overlap_m)
+    joints = chain.segment_length_m * np.arange(1, chain.segments)
+    return bool(np.any(np.abs(joints - impact.x_m) < reach))
 
 
 class _Mismatch(RuntimeError):
