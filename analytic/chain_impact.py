@@ -80,7 +80,8 @@ class ChainOutcome:
     left in the bending modes), ``ke_before_j``/``energy_after_j`` (J, everything: kinetic,
     springs), ``contacts`` (separate touches), ``contact_s`` (s, first touch to last release),
     ``ended`` ('separated', 'zeno' or 'time_limit') and ``peak_overlap_m`` (m, the deepest
-    overlap of a compliant contact; 0 for impulses)."""
+    overlap of a compliant contact; 0 for impulses) and ``peak_turn_rad`` (rad, how far the
+    struck segment turned during it: the linear chain's geometric error grows with it)."""
 
     v1_mps: float
     u1_mps: float
@@ -92,6 +93,7 @@ class ChainOutcome:
     contact_s: float
     ended: str
     peak_overlap_m: float = 0.0
+    peak_turn_rad: float = 0.0
 
 
 class _Free:
@@ -228,7 +230,8 @@ def compliant_reference(impact: ChainImpact, law, *, max_s: float = 0.02) -> Cha
     m = impact.ball.mass_kg
     reach = impact.chain.bat.radius_m + impact.ball.radius_m
     peaks: list[float] = []
-
+    turns: list[float] = []
+    hit = impact.chain.segment_of(impact.x_m) + 1  # the struck segment's angle in q
     def touch(free, z, ball):
         n = free.n
         m_eff = 1.0 / (1.0 / m + free.row @ free.minv @ free.row)
@@ -255,6 +258,9 @@ def compliant_reference(impact: ChainImpact, law, *, max_s: float = 0.02) -> Cha
                                   events=released)
         y = sol.y[:, -1]
         peaks.append(max(contact(sol.y[:, i])[0] for i in range(sol.y.shape[1])))
+        turn = sol.y[hit, :] - sol.y[hit, 0]
+        turns.append(float(np.abs(turn).max()))
         return y[:2 * n], y[2 * n:], float(sol.t[-1])
 
-    return replace(_episode(impact, touch, max_s), peak_overlap_m=max(peaks, default=0.0))
+    return replace(_episode(impact, touch, max_s), peak_overlap_m=max(peaks, default=0.0),
+                   peak_turn_rad=max(turns, default=0.0))

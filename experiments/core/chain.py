@@ -47,7 +47,9 @@ class ChainTolerance:
     - where the springs act while the ball can still meet the chain (a rigid contact that
       touches again), omega_max dt of the closing speed: in a step the contact point's velocity
       turns by up to that share of its amplitude, and a step is how far a re-touch may fall;
-    - for a soft contact, the step's error of its law (``Settings.law_restitution_error``).
+    - for a soft contact, the step's error of its law (``Settings.law_restitution_error``),
+      and the linear chain's own: a segment turned by theta moves its surface off the linear
+      one's by (R + r) theta^2 / 2 along the normal, that share of the peak overlap.
 
     A tolerance over ``judged_share`` of the closing speed judges nothing: the step resolves
     the chain too coarsely for a verdict, and the row is 'unjudged'."""
@@ -65,7 +67,10 @@ class ChainTolerance:
         stiffening = (1 + impact.e) * closing * abs(1 / w_stiff - 1 / w) / m
         tol = closing * self.round_ops * eps + stiffening
         if settings.contact_law(impact.e) is not None:
-            return tol + closing * settings.law_restitution_error(dt / ref.contact_s)
+            reach = chain.bat.radius_m + impact.ball.radius_m
+            geometric = reach * ref.peak_turn_rad**2 / 2 / max(ref.peak_overlap_m, 1e-12)
+            return tol + closing * (settings.law_restitution_error(dt / ref.contact_s)
+                                    + geometric)
         if ref.contacts > 1:
             return tol + closing * float(chain.modes[0].max()) * dt
         return tol
@@ -158,11 +163,12 @@ def fire_chain(name: str, settings, impact: ChainImpact,
 
 def _patch_reaches_a_joint(impact: ChainImpact, ref: ChainOutcome) -> bool:
     """Whether a compliant contact, sunk ``ref.peak_overlap_m`` deep, reaches along the axis
-    (sqrt(2 (R + r) depth)) to a joint, where the ball meets the neighbour's capsule too: the
-    reference, one contact point on one segment, does not apply there."""
+    (sqrt(2 (R + r) depth)) to a joint, where the ball meets the neighbour's capsule too, or to
+    an end, where the cylinder turns into its cap: the reference, one contact point on one
+    cylinder, does not apply there."""
     chain = impact.chain
     reach = math.sqrt(2 * (chain.bat.radius_m + impact.ball.radius_m) * ref.peak_overlap_m)
-    joints = chain.segment_length_m * np.arange(1, chain.segments)
+    joints = chain.segment_length_m * np.arange(0, chain.segments + 1)
     return bool(np.any(np.abs(joints - impact.x_m) < reach))
 
 
