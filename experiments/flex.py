@@ -60,9 +60,11 @@ def engine_part(names, quick: bool) -> tuple[list, list]:
     with runs.Progress(len(names), "engines") as bar:
         accuracy, stability = [], []
         for n in names:
-            accuracy += [r | {"study": "accuracy"} for r in E.accuracy_rows([n])]
+            mine = [r | {"study": "accuracy"} for r in E.accuracy_rows([n])]
+            cost = {n: E.step_body_cost_s(mine)}
+            accuracy += mine
             stability += [r | {"study": "stability"}
-                          for r in E.stability_rows([n], steps, segments)]
+                          for r in E.stability_rows([n], cost, steps, segments)]
             bar(1)
     return accuracy, stability
 

@@ -31,6 +31,10 @@ MAP_STEPS_S = (1e-4, 1e-5, 1e-6)
 MAP_POINT_M = 0.66
 #: The ball: a 40 m/s pitch on a bat at rest (the chain is linear: no swing's turn), e 0.5.
 V0_MPS = 40.0
+#: A map cell whose estimated cost exceeds this is not fired (s): 'unsupported'. The estimate:
+#: the engine's wall time per step and body on its N = 8 rows, times N + 1 bodies, times the
+#: episode's steps (a contact's few milliseconds and the quiet period after it).
+MAP_BUDGET_S = 60.0
 
 
 def chain_engines(names) -> list[str]:
@@ -67,7 +71,27 @@ def accuracy_rows(names) -> list[dict]:
             for n in chain_engines(names) for x in POINTS_M]
 
 
-def stability_rows(names, steps_s=MAP_STEPS_S, segments=MAP_SEGMENTS) -> list[dict]:
-    """MAP_POINT_M at every N and dt, the reference profile otherwise."""
-    return [fire(n, adapters.settings_for(n, dt_s=dt), k, MAP_POINT_M) | {"profile": "reference"}
+def stability_rows(names, step_body_s: dict, steps_s=MAP_STEPS_S,
+                   segments=MAP_SEGMENTS) -> list[dict]:
+    """MAP_POINT_M at every N and dt, the reference profile otherwise (cells over the budget
+    are rows too, 'unsupported'); ``step_body_s``: per engine, its wall time per step and
+    body (s)."""
+    return [_map_cell(n, k, dt, step_body_s[n]) | {"profile": "reference"}
             for n in chain_engines(names) for k in segments for dt in steps_s]
+
+
+def step_body_cost_s(rows: list[dict]) -> float:
+    """Median wall time per step and body over an engine's fired rows (s)."""
+    costs = [r["wall_s"] / r["steps"] / (r["segments"] + 1) for r in rows if r.get("steps")]
+    return float(np.median(costs)) if costs else 0.0
+
+
+def _map_cell(name: str, segments: int, dt_s: float, step_body_s: float) -> dict:
+    chain = r161_chain(segments)
+    lowest = float(chain.modes[0][chain.modes[0] > 0].min())
+    episode_s = 2e-3 + 2 * np.pi / lowest
+    cost = step_body_s * (segments + 1) * episode_s / dt_s
+    if cost > MAP_BUDGET_S:
+        return {"engine": name, "segments": segments, "dt_s": dt_s, "x_m": MAP_POINT_M,
+                "status": "unsupported", "why": f"over the map's budget ({cost:.0f} s est.)"}
+    return fire(name, adapters.settings_for(name, dt_s=dt_s), segments, MAP_POINT_M)
