@@ -57,7 +57,7 @@ def test_spring_gives_the_chain_its_lowest_mode(name, r161_chain):
     w1 = float(omega[omega > 0].min())
     want = 2 * math.pi / w1
     tol = PERIOD_K * (w1 * settings.dt_s) ** 2 + settings.dt_s / want / 3
-    if adapters.record(name).chain_defect:  # the record's measured defect: still there
+    if "period" in adapters.record(name).chain_defect:  # a declared spring defect: still there
         assert got != pytest.approx(want, rel=tol)
     else:
         assert got == pytest.approx(want, rel=tol)
@@ -75,7 +75,7 @@ def test_chain_impacts_match_the_linear_chain(name, r161_chain):
     # segment (the reference has one contact point); at least 2 of the 11 are judged ok
     statuses = [r["status"] for r in rows]
     if adapters.record(name).chain_defect:  # the record's measured defect: still there
-        assert "inaccurate" in statuses
+        assert {"inaccurate", "non_finite"} & set(statuses)
         return
     bad = [(r["x_m"], r["status"], r.get("why"), r["err_mps"], r["tol_mps"]) for r in rows
            if r["status"] not in ("ok", "unjudged")]

@@ -105,6 +105,7 @@ TWIN_STEPS = (
 )
 
 RECORD = EngineRecord(
+    chain_adapter="adapters.mjwarp.chain:MjwarpChain",
     name="mjwarp", adapter="adapters.mjwarp.adapter:MjwarpEngine", package="mujoco-warp",
     import_name="mujoco_warp", extra="mujoco-warp", requires=("mujoco", "warp"),
     profiles={
