@@ -21,6 +21,7 @@ from experiments import (
     compare,
     defaults,
     findings,
+    flex,
     pareto,
     stability,
     sweep,
@@ -32,7 +33,7 @@ from experiments.core.io import ROOT
 COMMANDS = {"sweep": sweep, "pareto": pareto, "stability": stability, "swing": swing,
             "calibrate_soft": calibrate_soft, "findings": findings, "baselines": baselines,
             "bench_engines": bench_engines, "bench_analytic": bench_analytic, "compare": compare,
-            "defaults": defaults, "check_engine": check_engine}
+            "defaults": defaults, "check_engine": check_engine, "flex": flex}
 NOT_SOFT = [n for n in adapters.names() if adapters.record(n).soft_contact is None]
 
 
@@ -125,6 +126,7 @@ def _bad_studies(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
         ("defaults", ["--phases", "1"], "--phases"),
         ("check_engine", ["--check", "nope"], "--check"),
         ("check_engine", ["--engine", "nope"], "--engine"),
+        ("flex", ["--engine", "nope"], "--engine"),
     ]
 
 
