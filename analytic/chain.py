@@ -26,7 +26,7 @@ import numpy as np
 from scipy import linalg
 
 from . import checks
-from .beam import RIGID_MODE_HZ, Beam
+from .beam import RIGID_MODES, Beam
 from .model import Bat
 
 #: Segment counts a chain may have.
@@ -131,7 +131,7 @@ class Chain:
         M, K, _ = self.matrices
         lam, vec = linalg.eigh(K, M)
         omega = np.sqrt(np.clip(lam, 0.0, None))
-        omega[omega < 2 * math.pi * RIGID_MODE_HZ] = 0.0
+        omega[:RIGID_MODES] = 0.0  # translation and rotation (roundoff lifts them off zero)
         return omega, vec
 
     @property

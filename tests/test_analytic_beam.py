@@ -167,3 +167,4 @@ def test_beam_tends_to_the_rigid_bat_as_1_over_its_stiffness(r161):
     coarse, fine = gap(1e3), gap(1e4)
     assert fine < 2e-4
     assert 8.0 < coarse / fine < 12.0
+    assert gap(1e6) < 1e-6  # the bar: the rigid limit at E x 1e6 (measured 9.9e-7)
