@@ -203,6 +203,17 @@ def engine_class(name: str) -> type[Engine] | type[BatchedEngine]:
     return cls
 
 
+def chain_class(name: str):
+    """The segmented-bat adapter class for ``name`` (its record's ``chain_adapter``, an
+    ``adapters.segmented.ChainEngine``), importing its engine now; None if it has none."""
+    rec = record(name)
+    if rec.chain_adapter is None:
+        return None
+    if not _installed(rec):
+        raise EngineNotInstalled(rec.install_hint)
+    return _load_target(name, rec.chain_adapter)
+
+
 def is_batched(name: str) -> bool:
     """Whether the engine's adapter steps many worlds in one call (imports the engine)."""
     return issubclass(engine_class(name), BatchedEngine)
@@ -236,6 +247,6 @@ __all__ = ["BatchedEngine", "ContactReference", "ENTRY_POINT_GROUP", "Engine",
            "EngineNotInstalled", "EngineRecord", "FrictionRule", "Hands", "Integrator",
            "KnobFamily", "MassProperties", "PLANAR_FIELDS", "PROFILES", "PluginConflict",
            "ReportNotes", "RestitutionRule", "SPATIAL_FIELDS", "STATE_FIELDS", "Scene",
-           "Settings", "State", "TwinStep", "available", "create", "engine_class",
+           "Settings", "State", "TwinStep", "available", "chain_class", "create", "engine_class",
            "import_engine", "is_batched", "load", "loaded", "missing", "names", "record",
            "register", "reload_plugins", "settings_for", "unregister"]

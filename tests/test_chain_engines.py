@@ -11,7 +11,6 @@ record declares a ``chain_defect`` is pinned to still show it.
 
 from __future__ import annotations
 
-import importlib
 import math
 
 import numpy as np
@@ -37,8 +36,7 @@ def r161_chain() -> Chain:
 
 
 def _engine(name, settings):
-    module, attr = adapters.record(name).chain_adapter.split(":")
-    return getattr(importlib.import_module(module), attr)(settings)
+    return adapters.chain_class(name)(settings)
 
 
 @pytest.mark.parametrize("name", ENGINES)

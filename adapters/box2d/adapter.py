@@ -18,6 +18,24 @@ def _rot(angle: float):
     return q
 
 
+def make_world(st):
+    """A world with these settings' values (gravity 0, sleeping off); the segmented bat's too."""
+    given = {"restitution_threshold": st.restitution_threshold_mps,
+             "maximum_linear_speed": st.maximum_linear_speed_mps,
+             "contact_hertz": st.contact_hertz,
+             "contact_damping_ratio": st.contact_damping_ratio}
+    world = b2.World(gravity=(0.0, 0.0), **{k: v for k, v in given.items() if v is not None})
+    world.sleeping_enabled = False
+    world.continuous_enabled = st.continuous
+    if st.contact_push_mps is not None:
+        wd = b2.WorldDef()
+        world.set_contact_tuning(
+            wd.contact_hertz if st.contact_hertz is None else st.contact_hertz,
+            wd.contact_damping_ratio if st.contact_damping_ratio is None
+            else st.contact_damping_ratio, st.contact_push_mps)
+    return world
+
+
 class Box2dEngine(Engine):
     """Box2D v3 behind the single-world interface."""
 
@@ -44,21 +62,7 @@ class Box2dEngine(Engine):
     def build(self, scene: Scene) -> None:
         st, bat, ball = self.settings, scene.bat, scene.ball
         self.close()
-        given = {"restitution_threshold": st.restitution_threshold_mps,
-                 "maximum_linear_speed": st.maximum_linear_speed_mps,
-                 "contact_hertz": st.contact_hertz,
-                 "contact_damping_ratio": st.contact_damping_ratio}
-        world = b2.World(gravity=(0.0, 0.0),
-                         **{k: v for k, v in given.items() if v is not None})
-        world.sleeping_enabled = False
-        world.continuous_enabled = st.continuous
-        if st.contact_push_mps is not None:
-            wd = b2.WorldDef()
-            world.set_contact_tuning(
-                wd.contact_hertz if st.contact_hertz is None else st.contact_hertz,
-                wd.contact_damping_ratio if st.contact_damping_ratio is None
-                else st.contact_damping_ratio, st.contact_push_mps)
-        self._world = world
+        self._world = world = make_world(st)
         self._sub_steps = st.sub_step_count
         self._joint = None
         self._anchor = world.create_static_body(position=(0.0, 0.0))

@@ -47,7 +47,7 @@ import numpy as np
 from ..record import import_engine
 from ..segmented import ChainEngine, ChainScene
 from . import RECORD
-from .adapter import _rot
+from .adapter import _rot, make_world
 
 b2 = import_engine(RECORD)
 
@@ -83,24 +83,6 @@ class Box2dChain(ChainEngine):
             self._world.destroy()
             self._world = None
 
-    def _make_world(self):
-        """A world with the bat adapter's values (gravity 0, sleeping off)."""
-        st = self.settings
-        given = {"restitution_threshold": st.restitution_threshold_mps,
-                 "maximum_linear_speed": st.maximum_linear_speed_mps,
-                 "contact_hertz": st.contact_hertz,
-                 "contact_damping_ratio": st.contact_damping_ratio}
-        world = b2.World(gravity=(0.0, 0.0), **{k: v for k, v in given.items() if v is not None})
-        world.sleeping_enabled = False
-        world.continuous_enabled = st.continuous
-        if st.contact_push_mps is not None:
-            wd = b2.WorldDef()
-            world.set_contact_tuning(
-                wd.contact_hertz if st.contact_hertz is None else st.contact_hertz,
-                wd.contact_damping_ratio if st.contact_damping_ratio is None
-                else st.contact_damping_ratio, st.contact_push_mps)
-        return world
-
     @staticmethod
     def _shape_def(group: int):
         sd = b2.ShapeDef()
@@ -118,7 +100,7 @@ class Box2dChain(ChainEngine):
     def build(self, scene: ChainScene) -> None:
         self.close()
         chain, ball = scene.chain, scene.ball
-        self._world = world = self._make_world()
+        self._world = world = make_world(self.settings)
         self._sub_steps = self.settings.sub_step_count
         self._chain = chain
         ell, r = chain.segment_length_m, chain.bat.radius_m

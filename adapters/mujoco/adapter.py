@@ -24,6 +24,19 @@ BLOW_UPS = tuple(int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS,
                                   mujoco.mjtWarning.mjWARN_BADQACC))
 
 
+
+def apply_options(m, st) -> None:
+    """The settings' solver options on a compiled model (the segmented bat's too)."""
+    m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")
+    m.opt.timestep = st.dt_s
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
+    m.opt.iterations = st.iterations
+    m.opt.tolerance = st.tolerance
+    if st.diagexact:
+        m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_DIAGEXACT
+    if st.speculative:
+        m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_SPECULATIVE
+
 class MujocoEngine(Engine):
     """MuJoCo behind the single-world interface."""
 
@@ -45,15 +58,7 @@ class MujocoEngine(Engine):
         st = self.settings
         paired = st.contact_model != "native"
         m = mujoco.MjModel.from_xml_string(mjcf(scene.bat, scene.ball, scene.mu, paired))
-        m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")
-        m.opt.timestep = st.dt_s
-        m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
-        m.opt.iterations = st.iterations
-        m.opt.tolerance = st.tolerance
-        if st.diagexact:
-            m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_DIAGEXACT
-        if st.speculative:
-            m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_SPECULATIVE
+        apply_options(m, st)
         self.model, self.data = m, mujoco.MjData(m)
         self._bat_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "bat")
         self._ball_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")

@@ -9,8 +9,8 @@ import numpy as np
 
 from ..record import import_engine
 from ..segmented import ChainEngine, ChainScene
-from . import INTEGRATORS, RECORD
-from .adapter import BLOW_UPS
+from . import RECORD
+from .adapter import BLOW_UPS, apply_options
 from .model import contact_parameters
 
 mujoco = import_engine(RECORD)
@@ -58,12 +58,7 @@ class MujocoChain(ChainEngine):
     def build(self, scene: ChainScene) -> None:
         st = self.settings
         m = mujoco.MjModel.from_xml_string(chain_mjcf(scene))
-        m.opt.timestep = st.dt_s
-        m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
-        m.opt.iterations = st.iterations
-        m.opt.tolerance = st.tolerance
-        if st.diagexact:
-            m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_DIAGEXACT
+        apply_options(m, st)
         m.geom_solref[:], m.geom_solimp[:] = contact_parameters(st, scene.e)
         self.model, self.data = m, mujoco.MjData(m)
         self.n = scene.chain.segments
@@ -71,7 +66,6 @@ class MujocoChain(ChainEngine):
         self._ball = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")
         self._segs = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"s{i}")
                       for i in range(self.n)]
-        assert st.integrator in INTEGRATORS
 
     def mass_properties(self) -> np.ndarray:
         m = self.model

@@ -53,6 +53,24 @@ def _or(value, default):
     return default if value is None else value
 
 
+
+def setup_body(body, shape, mass: float, inertia: tuple[float, float, float], st):
+    """A rigid body or articulation link with ``shape``, these mass properties and the
+    settings' body values: no torsional friction, no damping, no gravity, the caps on spin
+    and depenetration (the segmented bat's links too)."""
+    shape.patch_radius = shape.min_patch_radius = 0.0
+    body.attach(shape)
+    body.mass = mass
+    body.inertia = inertia
+    body.cmass_local_pose = sapien.Pose()
+    body.linear_damping = body.angular_damping = 0.0
+    body.disable_gravity = True
+    if st.max_angular_velocity_radps is not None:
+        body.max_angular_velocity = st.max_angular_velocity_radps
+    if st.max_depenetration_velocity_mps is not None:
+        body.max_depenetration_velocity = st.max_depenetration_velocity_mps
+    return body
+
 class PhysxEngine(Engine):
     """PhysX (through SAPIEN) behind the single-world interface."""
 
@@ -110,19 +128,8 @@ class PhysxEngine(Engine):
             self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def _body(self, shape, mass: float, inertia: tuple[float, float, float]):
-        st = self.settings
-        shape.patch_radius = shape.min_patch_radius = 0.0  # no torsional friction
-        body = physx.PhysxRigidDynamicComponent()
-        body.attach(shape)
-        body.mass = mass
-        body.inertia = inertia
-        body.cmass_local_pose = sapien.Pose()
-        body.linear_damping = body.angular_damping = 0.0
-        body.disable_gravity = True
-        if st.max_angular_velocity_radps is not None:
-            body.max_angular_velocity = st.max_angular_velocity_radps
-        if st.max_depenetration_velocity_mps is not None:
-            body.max_depenetration_velocity = st.max_depenetration_velocity_mps
+        body = setup_body(physx.PhysxRigidDynamicComponent(), shape, mass, inertia,
+                          self.settings)
         entity = sapien.Entity()
         entity.add_component(body)
         self._scene.add_entity(entity)

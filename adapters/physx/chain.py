@@ -56,7 +56,7 @@ import numpy as np
 
 from ..segmented import ChainEngine, ChainScene
 from . import RECORD
-from .adapter import PhysxEngine, _or, _sapien_defaults, physx, sapien
+from .adapter import PhysxEngine, _or, _sapien_defaults, physx, sapien, setup_body
 
 #: Joint frames: the joint's x axis (PhysX's revolute axis) along world z.
 _X_TO_Z = sapien.Pose([0.0, 0.0, 0.0], [np.sqrt(0.5), 0.0, -np.sqrt(0.5), 0.0])
@@ -130,7 +130,7 @@ class PhysxChain(ChainEngine):
             link = physx.PhysxArticulationLinkComponent(links[-1] if links else None)
             _as_rigid_body(link)
             axial = min(0.5 * m * r * r, 2.0 * inertia)  # a valid tensor (adapters.segmented)
-            self._body_setup(link, capsule, m, (axial, inertia, inertia))
+            setup_body(link, capsule, m, (axial, inertia, inertia), self.settings)
             if i > 0:
                 self._hinge(link.joint, i * ell - chain.coms_m[i - 1], i * ell - c,
                             chain.stiffnesses_nmprad[i - 1], chain.dampings_nmsprad[i - 1])
@@ -157,25 +157,10 @@ class PhysxChain(ChainEngine):
         joint.set_drive_target(0.0)
         joint.set_drive_velocity_target(0.0)
 
-    def _body_setup(self, body, shape, mass: float, inertia: tuple[float, float, float]):
-        """The bat adapter's body settings: no torsional friction, no damping, no gravity,
-        its caps on spin and depenetration."""
-        st = self.settings
-        shape.patch_radius = shape.min_patch_radius = 0.0
-        body.attach(shape)
-        body.mass = mass
-        body.inertia = inertia
-        body.cmass_local_pose = sapien.Pose()
-        body.linear_damping = body.angular_damping = 0.0
-        body.disable_gravity = True
-        if st.max_angular_velocity_radps is not None:
-            body.max_angular_velocity = st.max_angular_velocity_radps
-        if st.max_depenetration_velocity_mps is not None:
-            body.max_depenetration_velocity = st.max_depenetration_velocity_mps
-        return body
 
     def _ball_body(self, shape, mass: float, inertia: float):
-        body = self._body_setup(physx.PhysxRigidDynamicComponent(), shape, mass, (inertia,) * 3)
+        body = setup_body(physx.PhysxRigidDynamicComponent(), shape, mass, (inertia,) * 3,
+                          self.settings)
         entity = sapien.Entity()
         entity.add_component(body)
         entity.pose = sapien.Pose([0.0, 10.0, 0.0])

@@ -11,6 +11,18 @@ from . import RECORD
 pymunk = import_engine(RECORD)
 
 
+
+def make_space(st) -> pymunk.Space:
+    """A space with these settings' solver values, no gravity, no damping; the segmented
+    bat's too."""
+    space = pymunk.Space()
+    space.gravity = (0.0, 0.0)
+    space.damping = 1.0
+    space.iterations = st.iterations
+    space.collision_slop = st.collision_slop
+    space.collision_bias = st.collision_bias
+    return space
+
 class PymunkEngine(Engine):
     """pymunk behind the single-world interface."""
 
@@ -25,12 +37,7 @@ class PymunkEngine(Engine):
 
     def build(self, scene: Scene) -> None:
         st, bat, ball = self.settings, scene.bat, scene.ball
-        space = pymunk.Space()
-        space.gravity = (0.0, 0.0)
-        space.damping = 1.0
-        space.iterations = st.iterations
-        space.collision_slop = st.collision_slop
-        space.collision_bias = st.collision_bias
+        space = make_space(st)
         self._bat = pymunk.Body(bat.mass_kg, bat.inertia_cm_kgm2)
         self._bat_shape = pymunk.Segment(self._bat, (bat.s_min_m, 0.0), (bat.s_max_m, 0.0),
                                          bat.radius_m)

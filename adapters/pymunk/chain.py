@@ -38,6 +38,7 @@ import numpy as np
 from ..record import import_engine
 from ..segmented import ChainEngine, ChainScene
 from . import RECORD
+from .adapter import make_space
 
 pymunk = import_engine(RECORD)
 
@@ -52,12 +53,7 @@ class PymunkChain(ChainEngine):
 
     def build(self, scene: ChainScene) -> None:
         st, chain, ball = self.settings, scene.chain, scene.ball
-        space = pymunk.Space()
-        space.gravity = (0.0, 0.0)
-        space.damping = 1.0
-        space.iterations = st.iterations
-        space.collision_slop = st.collision_slop
-        space.collision_bias = st.collision_bias
+        space = make_space(st)
         self._space, self._chain = space, chain
         ell, r = chain.segment_length_m, chain.bat.radius_m
         group = pymunk.ShapeFilter(group=SEGMENT_GROUP)

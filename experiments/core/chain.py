@@ -182,9 +182,7 @@ def _failed(status: Status, why: str) -> dict:
 
 
 def _run(rec, settings, impact: ChainImpact, ref: ChainOutcome) -> dict:
-    module, attr = rec.chain_adapter.split(":")
-    import importlib
-    engine = getattr(importlib.import_module(module), attr)(settings)
+    engine = adapters.chain_class(rec.name)(settings)
     chain = impact.chain
     try:
         engine.build(ChainScene(chain=chain, ball=impact.ball, e=impact.e))
