@@ -25,9 +25,12 @@ BLOW_UPS = tuple(int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS,
 
 
 
-def apply_options(m, st) -> None:
-    """The settings' solver options on a compiled model (the segmented bat's too)."""
-    m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")
+def apply_options(m, st, cone: bool = True) -> None:
+    """The settings' solver options on a compiled model (the segmented bat's too); without
+    ``cone``, the model's own cone (a frictionless model: its ports, MJX, refuse condim 1 in
+    an elliptic cone, as ``model.port_model`` knows)."""
+    if cone:
+        m.opt.cone = getattr(mujoco.mjtCone, f"mjCONE_{st.cone.upper()}")
     m.opt.timestep = st.dt_s
     m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{st.integrator.upper()}")
     m.opt.iterations = st.iterations

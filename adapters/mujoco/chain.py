@@ -58,7 +58,7 @@ class MujocoChain(ChainEngine):
     def build(self, scene: ChainScene) -> None:
         st = self.settings
         m = mujoco.MjModel.from_xml_string(chain_mjcf(scene))
-        apply_options(m, st)
+        apply_options(m, st, cone=False)  # frictionless: condim 1
         m.geom_solref[:], m.geom_solimp[:] = contact_parameters(st, scene.e)
         self.model, self.data = m, mujoco.MjData(m)
         self.n = scene.chain.segments
