@@ -7,6 +7,7 @@
 """
 
 from . import flight, presets
+from .ball import COR_DATA, REALISTIC_BALL, CorLaw, CorPoint, RealisticBall, fit_cor_law
 from .collide import CollisionEpisode, collide
 from .cork import Hole, corked_bat, corked_bat_paper
 from .friction import FrictionalImpulse, FrictionOutcome, frictional_impulse, predict_friction
@@ -29,10 +30,11 @@ from .model import Ball, Bat, ImpactCase, Outcome
 from .swing import MEASURED_EXPONENT, Swing, SwingModel, swing_for
 
 __all__ = [
-    "Ball", "Bat", "CollisionEpisode", "FrictionOutcome", "FrictionalImpulse", "Hole",
-    "ImpactCase", "Impulse3D", "MEASURED_EXPONENT", "Outcome", "PaperOblique", "RigidBody3D",
+    "COR_DATA", "REALISTIC_BALL", "Ball", "Bat", "CollisionEpisode", "CorLaw", "CorPoint",
+    "FrictionOutcome", "FrictionalImpulse", "Hole", "ImpactCase", "Impulse3D",
+    "MEASURED_EXPONENT", "Outcome", "PaperOblique", "RealisticBall", "RigidBody3D",
     "SweetRegion", "Swing", "SwingModel", "batted_ball_speed", "center_of_percussion", "collide",
-    "collision_efficiency", "corked_bat", "corked_bat_paper", "frictional_impulse",
+    "collision_efficiency", "corked_bat", "corked_bat_paper", "fit_cor_law", "frictional_impulse",
     "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays", "predict_friction",
     "flight", "predict_oblique_paper", "presets", "sweet_region", "sweet_spot", "sweet_zone",
     "swing_for",

@@ -27,6 +27,7 @@ from scipy import integrate, linalg, optimize
 
 from . import checks
 from .chain import Chain
+from .compliant import ContactLaw, ImpactLaw, law_for_impact
 from .model import Ball
 
 #: The free-flight search samples the gap this many times per period of the chain's highest
@@ -225,9 +226,13 @@ def impulse_reference(impact: ChainImpact, *, max_s: float = 0.02) -> ChainOutco
     return _episode(impact, touch, max_s)
 
 
-def compliant_reference(impact: ChainImpact, law, *, max_s: float = 0.02) -> ChainOutcome:
-    """The episode under a continuous force ``law`` (``analytic.compliant``: soft engines)."""
+def compliant_reference(impact: ChainImpact, law: ContactLaw | ImpactLaw, *,
+                        max_s: float = 0.02) -> ChainOutcome:
+    """The episode under a continuous force ``law`` (``analytic.compliant``: soft engines; an
+    ``ImpactLaw`` resolved at the first touch's closing speed v0 + b q', kept for re-touches)."""
     m = impact.ball.mass_kg
+    row = impact.chain.point_row(impact.x_m)
+    law = law_for_impact(law, impact.v0_mps + float(row @ impact.initial_velocities()))
     reach = impact.chain.bat.radius_m + impact.ball.radius_m
     peaks: list[float] = []
     turns: list[float] = []

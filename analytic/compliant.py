@@ -2,8 +2,9 @@
 
 Impulse theory is the limit of a rigid contact. A soft contact (MuJoCo's, Drake's) and a real
 ball last a finite time, during which the bat turns and moves. ``predict(case, law)`` integrates
-the two bodies under a force law (``LinearSpringDamper``, ``HuntCrossley``, ``BASEBALL_HERTZ``)
-until the force returns to zero.
+the two bodies under a force law (``LinearSpringDamper``, ``HuntCrossley``, or a law resolved
+once per impact at its closing speed, ``ImpactLaw``: ``analytic.ball.REALISTIC_BALL``) until
+the force returns to zero.
 
 A contact whose normal overlap x obeys x'' + 2 zeta w x' + w^2 x = 0 (Kelvin-Voigt, in the
 contact's own coordinate) bounces with a coefficient of restitution that depends on the damping
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from scipy import integrate, optimize
@@ -102,6 +104,14 @@ class HuntCrossley:
         would make the release instant ill-conditioned)."""
         return self.stiffness * x_m * (1.0 + self.dissipation_spm * rate_mps)
 
+    def restitution(self, speed_mps: float) -> float:
+        """e of an impact closing at ``speed_mps`` (``hunt_crossley_restitution``)."""
+        return hunt_crossley_restitution(self.dissipation_spm, speed_mps)
+
+    def at_speed(self, speed_mps: float) -> HuntCrossley:
+        """This law, whatever the closing speed (its d is fixed): as ``ImpactLaw``'s."""
+        return self
+
 
 @dataclass(frozen=True, kw_only=True)
 class ContactSpaceSpringDamper:
@@ -131,19 +141,45 @@ class ContactSpaceSpringDamper:
 ContactLaw = LinearSpringDamper | HuntCrossley | ContactSpaceSpringDamper
 
 
-#: A baseball against a rigid surface as a Hertz contact with hysteresis (Hunt-Crossley,
-#: n = 3/2), calibrated to two figures: e = 0.5 at 40 m/s (the ball-bat regime's COR, about
-#: 0.5 at 40-60 m/s: A. M. Nathan, Am. J. Phys. 68, 979 (2000)) and a contact time of 0.7 ms at
-#: 40 m/s (0.6-1 ms measured, same source). The law then gives e = 0.61 at 25.9 m/s (MLB's
-#: specification is 0.546 +- 0.032 at 58 mph), 0.39 at 60 m/s, a peak force of 32 kN and a
-#: 6.6 mm deformation at 40 m/s: its COR falls with speed faster than measured balls do.
-#: tests/test_analytic_compliant.py re-derives both calibration figures by integration.
+class ImpactLaw(Protocol):
+    """A law whose force depends on the impact: resolved once, at the closing speed of the
+    first touch, into a ``ContactLaw`` (``at_speed``); ``restitution`` is its e there."""
+
+    def at_speed(self, speed_mps: float) -> ContactLaw: ...
+
+    def restitution(self, speed_mps: float) -> float: ...
+
+
+def law_for_impact(law: ContactLaw | ImpactLaw, closing_mps: float) -> ContactLaw:
+    """The force law of one impact closing at ``closing_mps`` (m/s): ``law.at_speed`` where
+    the law has one (its dissipation set from the closing speed), else the law itself."""
+    at_speed = getattr(law, "at_speed", None)
+    if at_speed is None:
+        return law
+    return at_speed(checks.positive("closing_mps", closing_mps))
+
+
+#: Superseded by ``analytic.ball.REALISTIC_BALL`` (whose COR follows the measured data at every
+#: speed); kept for comparison. A baseball against a rigid surface as a Hertz contact with
+#: hysteresis (Hunt-Crossley, n = 3/2) and one dissipation, calibrated to two figures: e = 0.5
+#: at 40 m/s (the ball-bat regime's COR, about 0.5 at 40-60 m/s [nathan2000]: A. M. Nathan,
+#: Am. J. Phys. 68, 979 (2000)) and a contact time of 0.7 ms at 40 m/s (0.6-1 ms measured,
+#: same source). Its e depends on d v0 alone and so falls too steeply: 0.61 at 25.9 m/s (MLB's
+#: specification is 0.546 +- 0.032 at 85 ft/s [mlbcor]) and 0.39 at 60 m/s; a peak force of
+#: 32 kN and a 6.6 mm deformation at 40 m/s. tests/test_analytic_compliant.py re-derives both
+#: calibration figures by integration.
 BASEBALL_HERTZ = HuntCrossley(stiffness=43593574.039150596, exponent=1.5,
                               dissipation_spm=0.03581876333178441)
 
 
-#: Laws a sweep can put beside the rigid answer, by name.
-LAWS = {"hertz": BASEBALL_HERTZ}
+def __getattr__(name: str):
+    """``LAWS`` (the sweep's laws by name) lives in ``analytic.ball``, which imports this
+    module: it is looked up there on first use, so neither import cycles."""
+    if name == "LAWS":
+        from .ball import LAWS
+
+        return LAWS
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def hunt_crossley_restitution(dissipation_spm: float, speed_mps: float) -> float:
@@ -192,11 +228,12 @@ class CompliantOutcome(Outcome):
 RTOL = 1e-12
 
 
-def predict(case: ImpactCase, law: ContactLaw) -> CompliantOutcome:
+def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
     """The impact of ``case`` under a normal force ``law`` (frictionless): ball and free bat,
     planar, the bat turning and moving during the contact, integrated with solve_ivp (DOP853,
     rtol 1e-12) from the first touch until the force is back to zero. ``case.e`` is not used:
-    the law sets the restitution. Frame and fields as ``analytic.predict``."""
+    the law sets the restitution (an ``ImpactLaw`` at the closing speed of the first touch).
+    Frame and fields as ``analytic.predict``."""
     from .collide import _geometry, first_touch, outcome_fields
 
     bat, ball = case.bat, case.ball
@@ -211,6 +248,8 @@ def predict(case: ImpactCase, law: ContactLaw) -> CompliantOutcome:
         x = reach - float(d @ n)
         rate = -(float((z[2:4] - z[6:8]) @ n) - z[9] * s)
         return x, rate, 1.0 / (1 / m + 1 / M + s * s / J), n, s
+
+    law = law_for_impact(law, state(y0)[1])  # the overlap's rate at first touch: v_c
 
     def contact(z):
         x, rate, m_eff, n, s = state(z)

@@ -24,7 +24,7 @@ from scipy import integrate, interpolate, optimize
 
 from .beam import Beam
 from .collide import _geometry, first_touch, outcome_fields
-from .compliant import CompliantOutcome, ContactLaw
+from .compliant import CompliantOutcome, ContactLaw, ImpactLaw, law_for_impact
 from .model import ImpactCase
 
 #: Bending modes kept by default: 24 reach 15 kHz on the R161 (Timoshenko). The local
@@ -52,8 +52,10 @@ class FlexOutcome(CompliantOutcome):
     touches: int
 
 
-def predict(case: ImpactCase, beam: Beam, law: ContactLaw, *, modes: int = MODES) -> FlexOutcome:
-    """The impact of ``case`` on ``beam``'s flexible bat under the normal force ``law``. The
+def predict(case: ImpactCase, beam: Beam, law: ContactLaw | ImpactLaw, *,
+            modes: int = MODES) -> FlexOutcome:
+    """The impact of ``case`` on ``beam``'s flexible bat under the normal force ``law`` (an
+    ``ImpactLaw`` resolved at the first touch's closing speed, kept through re-touches). The
     case's bat must hold the beam's mass properties (``beam.rigid_bat``); its capsule radius
     is the contact surface's, as in the rigid theory. Frame and fields as
     ``analytic.compliant.predict``."""
@@ -65,6 +67,7 @@ def predict(case: ImpactCase, beam: Beam, law: ContactLaw, *, modes: int = MODES
     shapes = beam.modes(modes)
     problem = _Problem(case, law, shapes)
     y = np.concatenate([first_touch(case), np.zeros(2 * modes)])
+    problem.law = law_for_impact(law, problem.state(y)[1])  # the overlap's rate: v_c
     y0, t, touches, peaks = y.copy(), 0.0, 0, []
     while touches < MAX_TOUCHES:
         sol = problem.contact(y)
@@ -89,7 +92,7 @@ def predict(case: ImpactCase, beam: Beam, law: ContactLaw, *, modes: int = MODES
 class _Problem:
     """The equations of motion and the contact's geometry."""
 
-    def __init__(self, case: ImpactCase, law: ContactLaw, shapes) -> None:
+    def __init__(self, case: ImpactCase, law: ContactLaw | ImpactLaw, shapes) -> None:
         bat, ball = case.bat, case.ball
         self.m, self.M, self.J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
         self.reach = bat.radius_m + ball.radius_m

@@ -4,10 +4,10 @@ reference, and every engine's segmented bat against the same chain solved exactl
     python -m experiments.flex [--engine ...] [--quick]
 
 Beam (``analytic.beam``, ``analytic.flexible``): the R161 as a free-free Timoshenko beam
-(its profile fitted to its mass, balance and J_cm; white ash), hit by the ball's Hertz law
-(``analytic.compliant.BASEBALL_HERTZ``) along the barrel, for the paper's swing, a
-major-league swing and a bat at rest: exit speed, energy left in bending (each mode), contact
-time, beside the rigid bat under the same law; the two sweet spots and the sweet zone
+(its profile fitted to its mass, balance and J_cm; white ash), hit by the realistic ball
+(``analytic.ball.REALISTIC_BALL``: Hertz, its COR the measured one) along the barrel, for the
+paper's swing, a major-league swing and a bat at rest: exit speed, energy left in bending (each
+mode), contact time, beside the rigid bat under the same law; the two sweet spots and the sweet zone
 (``flex_beam``), with the wood's modulus at 80, 100 and 120%. Chain (``analytic.chain``):
 N segments against the Euler-Bernoulli beam as N grows. Engines (``flex_engines``): each
 engine's chain at N = 8 on 11 impact points, and a stability map over N x dt.

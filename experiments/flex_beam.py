@@ -16,9 +16,9 @@ import numpy as np
 from scipy import optimize
 
 from analytic import ImpactCase, beam, flexible, presets
+from analytic.ball import REALISTIC_BALL
 from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact, compliant_reference
-from analytic.compliant import BASEBALL_HERTZ
 from analytic.compliant import predict as rigid_predict
 
 #: The wood's Young's modulus relative to the handbook's, for the sensitivity columns.
@@ -87,11 +87,11 @@ def _case(b: beam.Beam, sw: Swing, x_m: float) -> ImpactCase:
 
 
 def impact_row(sw: Swing, x_m: float, modulus_scale: float = 1.0) -> dict:
-    """The rigid bat and the beam at one impact point (the ball's Hertz law on both)."""
+    """The rigid bat and the beam at one impact point (the realistic ball on both)."""
     b = r161_beam(modulus_scale)
     case = _case(b, sw, x_m)
-    rigid = rigid_predict(case, BASEBALL_HERTZ)
-    flex = flexible.predict(case, b, BASEBALL_HERTZ)
+    rigid = rigid_predict(case, REALISTIC_BALL)
+    flex = flexible.predict(case, b, REALISTIC_BALL)
     m, M, J, s = case.ball.mass_kg, case.bat.mass_kg, case.bat.inertia_cm_kgm2, case.s_m
     m_red = 1.0 / (1 / m + 1 / M + s * s / J)
     available = 0.5 * m_red * case.closing_speed_mps**2
@@ -118,7 +118,7 @@ def sweet_spots(sw: Swing, modulus_scale: float = 1.0) -> dict:
     b = r161_beam(modulus_scale)
     x_peak, v_peak = speed_peak_m(sw, modulus_scale)
     rigid = optimize.minimize_scalar(
-        lambda x: -rigid_predict(_case(b, sw, x), BASEBALL_HERTZ).v1_mps, bounds=(0.50, 0.80),
+        lambda x: -rigid_predict(_case(b, sw, x), REALISTIC_BALL).v1_mps, bounds=(0.50, 0.80),
         method="bounded", options={"xatol": 5e-4})
     length = presets.R161.length_m
     return {"swing": sw.key, "modulus_scale": modulus_scale,
@@ -140,11 +140,11 @@ def sweet_zone(rows: list[dict], sw_key: str) -> tuple[float, float] | None:
 
 def chain_rows(points_m=(0.50, 0.66, 0.75)) -> list[dict]:
     """The chain against the Euler-Bernoulli beam as N grows: frequencies, and the exit speed
-    of a still bat under the ball's Hertz law at a few points."""
+    of a still bat under the realistic ball at a few points."""
     eb = r161_beam(1.0, shear=False)
     want = eb.modes(3).frequencies_hz
     still = SWINGS[2]
-    beam_v1 = {x: flexible.predict(_case(eb, still, x), eb, BASEBALL_HERTZ).v1_mps
+    beam_v1 = {x: flexible.predict(_case(eb, still, x), eb, REALISTIC_BALL).v1_mps
                for x in points_m}
     rows = []
     for n in SEGMENTS:
@@ -154,7 +154,7 @@ def chain_rows(points_m=(0.50, 0.66, 0.75)) -> list[dict]:
         for x in points_m:
             impact = ChainImpact(chain=chain, ball=presets.BASEBALL, x_m=x,
                                  v0_mps=still.v0_mps, e=presets.E_WOOD)
-            row[f"v1_chain_{x:g}_mps"] = compliant_reference(impact, BASEBALL_HERTZ).v1_mps
+            row[f"v1_chain_{x:g}_mps"] = compliant_reference(impact, REALISTIC_BALL).v1_mps
             row[f"v1_beam_{x:g}_mps"] = beam_v1[x]
         rows.append(row)
     return rows

@@ -43,7 +43,7 @@ def barrel(rows: pd.DataFrame, spots: pd.DataFrame, zones: dict) -> bytes:
         t = rows[(rows.swing == key) & (rows.modulus_scale == 1.0)].sort_values("x_m")
         d_cm = 100 * (length - t.x_m)
         top, bottom = axes[0][col], axes[1][col]
-        top.plot(d_cm, t.v1_rigid_mps, "k--", label="rigid bat (Hertz ball)")
+        top.plot(d_cm, t.v1_rigid_mps, "k--", label="rigid bat (same ball)")
         top.plot(d_cm, t.v1_beam_mps, "o-", color="#1f77b4", label="flexible bat (beam)")
         bottom.plot(d_cm, t.vibration_j, "o-", color="#1f77b4", label="all modes")
         bottom.plot(d_cm, t.mode1_j, "s-", color="#d62728", label="first mode")

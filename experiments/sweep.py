@@ -23,6 +23,7 @@ import pandas as pd
 
 import adapters
 from analytic import Bat, compliant, predict, presets
+from analytic.ball import LAWS
 from analytic.dynamics import HingedSwing
 from analytic.model import MAX_MU
 
@@ -48,7 +49,7 @@ class Sweep:
     name: str
     #: Each engine's settings: the profile's, with the time step overridden if one is given.
     settings: Mapping[str, adapters.Settings]
-    #: A compliant law (analytic.compliant.LAWS) whose prediction goes beside the rigid one.
+    #: A compliant law (analytic.ball.LAWS) whose prediction goes beside the rigid one.
     law: str | None = None
     #: Add each batted ball's flight (``core.carry``).
     flight: bool = False
@@ -152,9 +153,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="compliant: also predict every impact under a contact law (--law) and "
                         "put it beside the rigid answer (columns v1_compliant_mps, "
                         "compliant_contact_s, compliant_bat_turn_rad, ...; a curve on the chart)")
-    p.add_argument("--law", choices=tuple(compliant.LAWS), default=None,
-                   help="with --reference compliant: the contact law (default hertz: a "
-                        "baseball, e = 0.5 and 0.7 ms at 40 m/s, its e falling with speed)")
+    p.add_argument("--law", choices=tuple(LAWS), default=None,
+                   help="with --reference compliant: the contact law (default ball: a Hertz "
+                        "baseball whose COR follows the measured data, 0.7 ms at 40 m/s; "
+                        "hertz: the older one-dissipation law, its COR falling too steeply)")
     p.add_argument("--no-locate", action="store_true",
                    help="skip locating the sweet spot and COP from engine data")
     p.add_argument("--compare", nargs=2, type=Path, metavar=("OLD", "NEW"),
@@ -172,7 +174,7 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     if args.law is not None and args.reference != "compliant":
         raise ValueError(f"--law {args.law} without --reference compliant does nothing; "
                          "allowed: add --reference compliant, or leave --law out")
-    law = (args.law or "hertz") if args.reference == "compliant" else None
+    law = (args.law or "ball") if args.reference == "compliant" else None
     if args.points > MAX_POINTS:
         per = IMPACT_S["swing" if args.swing else "plain"] * len(args.engine)
         raise ValueError(
@@ -283,11 +285,9 @@ def with_compliant(table: pd.DataFrame, firing: tables.Firing, law: str) -> pd.D
     The law's own e at each closing speed (``compliant_e``) and impulse theory at that e
     (``v1_impulse_law_e_mps``) split the difference into the ball's COR and the contact's
     finite time."""
-    contact_law = compliant.LAWS[law]
+    contact_law = LAWS[law]
     got = {s: compliant.predict(firing.case(s), contact_law) for s in firing.s_m}
-    e_law = {s: compliant.hunt_crossley_restitution(contact_law.dissipation_spm,
-                                                    firing.case(s).closing_speed_mps)
-             for s in firing.s_m}
+    e_law = {s: contact_law.restitution(firing.case(s).closing_speed_mps) for s in firing.s_m}
     out = table.copy()
     per_row = [got[s] for s in out.s_m]
     out["compliant_e"] = [e_law[s] for s in out.s_m]

@@ -18,13 +18,15 @@ from ..core import cli
 from ..core.cli import Command
 from ..core.io import figure_png, provenance
 from . import answers as A
+from . import referee
+from .ball import ball_section
 from .carry_text import carry_section
 from .flex_text import flex_section
-from .questions import cork_section, metal_section, sweet_spot_section
+from .metal_text import metal_section
+from .questions import cork_section, sweet_spot_section
 from .report import (
     REFS,
     audit_section,
-    ball_section,
     engine_section,
     head_section,
     pyplot,
@@ -44,11 +46,12 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     metal_text, metal_figs, metal = metal_section()
     carry_text, carry_figs, _ = carry_section()
     flex_text, _, flex = flex_section()
-    ball_text, ball_figs, _ = ball_section()
-    head = head_section(provenance()["commit"], engines, sweet, cork, metal, flex)
+    ball_text, ball_figs, ball = ball_section()
+    claims = referee.collect(sweet, cork, metal, ball, flex)
+    head = head_section(provenance()["commit"], engines, referee.short_answers_text(claims))
     body = head + "\n".join([sweet_text, cork_text, metal_text, carry_text, flex_text,
-                             ball_text,
-                             audit_section(sweet, cork), engine_section(checks, engines),
+                             ball_text, audit_section(sweet, cork),
+                             engine_section(checks, engines), referee.referee_section(claims),
                              references_section()])
     figs = {**sweet_figs, **cork_figs, **metal_figs, **carry_figs, **ball_figs}
     files = {name: figure_png(fig) for name, fig in figs.items()}

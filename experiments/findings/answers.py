@@ -26,7 +26,6 @@ from analytic import (
     SwingModel,
     batted_ball_speed,
     center_of_percussion,
-    compliant,
     corked_bat_paper,
     hittable_sweet_spot,
     predict,
@@ -45,15 +44,18 @@ E = presets.E_WOOD
 IN = 0.0254
 HANDS_M = 0.1                   # the paper's holding point, 0.1 m from the knob
 PLATE_TO_RUBBER_M = 18.44       # 60 ft 6 in
-PITCHER_AFTER_FOLLOW_THROUGH_M = 16.5  # about 54 ft: where the pitcher stands after delivery
-REACTION_S = 0.4                # the reaction time the NCAA's argument uses
+PITCHER_AFTER_FOLLOW_THROUGH_M = 16.5  # where the pitcher releases the ball [mlbrelease]
+REACTION_S = 0.4                # an assumed reaction time (a round figure, no source)
 FILLS = {"cork": 200.0, "rubber": 1100.0, "hollow": 0.0}
 DEPTHS_IN = (6, 8, 10)
 SWEET_ZONE_WITHIN = 0.01        # the sweet zone: v1 within 1% of the swing's best
 NATHAN_Q_FROM_END_M = 6 * IN    # Nathan et al. measured q 6 in from the barrel end
 HANDS_PITCHES_MPS = (35.0, 41.0, 47.0)       # pitches and bat rates of the swings from the hands
 HANDS_OMEGAS_RADPS = np.linspace(12, 48, 37)
-BALL_SPEEDS_MPS = (10.0, 20.0, 25.9, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0)  # the COR curve's
+#: Batting swings: the MLB-like swing's 48 rad/s +- 8, turning about the knob (as measured
+#: [nathan2011se]) or the hands; the paper's 12-48 rad/s reaches down to swings no batter hits with
+BATTING_OMEGAS_RADPS = np.linspace(40, 56, 17)
+BATTING_PIVOTS_M = (0.0, HANDS_M)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -87,6 +89,13 @@ def carried_swing(bat: Bat, sc: Scenario, model: SwingModel | str,
                   exponent: float = MEASURED_EXPONENT) -> Swing:
     """The swing a batter gives ``bat`` if he gives the R161 the scenario's swing."""
     return swing_for(bat, model=model, reference_bat=R161, reference=sc.swing, exponent=exponent)
+
+
+def same_swing(bat: Bat, sc: Scenario) -> Swing:
+    """The scenario's swing with the batter's motion unchanged: the bat turns about the same
+    axis at the same rate, so a COM that moved moves at its new distance from the axis (the
+    swing-speed models' n = 0 limit), not at the R161's COM speed."""
+    return carried_swing(bat, sc, SwingModel.MEASURED, exponent=0.0)
 
 
 def best_v1(bat: Bat, sc: Scenario, swing: Swing | None = None,
@@ -125,6 +134,14 @@ def sweet_region_from_hands(pitches_mps: tuple[float, ...] = HANDS_PITCHES_MPS,
                      for v in pitches_mps])
     return HandsRegion(pitches_mps=tuple(pitches_mps), omegas_radps=np.array(omegas_radps),
                        grid_s_m=grid, s_lo_m=float(grid.min()), s_hi_m=float(grid.max()))
+
+
+def batting_region_cm() -> tuple[float, float]:
+    """(nearest, farthest) sweet spot from the barrel end (cm) over batting swings: pitches
+    HANDS_PITCHES_MPS, rates BATTING_OMEGAS_RADPS, the bat turning about BATTING_PIVOTS_M."""
+    s = [sweet_spot(R161, BALL, v, w * (R161.com_from_knob_m - p), w)
+         for p in BATTING_PIVOTS_M for v in HANDS_PITCHES_MPS for w in BATTING_OMEGAS_RADPS]
+    return from_end_cm(R161, max(s)), from_end_cm(R161, min(s))
 
 
 def zone(bat: Bat, sc: Scenario, within: float = SWEET_ZONE_WITHIN) -> tuple[float, float]:
@@ -217,7 +234,8 @@ def cork_verdicts(corked: Bat = CORK_1x10) -> pd.DataFrame:
                      "gain at n = 0.5 (m/s)": cork_gain(corked, sc, 0.5),
                      "gain, u0 ~ 1/M (paper, m/s)": spiral[1.0],
                      "gain, u0 ~ M^-1/2 (its log spiral, m/s)": spiral[0.5],
-                     "gain, same swing (m/s)": best_v1(corked, sc)[1] - wood})
+                     "gain, same swing (n = 0, m/s)":
+                         best_v1(corked, sc, same_swing(corked, sc))[1] - wood})
     return pd.DataFrame(rows)
 
 
@@ -226,7 +244,8 @@ def cork_speeds(sc: Scenario) -> pd.DataFrame:
     rows = []
     bats = [("none (wood)", 0, R161)] + [(f, d, b[0]) for (f, d), b in corked_bats().items()]
     for fill, depth, bat in bats:
-        row = {"fill": fill, "depth (in)": depth, "same swing": best_v1(bat, sc)[1]}
+        row = {"fill": fill, "depth (in)": depth,
+               "same swing (n = 0)": best_v1(bat, sc, same_swing(bat, sc))[1]}
         for m in SwingModel:
             row[m.value] = best_v1(bat, sc, carried_swing(bat, sc, m))[1]
         rows.append(row)
@@ -250,42 +269,6 @@ def paper_cork_inertia_if_subtracted(bat: Bat = CORK_1x10) -> float:
     dM r^2/4 of the hole's own cylinder remains."""
     dm = bat.mass_kg - R161.mass_kg
     return -dm * (0.5 * IN) ** 2 / 4 / bat.inertia_cm_kgm2 * 100
-
-
-# -- 4. the realistic ball -----------------------------------------------------------------------
-
-def ball_cor_curve(speeds_mps: tuple[float, ...] = BALL_SPEEDS_MPS) -> pd.DataFrame:
-    """The compliant baseball (``compliant.BASEBALL_HERTZ``) against a still R161 at its COM:
-    its COR and contact time against impact speed."""
-    rows = []
-    for v in speeds_mps:
-        case = ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=v, e=E)
-        out = compliant.predict(case, compliant.BASEBALL_HERTZ)
-        rows.append({"impact speed (m/s)": v,
-                     "COR": compliant.hunt_crossley_restitution(
-                         compliant.BASEBALL_HERTZ.dissipation_spm, v),
-                     "contact time (ms)": out.contact_duration_s * 1e3,
-                     "peak force (kN)": out.peak_force_n / 1e3,
-                     "compression (mm)": out.peak_penetration_m * 1e3})
-    return pd.DataFrame(rows)
-
-
-def rigid_vs_compliant(sc: Scenario, points: int = 41) -> pd.DataFrame:
-    """Along the R161's barrel half for one swing: rigid v1 (e = 0.5), the compliant ball's v1,
-    the rigid v1 at the compliant ball's own COR at that closing speed, contact time and the
-    bat's turn during contact."""
-    rows = []
-    for s in np.linspace(0.0, R161.s_max_m, points):
-        case = ImpactCase(bat=R161, ball=BALL, s_m=float(s), v0_mps=sc.v0_mps,
-                          u0_mps=sc.swing.u0_mps, omega0_radps=sc.swing.omega0_radps, e=E)
-        law = compliant.predict(case, compliant.BASEBALL_HERTZ)
-        e_law = compliant.hunt_crossley_restitution(compliant.BASEBALL_HERTZ.dissipation_spm,
-                                                    case.closing_speed_mps)
-        rows.append({"s_m": float(s), "closing_mps": case.closing_speed_mps, "e_law": e_law,
-                     "v1_rigid_mps": predict(case).v1_mps, "v1_compliant_mps": law.v1_mps,
-                     "v1_rigid_at_e_law_mps": predict(replace(case, e=e_law)).v1_mps,
-                     "contact_s": law.contact_duration_s, "bat_turn_rad": law.bat_turn_rad})
-    return pd.DataFrame(rows)
 
 
 # -- engines -------------------------------------------------------------------------------------

@@ -272,7 +272,8 @@ def corner_carries(launch: Launch) -> np.ndarray:
 
 def bat_hits(sc: Scenario) -> list[tuple[str, str, Hit]]:
     """(bat, swing model, hit): the solid R161, the 1 x 10 in cork R161 under each swing model,
-    and the paper's aluminium bat under each swing model at each of its e (``metal.METAL_ES``)."""
+    the paper's aluminium bat under each swing model at each of its e (``metal.METAL_ES``), and
+    the metal bat of the R161's length at drop -3 (e = 0.5) under each swing model."""
     out = [(M.WOOD, "same swing", hit_of(sc))]
     for model in SwingModel:
         out.append(("R161, 1 x 10 in cork", model.value,
@@ -280,6 +281,9 @@ def bat_hits(sc: Scenario) -> list[tuple[str, str, Hit]]:
     for model in SwingModel:
         sw = carried_swing(AL, sc, model)
         out += [(M.ALUMINIUM, model.value, hit_of(sc, AL, sw, e=e)) for e in M.METAL_ES]
+    for model in SwingModel:
+        out.append((M.EQUAL_LENGTH, model.value,
+                    hit_of(sc, M.EQUAL_BAT, carried_swing(M.EQUAL_BAT, sc, model))))
     return out
 
 
@@ -330,7 +334,7 @@ def pitch_time(sc: Scenario) -> dict[str, float]:
 @cache
 def reaction_times(sc: Scenario) -> pd.DataFrame:
     """Every batted ball of ``metal.metal_table`` (wood; aluminium at each e; each swing model)
-    to the pitcher PITCHER_AFTER_FOLLOW_THROUGH_M away: distance / v1 as the findings take it,
+    to the pitcher PITCHER_AFTER_FOLLOW_THROUGH_M away: distance / v1 (no drag)
     and with drag (``flight.time_to_travel``, no spin: the least drag, so the shortest time)."""
     table, rows = M.metal_table(sc), []
     for _, r in table.iterrows():
@@ -338,11 +342,11 @@ def reaction_times(sc: Scenario) -> pd.DataFrame:
             if math.isnan(r[col]):
                 continue
             v1 = float(r[col])
-            t_drag = time_to_travel(v1, PITCHER_AFTER_FOLLOW_THROUGH_M).time_s
+            t_drag, t_vacuum = M.time_to_pitcher_s(v1), PITCHER_AFTER_FOLLOW_THROUGH_M / v1
             rows.append({"swing model": r["swing model"], "bat": r.bat,
                          "e": float(col.split("=")[1].split(" ")[0]), "v1 (m/s)": v1,
-                         "t, no drag (s)": PITCHER_AFTER_FOLLOW_THROUGH_M / v1,
-                         "t, drag (s)": t_drag, "below, no drag": M.time_below(v1),
+                         "t, no drag (s)": t_vacuum, "t, drag (s)": t_drag,
+                         "below, no drag": t_vacuum < REACTION_S,
                          "below, drag": t_drag < REACTION_S})
     return pd.DataFrame(rows)
 

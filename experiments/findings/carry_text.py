@@ -232,7 +232,12 @@ swing; {change('mlb', cork, 'measured')} MLB-like) and by {change('paper', cork,
 under the paper's u0 ~ 1/M ({change('mlb', cork, 'constant_force')}). The aluminium bat at equal
 e = 0.5 changes it by {change('paper', al, 'measured')} (measured) to
 {change('paper', al, 'constant_force')} (u0 ~ 1/M), and at e = 0.60 by
-{change('paper', al, 'measured', 0.60)} to {change('paper', al, 'constant_force', 0.60)}. Each
+{change('paper', al, 'measured', 0.60)} to {change('paper', al, 'constant_force', 0.60)}; the
+metal bat of the R161's length at drop -3 (33 in, 30 oz, e = 0.5) by
+{change('paper', M.EQUAL_LENGTH, 'measured')} (measured) to
+{change('paper', M.EQUAL_LENGTH, 'constant_torque')} (constant torque), MLB-like
+{change('mlb', M.EQUAL_LENGTH, 'measured')} to {change('mlb', M.EQUAL_LENGTH, 'constant_torque')}.
+Each
 carry's range over the drag and lift spread is {width[0]:.0f}-{width[1]:.0f} m wide, and
 {smaller} of the {n} changes are smaller than their own carry's range; but the spread moves every
 bat's ball alike, and the change itself, recomputed at each corner of the spread, keeps its sign
@@ -276,13 +281,14 @@ def _reaction_text() -> str:
     s = {sc.key: C.reaction_summary(sc) for sc in SCENARIOS}
     pt = {sc.key: C.pitch_time(sc) for sc in SCENARIOS}
     p, m = s["paper"], s["mlb"]
-    return f"""**Reaction time, with drag.** Section 3 timed the batted ball over the
-{PITCHER_AFTER_FOLLOW_THROUGH_M} m to the pitcher at its exit speed. Drag slows it by up to
-{max(p['drag_adds_max_s'], m['drag_adds_max_s']) * 1e3:.0f} ms over that distance
-(`flight.time_to_travel`, no spin: the least drag). Of the aluminium balls faster than the
-{REACTION_S} s reaction time, **{p['al_below_drag']} of {p['al_below_no_drag']} (paper's swing)
-and {m['al_below_drag']} of {m['al_below_no_drag']} (MLB-like) still are** (of {p['al_cases']} and
-{m['al_cases']} cases); the wood ball takes {p['wood_t_drag_s']:.3f} s (paper's swing,
+    return f"""**Reaction time, with drag.** Section 3 times the batted ball over the
+{PITCHER_AFTER_FOLLOW_THROUGH_M} m to the pitcher with drag; at its exit speed alone it would
+arrive up to {max(p['drag_adds_max_s'], m['drag_adds_max_s']) * 1e3:.0f} ms sooner
+(`flight.time_to_travel`, no spin: the least drag). Of the aluminium balls that would beat the
+assumed {REACTION_S} s without drag, **{p['al_below_drag']} of {p['al_below_no_drag']} (paper's
+swing) and {m['al_below_drag']} of {m['al_below_no_drag']} (MLB-like) still do** (of
+{p['al_cases']} and {m['al_cases']} cases); the wood ball takes {p['wood_t_drag_s']:.3f} s
+(paper's swing,
 {p['wood_t_no_drag_s']:.3f} s without drag) and {m['wood_t_drag_s']:.3f} s (MLB-like,
 {m['wood_t_no_drag_s']:.3f} s). The pitch itself, released {RELEASE_TO_PLATE_M:.1f} m from the
 plate [mlbrelease] with the fastball's backspin, must leave the hand at

@@ -1,5 +1,5 @@
 """Section 3c of the findings: the flexible bat's two sweet spots, from ``experiments.flex_beam``
-(the R161 as a Timoshenko beam hit by the ball's Hertz law)."""
+(the R161 as a Timoshenko beam hit by the realistic ball, ``analytic.ball``)."""
 
 from __future__ import annotations
 
@@ -70,7 +70,7 @@ def _spots_text(spots: pd.DataFrame, zones: dict, modes: pd.DataFrame, rows: lis
     zone_text = "; ".join(
         f"{key}: {100 * z[0]:.1f}-{100 * z[1]:.1f} cm from the end" if z else f"{key}: none"
         for key, z in zones.items())
-    return f"""The ball hits the beam through its Hertz law (`analytic.flexible`: the beam's first
+    return f"""The realistic ball (section 4) hits the beam (`analytic.flexible`: the beam's first
 24 modes driven through the contact, the bat moving and turning as a rigid body beneath them,
 integrated until the ball leaves), for the paper's swing and the MLB-like one:
 
@@ -82,9 +82,10 @@ first mode is not excited, nothing is lost to it, and the second and third modes
 ({ti.f2_hz:.0f} Hz and {ti.f3_hz:.0f} Hz, periods comparable to the
 {contact.min():.2f}-{contact.max():.2f} ms contact) give back part of what they take while the
 ball is still on the bat: near the node the beam returns the ball faster than the rigid bat.
-That excess depends on the ball's law, whose coefficient of restitution falls steeply with
-the compression speed (section 4): a bat that gives locally slows the compression and the
-ball loses less. With the wood's modulus
+That excess is a model result that rests on the ball's law (section 4's realistic ball): its
+damping grows with the compression rate (Hunt-Crossley), so a bat that gives locally slows the
+compression and the ball loses less; a ball whose loss did not depend on the rate would not
+gain it, and measured wood bats test just under the ball's own COR [ncaa]. With the wood's modulus
 20% lower or higher the speed peak moves by at most
 {100 * max(s.max() - s.min() for s in sens.values()):.1f} cm. The sweet zone, where v1 is
 within {100 * B.SPEED_SHARE:.0f}% of the best on a 1 cm grid and the first mode takes under

@@ -33,4 +33,10 @@ spot within **{worst['float64'] * 1e3:.2g} um** of the
 model{single}{soft} (engine minus model, mm):
 
 {md_table(located, "{:.4g}")}
+
+What this agreement confirms: the rigid-contact engines solve the same Newton-restitution impact
+at the same e, so they confirm the model's arithmetic (the impulse, the swing, the search for the
+maximum), not its physics. Whether a ball and bat obey one e and a rigid bat is for measurements
+to say (sections 3c and 4). An engine with another contact law (a soft, compliant one) lands
+elsewhere because it is a different model, not because it is wrong.
 """

@@ -1,4 +1,4 @@
-"""Sections 1-3 of findings.md, the paper's questions: the sweet spot, corked bats, metal bats.
+"""Sections 1-2 of findings.md, the paper's questions: the sweet spot and corked bats.
 
 Each ``*_section`` returns its markdown, its charts (file name -> figure) and the numbers the
 report's head and audit quote again; the numbers come from ``answers`` and ``metal``.
@@ -11,21 +11,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from analytic import MEASURED_EXPONENT, SwingModel, batted_ball_speed, center_of_percussion
+from analytic import MEASURED_EXPONENT, center_of_percussion
 
 from . import answers as A
-from . import metal as M
 from .located import sweet_engines_text
-from .report import Section, along_the_barrel, md_table, pyplot
+from .report import Section, md_table, pyplot
 
 if TYPE_CHECKING:
-    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 RUSSELL_CM = (12.7, 17.8)   # Russell's sweet region, cm from the barrel end [russell]
 CORK_EXPONENTS = np.linspace(0.0, 1.0, 41)  # the cork chart's swing-speed exponents
-ROD_FRACTIONS_CHART = np.linspace(0.4, 1.2, 33)  # the metal chart's J_cm / uniform rod
-MODELS = ("constant_force", "constant_torque", "measured")  # as the metal text names them
 
 
 # -- 1. sweet spot -------------------------------------------------------------------------------
@@ -42,7 +38,10 @@ def sweet_spot_section(engines: tuple[str, ...]) -> Section:
                       "![sweet spot region](findings_sweet_spot.png)\n"])
     widths_cm = [(hi - lo) * 100 for lo, hi in (A.zone(A.R161, sc) for sc in A.SCENARIOS)]
     return text, {"findings_sweet_spot.png": _sweet_spot_figure(region)}, {
-        "region": (lo_cm, hi_cm), "zone_cm": (min(widths_cm), max(widths_cm))}
+        "region": (lo_cm, hi_cm), "batting": A.batting_region_cm(),
+        "zone_cm": (min(widths_cm), max(widths_cm)),
+        "best_cm": {sc.key: A.from_end_cm(A.R161, A.best_v1(A.R161, sc)[0])
+                    for sc in A.SCENARIOS}}
 
 
 def _sweet_model_text(region: A.HandsRegion, table: pd.DataFrame, lo_cm: float,
@@ -67,17 +66,22 @@ For one swing, v1 stays within 1% of its best over a **sweet zone** several cent
 
 def _sweet_literature_text(table: pd.DataFrame, lo_cm: float, hi_cm: float) -> str:
     """Our region against Cross's and Russell's, and the centre of percussion."""
-    # the share of our region (lo_cm..hi_cm from the end) beyond Russell's far edge
-    outside = (hi_cm - max(lo_cm, RUSSELL_CM[1])) / (hi_cm - lo_cm)
+    bat_lo, bat_hi = A.batting_region_cm()
+    inside = max(0.0, min(bat_hi, RUSSELL_CM[1]) - max(bat_lo, RUSSELL_CM[0])) / (bat_hi - bat_lo)
     paper_zone = table.iloc[0]
+    w = A.BATTING_OMEGAS_RADPS
     return f"""\
 The literature: Cross's "about 17 cm from the barrel end" is from his notes [crossnotes]; his
 1998 paper defines the sweet spot by the vibration node and the centre of percussion
-[cross1998], not by v1. Russell puts it 12.7-17.8 cm from the end [russell]: {outside:.0%} of our
-{lo_cm:.1f}-{hi_cm:.1f} cm region lies farther from the end than his range, and only the fast
-(MLB-like) swing brings the best point ({table.iloc[1]['s* (cm from end)']:.1f} cm) inside it. A
-rigid bat cannot settle where a batter *feels* the sweet spot: that is set by the bat's
-vibrations (the node, the sting in the hands), which this model does not have [nathan2000].
+[cross1998], not by v1. Russell puts it 12.7-17.8 cm from the end [russell]. The model's region
+depends on the swing: the {lo_cm:.1f}-{hi_cm:.1f} cm above spans the paper's bat rates down to
+12 rad/s, slower than any batting swing, and the slow swings put it farthest from the end. For
+batting swings ({w[0]:.0f}-{w[-1]:.0f} rad/s, the MLB-like 48 rad/s +- 8, the bat turning about
+the knob or the hands, pitches 35-47 m/s) the model puts it **{bat_lo:.1f}-{bat_hi:.1f} cm from
+the end**, {inside:.0%} of it inside Russell's range; the MLB-like swing's best point is
+{table.iloc[1]['s* (cm from end)']:.1f} cm. A rigid bat cannot settle where a batter *feels* the
+sweet spot: that is set by the bat's vibrations (the node, the sting in the hands), which this
+model does not have [nathan2000] (section 3c has them).
 The centre of percussion for hands 0.1 m from the knob
 ({A.from_end_cm(A.R161, center_of_percussion(A.R161, A.HANDS_M)):.1f} cm from the end) falls in
 the paper's swing's sweet zone ({paper_zone['1% zone (cm from end)']} cm), but it is a different
@@ -219,162 +223,3 @@ def _cork_figure() -> Figure:
     ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig
-
-
-# -- 3. metal vs wood ----------------------------------------------------------------------------
-
-def metal_section() -> Section:
-    """Section 3: wood against the paper's aluminium bat, its unknown J_cm and COM, and why
-    the rules restrict metal bats."""
-    tables = {sc.key: M.metal_table(sc) for sc in A.SCENARIOS}
-    match = {sc.key: M.fraction_matching_wood_sweet_spot(sc) for sc in A.SCENARIOS}
-    lively = {e: M.lively_gain(tables.values(), e) for e in (0.55, 0.60)}
-    text = "\n".join([_metal_bats_text(tables), _metal_findings_text(tables, lively),
-                      _metal_inertia_text(match), _metal_rules_text()])
-    gains = [M.gain_over_wood(t, m.value) for t in tables.values() for m in SwingModel]
-    return text, {"findings_metal.png": _metal_figure(match)}, {
-        "tables": tables, "match": match, "max_gain": max(gains),
-        "lively": (lively[0.55][0], lively[0.60][1])}
-
-
-def _below(table: pd.DataFrame) -> list[str]:
-    """The aluminium cases whose ball reaches the pitcher within the reaction time."""
-    out = []
-    for _, row in table.iterrows():
-        for col in table.columns:
-            if col.startswith("t to 16.5 m") and row[col] < A.REACTION_S \
-                    and row["bat"] != M.WOOD:
-                out.append(f"aluminium at {col.split(', ')[1][:-4]} ({row['swing model']})")
-    return out
-
-
-def _metal_bats_text(tables: dict[str, pd.DataFrame]) -> str:
-    """The aluminium bat's data and the two bats under each swing model."""
-    al_frac, r161_frac = M.uniform_rod_fraction(A.AL), M.uniform_rod_fraction(A.R161)
-    return f"""## 3. Why are metal bats restricted?
-
-The paper's Easton 31 in, 28 oz aluminium bat: 0.794 kg, COM at 60% of its length (assumed: no
-source gives it) and J_cm = 0.0205 kg m^2, which is the paper's "70 lb in^2" converted. That is
-**{al_frac:.0%} of a uniform rod** of its length and mass, where the wooden R161 is at
-{r161_frac:.0%}; the figure may be garbled by the text extraction, which drops every "2" (28 oz
-reads "8 ounces", 42.59 reads "4.59"). Every result below is a rigid-bat model result for this
-one pairing.
-
-The two bats under each swing model (v1 at each bat's best point; the ball's time to a pitcher
-16.5 m away, where he stands after his follow-through [ncaa]):
-
-paper's swing (pitch {A.PAPER.v0_mps} m/s):
-
-{md_table(tables['paper'], "{:.3f}")}
-
-MLB-like swing (pitch {A.MLB.v0_mps:g} m/s):
-
-{md_table(tables['mlb'], "{:.3f}")}
-"""
-
-
-def _metal_findings_text(tables: dict[str, pd.DataFrame],
-                         lively: dict[float, tuple[float, float]]) -> str:
-    """What lightness, liveliness and reaction time say about the aluminium bat."""
-    paper, mlb = (" / ".join(f"{M.gain_over_wood(tables[k], m):+.2f}" for m in MODELS)
-                  for k in ("paper", "mlb"))
-    e55, e60 = ("{:.1f}-{:.1f}".format(*lively[e]) for e in (0.55, 0.60))
-    paper_below = ", ".join(_below(tables["paper"])) or "no bat"
-    mlb_below, cells = len(_below(tables["mlb"])), M.aluminium_times(tables["mlb"])
-    wood_t = tables["mlb"].iloc[0]["t to 16.5 m, e=0.50 (s)"]
-    return f"""\
-- **At equal e = 0.5 lightness alone gains little or loses**: aluminium minus wood is
-  {paper} m/s (paper's swing; u0 ~ 1/M, constant torque, measured
-  n = 0.27) and {mlb} m/s (MLB-like swing).
-- A livelier collision gains more: e = 0.55 adds {e55} m/s and e = 0.60
-  {e60} m/s over the aluminium bat at e = 0.50 (every model, both swings).
-- Reaction time: with the paper's swing, {paper_below} reach the pitcher
-  in less than {A.REACTION_S} s; with the MLB-like swing {mlb_below} of the {cells} aluminium cases
-  (3 models x 3 e) do (the wood bat too: {wood_t:.3f} s).
-"""
-
-
-def _metal_inertia_text(match: dict[str, float]) -> str:
-    """Where the aluminium bat's sweet spot lies as its unknown J_cm and COM vary."""
-    al_frac, r161_frac = M.uniform_rod_fraction(A.AL), M.uniform_rod_fraction(A.R161)
-    scans = {sc.key: M.metal_inertia_scan(sc) for sc in A.SCENARIOS}
-    scan0 = scans["paper"].iloc[0]
-    com = M.al_com_sensitivity(A.PAPER)
-    return f"""**The unknown J_cm decides where the metal bat's sweet spot lies.** At the paper's
-J_cm ({al_frac:.0%} of a rod) it is {scan0['sweet spot (cm from end)']:.1f} cm from the end against
-wood's {scan0["wood's (cm from end)"]:.1f} cm; Crisco et al. measured the sweet spot the same
-distance from the tip on wood and metal bats and credit metal's higher speeds to faster swings
-and a livelier collision [crisco2002]. The larger J_cm, the nearer the model comes to that: the
-paper's 50% is the value the measurement supports least. Equal distances would take
-**{match['paper']:.0%} (paper's swing) or {match['mlb']:.0%} (MLB-like swing) of a uniform rod**,
-more than any bat with a tapering handle has (the R161: {r161_frac:.0%}): with a COM at 60%, no
-plausible J_cm reproduces the measurement in a rigid-bat model, whose sweet spot is not the one
-a batter feels [nathan2000]. Over a plausible range:
-
-paper's swing:
-
-{md_table(scans['paper'], "{:.3f}")}
-
-MLB-like swing:
-
-{md_table(scans['mlb'], "{:.3f}")}
-
-The assumed COM matters as much: at 55%, 60% or 65% of the length the measured-model difference
-to wood (paper's swing) is {com[0.55]:+.2f}, {com[0.60]:+.2f} or {com[0.65]:+.2f} m/s.
-"""
-
-
-def _metal_rules_text() -> str:
-    """What the rules cap, and the chart."""
-    return """\
-**Why the rules restrict metal bats.** NCAA and high-school rules cap the ball-bat COR at 0.50
-(BBCOR), slightly above the best wood bats, and keep beside it a length-to-weight limit (-3) and
-a moment-of-inertia rule (about a point 6 in from the knob) [ncaa]: both the liveliness and the
-swing weight are limited. MLB's wood-only rule is a different rule, not a BBCOR one [rules].
-
-![metal vs wood](findings_metal.png)
-"""
-
-
-def _metal_figure(match: dict[str, float]) -> Figure:
-    """v1 along the barrel of wood and aluminium, and the aluminium sweet spot against J_cm."""
-    plt = pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(13, 4.6), layout="constrained")
-    _metal_barrel_panel(axes[0], match)
-    _metal_inertia_panel(axes[1])
-    fig.suptitle("Wood vs the paper's aluminium bat in the rigid-bat model", fontsize=10)
-    return fig
-
-
-def _metal_barrel_panel(ax: Axes, match: dict[str, float]) -> None:
-    """v1 along the barrel for wood and aluminium (two J_cm), the paper's swing carried over."""
-    sc = A.PAPER
-    for bat, color, label in ((A.R161, "tab:brown", M.WOOD),
-                              (A.AL, "tab:gray", "aluminium, J_cm 50% of a rod"),
-                              (M.aluminium_with(match["paper"]), "tab:cyan",
-                               f"aluminium, J_cm {match['paper']:.0%} of a rod")):
-        sw = A.carried_swing(bat, sc, SwingModel.MEASURED)
-        s = np.linspace(bat.s_min_m + 0.25, bat.s_max_m, 200)
-        for e, ls in (((0.5, "-"), (0.6, "--")) if bat is A.AL else ((0.5, "-"),)):
-            ax.plot(A.from_end_cm(bat, s), batted_ball_speed(
-                bat, A.BALL, s, v0_mps=sc.v0_mps, u0_mps=sw.u0_mps,
-                omega0_radps=sw.omega0_radps, e=e), ls, color=color, label=f"{label}, e = {e}")
-    along_the_barrel(ax, "paper's swing carried over with n = 0.27")
-
-
-def _metal_inertia_panel(ax: Axes) -> None:
-    """The aluminium sweet spot against its J_cm, against wood's, for both swings."""
-    fr = ROD_FRACTIONS_CHART
-    for sc, color in zip(A.SCENARIOS, ("tab:blue", "tab:red")):
-        bats = [M.aluminium_with(f) for f in fr]
-        ax.plot(fr * 100, [A.from_end_cm(b, A.best_v1(b, sc)[0]) for b in bats],
-                color=color, label=f"aluminium, {sc.label}")
-        ax.axhline(A.from_end_cm(A.R161, A.best_v1(A.R161, sc)[0]), color=color, ls=":",
-                   label=f"R161 wood, {sc.label}")
-    ax.axvline(M.uniform_rod_fraction(A.AL) * 100, color="k", lw=0.8, ls="--",
-               label="paper's J_cm (70 lb in^2)")
-    ax.set_xlabel("aluminium J_cm, % of a uniform rod of its length and mass")
-    ax.set_ylabel("sweet spot, distance from the barrel end (cm)")
-    ax.set_title("where the metal bat's sweet spot lies depends on its J_cm", fontsize=9)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)

@@ -41,10 +41,18 @@ REFS = {
                   "metal bats; metal's higher batted-ball speeds come from faster swings and a "
                   "livelier (more elastic) collision.",
     "ncaa": "NCAA baseball bat standard (BBCOR, 2011): a ball-bat coefficient of restitution of "
-            "at most 0.50 (slightly above the best wood bats), kept beside the length-to-weight "
-            "rule (at most -3) and the moment-of-inertia rule (measured about a point 6 in from "
-            "the knob); its pitcher-safety argument takes the pitcher about 54 ft (16.5 m) from "
-            "the plate after the follow-through and a 0.4 s reaction time.",
+            "at most 0.50 (slightly above the best wood bats), measured with a ball fired at "
+            "136 mph (60.8 m/s) at a stationary bat, kept beside the length-to-weight rule (at "
+            "most -3) and the moment-of-inertia rule (measured about a point 6 in from the "
+            "knob).",
+    "mlbcor": "MLB's baseball specification: a COR of 0.546 +- 0.032 (0.514-0.578) when fired "
+              "at 85 ft/s (58 mph, 25.9 m/s) at a northern white ash wall, as reported with "
+              "the tests of [msnbc2003].",
+    "msnbc2003": "D. Ropeik, \"Squeezing the 'juice' out of baseballs\", msnbc.com (2003): the "
+                 "UMass Lowell Baseball Research Center (J. Sherwood) fired MLB balls at an ash "
+                 "wall at 85 ft/s; the sample averaged a COR of 0.55.",
+    "johnson1985": "K. L. Johnson, Contact Mechanics, Cambridge University Press (1985), "
+                   "ch. 11: in an elastic-plastic impact e falls as v^-1/4.",
     "rules": "Official Baseball Rules (MLB): ball 5-5.25 oz, 9-9.25 in around (3.01); bats of "
              "one piece of solid wood, barrel at most 2.61 in (3.02), a wood-only rule, not a "
              "BBCOR one; pitching rubber 60 ft 6 in (18.44 m) from home plate.",

@@ -118,9 +118,11 @@ def models(res: Results) -> list[str]:
     loses = [c for c in piv.columns if all(piv.loc[b, c] < base[c] for b in corked)]
     others = set(piv.columns) - {"constant_force"}
     if pays == ["constant_force"] and set(loses) == others:
-        verdict = ("Only the paper's model, which speeds up the COM of a lighter bat but keeps "
-                   "its spin, makes corking pay (every cork-filled bat above); with either model "
-                   "that ties swing speed to the swing weight, corking costs ball speed.")
+        verdict = ("For this swing only the paper's model, which speeds up the COM of a lighter "
+                   "bat but keeps its spin, makes corking pay (every cork-filled bat above). "
+                   "That depends on the swing: the models that tie swing speed to the swing "
+                   "weight cost ball speed here, but for an MLB-like swing about the knob "
+                   "constant torque gains (findings, section 2).")
     else:
         verdict = (f"Corking (every cork-filled bat above) pays under "
                    f"{names(heads[c] for c in pays) or 'no model'} and costs ball speed under "
