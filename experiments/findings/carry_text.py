@@ -285,8 +285,9 @@ def _reaction_text() -> str:
 {PITCHER_AFTER_FOLLOW_THROUGH_M} m to the pitcher with drag; at its exit speed alone it would
 arrive up to {max(p['drag_adds_max_s'], m['drag_adds_max_s']) * 1e3:.0f} ms sooner
 (`flight.time_to_travel`, no spin: the least drag). Of the aluminium balls that would beat the
-assumed {REACTION_S} s without drag, **{p['al_below_drag']} of {p['al_below_no_drag']} (paper's
-swing) and {m['al_below_drag']} of {m['al_below_no_drag']} (MLB-like) still do** (of
+assumed {REACTION_S} s without drag,
+**{p['al_below_drag']} of {p['al_below_no_drag']} (paper's swing) and {m['al_below_drag']} of
+{m['al_below_no_drag']} (MLB-like) still do** (of
 {p['al_cases']} and {m['al_cases']} cases); the wood ball takes {p['wood_t_drag_s']:.3f} s
 (paper's swing,
 {p['wood_t_no_drag_s']:.3f} s without drag) and {m['wood_t_drag_s']:.3f} s (MLB-like,
