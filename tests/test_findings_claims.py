@@ -68,5 +68,5 @@ def test_a_changed_number_is_caught(claims):
     # its last digit leaves a digit behind
     c = next(c for c in claims if c.key == "cork.n027.paper")
     wrong = c.value[:-1] + str((int(c.value[-1]) + 1) % 10)
-    assert re.search(r"\d", _strike(f"corking changes v1 by {wrong} m/s", claims))
-    assert not re.search(r"\d", _strike(f"corking changes v1 by {c.value} m/s", claims))
+    assert re.search(r"\d", _strike(f"corking changes the speed by {wrong} m/s", claims))
+    assert not re.search(r"\d", _strike(f"corking changes the speed by {c.value} m/s", claims))
