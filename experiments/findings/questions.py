@@ -141,8 +141,9 @@ the hole's own r^2/4 + h^2/12 and parallel axes about the new COM):
 
 {md_table(A.cork_properties(), "{:.4g}")}
 
-A corked bat is lighter, so with the same swing it always hits slower (less mass behind the
-ball). Whether the batter gains depends on how much faster he swings the lighter bat. With
+A corked bat is lighter, so with the same swing (the bat turning about the same axis at the
+same rate: n = 0 below) it always hits slower (less mass behind the ball, its COM nearer the
+axis). Whether the batter gains depends on how much faster he swings the lighter bat. With
 swing speed ~ I_knob^-n (I about the knob; the batter's effort carried over from the solid R161),
 the 1 x 10 in cork bat **breaks even at n = {paper['break-even n']:.3f} for the paper's swing
 and n = {mlb['break-even n']:.3f} for an MLB-like swing** (rotation about the knob at
