@@ -38,11 +38,24 @@ class Claim:
     source: str = "computed"
 
 
-def _carry_change(key: str, bat: str, model: str, e: float = A.E) -> float:
-    """The change in carry (m) of one bat's row of ``carry.bat_table``."""
+def _carry_change(key: str, bat: str, model: str, e: float = A.E) -> str:
+    """The change in carry (m) of one bat's row of ``carry.bat_table``, signed to 0.1 m (a
+    change that rounds to zero is written 0.0, not -0.0)."""
     t = C.bat_table(A.MLB if key == "mlb" else A.PAPER)
     r = t[(t.bat == bat) & (t["swing model"] == model) & (t.e == e)]
-    return float(r["change (m)"].iloc[0])
+    text = f"{float(r['change (m)'].iloc[0]):+.1f}"
+    return "0.0" if text in ("+0.0", "-0.0") else text
+
+
+def _lively_carry() -> tuple[float, float]:
+    """The least and most (m) that e = 0.55 or 0.60 adds to the aluminium bat's carry at
+    e = 0.5, over the swing models and both swings (``carry.bat_table``)."""
+    gains = []
+    for sc in A.SCENARIOS:
+        t = C.bat_table(sc)
+        al = t[t.bat == M.ALUMINIUM].set_index(["swing model", "e"])["carry (m)"]
+        gains += [al[(m, e)] - al[(m, A.E)] for m, e in al.index if e != A.E]
+    return min(gains), max(gains)
 
 
 def input_claims() -> list[Claim]:
@@ -116,10 +129,10 @@ def cork_claims(cork: Stats) -> list[Claim]:
                   value=f"{row['gain, same swing (n = 0, m/s)']:+.2f}", command=cmd,
                   depends=RIGID),
             Claim(key=f"cork.carry027.{k}", statement=f"cork carry change, n = 0.27, {sc.label}",
-                  value=f"{_carry_change(k, cork_bat, 'measured'):+.1f}", command=cmd,
+                  value=_carry_change(k, cork_bat, 'measured'), command=cmd,
                   depends=f"{RIGID}, drag and lift"),
             Claim(key=f"cork.carry05.{k}", statement=f"cork carry change, n = 0.5, {sc.label}",
-                  value=f"{_carry_change(k, cork_bat, 'constant_torque'):+.1f}", command=cmd,
+                  value=_carry_change(k, cork_bat, 'constant_torque'), command=cmd,
                   depends=f"{RIGID}, drag and lift"),
         ]
     return out
@@ -144,16 +157,23 @@ def metal_claims(metal: Stats) -> list[Claim]:
             Claim(key=f"metal.pair027.{k}", statement=f"paper's 31 in metal - R161, n = 0.27, "
                   f"{sc.label}", value=f"{pair:+.2f}", command=cmd, depends=dep),
             Claim(key=f"metal.carry027.{k}", statement=f"33 in metal carry change, n = 0.27, "
-                  f"{sc.label}", value=f"{_carry_change(k, M.EQUAL_LENGTH, 'measured'):+.1f}",
+                  f"{sc.label}", value=_carry_change(k, M.EQUAL_LENGTH, 'measured'),
+                  command=cmd, depends=f"{dep}, drag and lift"),
+            Claim(key=f"metal.carry05.{k}", statement=f"33 in metal carry change, n = 0.5, "
+                  f"{sc.label}",
+                  value=_carry_change(k, M.EQUAL_LENGTH, 'constant_torque'),
                   command=cmd, depends=f"{dep}, drag and lift"),
             Claim(key=f"metal.match.{k}", statement=f"metal J_cm for wood's sweet spot, "
                   f"n = 0.27, {sc.label} (% of a rod)",
                   value=f"{metal['match'][(k, 'measured')]:.0%}", command=cmd,
                   depends="rigid model without a COR varying along the barrel"),
         ]
-    out.append(Claim(key="metal.lively", statement="what e = 0.55-0.60 adds (what-if) (m/s)",
-                     value="{:.1f}-{:.1f}".format(*metal["lively"]), command=cmd,
-                     depends="e is an input here; BBCOR caps it at 0.50 [ncaa]"))
+    out += [Claim(key="metal.lively", statement="what e = 0.55-0.60 adds (what-if) (m/s)",
+                  value="{:.1f}-{:.1f}".format(*metal["lively"]), command=cmd,
+                  depends="e is an input here; BBCOR caps it at 0.50 [ncaa]"),
+            Claim(key="metal.lively_carry", statement="what e = 0.55-0.60 adds to the carry "
+                  "(what-if) (m)", value="{:.0f}-{:.0f}".format(*_lively_carry()), command=cmd,
+                  depends="e is an input here; drag and lift")]
     return out
 
 
@@ -236,10 +256,11 @@ what it depends on and its source):
   a metal bat of the R161's length at BBCOR's drop -3 ({v('input.equal')}) changes v1 by
   {v('metal.equal027.paper')} / {v('metal.equal027.mlb')} m/s at n = {v('input.n')} (paper's /
   MLB-like swing; carry {v('metal.carry027.paper')} / {v('metal.carry027.mlb')} m) and by
-  {v('metal.equal05.paper')} / {v('metal.equal05.mlb')} m/s at constant torque; the paper's
+  {v('metal.equal05.paper')} / {v('metal.equal05.mlb')} m/s at constant torque (carry
+  {v('metal.carry05.paper')} / {v('metal.carry05.mlb')} m); the paper's
   31 in bat's {v('metal.pair027.paper')} / {v('metal.pair027.mlb')} m/s is mostly its shorter
-  length. A livelier collision gains more: what-if e = 0.55-0.60 adds {v('metal.lively')} m/s,
-  and BBCOR caps e at 0.50 [ncaa].
+  length. A livelier collision gains more: what-if e = 0.55-0.60 adds {v('metal.lively')} m/s
+  ({v('metal.lively_carry')} m of carry), and BBCOR caps e at 0.50 [ncaa].
 - **The ball**: a COR law fitted to measurements gives {v('ball.cor26')} at 25.9 m/s and
   {v('ball.cor60')} at 60 m/s; rigid theory at e = {v('input.e')} lies {v('ball.gap')} m/s above
   it along the barrel (section 4).
