@@ -90,7 +90,8 @@ def _metal_findings_text(tables: dict[str, pd.DataFrame], bbcor: dict[str, pd.Da
     eq = {k: " / ".join(f"{same[k][f'gain over wood, {m} (m/s)']:+.2f}" for m in MODELS)
           for k in same}
     e55, e60 = ("{:.1f}-{:.1f}".format(*lively[e]) for e in (0.55, 0.60))
-    paper_below = ", ".join(_below(tables["paper"])) or "no case"
+    below = _below(tables["paper"])
+    paper_below = ", ".join(below) or "no case"
     mlb_below, cells = len(_below(tables["mlb"])), M.aluminium_times(tables["mlb"])
     wood_t = tables["mlb"].iloc[0]["t to 16.5 m, e=0.50 (s)"]
     return f"""\
@@ -103,7 +104,7 @@ def _metal_findings_text(tables: dict[str, pd.DataFrame], bbcor: dict[str, pd.Da
 - A livelier collision gains more: e = 0.55 adds {e55} m/s and e = 0.60
   {e60} m/s over the aluminium bat at e = 0.50 (every model, both swings).
 - Reaction time, an assumed 0.4 s (a round figure, not a sourced threshold; the times are in
-  the tables): with the paper's swing {len(_below(tables["paper"]))} cases reach the pitcher
+  the tables): with the paper's swing {len(below)} cases reach the pitcher
   sooner ({paper_below}); with the MLB-like
   swing {mlb_below} of the {cells} aluminium cases (3 models x 3 e) do, and so does the wood
   bat's ball ({wood_t:.3f} s): at these speeds the threshold separates swings, not bats.

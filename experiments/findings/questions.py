@@ -32,13 +32,14 @@ def sweet_spot_section(engines: tuple[str, ...]) -> Section:
     region = A.sweet_region_from_hands()
     table = A.sweet_spot_table()
     lo_cm, hi_cm = A.from_end_cm(A.R161, region.s_hi_m), A.from_end_cm(A.R161, region.s_lo_m)
+    batting = A.batting_region_cm()
     text = "\n".join([_sweet_model_text(region, table, lo_cm, hi_cm),
-                      _sweet_literature_text(table, lo_cm, hi_cm),
+                      _sweet_literature_text(table, lo_cm, hi_cm, batting),
                       sweet_engines_text(engines),
                       "![sweet spot region](findings_sweet_spot.png)\n"])
     widths_cm = [(hi - lo) * 100 for lo, hi in (A.zone(A.R161, sc) for sc in A.SCENARIOS)]
     return text, {"findings_sweet_spot.png": _sweet_spot_figure(region)}, {
-        "region": (lo_cm, hi_cm), "batting": A.batting_region_cm(),
+        "region": (lo_cm, hi_cm), "batting": batting,
         "zone_cm": (min(widths_cm), max(widths_cm)),
         "best_cm": {sc.key: A.from_end_cm(A.R161, A.best_v1(A.R161, sc)[0])
                     for sc in A.SCENARIOS}}
@@ -64,9 +65,10 @@ For one swing, v1 stays within 1% of its best over a **sweet zone** several cent
 """
 
 
-def _sweet_literature_text(table: pd.DataFrame, lo_cm: float, hi_cm: float) -> str:
+def _sweet_literature_text(table: pd.DataFrame, lo_cm: float, hi_cm: float,
+                           batting: tuple[float, float]) -> str:
     """Our region against Cross's and Russell's, and the centre of percussion."""
-    bat_lo, bat_hi = A.batting_region_cm()
+    bat_lo, bat_hi = batting
     inside = max(0.0, min(bat_hi, RUSSELL_CM[1]) - max(bat_lo, RUSSELL_CM[0])) / (bat_hi - bat_lo)
     paper_zone = table.iloc[0]
     w = A.BATTING_OMEGAS_RADPS
