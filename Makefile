@@ -1,4 +1,5 @@
-# Two commands on a fresh machine: `make sweep` (the main job) and `make test` (ruff, then pytest).
+# Two commands on a fresh machine: `make sweep` (the main job) and `make test` (ruff, then the
+# fast tier of the tests); `make test-all` runs every test (the fast tier and the full one).
 # Each creates $(VENV) on first use (or anew if another Python made it) and installs the
 # project with the versions pinned in constraints.txt. Another Python:
 #   make test PYTHON=python3.13 VENV=.venv-3.13
@@ -9,7 +10,7 @@ STAMP := $(VENV)/.installed
 # the version of $(PYTHON), e.g. 3.11.7: a .venv made by another one is rebuilt
 PYVER := $(shell $(PYTHON) -c 'import platform; print(platform.python_version())' 2>/dev/null)
 
-.PHONY: test sweep bench baselines lock clean check-python
+.PHONY: test test-all sweep bench baselines lock clean check-python
 
 check-python:
 	@$(PYTHON) -c 'import sys; sys.exit(0 if (3, 11) <= sys.version_info[:2] <= (3, 13) else \
@@ -25,12 +26,19 @@ $(STAMP): pyproject.toml constraints.txt | check-python
 	$(PY) -m pip install --quiet -c constraints.txt -e '.[test]'
 	touch $(STAMP)
 
-# the linter first (rules in pyproject.toml), then the suite (TESTS: a part of it, for .ci/run),
-# its slowest tests listed at the end
+# The linter first (rules in pyproject.toml), then the tests on WORKERS processes (pytest-xdist;
+# a batched engine's tests share one, see tests/conftest.py), the slowest listed at the end.
+# TESTS: a part of the suite (paths, -k ...).
 TESTS ?=
+WORKERS ?= auto
+PYTEST = $(PY) -m pytest -q -n $(WORKERS) --dist loadgroup --durations=15
 test: check-python $(STAMP)
 	$(PY) -m ruff check .
-	$(PY) -m pytest -q --durations=20 $(TESTS)
+	$(PYTEST) -m "not full" $(TESTS)
+
+test-all: check-python $(STAMP)
+	$(PY) -m ruff check .
+	$(PYTEST) --hypothesis-profile=ci $(TESTS)
 
 sweep: check-python $(STAMP)
 	$(PY) -m experiments.sweep --engine mujoco

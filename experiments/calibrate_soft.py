@@ -1,6 +1,6 @@
 """Soft contacts: does the spring-damper calibration hit the target e, at any speed and mass?
 
-    python -m experiments.calibrate_soft [--engine NAME[,NAME...]|all]
+    python -m experiments.calibrate_soft [--engine NAME[,NAME...]|all] [--quick]
 
 For every chosen engine whose record declares a soft contact: central impacts (s = 0, so the bat
 does not turn) of the baseball on bats of 0.3, 0.871 and 3 kg at 5 to 80 m/s, for several target
@@ -27,14 +27,15 @@ TARGETS = (0.3, 0.5, 0.8, 1.0)
 SPEEDS_MPS = (5.0, 20.0, 40.0, 80.0)
 MASSES_KG = (0.3, 0.871, 3.0)
 STEPS_S = (1e-5, 1e-6, 1e-7)
+QUICK_STEPS_S = STEPS_S[:1]
 OMEGA_RADPS = 3000.0
 
 
-def jobs(engine: str) -> list[Job]:
+def jobs(engine: str, steps_s: tuple[float, ...] = STEPS_S) -> list[Job]:
     """Every (step, bat mass, target e, speed) for one engine's soft contact."""
     rec = adapters.record(engine)
     out = []
-    for dt in STEPS_S:
+    for dt in steps_s:
         settings = adapters.settings_for(engine, dt_s=dt, **rec.soft_contact,
                                          **{rec.stiffness_setting: OMEGA_RADPS})
         # placed no deeper than half the slowest approach's step (MJX's reference 1 um is
@@ -61,7 +62,8 @@ def soft_engines(engines: tuple[str, ...]) -> list[str]:
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every calibration impact of the chosen soft engines: the table and its summary."""
-    todo = [j for n in soft_engines(args.engine) for j in jobs(n)]
+    steps = QUICK_STEPS_S if args.quick else STEPS_S
+    todo = [j for n in soft_engines(args.engine) for j in jobs(n, steps)]
     with runs.Progress(len(todo), "impacts") as bar, cli.runner(args, bar) as runner:
         fired = runner.fire(todo)
     rows = []
@@ -83,7 +85,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                                                  lineterminator="\n").encode()}, text
 
 
-COMMAND = Command(name="calibrate_soft", doc=__doc__, produce=produce, check=_check)
+COMMAND = Command(name="calibrate_soft", doc=__doc__, produce=produce, check=_check,
+                  quick=f"one time step ({QUICK_STEPS_S[0]:g} s), not {len(STEPS_S)}")
 main = COMMAND.main
 
 

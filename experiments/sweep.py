@@ -319,7 +319,7 @@ def _summarize(df: pd.DataFrame) -> dict:
 def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
     """Start locating the sweet spot and COP on each all-ok engine's own data, the searches
     side by side; returns a function that waits for {(engine, summary key): value}."""
-    calls, keys = [], []
+    calls, keys = [], []  # keys[i][0]: the engine calls[i] fires
     for name, df in table.groupby("engine", sort=False):
         if not df.status.isin(judge.MEASURED).all():
             continue
@@ -333,7 +333,7 @@ def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
             keys.append((name, "cop_engine_m"))
     # a bounded Brent search takes ~10-25 simulations of about the grid's median cost
     estimate = 25 * len(calls) * float(table.wall_s.median())
-    pending = runner.submit_all(calls, estimate)
+    pending = runner.submit_all(calls, estimate, engines=[k[0] for k in keys])
     return lambda: dict(zip(keys, pending()))
 
 

@@ -106,7 +106,8 @@ def scene_errors(runner: Runner, engines: tuple[str, ...], steps) -> pd.DataFram
     calls = [(method_rows, (engine, integrator, dt)) for engine in engines
              for integrator in adapters.record(engine).integrators for dt in steps
              if affordable(engine, dt)]
-    return pd.DataFrame([r for rows in runner.call_all(calls) for r in rows])
+    engines_of_calls = [args[0] for _, args in calls]
+    return pd.DataFrame([r for rows in runner.call_all(calls, engines_of_calls) for r in rows])
 
 
 def orders(table: pd.DataFrame) -> pd.DataFrame:

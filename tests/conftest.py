@@ -1,21 +1,59 @@
-"""Shared hypothesis strategies and numeric constants for the tests."""
+"""Shared hypothesis strategies, numeric constants and the tiers' plumbing for the tests.
+
+Tiers: `make test` runs every test not marked ``full``; `make test-all` runs them all, with the
+``ci`` hypothesis profile (``--hypothesis-profile=ci``). A test over a batched engine is in the
+full tier unless it is a conformance essential (``pytest_collection_modifyitems``). Under
+pytest-xdist (``--dist loadgroup``) each batched engine's tests share a worker: its compiled
+steps (JAX traces, Warp modules) are made once per worker, not once per test.
+"""
 
 from __future__ import annotations
 
 import math
 import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 
+import adapters
 from analytic import Ball, Bat, ImpactCase
 
 os.environ["BATSIM_QUIET"] = "1"  # no progress lines in test output (subprocesses too)
 
-settings.register_profile("ci", deadline=None, max_examples=200,
-                          suppress_health_check=[HealthCheck.too_slow])
-settings.load_profile("ci")
+#: Examples per property in the CI profile; the fast tier draws FAST_EXAMPLES.
+CI_EXAMPLES, FAST_EXAMPLES = 200, 25
+for _name, _n in (("ci", CI_EXAMPLES), ("fast", FAST_EXAMPLES)):
+    settings.register_profile(_name, deadline=None, max_examples=_n,
+                              suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile("fast")  # --hypothesis-profile=ci (make test-all) replaces it
+
+
+def examples(n: int) -> int:
+    """A property's own number of examples (n, chosen for the CI profile), scaled to the loaded
+    profile: the fast tier draws the same properties, fewer times."""
+    return max(5, n * settings.default.max_examples // CI_EXAMPLES)
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the groups
+def pytest_collection_modifyitems(items) -> None:
+    """A test parametrized with a batched engine (milliseconds a step on a CPU, seconds to
+    compile) goes to that engine's xdist group, and to the full tier unless it is one of the
+    conformance essentials (marked ``essential``). Reads records only: no engine is imported at
+    collection."""
+    batched = {n for n in adapters.names() if adapters.record(n).batched}
+    for item in items:
+        params = getattr(getattr(item, "callspec", None), "params", {})
+        engines = sorted(batched & {v for v in params.values() if isinstance(v, str)})
+        if engines:
+            item.add_marker(pytest.mark.xdist_group(engines[0]))
+            if item.get_closest_marker("essential") is None:
+                item.add_marker(pytest.mark.full)
 
 EPS = np.finfo(float).eps  # 2.2e-16: unit roundoff of float64
 
@@ -51,3 +89,62 @@ def cases(draw, oblique: bool = False) -> ImpactCase:
         u0 += (1.0 - closing) / math.cos(phi) + draw(st.floats(0.0, 20.0))
     return ImpactCase(bat=bat, ball=ball, s_m=s, v0_mps=v0, u0_mps=u0, omega0_radps=w0,
                       e=draw(st.floats(0.0, 1.0)), theta_rad=theta, phi_rad=phi)
+
+
+# -- running commands as a user does --------------------------------------------------------
+
+ROOT = Path(__file__).resolve().parents[1]
+PLUGIN = Path(__file__).parent / "plugin" / "toy_engine.py"
+#: A command at small size finishes in well under a minute on 2 cores; a hang fails it here.
+COMMAND_TIMEOUT_S = 200
+
+
+def run_command(argv: list[str], *, env: dict | None = None, cwd: Path = ROOT,
+                code: int = 0) -> subprocess.CompletedProcess:
+    """``python <argv>`` in a fresh interpreter, as a user types it: it must exit ``code``
+    with no traceback on either stream."""
+    res = subprocess.run([sys.executable, *argv], cwd=cwd, capture_output=True, text=True,
+                         timeout=COMMAND_TIMEOUT_S, check=False,
+                         env={**os.environ, **(env or {})})
+    shown = f"python {' '.join(argv)} -> {res.returncode}\n{res.stdout[-3000:]}\n" \
+            f"{res.stderr[-3000:]}"
+    assert res.returncode == code, shown
+    assert "Traceback" not in res.stderr + res.stdout, shown
+    return res
+
+
+def cheapest(batched: bool) -> str:
+    """The registered engine of that kind with the smallest measured step cost (records only:
+    the tests name no engine)."""
+    return min((n for n in adapters.available() if adapters.record(n).batched == batched),
+               key=lambda n: adapters.record(n).step_cost_s)
+
+
+@pytest.fixture(scope="session")
+def toy_site(tmp_path_factory) -> Path:
+    """A site directory holding the toy plug-in as an installed distribution (a dist-info with
+    its entry point): on sys.path or PYTHONPATH, it registers the engine ``toyengine``."""
+    site = tmp_path_factory.mktemp("site")
+    shutil.copy(PLUGIN, site / "toy_engine.py")
+    info = site / "batsim_toy_engine-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: batsim-toy-engine\n"
+                                   "Version: 0.1\n")
+    (info / "entry_points.txt").write_text(
+        f"[{adapters.ENTRY_POINT_GROUP}]\ntoyengine = toy_engine:RECORD\n")
+    return site
+
+
+#: The engines of ``findings_run``: the cheapest single-world one and the toy plug-in.
+FINDINGS_ENGINES = (cheapest(False), "toyengine")
+
+
+@pytest.fixture(scope="session")
+def findings_run(tmp_path_factory, toy_site) -> Path:
+    """``python -m experiments.findings`` once per test run (its model sections take about a
+    minute), over the cheapest single-world engine and the toy plug-in: the directory it
+    wrote. Tests that read it share the xdist group "findings" (one worker runs it)."""
+    out = tmp_path_factory.mktemp("findings")
+    run_command(["-m", "experiments.findings", "--engine", ",".join(FINDINGS_ENGINES),
+                 "--out", str(out), "--name", "f"], env={"PYTHONPATH": str(toy_site)})
+    return out / "f"

@@ -88,6 +88,7 @@ def test_spring_damper_restitution_formula_against_ode():
     assert damping_ratio_for(0.5) == pytest.approx(0.2553, abs=1e-4)  # measured in the engine
 
 
+@pytest.mark.full
 @pytest.mark.parametrize("name", SOFT)
 @pytest.mark.parametrize("w,dt", [(3000.0, 1e-5), (3000.0, 1e-6)])
 def test_soft_calibration_is_independent_of_speed_and_mass(name, w, dt):
@@ -128,6 +129,7 @@ def _soft_engines():
     return out
 
 
+@pytest.mark.full
 @pytest.mark.parametrize("engine,label,overrides,fine", _soft_engines(),
                          ids=[f"{n}-{lab}" for n, lab, _, _ in _soft_engines()])
 def test_soft_contact_converges_to_its_own_law(engine, label, overrides, fine):

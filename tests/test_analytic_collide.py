@@ -21,7 +21,7 @@ from analytic.collide import (
     separates_for_good_many,
 )
 
-from .conftest import EPS, cases
+from .conftest import EPS, cases, examples
 
 R161, BALL = presets.R161, presets.BASEBALL
 TOL_REL = 1e4 * EPS  # a few thousand float operations
@@ -52,7 +52,7 @@ def test_plastic_impact_on_a_still_bat_slides_then_releases():
     assert predict(case).v1_mps == pytest.approx(-7.935, abs=5e-4)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40), deadline=None)
 @given(case=cases(), e=st.floats(0.0, 1.0))
 def test_momentum_kept_and_energy_never_grows(case, e):
     # Frictionless contact forces are internal: m v + M V is the same at the end (both
@@ -140,7 +140,7 @@ def test_sustained_contact_is_the_limit_of_a_stiff_penalty_contact():
     assert runs[-1][1] == pytest.approx(ref.sustained_contact_s, abs=1e-6)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=examples(300), deadline=None)
 @given(v=st.tuples(st.floats(-60, 60), st.floats(0.0, 60), st.floats(-30, 30), st.floats(-30, 30)),
        w=st.floats(-60, 60), gap=st.floats(0.0, 0.05), s=st.floats(-0.5, 0.25))
 def test_separates_for_good_never_hides_a_contact(v, w, gap, s):
@@ -156,7 +156,7 @@ def test_separates_for_good_never_hides_a_contact(v, w, gap, s):
     assert why in ("separated", "left_cylinder")  # no contact first (and within the time)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=examples(200), deadline=None)
 @given(v=st.tuples(st.floats(-60, 60), st.floats(-5.0, 60), st.floats(-30, 30),
                    st.floats(-30, 30)),
        w=st.floats(-60, 60), gap=st.floats(-1e-3, 0.05), s=st.floats(-0.6, 0.3),

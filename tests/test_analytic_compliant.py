@@ -19,7 +19,7 @@ from analytic.compliant import (
     restitution_of_damping_ratio,
 )
 
-from .conftest import cases
+from .conftest import cases, examples
 
 R161, BALL = presets.R161, presets.BASEBALL
 #: solve_ivp at rtol 1e-12 over a few hundred steps, and the release event located to it
@@ -122,7 +122,7 @@ def test_baseball_calibration():
     assert slower > 0.5 > faster
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=examples(25), deadline=None)
 @given(case=cases(oblique=True), zeta=st.floats(0.0, 0.6))
 def test_momentum_kept_and_energy_never_grows(case, zeta):
     # The contact force is internal and frictionless: m v + M V is the same after (both

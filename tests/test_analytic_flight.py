@@ -28,6 +28,8 @@ from analytic.flight import (
     vacuum_carry_m,
 )
 
+from .conftest import examples
+
 #: The integrator runs at rtol 1e-10 and finds its events to rounding; a polynomial (vacuum)
 #: trajectory is integrated exactly by DOP853: 1e-8 relative leaves two orders to spare.
 TOL_REL = 1e-8
@@ -81,7 +83,7 @@ def test_vacuum_carry_and_hang_are_the_closed_form(v, a, h, back, side):
     assert got.lateral_m == pytest.approx(0.0, abs=TOL_REL * carry)
 
 
-@settings(max_examples=60)
+@settings(max_examples=examples(60))
 @given(v=speeds, a=angles, h=heights, back=st.floats(0.0, 400.0), side=spins)
 def test_magnus_does_no_work(v, a, h, back, side):
     # Drag off (C_D x 0), lift on: the Magnus force is normal to v, so v_land^2 = v0^2 + 2 g h
@@ -92,7 +94,7 @@ def test_magnus_does_no_work(v, a, h, back, side):
                                                   rel=TOL_REL)
 
 
-@settings(max_examples=60)
+@settings(max_examples=examples(60))
 @given(v=st.floats(20.0, 55.0), a=angles, h=heights)
 def test_drag_shortens_the_carry(v, a, h):
     # Drag only takes energy: without spin, the carry and apex in air are below vacuum's.
@@ -102,7 +104,7 @@ def test_drag_shortens_the_carry(v, a, h):
     assert got.apex_m < h + (v * math.sin(a))**2 / (2 * 9.80665)
 
 
-@settings(max_examples=40)
+@settings(max_examples=examples(40))
 @given(v=st.floats(35.0, 50.0), deg=st.floats(20.0, 30.0), spin=st.floats(1000.0, 3000.0))
 def test_backspin_carries_a_line_drive_farther(v, deg, spin):
     # At 20-30 deg a batted ball's 1000-3000 rpm of backspin (its usual range; Nathan 2008's
@@ -252,7 +254,7 @@ def test_the_coefficients_are_nathans():
     assert scaled.lift_coefficient(0.2) == pytest.approx(0.9 * NATHAN_2008.lift_coefficient(0.2))
 
 
-@settings(max_examples=40)
+@settings(max_examples=examples(40))
 @given(v=st.floats(20.0, 50.0), a=angles, d=st.floats(-math.pi, math.pi),
        back=spins, side=spins)
 def test_the_spray_angle_only_turns_the_flight(v, a, d, back, side):

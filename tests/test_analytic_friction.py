@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from analytic import ImpactCase, RigidBody3D, impulse_3d, predict, presets
 from analytic.friction import frictional_impulse, predict_friction
 
-from .conftest import EPS
+from .conftest import EPS, examples
 from .test_analytic_impulse3d import bodies, vec
 
 BALL = presets.BASEBALL
@@ -78,7 +78,7 @@ def test_a_spinning_ball_that_rolls_already_sticks_at_once():
     assert out.a.omega_radps[2] == pytest.approx(-vt / R, rel=TOL_REL)
 
 
-@settings(max_examples=60)
+@settings(max_examples=examples(60))
 @given(bodies(), bodies(), vec, vec, vec, st.floats(0.0, 1.0))
 def test_mu_zero_is_the_frictionless_impulse(a, b, r_a, r_b, n, e):
     # mu = 0: P = j n with j from EQ 141 (impulse_3d), to the integrator's tolerance.
@@ -91,7 +91,7 @@ def test_mu_zero_is_the_frictionless_impulse(a, b, r_a, r_b, n, e):
                                atol=TOL_REL * abs(want.j_ns))
 
 
-@settings(max_examples=60)
+@settings(max_examples=examples(60))
 @given(bodies(), bodies(), vec, vec, vec, st.floats(0.0, 1.0), st.floats(0.0, 2.0))
 def test_energy_never_grows(a, b, r_a, r_b, n, e, mu):
     # Energetic restitution with Coulomb friction dissipates for any bodies, contact and mu

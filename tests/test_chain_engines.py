@@ -23,6 +23,7 @@ from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact
 from experiments.core.chain import fire_chain, measured_period_s, mode_states
 
+pytestmark = pytest.mark.full
 ENGINES = [n for n in adapters.available() if adapters.record(n).chain_adapter]
 #: Bound on the (omega dt)^2 constant of a step's period error (semi-implicit Euler: 1/24).
 PERIOD_K = 0.5

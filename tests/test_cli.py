@@ -246,6 +246,7 @@ def test_a_missing_engine_is_named_with_its_install_hint(name, tmp_path, monkeyp
     assert not any(tmp_path.iterdir())
 
 
+@pytest.mark.full
 def test_engine_all_skips_a_missing_engine_and_runs_the_rest(tmp_path):
     # In a fresh process with the last engine's module hidden: --engine all runs every other
     # engine (a row each in the summary), and says which it skipped and how to install it.

@@ -23,6 +23,7 @@ from experiments.core import Job, judge, tables
 from experiments.core.fire import Hosted, fire_group
 from experiments.core.placement import min_dt_s
 
+pytestmark = pytest.mark.full
 STEPS_S = tuple(float(x) for x in np.geomspace(1e-12, 1.0, 13))
 CONTACT_STEPS = 5000
 #: A ball in free flight keeps its velocity to rounding; a bounce changes it by tens of percent.
@@ -73,7 +74,7 @@ def _continuous(before: np.ndarray, after: np.ndarray, dt_s: float) -> bool:
 
 
 @pytest.mark.parametrize("profile", adapters.PROFILES)
-@pytest.mark.parametrize("name", [n for n in adapters.names() if not adapters.is_batched(n)])
+@pytest.mark.parametrize("name", [n for n in adapters.names() if not adapters.record(n).batched])
 def test_no_false_tunnelled_or_ok_from_1e12_to_1_s(name, profile):
     verdicts = []
     for dt in STEPS_S:
@@ -114,7 +115,7 @@ def _judge_row(row, rec: Recorder, dt_s: float) -> None:
             f"{where}: the ball was deflected by {dv:.3g} m/s"
 
 
-@pytest.mark.parametrize("name", [n for n in adapters.names() if not adapters.is_batched(n)])
+@pytest.mark.parametrize("name", [n for n in adapters.names() if not adapters.record(n).batched])
 def test_a_contact_between_two_readings_is_judged_not_missed(name):
     """A slow ball (5 m/s) on a still bat at steps of 1.5-7.4 ms, the contact instant anywhere
     in the step: a contact shorter than a step (a compliant one) may begin and end between two

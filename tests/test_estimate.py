@@ -59,6 +59,7 @@ def test_the_benchmark_runs_a_single_world_engine(tmp_path):
     from experiments import bench_engines
 
     name = next(n for n in adapters.names() if not adapters.is_batched(n))
-    assert bench_engines.main(["--quick", "--engine", name, "--out", str(tmp_path)]) == 0
+    assert bench_engines.main(["--quick", "--engine", name, "--points", "5", "--batches",
+                               "1,10", "--batch-budget", "1", "--out", str(tmp_path)]) == 0
     table = pd.read_csv(next(tmp_path.rglob("bench_engines.csv"))).set_index("engine")
     assert table.loc[name, "bare_per_step_us"] > 0.0

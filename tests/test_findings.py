@@ -22,14 +22,15 @@ from experiments.findings import answers as A
 from experiments.findings import ball as FB
 from experiments.findings import metal as M
 
+from .conftest import FINDINGS_ENGINES
+
 #: brentq roots are asked to 1e-10 in the exponent and closed forms are exact to a few ulps
 ROOT_TOL = 1e-8
 
 
-def test_report_is_complete(tmp_path):
-    assert findings.main(["--out", str(tmp_path), "--name", "f"]) == 0
-    tmp_path = tmp_path / "f"
-    text = (tmp_path / "findings.md").read_text()
+@pytest.mark.xdist_group("findings")
+def test_report_is_complete(findings_run):
+    text = (findings_run / "findings.md").read_text()
     for heading in ("## 1. Where is the sweet spot?", "## 2. Does corking help?",
                     "## 3. Why are metal bats restricted?", "## 3b. How far does the ball go?",
                     "## 3c. The flexible bat: two sweet spots",
@@ -40,10 +41,10 @@ def test_report_is_complete(tmp_path):
     images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
     assert len(images) == 5
     for name in images:
-        assert (tmp_path / name).stat().st_size > 0
+        assert (findings_run / name).stat().st_size > 0
     for key in findings.REFS:  # every reference is cited somewhere in the text
         assert f"[{key}]" in text.split("## References")[0]
-    for name in adapters.available():  # every engine confirms the headline impacts
+    for name in FINDINGS_ENGINES:  # every engine of the run confirms the headline impacts
         assert f"| {name} |" in text.split("## 6. The engines")[1]
 
 
@@ -147,6 +148,7 @@ def test_audit_numbers_restated():
         -dm * 0.0127**2 / 4 / cork.inertia_cm_kgm2 * 100, rel=1e-12)
 
 
+@pytest.mark.full
 def test_every_engine_confirms_the_headline_impacts():
     with Runner() as runner:
         checks = A.engine_checks(runner, adapters.names())

@@ -1,8 +1,7 @@
 """Every number the findings quote is traced to the command that computes it.
 
-The claims (``experiments.findings.referee``) are recomputed here from the same functions
-``python -m experiments.findings`` calls (every section but the engines', about two minutes),
-then:
+The claims (``experiments.findings.referee``) are read from the referee table of a fresh
+``python -m experiments.findings`` run (``conftest.findings_run``, once per test run), then:
 - the README's findings section may quote claim values only: once each value is struck out, no
   digit may remain, so a number that no longer matches what the command computes fails;
 - results/findings.md's referee table must hold the values computed now (it is not stale), and
@@ -18,27 +17,37 @@ from pathlib import Path
 
 import pytest
 
-from experiments.findings import referee
-from experiments.findings.ball import ball_section
-from experiments.findings.flex_text import flex_section
-from experiments.findings.metal_text import metal_section
-from experiments.findings.questions import cork_section, sweet_spot_section
-
 ROOT = Path(__file__).resolve().parents[1]
 README_SECTION = "## What the findings show"
+#: The findings' short answers: from their bold heading to the next blank line.
+SHORT_ANSWERS = re.compile(r"\*\*Short answers\*\*.*?\n\n", re.S)
+
+pytestmark = pytest.mark.xdist_group("findings")
+
+
+def _referee(text: str) -> dict[str, str]:
+    """Claim key -> value as quoted, from a findings.md's referee table."""
+    table = text.split("## Referee", 1)[1].split("\n## ", 1)[0]
+    return {m.group(2): m.group(1).strip() for m in
+            re.finditer(r"^\| [^|]+ \| ([^|]+) \| `([^`]+)` \|", table, re.M)}
 
 
 @pytest.fixture(scope="module")
-def claims() -> list[referee.Claim]:
-    sweet = sweet_spot_section(())[2]
-    return referee.collect(sweet, cork_section()[2], metal_section()[2], ball_section()[2],
-                           flex_section()[2])
+def fresh(findings_run) -> str:
+    return (findings_run / "findings.md").read_text()
 
 
-def _strike(text: str, claims: list[referee.Claim]) -> str:
+@pytest.fixture(scope="module")
+def claims(fresh) -> dict[str, str]:
+    got = _referee(fresh)
+    assert len(got) > 20  # the table was read, not an empty match
+    return got
+
+
+def _strike(text: str, claims: dict[str, str]) -> str:
     """``text`` with every claim value struck out, the longest first (so that 0.52 goes
     before 0.5 can leave a stray 2)."""
-    for value in sorted({c.value for c in claims}, key=len, reverse=True):
+    for value in sorted(set(claims.values()), key=len, reverse=True):
         text = text.replace(value, " ")
     return text
 
@@ -54,19 +63,16 @@ def test_every_readme_findings_number_is_a_claim(claims):
                                          if re.search(r"\d", line)]
 
 
-def test_findings_md_quotes_what_the_command_computes(claims):
-    text = (ROOT / "results" / "findings.md").read_text()
-    table = text.split("## Referee", 1)[1].split("\n## ", 1)[0]
-    quoted = {m.group(2): m.group(1) for m in
-              re.finditer(r"^\| [^|]+ \| ([^|]+) \| `([^`]+)` \|", table, re.M)}
-    assert {c.key: c.value for c in claims} == quoted
-    assert referee.short_answers_text(claims) in text
+def test_findings_md_quotes_what_the_command_computes(claims, fresh):
+    committed = (ROOT / "results" / "findings.md").read_text()
+    assert _referee(committed) == claims
+    assert SHORT_ANSWERS.search(committed).group(0) == SHORT_ANSWERS.search(fresh).group(0)
 
 
 def test_a_changed_number_is_caught(claims):
     # the check above cannot pass vacuously: a README sentence quoting a value one unit off in
     # its last digit leaves a digit behind
-    c = next(c for c in claims if c.key == "cork.n027.paper")
-    wrong = c.value[:-1] + str((int(c.value[-1]) + 1) % 10)
+    value = claims["cork.n027.paper"]
+    wrong = value[:-1] + str((int(value[-1]) + 1) % 10)
     assert re.search(r"\d", _strike(f"corking changes the speed by {wrong} m/s", claims))
-    assert not re.search(r"\d", _strike(f"corking changes the speed by {c.value} m/s", claims))
+    assert not re.search(r"\d", _strike(f"corking changes the speed by {value} m/s", claims))

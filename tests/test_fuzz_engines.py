@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from hypothesis import Phase, given, seed, settings
 from hypothesis import strategies as st
 
@@ -37,6 +38,7 @@ import adapters
 from analytic import ImpactCase, presets
 from experiments.core import Job, Runner, tables
 
+pytestmark = pytest.mark.full
 ENGINES = adapters.names()
 SINGLE = [n for n in ENGINES if not adapters.record(n).batched]
 BATCHED = [n for n in ENGINES if adapters.record(n).batched]

@@ -23,6 +23,7 @@ def stability_out(tmp_path_factory):
     return out / "s"
 
 
+@pytest.mark.full
 def test_stability_outputs(stability_out):
     names = {p.name for p in stability_out.iterdir()}
     soft = {f"stability_{n}_soft.png" for n in adapters.names()
@@ -39,6 +40,7 @@ def test_stability_outputs(stability_out):
     assert set(rows.status) <= {s.value for s in Status}
 
 
+@pytest.mark.full
 def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
     # The bound is a rigid contact's, first seen at one depth and resolved in that step; a
     # compliant one takes many steps, and a coarse step may miss it between readings.
@@ -56,6 +58,7 @@ def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
     assert ref.fraction_ok.min() < 0.5 < ref.fraction_ok.max()
 
 
+@pytest.mark.full
 def test_hunt_crossley_map_is_judged_against_its_law(stability_out):
     # A Hunt-Crossley contact's map (dt x closing speed) is judged against its own law: with
     # several readings per contact (dt below a tenth of t_c, ~1.2 ms here) every phase is ok.
@@ -67,6 +70,7 @@ def test_hunt_crossley_map_is_judged_against_its_law(stability_out):
         assert len(fine) and (fine.status == "ok").all(), fine.status.value_counts()
 
 
+@pytest.mark.full
 def test_soft_contact_sinks_through_below_v_over_r(stability_out):
     # An undamped-ish spring lets the ball sink v/w deep: through the bat when w < v/R.
     rows = pd.read_csv(stability_out / "stability.csv")
@@ -75,6 +79,7 @@ def test_soft_contact_sinks_through_below_v_over_r(stability_out):
     assert len(weak) and (weak.status == "tunnelled").all()
 
 
+@pytest.mark.full
 def test_pareto_outputs(tmp_path):
     assert pareto.main(["--quick", "--out", str(tmp_path), "--name", "p"]) == 0
     tmp_path = tmp_path / "p"
@@ -88,6 +93,7 @@ def test_pareto_outputs(tmp_path):
     assert set(conv.engine) == set(adapters.names())
 
 
+@pytest.mark.full
 def test_out_of_the_box_catches_no_more_than_the_tunnelling_bound(tmp_path):
     # At each engine's own step, a contact first seen deeper than R = r_ball + r_bat has the
     # ball's centre past the bat's axis: no engine can return it ok. So ok <= theory_ok, per

@@ -20,6 +20,7 @@ from experiments.core import Runner, tables
 from experiments.core.fire import fire_jobs
 from experiments.core.io import ROOT
 
+pytestmark = pytest.mark.full
 THRESHOLDS = json.loads((ROOT / "results" / "thresholds.json").read_text())
 CASES = [(base, engine) for base, spec in THRESHOLDS["baselines"].items()
          for engine in spec["engines"]]

@@ -16,6 +16,8 @@ from experiments import compare, sweep, sweep_chart
 from experiments.core import Runner, tables
 from experiments.core.io import ROOT
 
+from .conftest import cheapest
+
 
 def _run(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "experiments.sweep", *args], cwd=cwd,
@@ -29,6 +31,7 @@ def test_help_lists_engines_and_bats():
         assert name in res.stdout
 
 
+@pytest.mark.full
 def test_outputs_are_written_and_reproducible(tmp_path):
     args = ["--engine", "all", "--points", "5", "--out", str(tmp_path)]
     assert sweep.main([*args, "--name", "a"]) == 0
@@ -43,7 +46,8 @@ def test_outputs_are_written_and_reproducible(tmp_path):
 
 
 def test_interrupted_run_leaves_previous_results(tmp_path, monkeypatch):
-    args = ["--points", "3", "--out", str(tmp_path), "--name", "t"]
+    args = ["--engine", cheapest(batched=False), "--points", "3", "--out", str(tmp_path),
+            "--name", "t"]
     assert sweep.main(args) == 0
     before = {p.name: p.read_bytes() for p in (tmp_path / "t").iterdir()}
 
@@ -74,6 +78,7 @@ def _rows(plans, **runner_kw) -> pd.DataFrame:
                       for t in runs], ignore_index=True)
 
 
+@pytest.mark.full
 def test_runners_give_identical_rows(sweep_plan):
     # Serial, two local processes and a Dask LocalCluster of two: the same rows, bit for bit,
     # in the same order, for every engine (adapters hold no state between impacts).
@@ -83,6 +88,7 @@ def test_runners_give_identical_rows(sweep_plan):
         pd.testing.assert_frame_equal(serial, _rows(sweep_plan, **kw), check_exact=True)
 
 
+@pytest.mark.full
 def test_compliant_reference_beside_the_rigid_one(tmp_path):
     # --reference compliant adds the law's prediction per row; the default law is the realistic
     # ball. Checked here: the law's e at each closing speed v_c = v0 + u0 + omega0 s is the

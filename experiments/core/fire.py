@@ -182,6 +182,8 @@ batch_key = attrgetter("engine", "settings", "swing", "case.bat", "case.ball", "
 def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
     """A batched engine's batches: consecutive jobs that share engine, settings, scene and
     swing, those of one engine differing only in ``contact_phase`` joined into one."""
+    if not jobs:
+        return []
     keys = list(map(batch_key, jobs))
     cuts = [0, *compress(range(1, len(keys)), map(ne, keys[1:], keys)), len(keys)]
     spans: list[list[int]] = []  # [first, end) of each batch: joined runs are consecutive

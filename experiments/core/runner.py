@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import multiprocessing
+import sys
 import time
 from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -90,9 +91,7 @@ class Runner:
         """Results of fn over items from the workers, in order, as they come."""
         if self.scheduler is None:
             if self._pool is None:
-                # fork: the workers inherit the imported engines and the registry (plug-ins too)
-                self._pool = ProcessPoolExecutor(self.workers,
-                                                 mp_context=multiprocessing.get_context("fork"),
+                self._pool = ProcessPoolExecutor(self.workers, mp_context=_pool_context(),
                                                  initializer=forget_engines)
             return self._pool.map(fn, items)
         futures = self._dask().map(fn, items, pure=False)
@@ -104,28 +103,32 @@ class Runner:
             self._cluster = getattr(self._client, "_batsim_cluster", None)
         return self._client
 
-    def map(self, fn: Callable, items: Sequence) -> list:
-        """[fn(x) for x in items], on the workers when there are any (fn must be importable)."""
-        items = list(items)
-        if not self.parallel or len(items) <= 1:
-            return [fn(x) for x in items]
-        return list(self._map_remote(fn, items))
+    def call_all(self, calls: Sequence[tuple[Callable, tuple]],
+                 engines: Sequence[str] | None = None) -> list:
+        """The results of independent calls fn(*args), in order, run side by side if possible
+        (``engines``: the engine each call fires, as for ``submit_all``)."""
+        return self.submit_all(calls, engines=engines)()
 
-    def call_all(self, calls: Sequence[tuple[Callable, tuple]]) -> list:
-        """The results of independent calls fn(*args), in order, run side by side if possible."""
-        return self.map(_call, list(calls))
-
-    def submit_all(self, calls: Sequence[tuple[Callable, tuple]],
-                   estimate_s: float = math.inf) -> Callable[[], list]:
+    def submit_all(self, calls: Sequence[tuple[Callable, tuple]], estimate_s: float = math.inf,
+                   engines: Sequence[str] | None = None) -> Callable[[], list]:
         """Start independent calls fn(*args) on the workers and return a function that waits
         for their results (in order); serially, or when their estimated total time is below
         ``min_parallel_s``, the calls run here when it is called. This process is free for
-        other work meanwhile."""
+        other work meanwhile. ``engines`` names the engine each call fires: a batched engine's
+        calls run here, as its jobs do in ``fire``."""
         calls = list(calls)
-        if not self.parallel or len(calls) <= 1 or estimate_s < self.min_parallel_s:
+        here = [adapters.record(e).batched for e in engines] if engines else [False] * len(calls)
+        there = [c for c, h in zip(calls, here) if not h]
+        if not self.parallel or len(there) <= 1 or estimate_s < self.min_parallel_s:
             return lambda: [_call(c) for c in calls]
-        results = self._map_remote(_call, calls)  # both backends submit everything at once
-        return lambda: list(results)
+        results = self._map_remote(_call, there)  # both backends submit everything at once
+
+        def wait() -> list:
+            mine = iter([_call(c) for c, h in zip(calls, here) if h])
+            theirs = iter(results)
+            return [next(mine) if h else next(theirs) for h in here]
+
+        return wait
 
     def fire(self, jobs: Sequence[Job]) -> Sequence[Fired]:
         """Every job fired, results in the order of ``jobs``."""
@@ -172,6 +175,14 @@ class Runner:
     def _tick(self, n: int) -> None:
         if self.progress is not None:
             self.progress(n)
+
+
+def _pool_context():
+    """How local workers start: forked, so that they inherit the imported engines and the
+    registry (plug-ins registered in this process too), unless JAX runs here: a fork of a
+    process with JAX's threads deadlocks, so the workers then come from a fork server (a
+    clean process) and import what they fire."""
+    return multiprocessing.get_context("forkserver" if "jax" in sys.modules else "fork")
 
 
 def _dask_client(scheduler: str, workers: int):

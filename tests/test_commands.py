@@ -1,0 +1,109 @@
+"""Every command, as a user types it: ``python -m experiments.<name>`` in a fresh interpreter,
+at small size, exits 0 with no traceback; where a command takes a runner it runs with
+``--workers 2``. The sweep's rows are the serial run's whatever runs them (two local processes,
+a Dask LocalCluster, a Dask scheduler started as the README says), for every single-world
+engine and for a batched one. The README's own command lines are in ``test_readme_commands``.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import adapters
+from experiments import twins
+from experiments.core import tables
+
+from .conftest import ROOT, cheapest, run_command
+
+SINGLE = cheapest(batched=False)
+BATCHED = cheapest(batched=True)
+SOFT = min((n for n in adapters.available() if adapters.record(n).soft_contact is not None),
+           key=lambda n: adapters.record(n).step_cost_s)
+TWIN = min(twins.twinned(adapters.available()), key=lambda n: adapters.record(n).step_cost_s)
+BASELINE_CSV = str(ROOT / "results" / "sweep_all_reference_r161_swing.csv")
+WORKERS = ["--workers", "2"]
+
+#: Each command at small size (its --out is added where it writes a run).
+SMALL = {
+    "sweep": ["--engine", SINGLE, "--points", "5", *WORKERS],
+    "compare": [BASELINE_CSV, BASELINE_CSV],
+    "pareto": ["--quick", "--engine", SINGLE, *WORKERS],
+    "stability": ["--quick", "--engine", SINGLE, *WORKERS],
+    "swing": ["--quick", "--engine", SINGLE, *WORKERS],
+    "defaults": ["--phases", "2", "--engine", SINGLE, *WORKERS],
+    "calibrate_soft": ["--quick", "--engine", SOFT, *WORKERS],
+    "friction": ["--quick", "--engine", SINGLE, *WORKERS],
+    "flex": ["--quick", "--engine", SINGLE],
+    "bench_engines": ["--quick", "--engine", SINGLE, "--points", "5", "--batches", "1,10",
+                      "--batch-budget", "1"],
+    "bench_analytic": ["--points", "1000", "--repeats", "1"],
+    "check_engine": ["--engine", SINGLE],
+    "report": [],
+    "twins": ["--points", "2", "--engine", TWIN, *WORKERS],
+}
+WRITES_NOTHING = {"compare", "check_engine"}
+
+
+def test_every_command_is_covered():
+    """Each module that runs as ``python -m`` is run here, by findings_run or by baselines."""
+    mains = {p.stem for p in (ROOT / "experiments").glob("*.py")
+             if 'if __name__ == "__main__":' in p.read_text()}
+    packages = {p.parent.name for p in (ROOT / "experiments").glob("*/__main__.py")}
+    assert mains | packages == set(SMALL) | {"findings", "baselines"}
+
+
+@pytest.mark.parametrize("command", sorted(SMALL))
+def test_command_runs_at_small_size(command, tmp_path):
+    out = [] if command in WRITES_NOTHING else ["--out", str(tmp_path)]
+    res = run_command(["-m", f"experiments.{command}", *SMALL[command], *out])
+    if out:  # one run directory, published whole
+        (run,) = tmp_path.iterdir()
+        assert any(run.iterdir()), res.stdout
+    if command == "compare":
+        assert "no change apart from timing" in res.stdout
+
+
+@pytest.mark.xdist_group("findings")
+def test_findings_runs_with_workers(findings_run):
+    # conftest.findings_run: python -m experiments.findings --workers 2 ... exited 0
+    assert (findings_run / "findings.md").stat().st_size > 0
+
+
+def test_baselines_writes_results_and_the_readme_table(tmp_path):
+    # In a copy of the project (baselines writes into its results/ and README): the report
+    # part, which reads every committed result, writes the report the committed one is.
+    copy = tmp_path / "project"
+    for name in ("analytic", "adapters", "experiments", "results"):
+        shutil.copytree(ROOT / name, copy / name, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(ROOT / "README.md", copy / "README.md")
+    run_command(["-m", "experiments.baselines", "--only", "report"], cwd=copy)
+    for name in ("results/report.md", "README.md"):
+        assert (copy / name).read_text() == (ROOT / name).read_text(), name
+
+
+def _sweep_rows(tmp_path: Path, name: str, engines: str, *runner: str) -> pd.DataFrame:
+    run_command(["-m", "experiments.sweep", "--engine", engines, "--points", "5", *runner,
+                 "--out", str(tmp_path), "--name", name])
+    return pd.read_csv(tmp_path / name / "sweep.csv").drop(columns=list(tables.TIMING_COLUMNS))
+
+
+@pytest.mark.parametrize("kind", ["single-world", "batched"])
+def test_sweep_rows_are_the_serial_ones_whatever_runs_them(kind, tmp_path):
+    # Every single-world engine (the ones the runner spreads over workers), or the cheapest
+    # batched one (whose jobs stay in the runner's process): the rows, bit for bit, and
+    # `compare` says so.
+    engines = ",".join(n for n in adapters.available()
+                       if (adapters.record(n).batched == (kind == "batched"))
+                       and (kind == "single-world" or n == BATCHED))
+    serial = _sweep_rows(tmp_path, "serial", engines)
+    assert set(serial.engine) == set(engines.split(","))
+    for name, runner in (("workers", WORKERS), ("local", [*WORKERS, "--scheduler", "local"])):
+        pd.testing.assert_frame_equal(serial, _sweep_rows(tmp_path, name, engines, *runner),
+                                      check_exact=True)
+        res = run_command(["-m", "experiments.compare", str(tmp_path / "serial" / "sweep.csv"),
+                           str(tmp_path / name / "sweep.csv")])
+        assert "no change apart from timing" in res.stdout
