@@ -221,7 +221,9 @@ class EngineRecord:
     measured: a test pins both. ``step_cost_s``: the rough wall time of one reference step
     (s, from ``experiments.bench_engines``), for run-time estimates only; a batched engine's
     ``world_step_cost_s`` is what each further world adds to a step (s; ``step_cost_s`` is then
-    a step of one world; None for a single-world engine: ``batched`` says which). ``label``: the
+    a step of one world; None for a single-world engine: ``batched`` says which), and
+    ``start_s`` what each new batch size first costs in a process (s: JAX's trace and compile,
+    Warp's module load; measured from the baseline sweeps' wall times). ``label``: the
     name as prose spells it ('' for ``name``); ``notes``: what the report says of it.
     ``twin_of``: the engine whose model this one implements (MJX of MuJoCo C), for
     ``experiments.twins``; its settings class extends the twin's, so the same fields mean the
@@ -263,6 +265,7 @@ class EngineRecord:
     engine_defaults: Mapping[str, Any] = field(default_factory=dict)
     step_cost_s: float = 1e-5
     world_step_cost_s: float | None = None
+    start_s: float = 0.0
     label: str = ""
     notes: ReportNotes | None = None
     twin_of: str | None = None
@@ -296,6 +299,7 @@ class EngineRecord:
         checks.positive("step_cost_s", self.step_cost_s)
         if self.world_step_cost_s is not None:
             checks.positive("world_step_cost_s", self.world_step_cost_s)
+        checks.non_negative("start_s", self.start_s)
 
     @property
     def eps(self) -> float:

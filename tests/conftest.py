@@ -17,6 +17,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
@@ -89,6 +90,15 @@ def cases(draw, oblique: bool = False) -> ImpactCase:
         u0 += (1.0 - closing) / math.cos(phi) + draw(st.floats(0.0, 20.0))
     return ImpactCase(bat=bat, ball=ball, s_m=s, v0_mps=v0, u0_mps=u0, omega0_radps=w0,
                       e=draw(st.floats(0.0, 1.0)), theta_rad=theta, phi_rad=phi)
+
+
+def sound(table: pd.DataFrame) -> pd.Series:
+    """The rows a reference profile may end with: ok; or still touching at the budget where
+    the rigid bodies are too (e = 0 near the COM: 'time_limit'); or, for a compliant contact,
+    unjudged beyond its law's single contact (``experiments.core.judge.soft_judgement``)."""
+    still_on = (table.status == "no_separation") & (table.rigid_end == "time_limit")
+    beyond_law = (table.status == "unjudged") & table.v1_law_mps.notna()
+    return (table.status == "ok") | still_on | beyond_law
 
 
 # -- running commands as a user does --------------------------------------------------------

@@ -107,3 +107,11 @@ def test_sweep_rows_are_the_serial_ones_whatever_runs_them(kind, tmp_path):
         res = run_command(["-m", "experiments.compare", str(tmp_path / "serial" / "sweep.csv"),
                            str(tmp_path / name / "sweep.csv")])
         assert "no change apart from timing" in res.stdout
+
+
+@pytest.mark.parametrize("command", sorted({*SMALL, "findings", "baselines"}))
+def test_help_in_a_fresh_interpreter(command, tmp_path):
+    # what a newcomer types first: the manual, exit 0, from anywhere (here a scratch directory)
+    res = run_command(["-m", f"experiments.{command}", "--help"], cwd=tmp_path,
+                      env={"PYTHONPATH": str(ROOT)})
+    assert res.stdout.startswith("usage: python -m experiments.") and not any(tmp_path.iterdir())

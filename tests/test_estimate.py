@@ -1,7 +1,7 @@
 """A run's cost, said before it starts (``experiments.core.estimate``), is honest: each engine
-record's ``step_cost_s`` is the bare step ``experiments.bench_engines`` measured (committed
-in results/bench_engines.csv), and the estimate of every committed baseline sweep is within
-the factor of a few the module promises of the wall time the sweep measured."""
+record's ``step_cost_s`` is the bare step ``experiments.bench_engines`` measures (here, now),
+and the estimate of every committed baseline sweep is within the factor of a few the module
+promises of the wall time the sweep measured, for every engine slow enough to time."""
 
 from __future__ import annotations
 
@@ -9,23 +9,32 @@ import pandas as pd
 import pytest
 
 import adapters
-from experiments import baselines
+from analytic import presets
+from experiments import baselines, bench_engines
 from experiments import sweep as sweep_cmd
-from experiments.core import estimate
+from experiments.core import estimate, tables
 from experiments.core.io import ROOT
 
-BENCH = pd.read_csv(ROOT / "results" / "bench_engines.csv").set_index("engine")
-#: Records round the measured step to one significant figure: at most 1.5x off, 2x allowed.
-STEP_COST_FACTOR = 2.0
+from .conftest import cheapest
+
+#: Records round the measured step to one significant figure (at most 1.5x off), and a loaded
+#: 2-core machine (the suite on both cores) runs a step up to 2x slower: 4x allowed.
+STEP_COST_FACTOR = 4.0
 #: The estimate's promise ("good to a factor of a few"), checked where the sweep took long
 #: enough (MIN_MEASURED_S) for per-impact fixed costs not to dominate.
 ESTIMATE_FACTOR = 8.0
 MIN_MEASURED_S = 0.5
 
 
-@pytest.mark.parametrize("name", sorted(set(BENCH.index) & set(adapters.names())))
-def test_each_records_step_cost_is_the_benchmarked_one(name):
-    measured_s = BENCH.loc[name, "one_world_step_us"] * 1e-6
+@pytest.mark.full
+@pytest.mark.parametrize("name", adapters.names())
+def test_each_records_step_cost_is_what_the_benchmark_measures_now(name):
+    # one world stepped through three impacts of the paper's swing, here and now, by the
+    # benchmark's own measurement (bench_engines.per_collision's one_world_step_us)
+    firing = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, 3),
+                           v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
+                           omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+    measured_s = bench_engines.per_collision(name, firing, 1)["one_world_step_us"] * 1e-6
     ratio = adapters.record(name).step_cost_s / measured_s
     assert 1 / STEP_COST_FACTOR <= ratio <= STEP_COST_FACTOR, (name, ratio)
 
@@ -37,29 +46,26 @@ def test_the_estimate_of_each_baseline_is_within_a_few_times_its_wall_time(label
     table = pd.read_csv(ROOT / "results" / f"{sweep.name}.csv")
     jobs = [j for name in sweep.engines for j in sweep.firing.jobs(name, sweep.settings[name])]
     estimated = estimate.run_s(jobs)
-    checked = 0
-    for name, rows in table.groupby("engine"):
-        # A batched engine's wall time in a sweep is mostly its compile (JAX: seconds per
-        # batch size) and its batching, which steps cannot price: held to nothing here
-        # (reported in the README as not yet validated).
-        if adapters.record(name).batched:
-            continue
-        measured = rows.wall_s.sum()
-        if measured >= MIN_MEASURED_S:
-            ratio = estimated[name] / measured
-            assert 1 / ESTIMATE_FACTOR <= ratio <= ESTIMATE_FACTOR, (name, ratio)
-            checked += 1
-    single = table[[not adapters.record(n).batched for n in table.engine]]
-    assert checked or single.wall_s.groupby(single.engine).sum().max() < MIN_MEASURED_S
+    # every engine, batched ones too (their compile is the record's start_s), where the sweep
+    # took long enough for per-impact fixed costs not to dominate
+    measured = table.groupby("engine").wall_s.sum()
+    timed = measured[measured >= MIN_MEASURED_S]
+    assert len(timed), measured  # each baseline has an engine slow enough to judge
+    for name, wall_s in timed.items():
+        ratio = estimated[name] / wall_s
+        assert 1 / ESTIMATE_FACTOR <= ratio <= ESTIMATE_FACTOR, (name, ratio)
 
 
-def test_the_benchmark_runs_a_single_world_engine(tmp_path):
-    """The benchmark that measures ``step_cost_s`` steps single-world engines too (the plug-in
-    test runs it on a batched one)."""
-    from experiments import bench_engines
-
-    name = next(n for n in adapters.names() if not adapters.is_batched(n))
+def test_the_benchmark_steps_what_the_harness_fires(tmp_path):
+    """The bare engine is stepped as many times as the harness stepped each impact: the
+    benchmark's median steps per collision is the sweep's over the same grid (the still bat:
+    two approach steps, one contact step, then steps until free flight proves them apart)."""
+    name = cheapest(batched=False)
     assert bench_engines.main(["--quick", "--engine", name, "--points", "5", "--batches",
-                               "1,10", "--batch-budget", "1", "--out", str(tmp_path)]) == 0
-    table = pd.read_csv(next(tmp_path.rglob("bench_engines.csv"))).set_index("engine")
-    assert table.loc[name, "bare_per_step_us"] > 0.0
+                               "1,10", "--batch-budget", "1", "--out", str(tmp_path / "b")]) == 0
+    bench = pd.read_csv(next((tmp_path / "b").rglob("bench_engines.csv"))).set_index("engine")
+    assert sweep_cmd.main(["--engine", name, "--points", "5", "--no-locate", "--out",
+                           str(tmp_path / "s"), "--name", "s"]) == 0
+    swept = pd.read_csv(tmp_path / "s" / "s" / "sweep.csv")
+    assert bench.loc[name, "steps_median"] == swept.steps.median()
+    assert bench.loc[name, "impacts"] == len(swept)

@@ -20,6 +20,8 @@ from experiments.core import Runner, tables
 from experiments.core.fire import fire_jobs
 from experiments.core.io import ROOT
 
+from .conftest import sound
+
 pytestmark = pytest.mark.full
 THRESHOLDS = json.loads((ROOT / "results" / "thresholds.json").read_text())
 CASES = [(base, engine) for base, spec in THRESHOLDS["baselines"].items()
@@ -54,12 +56,7 @@ def test_agreement_does_not_regress_and_the_baseline_is_what_the_code_produces(b
     else:
         rtol, atol = 1e-11, 1e-12
     np.testing.assert_allclose(rows.v1_engine_mps, committed.v1_engine_mps, rtol=rtol, atol=atol)
-    # ok, or still touching at the budget where the rigid bodies are too (e = 0 near the COM)
-    still_on = (rows.status == "no_separation") & (rows.rigid_end == "time_limit")
-    # a compliant contact beyond its law's single contact is unjudged (experiments.core.judge)
-    beyond_law = (rows.status == "unjudged") & rows.v1_law_mps.notna()
-    assert ((rows.status == "ok") | still_on | beyond_law).all(), \
-        rows.status.value_counts().to_dict()
+    assert sound(rows).all(), rows.status.value_counts().to_dict()
     rows = rows[rows.status == "ok"]
     allowed = spec["engines"][engine]["max_abs_err_mps"]
     worst = rows[spec["engines"][engine].get("error_column", "v1_abs_err_mps")].max()

@@ -6,9 +6,10 @@ and a few more until free flight proves the bodies apart; a hinged swing adds it
 The step cost is the engine record's ``step_cost_s`` (measured by ``experiments.bench_engines``);
 each step adds the harness's own ``STEP_OVERHEAD_S`` and each impact its ``OVERHEAD_S``. A
 batched engine steps each run of jobs that share a scene together, for as many steps as the
-longest of them takes, each step costing ``step_cost_s`` plus ``world_step_cost_s`` per world. The
-estimate is for warning a user before hours of work, not a benchmark: it is good to a factor of
-a few.
+longest of them takes, each step costing ``step_cost_s`` plus ``world_step_cost_s`` per world, and
+each new batch size its ``start_s`` (compiling). An impact the engine cannot fire (a swing on an
+engine that cannot drive the bat) costs the harness's overhead only. The estimate is for warning
+a user before hours of work, not a benchmark: it is good to a factor of a few.
 """
 
 from __future__ import annotations
@@ -69,12 +70,16 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
         contact = sum(contact_s(j.case, j.settings) for j in sample) / len(sample)
         rec = adapters.record(name)
         cost = rec.step_cost_s + STEP_OVERHEAD_S
-        if rec.world_step_cost_s is None:
+        if not rec.drives_bat and mine[0].swing is not None:  # unsupported: nothing stepped
+            out[name] = len(mine) * OVERHEAD_S
+        elif rec.world_step_cost_s is None:
             out[name] = sum(impact_steps(j, contact) * cost + OVERHEAD_S for j in mine)
         else:
-            out[name] = sum(max(impact_steps(j, contact) for j in run)
-                            * (cost + len(run) * rec.world_step_cost_s) + len(run) * OVERHEAD_S
-                            for run in runs(mine))
+            batches = runs(mine)
+            out[name] = rec.start_s * len({(run[0].settings, len(run)) for run in batches}) \
+                + sum(max(impact_steps(j, contact) for j in run)
+                      * (cost + len(run) * rec.world_step_cost_s) + len(run) * OVERHEAD_S
+                      for run in batches)
     return out
 
 
