@@ -21,9 +21,10 @@ from experiments.findings import answers as A
 from experiments.findings import carry as C
 from experiments.findings import carry_text as T
 
-#: One worker runs them all: they share the carries the module's functions cache (a worker each
-#: would compute most of them again).
-pytestmark = pytest.mark.xdist_group("carry")
+#: In the full tier (a minute of flights and frictional impulses; the fast tier checks the
+#: numbers the findings quote, test_findings_claims), on one worker: they share the carries the
+#: module's functions cache (a worker each would compute most of them again).
+pytestmark = [pytest.mark.full, pytest.mark.xdist_group("carry")]
 #: Routh's impulse is integrated to RTOL 1e-13 and a flight to rtol 1e-10 (analytic.friction,
 #: analytic.flight): 1e-8 relative leaves two orders to spare for both.
 TOL_REL = 1e-8
