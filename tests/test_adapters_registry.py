@@ -164,3 +164,16 @@ def test_plugin_may_not_shadow_a_builtin(tmp_path, monkeypatch):
 def test_register_refuses_a_taken_name():
     with pytest.raises(adapters.PluginConflict, match="is registered already"):
         adapters.register(adapters.record(ENGINES[0]))
+
+
+def test_collecting_the_tests_loads_no_engine():
+    # the suite's collection reads records only (conftest's tiers and groups, parametrize over
+    # adapters.names()): no engine package or adapter module is imported before a test runs
+    watched = sorted({adapters.record(n).import_name.split(".")[0] for n in ENGINES}
+                     | {adapters.record(n).adapter.split(":")[0] for n in ENGINES})
+    res = _run("import sys, pytest\n"
+               "code = pytest.main(['--collect-only', '-q', '-p', 'no:cacheprovider', "
+               "'-p', 'no:xdist', 'tests'])\n"
+               f"print(code, [m for m in {watched!r} if m in sys.modules])")
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip().splitlines()[-1] == "0 []", res.stdout[-2000:]

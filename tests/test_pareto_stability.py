@@ -15,6 +15,9 @@ import adapters
 from experiments import pareto, stability
 from experiments.core import Status
 
+#: The stability map's tests share one worker (its map over every engine takes two minutes).
+STABILITY = pytest.mark.xdist_group("stability")
+
 
 @pytest.fixture(scope="module")
 def stability_out(tmp_path_factory):
@@ -24,6 +27,7 @@ def stability_out(tmp_path_factory):
 
 
 @pytest.mark.full
+@STABILITY
 def test_stability_outputs(stability_out):
     names = {p.name for p in stability_out.iterdir()}
     soft = {f"stability_{n}_soft.png" for n in adapters.names()
@@ -41,6 +45,7 @@ def test_stability_outputs(stability_out):
 
 
 @pytest.mark.full
+@STABILITY
 def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
     # The bound is a rigid contact's, first seen at one depth and resolved in that step; a
     # compliant one takes many steps, and a coarse step may miss it between readings.
@@ -59,6 +64,7 @@ def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
 
 
 @pytest.mark.full
+@STABILITY
 def test_hunt_crossley_map_is_judged_against_its_law(stability_out):
     # A Hunt-Crossley contact's map (dt x closing speed) is judged against its own law: with
     # several readings per contact (dt below a tenth of t_c, ~1.2 ms here) every phase is ok.
@@ -71,6 +77,7 @@ def test_hunt_crossley_map_is_judged_against_its_law(stability_out):
 
 
 @pytest.mark.full
+@STABILITY
 def test_soft_contact_sinks_through_below_v_over_r(stability_out):
     # An undamped-ish spring lets the ball sink v/w deep: through the bat when w < v/R.
     rows = pd.read_csv(stability_out / "stability.csv")
@@ -100,7 +107,7 @@ def test_out_of_the_box_catches_no_more_than_the_tunnelling_bound(tmp_path):
     # engine, and every knob row names a setting that differs between the two profiles.
     from experiments import defaults
 
-    assert defaults.main(["--phases", "8", "--out", str(tmp_path), "--name", "d"]) == 0
+    assert defaults.main(["--phases", "4", "--out", str(tmp_path), "--name", "d"]) == 0
     caught = pd.read_csv(tmp_path / "d" / "defaults_caught.csv")
     assert set(caught.engine) == set(adapters.names())
     assert (caught.ok <= caught.theory_ok).all(), caught
