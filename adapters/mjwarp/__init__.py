@@ -19,11 +19,12 @@ changes decides the rest (measured with mujoco-warp 4.0.0, warp-lang 1.19.0, on 
   0.9999, 0.115 m/s at 0.9999 with R x 0.1).
 - ``put_model`` raises the solver tolerance to at least 1e-6 (a float32 solve); the adapter
   writes the settings' tolerance back into the device model.
-- On the CPU the solver's iterations are a host loop (no graph conditional) that ends when
-  every world has converged: at tolerance 0 a world with a constraint runs them all (a hinged
-  step: 8.3 ms with 100 iterations, 3.4 ms with 10). Any step costs about 2.5 ms at one world:
-  Python launches ~100 kernels, and the collision driver calls a Warp function from Python
-  per geom-type pair.
+- The solver's iterations are a ``capture_while`` that ends when every world has converged: at
+  tolerance 0 a world with a constraint runs them all. Launched from Python a step costs
+  2.5-18 ms on the CPU at one world (hundreds of kernel launches; a hinged step 8.3 ms with
+  100 iterations, 3.4 ms with 10), so the adapter records one step with Warp's graph capture
+  (CPU graphs since Warp 1.13) and replays it: about 0.06 ms at one world, the same bits (the
+  baselines reproduce to 1e-11).
 - Contacts of every world share one list (``Contact.worldid``, ``nacon``); at margin 0 only
   overlapping pairs are written. Overflows and the solver's iteration limits are per-world bits
   (``Data.overflow``); a state that blows up stays non-finite (no reset, unlike MuJoCo C).
@@ -141,7 +142,7 @@ RECORD = EngineRecord(
     friction_rule_overrides=NATIVE_FRICTION,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=3e-3, world_step_cost_s=1e-5, start_s=0.5,
+    step_cost_s=6e-5, world_step_cost_s=2e-5, start_s=0.5,
     label="MuJoCo Warp",
     twin_of="mujoco",
     twin_steps=TWIN_STEPS,

@@ -30,7 +30,7 @@ import numpy as np
 from ..mjx._port_chain import host_chain, read_through, segment_rows
 from ..segmented import ChainEngine, ChainScene
 from . import RECORD
-from .adapter import LOST, _device, mjw, wp
+from .adapter import LOST, CapturedStep, _device, mjw, wp
 
 
 class MjwarpChain(ChainEngine):
@@ -49,6 +49,7 @@ class MjwarpChain(ChainEngine):
             self.model.opt.warn_overflow = 0
             # one contact row per touching segment (condim 1): at most every segment
             self.data = mjw.make_data(m, nworld=1, nconmax=self.n, njmax=self.n)
+        self._step = CapturedStep(self.model, self.data, self._dev)
 
     def mass_properties(self) -> np.ndarray:
         mw = self.model
@@ -64,8 +65,7 @@ class MjwarpChain(ChainEngine):
             arr.zero_()
 
     def step(self) -> None:
-        with wp.ScopedDevice(self._dev):
-            mjw.step(self.model, self.data)
+        self._step()
 
     def read(self) -> tuple[np.ndarray, np.ndarray]:
         return read_through(self._host, self.data.qpos.numpy(), self.data.qvel.numpy())
