@@ -151,10 +151,11 @@ FINDINGS_ENGINES = (cheapest(False), "toyengine")
 
 @pytest.fixture(scope="session")
 def findings_run(tmp_path_factory, toy_site) -> Path:
-    """``python -m experiments.findings`` once per test run (its model sections take about a
-    minute), over the cheapest single-world engine and the toy plug-in: the directory it
-    wrote. Tests that read it share the xdist group "findings" (one worker runs it)."""
+    """``python -m experiments.findings --workers 2`` once per test run (its model sections
+    take about a minute), over the cheapest single-world engine and the toy plug-in: the
+    directory it wrote. Tests that read it share the xdist group "findings" (one worker runs it)."""
     out = tmp_path_factory.mktemp("findings")
     run_command(["-m", "experiments.findings", "--engine", ",".join(FINDINGS_ENGINES),
-                 "--out", str(out), "--name", "f"], env={"PYTHONPATH": str(toy_site)})
+                 "--workers", "2", "--out", str(out), "--name", "f"],
+                env={"PYTHONPATH": str(toy_site)})
     return out / "f"

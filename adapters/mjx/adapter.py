@@ -10,6 +10,7 @@ value (dt, solref, the hands) compiles nothing.
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import os
 from collections.abc import Sequence
@@ -23,7 +24,7 @@ from ..frames import in_plane, mujoco_coordinates, mujoco_rows
 from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene
 from ..mujoco.model import port_model
 from ..record import import_engine
-from . import COLLISIONS, INTEGRATORS, RECORD, RECORD_64
+from . import INTEGRATORS, RECORD, RECORD_64
 
 # XLA's CPU runtime, with its concurrency-optimised scheduler, never returned from the second
 # step of 512 or more worlds on a 2-core machine (jaxlib 0.10.2: every thread idle, the caller
@@ -93,19 +94,36 @@ def _collision(kind: str):
         yield
 
 
-def _traced(kind: str):
-    """The jitted, vmapped step whose collision routine is ``kind`` (traced with it)."""
+@functools.lru_cache(maxsize=32)
+def _traced(kind: str, model_def, data_def):
+    """The jitted, vmapped step whose collision routine is ``kind`` (traced with it), over the
+    model's and the data's leaves. Passing MJX's Model itself to a jitted function flattens it
+    and compares its static numpy fields on every call: 40% of a step at a few worlds."""
 
-    def advance(m, d, bad):
+    def advance(m_leaves, d_leaves, bad):
+        m = jax.tree_util.tree_unflatten(model_def, m_leaves)
+        d = jax.tree_util.tree_unflatten(data_def, d_leaves)
         with _collision(kind):
-            return _advance(m, d, bad)
+            d, row, touching, bad = jax.vmap(_advance, in_axes=(None, 0, 0))(m, d, bad)
+        return jax.tree_util.tree_leaves(d), row, touching, bad
 
-    return jax.jit(jax.vmap(advance, in_axes=(None, 0, 0)))
-
-
-_ADVANCE = {kind: _traced(kind) for kind in COLLISIONS}
+    return jax.jit(advance)
 #: The x64 mode of the last JAX call made here (``MjxEngine._scope``), None before the first.
 _LAST_X64: list[bool | None] = [None]
+
+
+class _Flat:
+    """A model and data as the jitted step takes them: the model's leaves, the data's
+    structure, the step traced for them, the data's leaves as last stepped (None once
+    unflattened back into the data) and where its qpos and qvel lie among them."""
+
+    def __init__(self, model, data, collision: str) -> None:
+        self.m_leaves, m_def = jax.tree_util.tree_flatten(model)
+        paths, self.d_def = jax.tree_util.tree_flatten_with_path(data)
+        names = [jax.tree_util.keystr(path) for path, _ in paths]
+        self.qpos_at, self.qvel_at = names.index(".qpos"), names.index(".qvel")
+        self.advance = _traced(collision, m_def, self.d_def)
+        self.d_leaves = None
 
 
 class MjxEngine(BatchedEngine):
@@ -255,19 +273,48 @@ class MjxEngine(BatchedEngine):
         d = jax.devices()[0]
         return f"{d.platform}: {d.device_kind}"
 
+    @property
+    def model(self):
+        return self._model
+
+    @model.setter
+    def model(self, value) -> None:
+        self._model, self._flat = value, None
+
+    @property
+    def data(self):
+        if self._flat is not None and self._flat.d_leaves is not None:  # stepped since
+            self._data = jax.tree_util.tree_unflatten(self._flat.d_def, self._flat.d_leaves)
+            self._flat.d_leaves = None
+        return self._data
+
+    @data.setter
+    def data(self, value) -> None:
+        self._data, self._flat = value, None
+
     def step(self) -> None:
         with self._scope():
-            advance = _ADVANCE[self.settings.collision]
-            self.data, self._row, self._touching, self._bad = advance(self.model, self.data,
-                                                                      self._bad)
+            if self._flat is None:
+                self._flat = _Flat(self._model, self._data, self.settings.collision)
+            f = self._flat
+            if f.d_leaves is None:  # the data as last set or read
+                f.d_leaves = jax.tree_util.tree_leaves(self._data)
+            f.d_leaves, self._row, self._touching, self._bad = f.advance(f.m_leaves, f.d_leaves,
+                                                                         self._bad)
             self._stepped = True
+
+    def _coordinates(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every world's qpos and qvel (from the stepped leaves, not unflattening the data)."""
+        f = self._flat
+        if f is not None and f.d_leaves is not None:
+            return np.array(f.d_leaves[f.qpos_at], float), np.array(f.d_leaves[f.qvel_at], float)
+        return np.array(self._data.qpos, dtype=float), np.array(self._data.qvel, dtype=float)
 
     def read(self) -> np.ndarray:
         row = np.array(self._row, dtype=float)[: self.n]
         if self._stepped:  # the yaw of a row turned about z alone as MJX computed it
-            d = self.data
-            row = mujoco_rows(np.array(d.qpos, dtype=float)[: self.n],
-                              np.array(d.qvel, dtype=float)[: self.n], self._planar[: self.n],
+            qpos, qvel = self._coordinates()
+            row = mujoco_rows(qpos[: self.n], qvel[: self.n], self._planar[: self.n],
                               angle_rad=row[:, 7])
         shift = self._shift[: self.n]
         row[:, [0, 1]] += shift
