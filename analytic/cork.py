@@ -13,6 +13,14 @@ from dataclasses import dataclass, replace
 from . import checks
 from .model import Bat
 
+#: Any fill, from none (hollow) to the densest element, osmium at 22.59 g/cm^3 (CRC Handbook
+#: of Chemistry and Physics): past it a "fill" is no material.
+MAX_FILL_KGM3 = 22_590.0
+#: Woods, from balsa (about 100 kg/m^3) to lignum vitae (about 1,300), dry (USDA Forest
+#: Products Laboratory, Wood Handbook, FPL-GTR-190, 2010, ch. 5); bat woods (ash, maple,
+#: birch) lie at 600-750.
+WOOD_KGM3 = (100.0, 1_400.0)
+
 
 @dataclass(frozen=True, kw_only=True)
 class Hole:
@@ -27,8 +35,8 @@ class Hole:
         """Raise ValueError if the hole is not a finite, non-negative, fitting cylinder."""
         checks.in_range("hole_radius_m", self.radius_m, 0.0, bat.radius_m, lo_open=True)
         checks.in_range("hole_depth_m", self.depth_m, 0.0, bat.length_m, lo_open=True)
-        checks.non_negative("fill_density_kgm3", self.fill_density_kgm3)
-        checks.non_negative("wood_density_kgm3", self.wood_density_kgm3)
+        checks.in_range("fill_density_kgm3", self.fill_density_kgm3, 0.0, MAX_FILL_KGM3)
+        checks.in_range("wood_density_kgm3", self.wood_density_kgm3, *WOOD_KGM3)
 
     @property
     def volume_m3(self) -> float:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 import time
 from collections.abc import Callable, Mapping
@@ -72,11 +73,8 @@ def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked
                      motion] + ([] if e == DEFAULT_E else [f"e{e:g}"]))
 
 
-#: Largest grid: beyond it a sweep is an accident (the message gives what it would cost).
+#: Largest grid: beyond it a sweep is an accident.
 MAX_POINTS = 10_000
-#: Rough cost of one impact (s) and of one table row (bytes), for that message.
-IMPACT_S = {"plain": 60e-6, "swing": 0.05}
-ROW_BYTES = 2_000
 #: Runs estimated to take longer say so before they start.
 LONG_RUN_S = 60.0
 
@@ -122,7 +120,7 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar="S", help="override the profile's time step (s)")
     p.add_argument("--bat", choices=list(presets.BATS), default="r161")
     _add_cork(p)
-    p.add_argument("--points", type=cli.integer(2, 10**12), default=41,
+    p.add_argument("--points", type=cli.integer(2, MAX_POINTS), default=41,
                    help=f"impact points over the hittable length (2..{MAX_POINTS})")
     p.add_argument("--s-range", type=num(), nargs=2, default=None, metavar=("MIN", "MAX"),
                    help="part of the bat to sweep, m from the COM (default: all of it)")
@@ -175,12 +173,6 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
         raise ValueError(f"--law {args.law} without --reference compliant does nothing; "
                          "allowed: add --reference compliant, or leave --law out")
     law = (args.law or "ball") if args.reference == "compliant" else None
-    if args.points > MAX_POINTS:
-        per = IMPACT_S["swing" if args.swing else "plain"] * len(args.engine)
-        raise ValueError(
-            f"--points {args.points} is too many: about {duration(args.points * per)} and "
-            f"{args.points * len(args.engine) * ROW_BYTES / 1e6:.3g} MB; allowed: "
-            f"2..{MAX_POINTS} ({MAX_POINTS} take about {duration(MAX_POINTS * per)})")
     s = tables.grid(bat, args.points, *(args.s_range or (None, None)))
     swing, u0 = _swing(args, bat)
     # the pitch's backspin lifts it: about -x for a ball coming along -y (impact frame)
@@ -193,9 +185,14 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     settings = {n: adapters.settings_for(n, args.profile, **dt) for n in args.engine}
     need = max(min_dt_s(c, st) for c in cases for st in settings.values())
     if not all(st.dt_s > need for st in settings.values()):
-        raise ValueError(f"--dt {args.dt:g} is too small to place these impacts (the contact, "
-                         "first seen overlap_m deep after approach_steps steps, would start "
-                         f"inside the bat); allowed: --dt > {need:.3g} s")
+        step = (f"--dt {args.dt:g} s" if args.dt is not None else
+                f"the {args.profile} profile's step ({min(st.dt_s for st in settings.values()):g}"
+                " s)")
+        slowest = min(c.closing_speed_mps for c in cases)
+        raise ValueError(f"{step} is too small to place these impacts: at a closing speed of "
+                         f"{slowest:.3g} m/s the contact, first seen overlap_m deep after "
+                         "approach_steps steps, would start inside the bat; allowed: --dt > "
+                         f"{need:.3g} s, or a faster impact (--v0, --u0, --omega0)")
     name = default_name(runs.engine_label(args.engine), args.profile, args.dt,
                         presets.BATS[args.bat], args.corked, args.u0 == 0 and args.omega0 == 0,
                         args.swing, args.e) + (f"_{law}" if law else "")
@@ -203,6 +200,24 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
                                              ("spin", args.spin)) if v)
     return Sweep(engines=args.engine, profile=args.profile, dt_s=args.dt, firing=firing,
                  name=name, law=law, settings=settings, flight=args.flight)
+
+
+#: The analytic records' field names and the options that set them.
+OPTION_OF = {"s_min": "--s-range MIN", "s_max": "--s-range MAX", "s_m": "s",
+             "undercut_m": "--undercut", "v0_mps": "--v0", "u0_mps": "--u0",
+             "omega0_radps": "--omega0", "theta_rad": "--theta", "mu": "--friction",
+             "hole_radius_m": "--hole-radius", "hole_depth_m": "--hole-depth",
+             "fill_density_kgm3": "--fill-density", "wood_density_kgm3": "--wood-density",
+             "hands_from_knob_m": "--hands", "spin_radps": "--spin"}
+
+
+def in_options(message: str) -> str:
+    """An analytic record's complaint in the options' names (a closing speed: the options that
+    set it)."""
+    out = re.sub(r"\b(" + "|".join(OPTION_OF) + r")\b", lambda m: OPTION_OF[m[1]], message)
+    if "closing speed" in out and "--v0" not in out:
+        out += " (the closing speed comes from --v0, --u0, --omega0, --theta and --s-range)"
+    return out
 
 
 def _bat(args: argparse.Namespace) -> Bat:
@@ -229,6 +244,9 @@ def _swing(args: argparse.Namespace, bat: Bat) -> tuple[HingedSwing | None, floa
                             if args.swing else "on the bat)"))
     if not args.swing:
         return None, args.u0
+    if args.u0 != presets.PAPER_SWING.u0_mps:
+        raise ValueError(f"--u0 {args.u0!r} with --swing does nothing (the swing sets u0 = "
+                         "omega0 x the hands-to-COM distance); allowed: leave --u0 out")
     if args.theta != 0.0:
         raise ValueError(f"--swing with --theta {args.theta!r}: not supported; allowed: "
                          "--theta 0 with --swing")
@@ -355,6 +373,12 @@ def main(argv: list[str] | None = None) -> int:
     if args.compare:
         from .compare import check_table, compare_tables
 
+        others = [t for t in (sys.argv[1:] if argv is None else argv)
+                  if t.startswith("--") and t.split("=", 1)[0] != "--compare"]
+        if others:
+            parser.error(f"--compare with {others[0]}: a comparison runs nothing; allowed: "
+                         "--compare OLD NEW alone")
+
         for path in args.compare:
             try:
                 check_table(path)
@@ -365,7 +389,7 @@ def main(argv: list[str] | None = None) -> int:
         sweep = sweep_from_args(args)
         cost = check_cost(sweep, args.budget_h)
     except ValueError as err:
-        parser.error(str(err))
+        parser.error(in_options(str(err)))
     target = runs.run_dir(parser, args, "sweep")
     if cost > LONG_RUN_S:
         print(f"estimated: about {duration(cost)}", file=sys.stderr)

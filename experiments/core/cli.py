@@ -33,20 +33,36 @@ import adapters
 
 from . import fire
 from . import runner as _runner
-from .runs import RESULTS, RUNS, Progress, publish, run_dir, shown
+from .runs import RESULTS, RUNS, Progress, publish, quiet_error, run_dir, shown
 
 MAX_WORKERS = 64
+#: The longest file name most file systems take (bytes).
+NAME_MAX = 255
 STEM = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._=+,-]{0,99}$")
 
 
 class Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (exit 2) and negative numbers accepted as values."""
+    """argparse with one-line errors (exit 2), negative numbers accepted as values, each option
+    spelled out (no abbreviations) and given at most once, and BATSIM_QUIET checked."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, allow_abbrev=False, **kwargs)
 
     def error(self, message: str):  # noqa: D102 - argparse's hook
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
 
     def parse_args(self, args=None, namespace=None):  # noqa: D102
-        return super().parse_args(_join_negative_values(self, args), namespace)
+        argv = _join_negative_values(self, args)
+        for action in self._actions:
+            given = [t for t in argv if t.split("=", 1)[0] in action.option_strings]
+            if len(given) > 1 and action.dest != "help":
+                self.error(f"{action.option_strings[-1]} given {len(given)} times "
+                           f"({', '.join(given)}); allowed: once (several engines or checks: "
+                           "one comma-separated list)")
+        parsed = super().parse_args(argv, namespace)
+        if (complaint := quiet_error()) is not None:
+            self.error(complaint)
+        return parsed
 
 
 def _join_negative_values(parser: argparse.ArgumentParser, argv):
@@ -90,8 +106,10 @@ def number(lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False
         if not ok:
             low = f"> {lo:g}" if lo_open else f">= {lo:g}"
             span = low if hi == math.inf else f"{low} and <= {hi:g}"
-            raise argparse.ArgumentTypeError(f"{text!r} is not allowed; allowed: a number "
-                                             f"{span}{' ' + unit if unit else ''}")
+            span = "" if (lo, hi) == (-math.inf, math.inf) else span
+            raise argparse.ArgumentTypeError(f"{text!r} is not allowed; allowed: a finite "
+                                             f"number {span}{' ' + unit if unit else ''}"
+                                             .replace("  ", " ").rstrip())
         return x
     return parse
 
@@ -142,7 +160,18 @@ def stem_arg(value: str) -> str:
 def directory_arg(value: str) -> Path:
     """A directory that exists or can be made, writable (tried, not assumed: a root user's
     os.access says yes to /proc), outside results/."""
-    path = Path(value).expanduser().resolve()
+    if not value.strip():
+        raise argparse.ArgumentTypeError("'' is not a directory; allowed: a directory's path "
+                                         "(default runs/)")
+    try:
+        path = Path(value).expanduser().resolve()
+    except (RuntimeError, OSError) as err:  # ~nosuchuser, a loop of links
+        raise argparse.ArgumentTypeError(f"{value!r} cannot be resolved ({err}); allowed: a "
+                                         "directory's path") from None
+    long = [part for part in path.parts if len(part.encode()) > NAME_MAX]
+    if long:
+        raise argparse.ArgumentTypeError(f"{value!r}: a name of {len(long[0].encode())} bytes; "
+                                         f"allowed: names of at most {NAME_MAX} bytes")
     if path == RESULTS or RESULTS in path.parents:
         raise argparse.ArgumentTypeError(
             f"{value!r} is inside results/, which only `python -m experiments.baselines` "
@@ -156,8 +185,8 @@ def directory_arg(value: str) -> Path:
         shutil.rmtree(tempfile.mkdtemp(dir=probe, prefix=".batsim-probe-"))
     except OSError as err:
         raise argparse.ArgumentTypeError(
-            f"{value!r}: {probe} is not writable ({err.strerror or type(err).__name__}); "
-            "allowed: a directory you can write to") from None
+            f"{value!r}: cannot create files in {probe} ({err.strerror or type(err).__name__})"
+            "; allowed: a directory you can write to") from None
     return path
 
 

@@ -208,12 +208,40 @@ def _dask_client(scheduler: str, workers: int):
 
 
 def connect(address: str, timeout_s: float = CONNECT_TIMEOUT_S):
-    """A Client of the Dask scheduler at ``address``; OSError (one line) if it does not answer
-    within ``timeout_s``."""
+    """A Client of the Dask scheduler at ``address``; OSError (one line) unless a Dask scheduler
+    there answers a handshake within ``timeout_s`` (a silent listener or another service is
+    refused, not waited on)."""
     from dask.distributed import Client
 
+    handshake(address, timeout_s)
     try:
         return Client(address, timeout=timeout_s)
     except (OSError, TimeoutError) as err:
         raise OSError(f"no Dask scheduler answered at {address} within {timeout_s:g} s "
                       f"({type(err).__name__})") from None
+
+
+def handshake(address: str, timeout_s: float) -> None:
+    """Ask whatever listens at ``address`` who it is (Dask's ``identity``), within ``timeout_s``
+    all told; OSError unless a Dask scheduler answers."""
+    import asyncio
+
+    from distributed.comm import connect as open_comm
+
+    async def ask() -> object:
+        comm = await open_comm(address, timeout=timeout_s)
+        try:
+            await comm.write({"op": "identity"})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    try:
+        reply = asyncio.run(asyncio.wait_for(ask(), timeout_s))
+    except TimeoutError:
+        raise OSError(f"nothing answered at {address} within {timeout_s:g} s") from None
+    except Exception as err:  # noqa: BLE001 - a foreign service's bytes can fail any way
+        raise OSError(f"no Dask scheduler answered at {address} "
+                      f"({type(err).__name__})") from None
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        raise OSError(f"{address} answered, but not as a Dask scheduler")

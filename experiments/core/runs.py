@@ -116,9 +116,24 @@ def shown(path: Path) -> str:
     return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
 
 
+#: BATSIM_QUIET's values (any case, spaces around ignored): whether progress is silenced.
+QUIET_VALUES = {"1": True, "true": True, "yes": True, "0": False, "false": False, "no": False,
+                "": False}
+
+
 def quiet() -> bool:
-    """No progress output (BATSIM_QUIET=1, as the tests set)."""
-    return os.environ.get("BATSIM_QUIET", "") not in ("", "0")
+    """No progress output (BATSIM_QUIET=1, as the tests set); an unknown value, which every
+    command refuses first (``quiet_error``), counts as not quiet."""
+    return QUIET_VALUES.get(os.environ.get("BATSIM_QUIET", "").strip().lower(), False)
+
+
+def quiet_error() -> str | None:
+    """The one-line complaint about BATSIM_QUIET's value, or None if it is allowed."""
+    raw = os.environ.get("BATSIM_QUIET", "")
+    if raw.strip().lower() in QUIET_VALUES:
+        return None
+    return (f"BATSIM_QUIET={raw!r} is not allowed; allowed: 1, true or yes (no progress), "
+            "0, false, no or empty (progress)")
 
 
 class Progress:
