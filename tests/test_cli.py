@@ -235,6 +235,7 @@ def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(name, tmp_p
     err = "".join(seen) + err
     assert proc.returncode == 130, (name, err[-2000:])
     assert "interrupted" in err
+    assert "Traceback" not in err and "Exception ignored" not in err, err[-2000:]
     assert {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()} == kept
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
 

@@ -14,6 +14,7 @@ import pytest
 import adapters
 from analytic import flight
 from experiments import friction, sweep
+from experiments.core import runs
 from experiments.core.io import ROOT
 
 #: A single-world engine whose rigid contact has friction and no declared defect, taken from
@@ -26,7 +27,7 @@ EXACT = next(n for n in adapters.names() if adapters.record(n).friction_rule is 
 
 @pytest.mark.parametrize("args,piece", [
     (["--friction", "-0.1"], "--friction"),
-    (["--friction", "0.5", "--undercut", "0.2"], "undercut_m=0.2 is out of range"),
+    (["--friction", "0.5", "--undercut", "0.2"], "--undercut=0.2 is out of range"),
     (["--spin", "nan"], "--spin"),
 ])
 def test_bad_contact_options_exit_2_naming_them(args, piece, tmp_path):
@@ -68,7 +69,7 @@ def test_friction_study_files_and_summary(tmp_path):
     assert friction.main(["--engine", EXACT, "--quick", "--out", str(tmp_path), "--name",
                           "s"]) == 0
     names = {p.name for p in (tmp_path / "s").iterdir()}
-    assert names == {"friction.csv", "friction.json", "friction.png"}
+    assert names == {"friction.csv", "friction.json", "friction.png", runs.MANIFEST}
     summary = json.loads((tmp_path / "s" / "friction.json").read_text())["summary"]
     assert summary[0]["engine"] == EXACT and summary[0]["spin_cost_cells"] == []
     t = pd.read_csv(tmp_path / "s" / "friction.csv")

@@ -13,7 +13,7 @@ import pytest
 import adapters
 from analytic import presets
 from experiments import compare, sweep, sweep_chart
-from experiments.core import Runner, tables
+from experiments.core import Runner, runs, tables
 from experiments.core.io import ROOT
 
 from .conftest import cheapest
@@ -41,7 +41,7 @@ def test_outputs_are_written_and_reproducible(tmp_path):
     pd.testing.assert_frame_equal(a, b, check_exact=True)
     assert list(a.columns) == [c for c in tables.COLUMNS if c not in tables.TIMING_COLUMNS]
     assert {p.name for p in (tmp_path / "a").iterdir()} == {"sweep.csv", "sweep.json",
-                                                             "sweep.png"}
+                                                             "sweep.png", runs.MANIFEST}
     assert compare.compare_tables(tmp_path / "a" / "sweep.csv", tmp_path / "b" / "sweep.csv") == 0
 
 

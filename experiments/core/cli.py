@@ -17,6 +17,7 @@ A study is a ``Command``: its name, the options it adds, and ``produce(args) -> 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import re
 import shutil
@@ -25,13 +26,14 @@ import sys
 import tempfile
 import threading
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import adapters
 
-from . import fire
+from . import fire, runs
 from . import runner as _runner
 from .runs import RESULTS, RUNS, Progress, publish, quiet_error, run_dir, shown
 
@@ -240,13 +242,38 @@ def main_guard(run: Callable[[], int]) -> int:
     if in_main:
         signal.signal(signal.SIGINT, _on_sigint)
     try:
-        return run()
+        with library_messages_kept():
+            return run()
     except KeyboardInterrupt:
         print("interrupted: nothing written, earlier results left as they were", file=sys.stderr)
         return 130
     finally:
         if in_main:
             signal.signal(signal.SIGINT, previous)
+
+
+@contextlib.contextmanager
+def library_messages_kept():
+    """Libraries' warnings and the errors raised inside engine callbacks (which Python would
+    print as "Exception ignored ...", a Ctrl-C's included) go to the run's manifest
+    (``runs.library_messages``), not to the user's terminal."""
+    hook = sys.unraisablehook
+
+    def keep(unraisable) -> None:
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):  # the flag stops the run
+            runs.UNRAISABLE.append(f"{type(unraisable.exc_value).__name__} in "
+                                   f"{unraisable.object!r}: {unraisable.exc_value}")
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        runs.UNRAISABLE.clear()
+        runs.WARNINGS = caught
+        sys.unraisablehook = keep
+        try:
+            yield
+        finally:
+            sys.unraisablehook = hook
+            runs.WARNINGS = []
 
 
 def _on_sigint(signum, frame) -> None:

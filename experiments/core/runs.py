@@ -21,6 +21,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from filelock import FileLock, Timeout
+
 import adapters
 
 from .io import ROOT, make_public
@@ -70,27 +72,97 @@ def run_name(p: argparse.ArgumentParser, args: argparse.Namespace, experiment: s
 
 
 def run_dir(p: argparse.ArgumentParser, args: argparse.Namespace, experiment: str) -> Path:
-    """Where this run's files go (not created yet). An explicit --name that exists is an error
-    without --force; a default name that exists gets the first free .2, .3 ... suffix."""
+    """Where this run's files go (not created yet), held for this process until it publishes
+    (``reserve``). An explicit --name that exists is an error without --force, and --force
+    replaces only a run (a directory with its MANIFEST); a default name that exists or that
+    another run is writing gets the first free .2, .3 ... suffix. Temporary directories of
+    runs that died are swept first."""
+    sweep_stale(args.out)
     if args.name is not None:
         target = args.out / args.name
         if target.exists() and not args.force:
             p.error(f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
                     "another --name")
+        if target.exists() and not (target / MANIFEST).is_file():
+            p.error(f"--force --name {args.name!r}: {target} is not a run (no {MANIFEST}); "
+                    "allowed: another --name (--force replaces only a run)")
+        if not reserve(target):
+            p.error(f"--name {args.name!r}: another run is writing {target} now; allowed: "
+                    "another --name, or wait for it")
         return target
     base = args.out / run_name(p, args, experiment)
-    if args.force or not base.exists():
+    if args.force and (not base.exists() or (base / MANIFEST).is_file()) and reserve(base):
         return base
-    n = 2
-    while (args.out / f"{base.name}.{n}").exists():
+    n = 1
+    while True:
+        target = base if n == 1 else args.out / f"{base.name}.{n}"
+        if not target.exists() and reserve(target):
+            return target
         n += 1
-    return args.out / f"{base.name}.{n}"
+
+
+#: Each run directory holds this file: the command, its files' digests, what libraries said.
+MANIFEST = "run.json"
+#: The locks this process holds on the run directories it will write (target -> lock).
+_HELD: dict[Path, FileLock] = {}
+_TMP = re.compile(r"^\.(?P<name>.+)\.(?:[A-Za-z0-9_]{8}\.tmp|old-\d+)$")
+
+
+def _lock(target: Path) -> FileLock:
+    """The lock on a run directory: a file in the system's temporary directory, named by the
+    directory's path (nothing added beside the runs)."""
+    key = hashlib.sha1(str(target.resolve()).encode()).hexdigest()[:16]
+    folder = Path(tempfile.gettempdir()) / "batsim-locks"
+    folder.mkdir(exist_ok=True)
+    return FileLock(folder / f"{key}.lock")
+
+
+def reserve(target: Path) -> bool:
+    """Hold ``target`` for this process (False if another live process holds it). The lock
+    goes with the process: a run that dies, even killed, holds nothing."""
+    if target in _HELD:
+        return True
+    lock = _lock(target)
+    try:
+        lock.acquire(timeout=0)
+    except Timeout:
+        return False
+    _HELD[target] = lock
+    return True
+
+
+def release(target: Path) -> None:
+    """Give up ``target`` (after publishing it)."""
+    lock = _HELD.pop(target, None)
+    if lock is not None:
+        lock.release()
+
+
+def sweep_stale(out: Path) -> None:
+    """Remove the temporary directories (``.<run>.<random>.tmp``, ``.<run>.old-<pid>``) that
+    runs which died left in ``out``: those whose run no live process holds."""
+    if not out.is_dir():
+        return
+    for path in out.iterdir():
+        m = _TMP.match(path.name)
+        if m is None or not path.is_dir():
+            continue
+        target = out / m["name"]
+        if reserve(target):
+            if path.name.startswith(f".{m['name']}.old-") and not target.exists():
+                os.replace(path, target)  # died between its two renames: the old run is back
+            else:
+                shutil.rmtree(path, ignore_errors=True)
+            release(target)
 
 
 def publish(target: Path, files: dict[str, bytes]) -> Path:
-    """Write a run's files into ``target`` as a whole: all of them into a new directory beside
-    it, then renamed into place (an existing run there is replaced only after that)."""
+    """Write a run's files into ``target`` as a whole: all of them (and the MANIFEST) into a
+    new directory beside it, then renamed into place (an existing run there is replaced only
+    after that); ``target`` is released."""
     target.parent.mkdir(parents=True, exist_ok=True)
+    reserve(target)
+    files = {**files, MANIFEST: manifest(files)}
     tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp"))
     old = None
     try:
@@ -106,9 +178,37 @@ def publish(target: Path, files: dict[str, bytes]) -> Path:
         if old is not None and not target.exists():
             os.replace(old, target)
         raise
+    finally:
+        release(target)
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
     return target
+
+
+def manifest(files: dict[str, bytes]) -> bytes:
+    """The run's MANIFEST: the command line, each file's SHA-256, and what libraries said while
+    it ran (warnings, errors raised inside engine callbacks: ``core.cli.main_guard``)."""
+    import datetime
+
+    return json.dumps({
+        "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]),
+        "date_utc": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "files": {name: hashlib.sha256(data).hexdigest() for name, data in sorted(files.items())},
+        "library_messages": library_messages(),
+    }, indent=1).encode()
+
+
+#: Errors raised inside engine callbacks and the warnings caught during this run
+#: (``core.cli.library_messages_kept`` fills them).
+UNRAISABLE: list[str] = []
+WARNINGS: list = []
+
+
+def library_messages() -> list[str]:
+    """What libraries said during this run, each message once."""
+    said = [f"{w.category.__name__}: {w.message} ({Path(w.filename).name}:{w.lineno})"
+            for w in WARNINGS]
+    return list(dict.fromkeys([*UNRAISABLE, *said]))
 
 
 def shown(path: Path) -> str:

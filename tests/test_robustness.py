@@ -1,0 +1,161 @@
+"""What users type and do to a run: overlapping runs, --force, dead runs' leftovers, a scheduler
+address that is not a scheduler, libraries' messages. Each is an exact behaviour of
+experiments.core.runs / cli / runner, checked through the command a user runs."""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import threading
+import time
+import warnings
+
+import pytest
+
+from experiments import sweep
+from experiments.core import cli, runner, runs
+from experiments.core.io import ROOT
+
+from .conftest import cheapest
+
+ENGINE = cheapest(batched=False)
+SWEEP = [sys.executable, "-m", "experiments.sweep", "--engine", ENGINE, "--points", "3",
+         "--no-locate"]
+
+
+def _sweep(*args: str, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run([*SWEEP, *args], cwd=ROOT, capture_output=True, text=True,
+                          env={**os.environ, "BATSIM_QUIET": "1"}, **kw)
+
+
+def test_two_identical_runs_at_once_keep_both_results(tmp_path):
+    # Started together into one --out, with the same default name: each holds the name it
+    # picked (runs.reserve) until it has published, so they land in distinct folders.
+    procs = [subprocess.Popen([*SWEEP, "--out", str(tmp_path)], cwd=ROOT, text=True,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              env={**os.environ, "BATSIM_QUIET": "1"}) for _ in range(2)]
+    outs = [p.communicate(timeout=120) for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], outs
+    folders = sorted(p.name for p in tmp_path.iterdir())
+    assert folders == [f"sweep-engine={ENGINE}_points=3_no_locate",
+                       f"sweep-engine={ENGINE}_points=3_no_locate.2"]
+    for folder in folders:  # every file whole, as its manifest's digests say
+        listed = json.loads((tmp_path / folder / runs.MANIFEST).read_text())["files"]
+        assert set(listed) == {"sweep.csv", "sweep.json", "sweep.png"}
+
+
+def test_a_name_another_run_holds_is_refused(tmp_path):
+    target = tmp_path / "same"
+    assert runs.reserve(target)  # this process plays the first run, still working
+    try:
+        res = _sweep("--out", str(tmp_path), "--name", "same")
+    finally:
+        runs.release(target)
+    assert res.returncode == 2 and "another run is writing" in res.stderr, res.stderr
+    assert not target.exists()
+
+
+@pytest.mark.parametrize("kind", ["foreign folder", "plain file"])
+def test_force_replaces_only_a_run(tmp_path, kind):
+    target = tmp_path / "mine"
+    if kind == "plain file":
+        target.write_text("notes")
+    else:
+        target.mkdir()
+        (target / "thesis.tex").write_text("notes")
+    res = _sweep("--out", str(tmp_path), "--name", "mine", "--force")
+    assert res.returncode == 2, res.stderr
+    assert ("is not a run" in res.stderr) or ("is a file" in res.stderr), res.stderr
+    assert (target.read_text() if kind == "plain file"
+            else (target / "thesis.tex").read_text()) == "notes"
+    assert _sweep("--out", str(tmp_path), "--name", "run").returncode == 0
+    assert _sweep("--out", str(tmp_path), "--name", "run", "--force").returncode == 0
+
+
+def test_a_killed_runs_temporary_folder_is_swept_and_its_old_run_restored(tmp_path):
+    # Left by runs that died: a half-written new run (.<name>.<8 chars>.tmp) and, killed
+    # between publish's two renames, the previous run moved aside (.<name>.old-<pid>) with
+    # nothing in its place. The next run in that folder sweeps the first and puts the
+    # second back.
+    (tmp_path / ".a.abcd1234.tmp").mkdir()
+    (tmp_path / ".a.abcd1234.tmp" / "sweep.csv").write_text("half")
+    (tmp_path / ".b.old-99999").mkdir()
+    (tmp_path / ".b.old-99999" / "sweep.csv").write_text("previous")
+    assert _sweep("--out", str(tmp_path), "--name", "c").returncode == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b", "c"]
+    assert (tmp_path / "b" / "sweep.csv").read_text() == "previous"
+
+
+def _listener(reply: bytes | None) -> tuple[socket.socket, int]:
+    """A local TCP server that accepts and then says ``reply`` (None: nothing) and waits."""
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(4)
+
+    def serve() -> None:
+        conns = []
+        while True:
+            try:
+                conn, _ = srv.accept()
+            except OSError:
+                return
+            conns.append(conn)
+            if reply:
+                conn.sendall(reply)
+
+    threading.Thread(target=serve, daemon=True).start()
+    return srv, srv.getsockname()[1]
+
+
+@pytest.mark.parametrize("reply", [None, b"SSH-2.0-OpenSSH_9.2\r\n" + b"\xff" * 64],
+                         ids=["silent", "foreign banner"])
+def test_a_scheduler_address_that_is_no_scheduler_is_refused_in_seconds(reply, capsys):
+    srv, port = _listener(reply)
+    t0 = time.perf_counter()
+    try:
+        with pytest.raises(SystemExit) as exit_:
+            sweep.main(["--engine", ENGINE, "--scheduler", f"tcp://127.0.0.1:{port}"])
+    finally:
+        srv.close()
+    err = capsys.readouterr().err
+    assert exit_.value.code == 2 and err.count("\n") == 1 and "--scheduler" in err, err
+    assert time.perf_counter() - t0 < runner.CONNECT_TIMEOUT_S + 5.0
+
+
+def test_library_messages_go_to_the_manifest_not_the_terminal(capsys):
+    # A warning and an error raised where Python can only report it (a callback, a __del__)
+    # during a run: kept for the run's manifest, nothing printed.
+    class Noisy:
+        def __del__(self):
+            raise RuntimeError("from a callback")
+
+    with cli.library_messages_kept():
+        warnings.warn("overflow in exp", RuntimeWarning, stacklevel=1)
+        Noisy()
+        said = runs.library_messages()
+        manifest = json.loads(runs.manifest({"a.csv": b"x"}))
+    assert capsys.readouterr().err == ""
+    assert any("RuntimeWarning: overflow in exp" in m for m in said), said
+    assert any("RuntimeError" in m and "from a callback" in m for m in said), said
+    assert manifest["library_messages"] == said
+    assert manifest["files"]["a.csv"] == \
+        "2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881"  # sha256 of b"x"
+
+
+@pytest.mark.parametrize("value,quiet", [("1", True), ("TRUE", True), ("yes", True),
+                                         ("0", False), ("false", False), ("No", False),
+                                         ("", False)])
+def test_batsim_quiet_values(monkeypatch, value, quiet):
+    monkeypatch.setenv("BATSIM_QUIET", value)
+    assert runs.quiet() is quiet and runs.quiet_error() is None
+
+
+@pytest.mark.parametrize("value", ["00", "off", "2", "quiet"])
+def test_batsim_quiet_refuses_other_values(value):
+    res = subprocess.run([*SWEEP], cwd=ROOT, capture_output=True, text=True,
+                         env={**os.environ, "BATSIM_QUIET": value})
+    assert res.returncode == 2 and f"BATSIM_QUIET={value!r}" in res.stderr, res.stderr
+    assert "Traceback" not in res.stderr
