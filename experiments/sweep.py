@@ -255,9 +255,18 @@ def _swing(args: argparse.Namespace, bat: Bat) -> tuple[HingedSwing | None, floa
     return swing, args.omega0 * swing.arm_m(bat)
 
 
-def check_cost(sweep: Sweep, budget_h: float) -> float:
-    """The run's estimated wall time (s, ``core.estimate``); ValueError if over ``budget_h``."""
+def check_cost(sweep: Sweep, budget_h: float, locate: bool = True) -> float:
+    """The run's estimated wall time (s, ``core.estimate``: the impacts, then with ``locate``
+    the searches for each engine's sweet spot and COP); ValueError if over ``budget_h``."""
     per_engine = estimate.run_s(sweep.jobs())
+    if locate:  # a search near each analytic mark on the bat, per engine
+        marks = tables.analytic_marks(sweep.firing)
+        at = [s for s in (marks["sweet_spot_m"], marks["cop_m"]) if math.isfinite(s)
+              and sweep.firing.bat.s_min_m <= s <= sweep.firing.bat.s_max_m]
+        near = [Job(engine=n, settings=sweep.settings[n], case=sweep.firing.case(s),
+                    swing=sweep.firing.swing) for n in sweep.engines for s in at]
+        for name, search_s in estimate.search_s(near).items():
+            per_engine[name] += search_s
     total = sum(per_engine.values())
     if total > budget_h * 3600.0:
         worst = max(per_engine, key=per_engine.get)
@@ -349,10 +358,17 @@ def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
         if bracket is not None:
             calls.append((tables.locate_cop, (name, settings[name], firing, bracket)))
             keys.append((name, "cop_engine_m"))
-    # a bounded Brent search takes ~10-25 simulations of about the grid's median cost
-    estimate = 25 * len(calls) * float(table.wall_s.median())
-    pending = runner.submit_all(calls, estimate, engines=[k[0] for k in keys])
-    return lambda: dict(zip(keys, pending()))
+    cost = estimate.SEARCH_SIMULATIONS * len(calls) * float(table.wall_s.median())
+    if not calls:
+        return lambda: {}
+    searches = runs.Progress(len(calls), "sweet spot and COP searches", unit="searches")
+    pending = runner.submit_all(calls, cost, engines=[k[0] for k in keys], progress=searches)
+
+    def wait() -> dict:
+        with searches:
+            return dict(zip(keys, pending()))
+
+    return wait
 
 
 def files(table: pd.DataFrame, meta: dict, sweep: Sweep, stem: str = "sweep") -> dict[str, bytes]:
@@ -387,7 +403,7 @@ def main(argv: list[str] | None = None) -> int:
         return compare_tables(*args.compare)
     try:
         sweep = sweep_from_args(args)
-        cost = check_cost(sweep, args.budget_h)
+        cost = check_cost(sweep, args.budget_h, locate=not args.no_locate)
     except ValueError as err:
         parser.error(in_options(str(err)))
     target = runs.run_dir(parser, args, "sweep")

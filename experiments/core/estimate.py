@@ -33,6 +33,9 @@ STEP_OVERHEAD_S = 1e-5
 AFTER_CONTACT_STEPS = 3
 #: Impacts per engine whose episodes are integrated to estimate the contact's length.
 SAMPLES = 5
+#: Simulations one search for a mark (the sweet spot, the COP) fires one after another: a
+#: bounded Brent search's, or a batched engine's grid refinements (``core.tables``).
+SEARCH_SIMULATIONS = 25
 
 
 def contact_s(case: ImpactCase, settings: adapters.Settings) -> float:
@@ -81,6 +84,20 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
                       * (cost + len(run) * rec.world_step_cost_s) + len(run) * OVERHEAD_S
                       for run in batches)
     return out
+
+
+def search_s(jobs: Sequence[Job]) -> dict[str, float]:
+    """Estimated wall time (s) of searching for a mark (the sweet spot, the COP) near each of
+    ``jobs``, on its engine's own data: SEARCH_SIMULATIONS simulations like the job each (a
+    batched engine compiles for them once), per engine."""
+    out: dict[str, float] = defaultdict(float)
+    for job in jobs:
+        rec = adapters.record(job.engine)
+        start = rec.start_s if rec.batched else 0.0
+        if job.engine not in out:
+            out[job.engine] = start
+        out[job.engine] += SEARCH_SIMULATIONS * (run_s([job])[job.engine] - start)
+    return dict(out)
 
 
 def duration(seconds: float) -> str:

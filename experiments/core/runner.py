@@ -110,22 +110,30 @@ class Runner:
         return self.submit_all(calls, engines=engines)()
 
     def submit_all(self, calls: Sequence[tuple[Callable, tuple]], estimate_s: float = math.inf,
-                   engines: Sequence[str] | None = None) -> Callable[[], list]:
+                   engines: Sequence[str] | None = None,
+                   progress: Callable[[int], None] | None = None) -> Callable[[], list]:
         """Start independent calls fn(*args) on the workers and return a function that waits
         for their results (in order); serially, or when their estimated total time is below
         ``min_parallel_s``, the calls run here when it is called. This process is free for
         other work meanwhile. ``engines`` names the engine each call fires: a batched engine's
-        calls run here, as its jobs do in ``fire``."""
+        calls run here, as its jobs do in ``fire``. ``progress(1)`` follows each call done."""
         calls = list(calls)
+        tick = progress or (lambda n: None)
+
+        def counted(results: Iterable) -> Iterable:
+            for r in results:
+                tick(1)
+                yield r
+
         here = [adapters.record(e).batched for e in engines] if engines else [False] * len(calls)
         there = [c for c, h in zip(calls, here) if not h]
         if not self.parallel or len(there) <= 1 or estimate_s < self.min_parallel_s:
-            return lambda: [_call(c) for c in calls]
+            return lambda: list(counted(_call(c) for c in calls))
         results = self._map_remote(_call, there)  # both backends submit everything at once
 
         def wait() -> list:
-            mine = iter([_call(c) for c, h in zip(calls, here) if h])
-            theirs = iter(results)
+            mine = iter(list(counted(_call(c) for c, h in zip(calls, here) if h)))
+            theirs = counted(results)
             return [next(mine) if h else next(theirs) for h in here]
 
         return wait
