@@ -159,3 +159,59 @@ def test_batsim_quiet_refuses_other_values(value):
                          env={**os.environ, "BATSIM_QUIET": value})
     assert res.returncode == 2 and f"BATSIM_QUIET={value!r}" in res.stderr, res.stderr
     assert "Traceback" not in res.stderr
+
+
+@pytest.fixture(scope="module")
+def sweep_csv(tmp_path_factory) -> str:
+    """A real sweep table's text (3 points of the cheapest engine)."""
+    out = tmp_path_factory.mktemp("cmp")
+    assert _sweep("--out", str(out), "--name", "t").returncode == 0
+    return (out / "t" / "sweep.csv").read_text()
+
+
+def _compare(tmp_path, old: str, new: str) -> subprocess.CompletedProcess:
+    (tmp_path / "old.csv").write_text(old)
+    (tmp_path / "new.csv").write_text(new)
+    return subprocess.run([sys.executable, "-m", "experiments.compare", str(tmp_path / "old.csv"),
+                           str(tmp_path / "new.csv")], cwd=ROOT, capture_output=True, text=True)
+
+
+def _edit_v1(text: str, value: str) -> str:
+    """The table with the first row's v1_engine_mps set to ``value``."""
+    head, first, *rest = text.splitlines()
+    col = head.split(",").index("v1_engine_mps")
+    cells = first.split(",")
+    cells[col] = value
+    return "\n".join([head, ",".join(cells), *rest]) + "\n"
+
+
+@pytest.mark.parametrize("change", ["nan", "blank", "duplicated"])
+def test_compare_counts_every_damage_as_a_change(tmp_path, sweep_csv, change):
+    lines = sweep_csv.splitlines(keepends=True)
+    new = {"nan": lambda: _edit_v1(sweep_csv, "nan"), "blank": lambda: _edit_v1(sweep_csv, ""),
+           "duplicated": lambda: sweep_csv + lines[-1]}[change]()
+    res = _compare(tmp_path, sweep_csv, new)
+    assert res.returncode == 1, res.stdout + res.stderr
+    assert "no change apart from timing" not in res.stdout
+    assert _compare(tmp_path, sweep_csv, sweep_csv).returncode == 0
+
+
+@pytest.mark.parametrize("damage", ["binary", "extra field", "truncated", "text in s_m",
+                                    "text in v1 err"])
+def test_compare_refuses_a_malformed_table_in_one_line(tmp_path, sweep_csv, damage):
+    head, first, *rest = sweep_csv.splitlines()
+    cols = head.split(",")
+
+    def with_cell(name: str) -> str:
+        cells = first.split(",")
+        cells[cols.index(name)] = "abc"
+        return "\n".join([head, ",".join(cells), *rest]) + "\n"
+
+    bad = {"binary": lambda: head + "\n" + "\x00\xff\xfe garbage \x01\n",
+           "extra field": lambda: "\n".join([head, first + ",1,2", *rest]) + "\n",
+           "truncated": lambda: sweep_csv[: len(sweep_csv) - len(rest[-1]) // 2],
+           "text in s_m": lambda: with_cell("s_m"),
+           "text in v1 err": lambda: with_cell("v1_abs_err_mps")}[damage]()
+    res = _compare(tmp_path, sweep_csv, bad)
+    assert res.returncode == 2, res.stdout + res.stderr
+    assert res.stderr.count("\n") == 1 and "Traceback" not in res.stderr, res.stderr
