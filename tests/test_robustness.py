@@ -215,3 +215,24 @@ def test_compare_refuses_a_malformed_table_in_one_line(tmp_path, sweep_csv, dama
     res = _compare(tmp_path, sweep_csv, bad)
     assert res.returncode == 2, res.stdout + res.stderr
     assert res.stderr.count("\n") == 1 and "Traceback" not in res.stderr, res.stderr
+
+
+@pytest.mark.parametrize("damage", ["junk csv", "truncated json"])
+def test_report_on_a_damaged_results_directory_says_which_file(tmp_path, damage):
+    # A copy of results/ with one file damaged: the report is written, the sections that read
+    # the file say it is damaged, and stderr names it; no traceback.
+    import shutil
+
+    results = tmp_path / "results"
+    shutil.copytree(ROOT / "results", results)
+    name = {"junk csv": "sweep_all_reference_r161_swing.csv",
+            "truncated json": "defaults.json"}[damage]
+    text = (results / name).read_bytes()
+    (results / name).write_bytes(b"junk,\x00\xff\n1\n" if damage == "junk csv" else text[:100])
+    res = subprocess.run([sys.executable, "-m", "experiments.report", "--results", str(results),
+                          "--out", str(tmp_path / "out")], cwd=ROOT, capture_output=True,
+                         text=True, env={**os.environ, "BATSIM_QUIET": "1"})
+    assert res.returncode == 0 and "Traceback" not in res.stderr, res.stderr
+    assert "damaged" in res.stderr
+    (report,) = (tmp_path / "out").glob("*/report.md")
+    assert "a results file it reads is damaged" in report.read_text()

@@ -23,7 +23,7 @@ from pathlib import Path
 from ..core.cli import Command
 from ..core.runs import RESULTS
 from . import accuracy, dynamics, engines, failures, friction, performance, questions, sweeps
-from .base import Missing, Results
+from .base import Damaged, Missing, Results
 
 TITLE = "# batsim results: what the engines do with a baseball bat"
 #: (heading, section writer), in the report's order.
@@ -55,6 +55,12 @@ def render(results_dir: Path) -> str:
         except Missing as missing:
             text = (f"*Not available: `{missing}` is not in the results; "
                     "`python -m experiments.baselines` writes it.*")
+        except (Damaged, KeyError, ValueError, TypeError, IndexError, AttributeError) as err:
+            # a file that parses but is not what baselines wrote lands here too
+            text = (f"*Not available: a results file it reads is damaged ({type(err).__name__}: "
+                    f"{err}); `python -m experiments.baselines` rewrites it.*")
+            print(f"report: {heading}: a results file is damaged ({type(err).__name__}: {err})",
+                  file=sys.stderr)
         contents.append(f"{len(contents) + 1}. [{heading}](#{anchor(heading)})")
         body.append(f"## {heading}\n\n{text.strip()}")
     head = [TITLE,

@@ -18,6 +18,10 @@ import pandas as pd
 import adapters
 
 
+class Damaged(Exception):
+    """A results file that cannot be read as what it should be (its name and why)."""
+
+
 class Missing(Exception):
     """A file a section needs is not in the results directory."""
 
@@ -37,12 +41,18 @@ class Results:
 
     def csv(self, name: str) -> pd.DataFrame:
         if name not in self._cache:
-            self._cache[name] = pd.read_csv(self.path(name))
+            try:
+                self._cache[name] = pd.read_csv(self.path(name))
+            except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as err:
+                raise Damaged(f"{name} ({type(err).__name__})") from None
         return self._cache[name].copy()
 
     def json(self, name: str) -> dict:
         if name not in self._cache:
-            self._cache[name] = json.loads(self.path(name).read_text())
+            try:
+                self._cache[name] = json.loads(self.path(name).read_text())
+            except (json.JSONDecodeError, UnicodeDecodeError) as err:
+                raise Damaged(f"{name} ({type(err).__name__})") from None
         return self._cache[name]
 
     def text(self, name: str) -> str:
