@@ -23,8 +23,10 @@ from .core.io import json_bytes, provenance
 
 
 def _options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--points", type=cli.integer(1, 10**8), default=1_000_000)
-    p.add_argument("--repeats", type=cli.integer(1, 1000), default=15)
+    p.add_argument("--points", type=cli.integer(1, 10**8), default=1_000_000,
+                   help="impacts per timed call (1..1e8, default 1e6)")
+    p.add_argument("--repeats", type=cli.integer(1, 1000), default=15,
+                   help="timed repeats, the median reported (1..1000, default 15)")
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Time the vectorized v1 over the grid; the JSON and a one-line summary."""

@@ -192,8 +192,10 @@ def _sizes(text: str) -> tuple[int, ...]:
 
 
 def _options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--repeats", type=cli.integer(1, 100), default=5)
-    p.add_argument("--points", type=cli.integer(2, 10_000), default=41)
+    p.add_argument("--repeats", type=cli.integer(1, 100), default=5,
+                   help="timed repeats per engine, the median reported (1..100, default 5)")
+    p.add_argument("--points", type=cli.integer(2, 10_000), default=41,
+                   help="impact points per timed sweep (2..10000, default 41)")
     p.add_argument("--batches", type=_sizes, default=throughput.SIZES, metavar="N[,N...]",
                    help="batch sizes of the throughput part (default 1,10,...,100000)")
     p.add_argument("--batch-budget", type=cli.number(0.0, lo_open=True), default=30.0,

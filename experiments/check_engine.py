@@ -28,7 +28,9 @@ def checks_arg(value: str) -> tuple[str, ...]:
 
 def build_parser() -> cli.Parser:
     p = cli.Parser(prog="python -m experiments.check_engine",
-                   description=__doc__.strip().splitlines()[0])
+                   description=cli.summary(__doc__),
+                   epilog="exit codes: 0 every check passed; 1 a check failed; 2 a bad option, "
+                          "refused before any work")
     cli.add_engine(p)
     p.add_argument("--check", type=checks_arg, default=None, metavar="NAME[,NAME...]",
                    help="only these checks (default: every one that applies to the engine)")

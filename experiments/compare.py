@@ -121,9 +121,11 @@ def _column_change(engine: str, df: pd.DataFrame, col: str, out) -> bool:
 def main(argv: list[str] | None = None) -> int:
     from .core.cli import Parser
 
-    p = Parser(prog="python -m experiments.compare", description=__doc__.splitlines()[0])
-    p.add_argument("old", type=Path)
-    p.add_argument("new", type=Path)
+    p = Parser(prog="python -m experiments.compare", description=__doc__.splitlines()[0],
+               epilog="exit codes: 0 nothing but timing changed; 1 something else changed; 2 a "
+                      "file that is not a sweep table")
+    p.add_argument("old", type=Path, help="the earlier sweep table (a run's sweep.csv)")
+    p.add_argument("new", type=Path, help="the later sweep table")
     args = p.parse_args(argv)
     for path in (args.old, args.new):
         try:

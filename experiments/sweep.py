@@ -111,14 +111,16 @@ def build_parser() -> argparse.ArgumentParser:
         prog="python -m experiments.sweep",
         description="Fire a ball along a bat in physics engines and compare with impact theory.",
         epilog=f"bats: {', '.join(presets.BATS)}. A run goes to runs/<name>/ (sweep.csv, "
-               "sweep.json, sweep.png); exit code 2 on bad input, before anything runs.",
+               "sweep.json, sweep.png, run.json). " + cli.EXIT_CODES
+               + "; with --compare: 0 nothing but timing changed, 1 something else did",
     )
     cli.add_engine(p)
     p.add_argument("--profile", choices=adapters.PROFILES, default="reference",
                    help="engine settings: tuned for fidelity, or the engine's own defaults")
     p.add_argument("--dt", type=num(0.0, 1.0, lo_open=True, unit="s"), default=None,
                    metavar="S", help="override the profile's time step (s)")
-    p.add_argument("--bat", choices=list(presets.BATS), default="r161")
+    p.add_argument("--bat", choices=list(presets.BATS), default="r161",
+                   help="the bat (default r161, the paper's wood bat)")
     _add_cork(p)
     p.add_argument("--points", type=cli.integer(2, MAX_POINTS), default=41,
                    help=f"impact points over the hittable length (2..{MAX_POINTS})")
@@ -129,7 +131,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--u0", type=num(-1e4, 1e4, unit="m/s"), default=swing.u0_mps,
                    metavar="MPS", help="bat COM speed")
     p.add_argument("--omega0", type=num(-1e5, 1e5, unit="rad/s"), default=swing.omega0_radps,
-                   metavar="RADPS")
+                   metavar="RADPS", help="bat angular speed about its COM (rad/s, -1e5..1e5)")
     p.add_argument("--e", type=num(0.0, 1.0), default=DEFAULT_E,
                    help="coefficient of restitution")
     p.add_argument("--theta", type=num(-1.5707, 1.5707, unit="rad"), default=0.0, metavar="RAD",
@@ -142,7 +144,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--hands", type=num(0.0, unit="m"), default=0.1, metavar="M",
                    help="hands (pivot) from the knob, for --swing and the COP")
     p.add_argument("--swing-angle", type=num(0.0, 2 * math.pi, lo_open=True, unit="rad"),
-                   default=math.pi / 2, metavar="RAD")
+                   default=math.pi / 2, metavar="RAD",
+                   help="with --swing: the angle the bat turns through before the impact (rad, "
+                        "0 < angle <= 2 pi, default pi/2)")
     p.add_argument("--budget-h", type=cli.number(0.0, lo_open=True, unit="h"), default=1.0,
                    metavar="HOURS", help="refuse a run estimated to take longer (default 1 h)")
     cli.add_runner(p)

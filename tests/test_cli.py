@@ -278,3 +278,20 @@ def test_engine_all_skips_a_missing_engine_and_runs_the_rest(tmp_path):
     assert f"skipped: {rec.install_hint}" in res.stderr
     others = [n for n in adapters.names() if not _needs(adapters.record(n), rec.import_name)]
     assert all(f"\n{n} " in res.stdout for n in others) and f"\n{rec.name} " not in res.stdout
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+def test_help_is_whole(command, capsys):
+    # The description is a whole sentence (not a docstring's first line cut mid-sentence), every
+    # option says what it is, and the exit codes are given.
+    with pytest.raises(SystemExit):
+        COMMANDS[command].main(["--help"])
+    text = capsys.readouterr().out
+    assert "exit codes: 0" in text
+    description = text.split("\n\n")[1]
+    assert description.rstrip().endswith((".", ")", "?")), description
+    options = text.split("options:", 1)[1].split("\n\n")[0].splitlines()
+    # an option line with no help text is alone on its line and the next line is another option
+    for line, after in zip(options, [*options[1:], ""]):
+        if line.startswith("  -") and "  " not in line.strip():
+            assert after.startswith(" " * 20) and not after.strip().startswith("-"), line

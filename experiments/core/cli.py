@@ -67,6 +67,16 @@ class Parser(argparse.ArgumentParser):
         return parsed
 
 
+#: What every command's exit code means (its --help ends with it).
+EXIT_CODES = ("exit codes: 0 done; 2 a bad option, refused before any work; 130 interrupted "
+              "(Ctrl-C), earlier files left as they were")
+
+
+def summary(doc: str) -> str:
+    """A docstring's first paragraph, in one line (a command's --help description)."""
+    return " ".join(doc.strip().split("\n\n")[0].split())
+
+
 def _join_negative_values(parser: argparse.ArgumentParser, argv):
     """['--dt', '-1e-5'] -> ['--dt=-1e-5'] for options taking one value: argparse would take
     '-1e-5' for an option (it only recognizes plain negative numbers like -1 or -0.5)."""
@@ -305,8 +315,8 @@ class Command:
 
     def parser(self) -> Parser:
         """The command's parser: its own options, then the shared ones."""
-        p = Parser(prog=f"python -m experiments.{self.name}",
-                   description=self.doc.strip().splitlines()[0])
+        p = Parser(prog=f"python -m experiments.{self.name}", description=summary(self.doc),
+                   epilog=EXIT_CODES)
         if self.quick:
             p.add_argument("--quick", action="store_true", help=self.quick)
         if self.options:
