@@ -423,7 +423,7 @@ def _run_and_publish(sweep: Sweep, args, parser, target: Path) -> int:
         table, meta = run(sweep, runner, locate=not args.no_locate, chart=True)
     meta["configuration"] = runs.configuration(parser, args)
     runs.publish(target, files(table, meta, sweep))
-    sweep_chart.print_summary(meta)
+    sweep_chart.print_summary(meta, table)
     if sweep.law:
         sweep_chart.print_compliant(table, sweep.law)
     print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> {runs.shown(target)}/")

@@ -143,8 +143,9 @@ def print_compliant(table: pd.DataFrame, law: str) -> None:
           f"{one.compliant_e.max():.3f}); the rest is the ball's COR at these speeds")
 
 
-def print_summary(meta: dict) -> None:
-    """Per engine: errors, statuses, sweet spot and COP from engine data vs analytic (mm)."""
+def print_summary(meta: dict, table: pd.DataFrame | None = None) -> None:
+    """Per engine: errors, statuses, sweet spot and COP from engine data vs analytic (mm); with
+    the ``table``, each status other than ok, counted, with the first such row's reason."""
     marks = meta["analytic"]
     print(f"{'engine':9} {'ok':>7} {'max |dv1| m/s':>14} {'median':>10} {'max rel':>9} "
           f"{'sweet spot mm':>18} {'COP mm':>18} {'us/impact':>9}")
@@ -161,3 +162,6 @@ def print_summary(meta: dict) -> None:
               f"{s['wall_per_impact_median_s'] * 1e6:>9.1f}")
     print(f"analytic: sweet spot {marks['sweet_spot_m'] * 1e3:.4f} mm, "
           f"COP {marks['cop_m'] * 1e3:.4f} mm from the COM")
+    if table is not None:
+        for (name, status), rows in table[table.status != "ok"].groupby(["engine", "status"]):
+            print(f"{name}: {len(rows)} {status} ({rows.episode_end.iloc[0]})")

@@ -236,3 +236,21 @@ def test_report_on_a_damaged_results_directory_says_which_file(tmp_path, damage)
     assert "damaged" in res.stderr
     (report,) = (tmp_path / "out").glob("*/report.md")
     assert "a results file it reads is damaged" in report.read_text()
+
+
+def test_a_run_of_unsupported_impacts_says_why(tmp_path):
+    # An undercut leaves the swing plane: a planar engine cannot fire it. The run still ends
+    # (exit 0, every row 'unsupported') and its summary gives the reason, not just the count.
+    import adapters
+
+    planar = [n for n in adapters.available() if adapters.record(n).planar]
+    assert planar  # pymunk and Box2D are core and planar
+    res = _sweep_with(planar[0], "--undercut", "0.02", "--out", str(tmp_path))
+    assert res.returncode == 0, res.stderr
+    assert f"{planar[0]}: 3 unsupported (" in res.stdout and "plane" in res.stdout, res.stdout
+
+
+def _sweep_with(engine: str, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "experiments.sweep", "--engine", engine,
+                           "--points", "3", *args], cwd=ROOT, capture_output=True, text=True,
+                          env={**os.environ, "BATSIM_QUIET": "1"})
