@@ -54,7 +54,7 @@ def _check_widths(path: Path) -> None:
         rows = csv.reader(f)
         width = len(next(rows, []))
         for n, row in enumerate(rows, start=2):
-            if len(row) != width:
+            if row and len(row) != width:  # (pandas skips blank lines too)
                 raise ValueError(f"line {n} has {len(row)} fields, the header {width}")
 
 

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import re
 import sys
 import time
 from collections.abc import Callable, Mapping
@@ -26,7 +25,6 @@ import adapters
 from analytic import Bat, compliant, predict, presets
 from analytic.ball import LAWS
 from analytic.dynamics import HingedSwing
-from analytic.model import MAX_MU
 
 from . import sweep_chart
 from .core import carry, cli, estimate, judge, runs, tables
@@ -35,8 +33,11 @@ from .core.fire import Job
 from .core.io import json_bytes, provenance
 from .core.placement import min_dt_s
 from .core.runner import Runner
+from .sweep_options import DEFAULT_E, build_parser, in_options
 
 FLOAT_FORMAT = "%.12g"
+#: Runs estimated to take longer say so before they start.
+LONG_RUN_S = 60.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -60,10 +61,6 @@ class Sweep:
         return [j for n in self.engines for j in self.firing.jobs(n, self.settings[n])]
 
 
-#: The restitution of a sweep unless --e says otherwise (wood on a baseball).
-DEFAULT_E = presets.E_WOOD
-
-
 def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked: bool,
                  still: bool, hinged: bool = False, e: float = DEFAULT_E) -> str:
     """sweep_<engine|all>_<profile>[-dt<dt>]_<bat>[_corked]_<swing|still|hinged>[_e<e>]."""
@@ -71,99 +68,6 @@ def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked
     motion = "hinged" if hinged else "still" if still else "swing"
     return "_".join(["sweep", engine, prof, bat.name.split()[0] + ("_corked" if corked else ""),
                      motion] + ([] if e == DEFAULT_E else [f"e{e:g}"]))
-
-
-#: Largest grid: beyond it a sweep is an accident.
-MAX_POINTS = 10_000
-#: Runs estimated to take longer say so before they start.
-LONG_RUN_S = 60.0
-
-
-def _add_cork(p: argparse.ArgumentParser) -> None:
-    """--corked and the hole it drills."""
-    p.add_argument("--corked", action="store_true", help="drill and fill the barrel end")
-    for flag, metavar, text in (
-            ("--hole-radius", "M", "hole radius (m, default 0.0127)"),
-            ("--hole-depth", "M", "hole depth (m, default 0.254)"),
-            ("--fill-density", "KGM3", "cork 200 (default), rubber 1100, hollow 0"),
-            ("--wood-density", "KGM3", "wood density (kg/m^3, default 640)")):
-        p.add_argument(flag, type=cli.number(0.0), default=None, metavar=metavar,
-                       help=f"with --corked: {text}")
-
-
-def _add_contact(p: argparse.ArgumentParser) -> None:
-    """Friction, the third dimension and the flight (``analytic.friction``, ``core.carry``)."""
-    num = cli.number
-    p.add_argument("--friction", type=num(0.0, MAX_MU), default=0.0, metavar="MU",
-                   help="Coulomb friction between ball and bat (default 0: frictionless)")
-    p.add_argument("--undercut", type=num(unit="m"), default=0.0, metavar="M",
-                   help="ball centre above (+) or below the bat's axis, out of the swing plane")
-    p.add_argument("--spin", type=num(-1e4, 1e4, unit="rad/s"), default=0.0, metavar="RADPS",
-                   help="the pitch's backspin about the bat's axis (- : topspin)")
-    p.add_argument("--flight", action="store_true",
-                   help="add launch_*_deg, carry_*_m and hang_*_s per row (analytic, engine)")
-
-
-def build_parser() -> argparse.ArgumentParser:
-    swing, pitch = presets.PAPER_SWING, presets.PAPER_PITCH_MPS
-    num = cli.number
-    p = cli.Parser(
-        prog="python -m experiments.sweep",
-        description="Fire a ball along a bat in physics engines and compare with impact theory.",
-        epilog=f"bats: {', '.join(presets.BATS)}. A run goes to runs/<name>/ (sweep.csv, "
-               "sweep.json, sweep.png, run.json). " + cli.EXIT_CODES
-               + "; with --compare: 0 nothing but timing changed, 1 something else did",
-    )
-    cli.add_engine(p)
-    p.add_argument("--profile", choices=adapters.PROFILES, default="reference",
-                   help="engine settings: tuned for fidelity, or the engine's own defaults")
-    p.add_argument("--dt", type=num(0.0, 1.0, lo_open=True, unit="s"), default=None,
-                   metavar="S", help="override the profile's time step (s)")
-    p.add_argument("--bat", choices=list(presets.BATS), default="r161",
-                   help="the bat (default r161, the paper's wood bat)")
-    _add_cork(p)
-    p.add_argument("--points", type=cli.integer(2, MAX_POINTS), default=41,
-                   help=f"impact points over the hittable length (2..{MAX_POINTS})")
-    p.add_argument("--s-range", type=num(), nargs=2, default=None, metavar=("MIN", "MAX"),
-                   help="part of the bat to sweep, m from the COM (default: all of it)")
-    p.add_argument("--v0", type=num(0.0, 1e4, unit="m/s"), default=pitch, metavar="MPS",
-                   help="pitch speed")
-    p.add_argument("--u0", type=num(-1e4, 1e4, unit="m/s"), default=swing.u0_mps,
-                   metavar="MPS", help="bat COM speed")
-    p.add_argument("--omega0", type=num(-1e5, 1e5, unit="rad/s"), default=swing.omega0_radps,
-                   metavar="RADPS", help="bat angular speed about its COM (rad/s, -1e5..1e5)")
-    p.add_argument("--e", type=num(0.0, 1.0), default=DEFAULT_E,
-                   help="coefficient of restitution")
-    p.add_argument("--theta", type=num(-1.5707, 1.5707, unit="rad"), default=0.0, metavar="RAD",
-                   help="ball's angle to the contact normal")
-    _add_contact(p)
-    p.add_argument("--swing", action="store_true",
-                   help="swing the bat about the hands in the engine before each impact, with "
-                        "the constant torque that reaches --omega0 over --swing-angle; u0 is "
-                        "then omega0 times the hands-to-COM distance (--u0 is ignored)")
-    p.add_argument("--hands", type=num(0.0, unit="m"), default=0.1, metavar="M",
-                   help="hands (pivot) from the knob, for --swing and the COP")
-    p.add_argument("--swing-angle", type=num(0.0, 2 * math.pi, lo_open=True, unit="rad"),
-                   default=math.pi / 2, metavar="RAD",
-                   help="with --swing: the angle the bat turns through before the impact (rad, "
-                        "0 < angle <= 2 pi, default pi/2)")
-    p.add_argument("--budget-h", type=cli.number(0.0, lo_open=True, unit="h"), default=1.0,
-                   metavar="HOURS", help="refuse a run estimated to take longer (default 1 h)")
-    cli.add_runner(p)
-    cli.add_output(p)
-    p.add_argument("--reference", choices=("rigid", "compliant"), default="rigid",
-                   help="compliant: also predict every impact under a contact law (--law) and "
-                        "put it beside the rigid answer (columns v1_compliant_mps, "
-                        "compliant_contact_s, compliant_bat_turn_rad, ...; a curve on the chart)")
-    p.add_argument("--law", choices=tuple(LAWS), default=None,
-                   help="with --reference compliant: the contact law (default ball: a Hertz "
-                        "baseball whose COR follows the measured data, 0.7 ms at 40 m/s; "
-                        "hertz: the older one-dissipation law, its COR falling too steeply)")
-    p.add_argument("--no-locate", action="store_true",
-                   help="skip locating the sweet spot and COP from engine data")
-    p.add_argument("--compare", nargs=2, type=Path, metavar=("OLD", "NEW"),
-                   help="print what changed between two sweep tables, then exit")
-    return p
 
 
 HOLE = {"hole_radius": ("hole_radius_m", 0.0127), "hole_depth": ("hole_depth_m", 0.254),
@@ -204,24 +108,6 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
                                              ("spin", args.spin)) if v)
     return Sweep(engines=args.engine, profile=args.profile, dt_s=args.dt, firing=firing,
                  name=name, law=law, settings=settings, flight=args.flight)
-
-
-#: The analytic records' field names and the options that set them.
-OPTION_OF = {"s_min": "--s-range MIN", "s_max": "--s-range MAX", "s_m": "s",
-             "undercut_m": "--undercut", "v0_mps": "--v0", "u0_mps": "--u0",
-             "omega0_radps": "--omega0", "theta_rad": "--theta", "mu": "--friction",
-             "hole_radius_m": "--hole-radius", "hole_depth_m": "--hole-depth",
-             "fill_density_kgm3": "--fill-density", "wood_density_kgm3": "--wood-density",
-             "hands_from_knob_m": "--hands", "spin_radps": "--spin"}
-
-
-def in_options(message: str) -> str:
-    """An analytic record's complaint in the options' names (a closing speed: the options that
-    set it)."""
-    out = re.sub(r"\b(" + "|".join(OPTION_OF) + r")\b", lambda m: OPTION_OF[m[1]], message)
-    if "closing speed" in out and "--v0" not in out:
-        out += " (the closing speed comes from --v0, --u0, --omega0, --theta and --s-range)"
-    return out
 
 
 def _bat(args: argparse.Namespace) -> Bat:

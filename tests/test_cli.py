@@ -84,6 +84,12 @@ def _bad_sweeps(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
         ("sweep", ["--omega0", "1e9"], "--omega0"),
         ("sweep", ["--hands", "-1"], "--hands"),
         ("sweep", ["--v0", "0", "--u0", "0", "--omega0", "0"], "closing speed"),
+    ] + _bad_sweep_runs(tmp, a_file)
+
+
+def _bad_sweep_runs(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
+    """The sweep's runner, output and comparison options, and refusals that need the run."""
+    return [
         ("sweep", ["--workers", "0"], "--workers"),
         ("sweep", ["--workers", "1000"], "--workers"),
         ("sweep", ["--workers", "two"], "--workers"),
@@ -97,7 +103,7 @@ def _bad_sweeps(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
         ("sweep", ["--name", ".hidden"], "--name"),
         ("sweep", ["--name", "taken"], "exists; allowed: --force"),
         ("sweep", ["--compare", str(tmp / "no.csv"), str(tmp / "no.csv")], "is not a file"),
-        ("sweep", ["--compare", str(a_file), str(a_file)], "is not a sweep table"),
+        ("sweep", ["--compare", str(a_file), str(a_file)], "is not a CSV table"),
         ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.csv")] * 2],
          "not a sweep table"),
         ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.png")] * 2], "is not a"),
