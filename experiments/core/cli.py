@@ -275,7 +275,7 @@ def library_messages_kept():
                                    f"{unraisable.object!r}: {unraisable.exc_value}")
 
     with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+        warnings.simplefilter("default")  # each warning once per place: a hot loop adds none
         runs.UNRAISABLE.clear()
         runs.WARNINGS = caught
         sys.unraisablehook = keep
