@@ -26,8 +26,9 @@ SWEEP = [sys.executable, "-m", "experiments.sweep", "--engine", ENGINE, "--point
          "--no-locate"]
 
 
-def _sweep(*args: str, **kw) -> subprocess.CompletedProcess:
-    return subprocess.run([*SWEEP, *args], cwd=ROOT, capture_output=True, text=True,
+def _sweep(*args: str, engine: str = ENGINE, **kw) -> subprocess.CompletedProcess:
+    argv = [*SWEEP[:4], engine, *SWEEP[5:], *args]
+    return subprocess.run(argv, cwd=ROOT, capture_output=True, text=True,
                           env={**os.environ, "BATSIM_QUIET": "1"}, **kw)
 
 
@@ -245,12 +246,6 @@ def test_a_run_of_unsupported_impacts_says_why(tmp_path):
 
     planar = [n for n in adapters.available() if adapters.record(n).planar]
     assert planar  # pymunk and Box2D are core and planar
-    res = _sweep_with(planar[0], "--undercut", "0.02", "--out", str(tmp_path))
+    res = _sweep("--undercut", "0.02", "--out", str(tmp_path), engine=planar[0])
     assert res.returncode == 0, res.stderr
     assert f"{planar[0]}: 3 unsupported (" in res.stdout and "plane" in res.stdout, res.stdout
-
-
-def _sweep_with(engine: str, *args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "experiments.sweep", "--engine", engine,
-                           "--points", "3", *args], cwd=ROOT, capture_output=True, text=True,
-                          env={**os.environ, "BATSIM_QUIET": "1"})
