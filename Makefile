@@ -1,5 +1,6 @@
 # Two commands on a fresh machine: `make sweep` (the main job) and `make test` (ruff, then the
-# fast tier of the tests); `make test-all` runs every test (the fast tier and the full one).
+# fast tier of the tests); `make test-all` runs every test (the fast tier and the full one),
+# `make test-full` the full tier alone.
 # Each creates $(VENV) on first use (or anew if another Python made it) and installs the
 # project with the versions pinned in constraints.txt. Another Python:
 #   make test PYTHON=python3.13 VENV=.venv-3.13
@@ -10,7 +11,7 @@ STAMP := $(VENV)/.installed
 # the version of $(PYTHON), e.g. 3.11.7: a .venv made by another one is rebuilt
 PYVER := $(shell $(PYTHON) -c 'import platform; print(platform.python_version())' 2>/dev/null)
 
-.PHONY: test test-all sweep bench baselines lock clean check-python
+.PHONY: test test-all test-full sweep bench baselines lock clean check-python
 
 check-python:
 	@$(PYTHON) -c 'import sys; sys.exit(0 if (3, 11) <= sys.version_info[:2] <= (3, 13) else \
@@ -28,17 +29,24 @@ $(STAMP): pyproject.toml constraints.txt | check-python
 
 # The linter first (rules in pyproject.toml), then the tests on WORKERS processes (pytest-xdist;
 # a batched engine's tests share one, see tests/conftest.py), the slowest listed at the end.
-# TESTS: a part of the suite (paths, -k ...).
+# TESTS: a part of the suite (paths, -k ...); HYPOTHESIS: the hypothesis profile (fast or ci;
+# test-all and test-full use ci). test-full: the full tier alone (CI runs it beside make test
+# on another Python, so that each test runs once).
 TESTS ?=
 WORKERS ?= auto
+HYPOTHESIS ?= fast
 PYTEST = $(PY) -m pytest -q -n $(WORKERS) --dist loadgroup --durations=15
 test: check-python $(STAMP)
 	$(PY) -m ruff check .
-	$(PYTEST) -m "not full" $(TESTS)
+	$(PYTEST) --hypothesis-profile=$(HYPOTHESIS) -m "not full" $(TESTS)
 
 test-all: check-python $(STAMP)
 	$(PY) -m ruff check .
 	$(PYTEST) --hypothesis-profile=ci $(TESTS)
+
+test-full: check-python $(STAMP)
+	$(PY) -m ruff check .
+	$(PYTEST) --hypothesis-profile=ci -m full $(TESTS)
 
 sweep: check-python $(STAMP)
 	$(PY) -m experiments.sweep --engine mujoco

@@ -148,6 +148,7 @@ class Beam:
     def modes(self, count: int = 6) -> Modes:
         """The first ``count`` bending modes (rigid-body modes left out), mass-normalised."""
         hz, vec = self._eigen
+        checks.integer("count", count, 1, len(hz) - RIGID_MODES)
         # the rigid modes are the two lowest: a stiff beam's roundoff lifts their frequencies
         # to eps-sized shares of its highest mode's, which can pass any fixed threshold
         elastic = np.arange(RIGID_MODES, len(hz))[:count]
@@ -183,14 +184,17 @@ class Modes:
 
     def shape(self, x_m) -> np.ndarray:
         """Each mode's displacement at ``x_m`` (m from the knob): shape (modes, ...)."""
+        x_m = checks.array_in_range("x_m", x_m, 0.0, self.length_m)
         return np.array([s(x_m) for s in self._splines])
 
     def slope(self, x_m) -> np.ndarray:
         """Each mode's dw/dx at ``x_m``."""
+        x_m = checks.array_in_range("x_m", x_m, 0.0, self.length_m)
         return np.array([s(x_m, 1) for s in self._splines])
 
     def node_positions_m(self, mode: int = 0) -> np.ndarray:
         """Where mode ``mode`` (0: the first bending mode) does not move (m from the knob)."""
+        checks.integer("mode", mode, 0, len(self.frequencies_hz) - 1)
         grid = self.nodes_m
         w = self.shapes[mode]
         roots = [optimize.brentq(self._splines[mode], a, b, xtol=1e-12)
@@ -245,6 +249,7 @@ def fit_profile(bat: Bat, *, knob_radius_m: float, knob_length_m: float, handle_
 #: the handbook's 0.55-0.67 specific gravity of white ash). The modes are not fitted.
 def r161_profile(wood: Wood = ASH) -> tuple[Profile, Wood]:
     """The R161's fitted profile and ``wood`` at the fitted density."""
+    checks.instance("wood", wood, Wood)
     from .presets import R161
     return fit_profile(R161, knob_radius_m=0.0215, knob_length_m=0.012, handle_end_m=0.254,
                        barrel_radius_m=0.03175, taper_exponent=2.0, wood=wood)

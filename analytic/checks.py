@@ -19,6 +19,24 @@ def finite(name: str, value: float) -> float:
     return x
 
 
+def instance(name: str, value: object, kind: type) -> object:
+    """Return ``value`` if it is a ``kind``, else raise (a Bat passed as the ball would fail
+    far from here, or worse, give a number)."""
+    if not isinstance(value, kind):
+        shown = repr(value) if len(repr(value)) <= 40 else f"{repr(value)[:37]}..."
+        raise ValueError(f"{name}={shown} is a {type(value).__name__}; allowed: a "
+                         f"{kind.__name__}")
+    return value
+
+
+def choice(name: str, value: object, allowed) -> object:
+    """Return ``value`` if it is one of ``allowed``, else raise naming them."""
+    if not isinstance(value, str | int | float) or value not in allowed:
+        raise ValueError(f"{name}={value!r} is unknown; allowed: "
+                         f"{', '.join(map(str, allowed))}")
+    return value
+
+
 def in_range(
     name: str,
     value: float,

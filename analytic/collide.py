@@ -29,6 +29,7 @@ from dataclasses import astuple, dataclass, fields
 import numpy as np
 from scipy import integrate, optimize
 
+from . import checks
 from .model import ImpactCase, Outcome
 
 EPISODE_GAP_RADII = 1.0   #: the episode is over once the gap exceeds this many ball radii
@@ -103,6 +104,7 @@ def _free(y, dt):
 def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> CollisionEpisode:
     """The whole rigid impact episode for ``case``, followed for at most ``max_episode_s`` (s)
     (see the module docstring)."""
+    checks.instance("case", case, ImpactCase)
     bat, ball = case.bat, case.ball
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     reach = bat.radius_m + ball.radius_m

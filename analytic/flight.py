@@ -25,7 +25,7 @@ from scipy import integrate
 
 from . import checks, presets
 from .impulse3d import _vec3
-from .model import Ball
+from .model import MAX_SPIN_RADPS, Ball
 
 RPM_RADPS = 2.0 * math.pi / 60.0
 MPH_MPS = 0.44704
@@ -138,8 +138,8 @@ class Launch:
         checks.in_range("speed_mps", self.speed_mps, 0.0, 200.0, lo_open=True)
         checks.in_range("launch_rad", self.launch_rad, -math.pi / 2, math.pi / 2,
                         lo_open=True, hi_open=True)
-        checks.finite("backspin_radps", self.backspin_radps)
-        checks.finite("sidespin_radps", self.sidespin_radps)
+        checks.in_range("backspin_radps", self.backspin_radps, -MAX_SPIN_RADPS, MAX_SPIN_RADPS)
+        checks.in_range("sidespin_radps", self.sidespin_radps, -MAX_SPIN_RADPS, MAX_SPIN_RADPS)
         checks.in_range("height_m", self.height_m, 0.0, 100.0)
         checks.in_range("direction_rad", self.direction_rad, -math.pi, math.pi)
         if self.height_m == 0.0 and self.launch_rad <= 0.0:
@@ -237,7 +237,9 @@ def fly_vectors(position_m: ArrayLike, velocity_mps: ArrayLike, spin_radps: Arra
     ``spin_radps`` (3-vectors, field frame) down to the ground z = 0; ``samples`` points of it
     are kept. ``lateral_m`` is measured normal to the horizontal part of the velocity."""
     r0, v0 = _vec3("position_m", position_m), _vec3("velocity_mps", velocity_mps)
-    w0 = _vec3("spin_radps", spin_radps)
+    w0 = checks.array_in_range("spin_radps", _vec3("spin_radps", spin_radps), -MAX_SPIN_RADPS,
+                               MAX_SPIN_RADPS)
+    checks.instance("ball", ball, Ball)
     checks.in_range("position_m[2]", r0[2], 0.0, 1e3)
     checks.positive("g_mps2", g_mps2)
     checks.in_range("rtol", rtol, 1e-13, 1e-3)
@@ -271,6 +273,7 @@ def fly(launch: Launch, *, ball: Ball = presets.BASEBALL, aero: Aerodynamics = N
         air: Air = Air(), g_mps2: float = G_MPS2, rtol: float = 1e-10,
         samples: int = 101) -> Flight:
     """The flight of a batted ball from its contact point (at x = y = 0) to the ground."""
+    checks.instance("launch", launch, Launch)
     return fly_vectors([0.0, 0.0, launch.height_m], launch.velocity_mps(), launch.spin_radps(),
                        ball=ball, aero=aero, air=air, g_mps2=g_mps2, rtol=rtol, samples=samples)
 

@@ -355,8 +355,9 @@ def predict_friction(case, *, hypothesis: str = "energetic",
     diag(I_axial, J, J) about the COM; the contact normal tilts by ``case.tilt_rad`` out of the
     plane. ``law`` one of LAWS: Routh's integration (``frictional_impulse``), or the law an
     impulse engine solves in one step (``one_step_impulse``), relaxed or not."""
-    if law not in LAWS:
-        raise ValueError(f"law={law!r} is unknown; allowed: {', '.join(LAWS)}")
+    from .model import ImpactCase
+    checks.instance("case", case, ImpactCase)
+    checks.choice("law", law, LAWS)
     bat, ball = case.bat, case.ball
     tilt = case.tilt_rad
     n = np.array([0.0, math.cos(tilt), math.sin(tilt)])

@@ -8,13 +8,13 @@ Every function here is closed form; the vectorized ones broadcast over numpy arr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from . import checks
-from .model import Ball, Bat, ImpactCase, Outcome
+from .model import MAX_OMEGA_RADPS, MAX_SPEED_MPS, Ball, Bat, ImpactCase, Outcome
 
 
 def _normal_impulse(m: float, M: float, J: float, s, closing, e):
@@ -33,6 +33,7 @@ def predict(case: ImpactCase) -> Outcome:
     v0 sin(theta) and u0 sin(phi) are unchanged. The hand point at x_h moves along y with
     u + omega (x_h - x_cm), so its change is  dv_h = -P (1/M + s (x_h - x_cm)/J).
     """
+    checks.instance("case", case, ImpactCase)
     bat, ball = case.bat, case.ball
     m, M, J, s = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2, case.s_m
     vc = case.closing_speed_mps
@@ -60,6 +61,20 @@ def predict(case: ImpactCase) -> Outcome:
         v1_t_mps=v_t,
         u1_t_mps=u_t,
     )
+
+
+def _speeds(v0_mps: ArrayLike, u0_mps: ArrayLike, omega0_radps: ArrayLike):
+    """v0, u0 and omega0 as arrays, each within the range an ImpactCase accepts."""
+    return (checks.array_in_range("v0_mps", v0_mps, 0.0, MAX_SPEED_MPS),
+            checks.array_in_range("u0_mps", u0_mps, -MAX_SPEED_MPS, MAX_SPEED_MPS),
+            checks.array_in_range("omega0_radps", omega0_radps, -MAX_OMEGA_RADPS,
+                                  MAX_OMEGA_RADPS))
+
+
+def _bodies(bat: Bat, ball: Ball) -> None:
+    """Refuse anything but a Bat and a Ball, named, before any arithmetic on them."""
+    checks.instance("bat", bat, Bat)
+    checks.instance("ball", ball, Ball)
 
 
 def batted_ball_speed(
@@ -101,13 +116,12 @@ def predict_arrays(
     v1_mps, u1_mps, omega1_radps, impulse_ns and hand_dv_mps (same formulas, vectorized), for
     tables of many impacts. Raises ValueError if any point is off the bat, any value out of
     range, or any pair does not approach (closing speed <= 0)."""
+    _bodies(bat, ball)
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     s = checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
-    v0n = checks.array_in_range("v0_mps", v0_mps, 0.0) \
-        * np.cos(checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2))
-    u0n = checks.array_in_range("u0_mps", u0_mps) \
-        * np.cos(checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2))
-    w0 = checks.array_in_range("omega0_radps", omega0_radps)
+    v0, u0, w0 = _speeds(v0_mps, u0_mps, omega0_radps)
+    v0n = v0 * np.cos(checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2))
+    u0n = u0 * np.cos(checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2))
     hands = checks.array_in_range("hands_from_knob_m", hands_from_knob_m, 0.0, bat.length_m)
     vc = v0n + u0n + w0 * s
     if np.any(vc <= 0.0):
@@ -126,6 +140,7 @@ def collision_efficiency(bat: Bat, ball: Ball, s_m: ArrayLike, e: ArrayLike = 0.
 
     q is the batted-ball speed per unit pitch speed off a bat at rest: v1 = q v0.
     """
+    _bodies(bat, ball)
     s = checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
     ee = checks.array_in_range("e", e, 0.0, 1.0)
     r = ball.mass_kg * (1.0 / bat.mass_kg + s * s / bat.inertia_cm_kgm2)
@@ -149,9 +164,8 @@ def sweet_spot(
     The second form is used: it has no cancellation and gives s* = 0 at omega0 = 0. s* may lie
     beyond the barrel end; then v1 is largest at the end of the bat.
     """
-    v0 = checks.array_in_range("v0_mps", v0_mps, 0.0)
-    u0 = checks.array_in_range("u0_mps", u0_mps)
-    w0 = checks.array_in_range("omega0_radps", omega0_radps)
+    _bodies(bat, ball)
+    v0, u0, w0 = _speeds(v0_mps, u0_mps, omega0_radps)
     th = checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2)
     ph = checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2)
     A = v0 * np.cos(th) + u0 * np.cos(ph)
@@ -172,6 +186,42 @@ def hittable_sweet_spot(bat: Bat, ball: Ball, v0_mps: float, u0_mps: float = 0.0
     of the capsule's cylinder when the sweet spot lies beyond it (v1 is unimodal in s)."""
     s = sweet_spot(bat, ball, v0_mps, u0_mps, omega0_radps)
     return min(max(s, bat.s_min_m), bat.s_max_m)
+
+
+def episode_sweet_spot(case: ImpactCase, *, points: int = 41) -> float:
+    """The sweet spot of the whole rigid episode (``collide``) at ``case``'s speeds: where its
+    batted-ball speed peaks on the bat's cylinder (m from the COM). Where the episode is one
+    impulse at the closed-form s*, that is s* (``sweet_spot``, exact); where it is not (e near
+    0: a sustained contact or a second impact changes v1), the episode's own peak: the best of
+    ``points`` grid points, refined to 1 um by a bounded search between its neighbours."""
+    from scipy import optimize
+
+    from .collide import collide
+
+    checks.instance("case", case, ImpactCase)
+    bat = case.bat
+    s_star = sweet_spot(bat, case.ball, case.v0_mps, case.u0_mps, case.omega0_radps,
+                        theta_rad=case.theta_rad, phi_rad=case.phi_rad)
+
+    def episode(s: float):
+        return collide(replace(case, s_m=float(s)))
+
+    single = episode(min(max(s_star, bat.s_min_m), bat.s_max_m))
+    if single.impacts == 1 and single.sustained_contact_s == 0.0:
+        return s_star
+
+    def v1(s: float) -> float:
+        try:
+            return episode(s).v1_mps
+        except ValueError:  # no impact there: the bodies do not approach
+            return -math.inf
+
+    grid = np.linspace(bat.s_min_m, bat.s_max_m, checks.integer("points", points, 3, 10_000))
+    i = int(np.argmax([v1(s) for s in grid]))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
+    best = optimize.minimize_scalar(lambda s: -v1(s), bounds=(lo, hi), method="bounded",
+                                    options={"xatol": 1e-6})
+    return float(best.x)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -16,6 +16,14 @@ from . import checks
 
 #: The largest coefficient of friction accepted: beyond a few, every impact grips.
 MAX_MU = 10.0
+#: The largest speed (m/s) of a ball or a bat's COM, and spin (rad/s) of a bat, accepted: three
+#: times the speed of sound, near twenty times the hardest-hit balls (MLB Statcast: about 122
+#: mph, 55 m/s); the rigid impact means nothing there, and energies stay far from overflowing.
+MAX_SPEED_MPS = 1_000.0
+MAX_OMEGA_RADPS = 1_000.0
+#: A ball's spin (rad/s): its surface then moves at up to 10 times MAX_SPEED_MPS; pitches spin
+#: at up to about 3,500 rpm, 370 rad/s (MLB Statcast).
+MAX_SPIN_RADPS = 10_000.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -46,6 +54,10 @@ class Bat:
         checks.positive("inertia_cm_kgm2", self.inertia_cm_kgm2)
         if self.inertia_axial_kgm2 is not None:
             checks.positive("inertia_axial_kgm2", self.inertia_axial_kgm2)
+        # a bat's mass spans its capsule: its J is no less than that of a disk of the capsule's
+        # radius at the COM, M r^2 / 4 (a heavy 'wall' bat, J >> M L^2, stays allowed)
+        checks.in_range("inertia_cm_kgm2", self.inertia_cm_kgm2,
+                        self.mass_kg * self.radius_m**2 / 4)
 
     @property
     def axial_inertia_kgm2(self) -> float:
@@ -153,10 +165,12 @@ class ImpactCase:
     spin_radps: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
+        checks.instance("bat", self.bat, Bat)
+        checks.instance("ball", self.ball, Ball)
         self.bat.check_s(self.s_m)
-        checks.non_negative("v0_mps", self.v0_mps)
-        checks.finite("u0_mps", self.u0_mps)
-        checks.finite("omega0_radps", self.omega0_radps)
+        checks.in_range("v0_mps", self.v0_mps, 0.0, MAX_SPEED_MPS)
+        checks.in_range("u0_mps", self.u0_mps, -MAX_SPEED_MPS, MAX_SPEED_MPS)
+        checks.in_range("omega0_radps", self.omega0_radps, -MAX_OMEGA_RADPS, MAX_OMEGA_RADPS)
         checks.in_range("e", self.e, 0.0, 1.0)
         checks.in_range("theta_rad", self.theta_rad, -math.pi / 2, math.pi / 2, lo_open=True,
                          hi_open=True)
@@ -166,7 +180,8 @@ class ImpactCase:
         reach = self.bat.radius_m + self.ball.radius_m
         checks.in_range("undercut_m", self.undercut_m, -reach, reach, lo_open=True,
                         hi_open=True)
-        spin = tuple(checks.finite(f"spin_radps[{i}]", w) for i, w in enumerate(self.spin_radps))
+        spin = tuple(checks.in_range(f"spin_radps[{i}]", w, -MAX_SPIN_RADPS, MAX_SPIN_RADPS)
+                     for i, w in enumerate(self.spin_radps))
         if len(spin) != 3:
             raise ValueError(f"spin_radps={self.spin_radps!r} has {len(spin)} components; "
                              "allowed: 3 (about x, y, z)")

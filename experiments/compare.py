@@ -3,7 +3,8 @@
     python -m experiments.compare OLD.csv NEW.csv      (also: python -m experiments.sweep --compare)
 
 Rows are matched on (engine, profile, bat, s, motion); timing columns are ignored. A row
-missing, added or duplicated, or a value blank or NaN on one side only, is a change.
+missing, added or duplicated, a value blank or NaN on one side only, or a text that differs
+(a status, how an episode ended) is a change.
 Exit codes: 0 if nothing but timing changed, 1 otherwise, 2 if a file is not a sweep table.
 """
 
@@ -88,9 +89,17 @@ def compare_tables(old_path: Path, new_path: Path, out=sys.stdout) -> int:
         print(f"{r.engine} s={r.s_m:.4f}: status {r.status_old} -> {r.status_new}", file=out)
     numeric = [c for c in old.columns if c not in KEYS and c != "status" and c in new.columns
                and pd.api.types.is_numeric_dtype(old[c])]
+    text = [c for c in old.columns if c not in (*KEYS, "status", *numeric) and c in new.columns]
     for engine, df in common.groupby("engine", sort=False):
         for col in numeric:
             changed |= _column_change(engine, df, col, out)
+        for col in text:  # how an episode ended, the rigid answer's end: blank is a value too
+            moved = df[f"{col}_old"].fillna("") != df[f"{col}_new"].fillna("")
+            if moved.any():
+                changed = True
+                r = df[moved].iloc[0]
+                print(f"{engine} {col}: {int(moved.sum())} rows changed, first at "
+                      f"s={r.s_m:.4f} ({r[f'{col}_old']!r} -> {r[f'{col}_new']!r})", file=out)
         for which in ("old", "new"):
             ok = df[df[f"status_{which}"] == "ok"]
             if len(ok):

@@ -57,15 +57,15 @@ def engine_part(names, quick: bool) -> tuple[list, list]:
     names = E.chain_engines(names)
     steps = E.MAP_STEPS_S[1:2] if quick else E.MAP_STEPS_S
     segments = E.MAP_SEGMENTS[:2] if quick else E.MAP_SEGMENTS
-    with runs.Progress(len(names), "engines") as bar:
+    each = len(E.POINTS_M) + len(steps) * len(segments)
+    with runs.Progress(len(names) * each, "chain impacts") as bar:
         accuracy, stability = [], []
         for n in names:
-            mine = [r | {"study": "accuracy"} for r in E.accuracy_rows([n])]
+            mine = [r | {"study": "accuracy"} for r in E.accuracy_rows([n], bar)]
             cost = {n: E.step_body_cost_s(mine)}
             accuracy += mine
             stability += [r | {"study": "stability"}
-                          for r in E.stability_rows([n], cost, steps, segments)]
-            bar(1)
+                          for r in E.stability_rows([n], cost, steps, segments, bar)]
     return accuracy, stability
 
 

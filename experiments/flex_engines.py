@@ -65,19 +65,28 @@ def fire(name: str, settings, segments: int, x_m: float) -> dict:
     return core_chain.fire_chain(name, settings, impact(segments, x_m), known=ref)
 
 
-def accuracy_rows(names) -> list[dict]:
-    """N = SEGMENTS at every engine's reference profile, POINTS_M."""
-    return [fire(n, adapters.settings_for(n), SEGMENTS, x) | {"profile": "reference"}
-            for n in chain_engines(names) for x in POINTS_M]
+def accuracy_rows(names, tick=lambda n: None) -> list[dict]:
+    """N = SEGMENTS at every engine's reference profile, POINTS_M; ``tick(1)`` after each."""
+    rows = []
+    for n in chain_engines(names):
+        for x in POINTS_M:
+            rows.append(fire(n, adapters.settings_for(n), SEGMENTS, x) | {"profile": "reference"})
+            tick(1)
+    return rows
 
 
-def stability_rows(names, step_body_s: dict, steps_s=MAP_STEPS_S,
-                   segments=MAP_SEGMENTS) -> list[dict]:
+def stability_rows(names, step_body_s: dict, steps_s=MAP_STEPS_S, segments=MAP_SEGMENTS,
+                   tick=lambda n: None) -> list[dict]:
     """MAP_POINT_M at every N and dt, the reference profile otherwise (cells over the budget
     are rows too, 'unsupported'); ``step_body_s``: per engine, its wall time per step and
-    body (s)."""
-    return [_map_cell(n, k, dt, step_body_s[n]) | {"profile": "reference"}
-            for n in chain_engines(names) for k in segments for dt in steps_s]
+    body (s); ``tick(1)`` after each cell."""
+    rows = []
+    for n in chain_engines(names):
+        for k in segments:
+            for dt in steps_s:
+                rows.append(_map_cell(n, k, dt, step_body_s[n]) | {"profile": "reference"})
+                tick(1)
+    return rows
 
 
 def step_body_cost_s(rows: list[dict]) -> float:

@@ -160,7 +160,10 @@ def print_summary(meta: dict, table: pd.DataFrame | None = None) -> None:
               f"{mm(s['sweet_spot_engine_m'], marks['sweet_spot_m']):>18} "
               f"{mm(s['cop_engine_m'], marks['cop_m']):>18} "
               f"{s['wall_per_impact_median_s'] * 1e6:>9.1f}")
-    print(f"analytic: sweet spot {marks['sweet_spot_m'] * 1e3:.4f} mm, "
+    best = marks.get("sweet_spot_hittable_m", marks["sweet_spot_m"])
+    off = "" if best == marks["sweet_spot_m"] else \
+        f" (off the bat's cylinder: the best point on it is its end, {best * 1e3:.4f} mm)"
+    print(f"analytic: sweet spot {marks['sweet_spot_m'] * 1e3:.4f} mm{off}, "
           f"COP {marks['cop_m'] * 1e3:.4f} mm from the COM")
     if table is not None:
         for (name, status), rows in table[table.status != "ok"].groupby(["engine", "status"]):

@@ -257,7 +257,11 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                                       "provenance": provenance()})
     pivot = fits.pivot_table(index=["scene", "method"], columns="quantity", values="p",
                              dropna=False, sort=False)
-    text = pivot.to_string(float_format=lambda v: f"{v:.2f}") + "\n" + models.pivot_table(
+    why = (f"--quick fires {len(steps)} time steps, too few to fit an order: " if args.quick
+           else "")
+    head = (f"order p of error ~ dt^p ({why}NaN where fewer than 3 steps leave an error above "
+            "rounding)\n")
+    text = head + pivot.to_string(float_format=lambda v: f"{v:.2f}") + "\n" + models.pivot_table(
         index="bat", columns="model", values="v1_max_mps", sort=False).to_string(
         float_format=lambda v: f"{v:.2f}")
     return files, text

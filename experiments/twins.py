@@ -26,7 +26,7 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from .core import cli, runs, tables
+from .core import cli, estimate, runs, tables
 from .core.cli import Command
 from .core.io import json_bytes, provenance
 
@@ -69,13 +69,24 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
                 f"allowed: {', '.join(twinned(adapters.names())) or 'none registered'}")
 
 
-def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
-    t0 = time.perf_counter()
+def _work(args: argparse.Namespace) -> tuple[tables.Firing, list, list]:
+    """The firing, each (engine, step, its settings, its twin's), and the jobs: per pair, the
+    engine's impacts then its twin's."""
     f = firing(args.points)
     todo = [(name, step, *pair(name, step)) for name in twinned(args.engine)
             for step in adapters.record(name).twin_steps]
     jobs = [j for name, _, mine, twin in todo
             for j in f.jobs(name, mine) + f.jobs(adapters.record(name).twin_of, twin)]
+    return f, todo, jobs
+
+
+def _estimate(args: argparse.Namespace) -> float:
+    return sum(estimate.run_s(_work(args)[2]).values())
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
+    t0 = time.perf_counter()
+    f, todo, jobs = _work(args)
     with runs.Progress(len(jobs), "impacts") as bar, cli.runner(args, bar) as runner:
         table = tables.table(runner.fire(jobs), "twins")
     n, rows = len(f.s_m), []
@@ -110,7 +121,8 @@ def _statuses(a: pd.DataFrame, b: pd.DataFrame) -> str:
     return f"{count(a)} / {count(b)}"
 
 
-COMMAND = Command(name="twins", doc=__doc__, produce=produce, options=_options, check=_check)
+COMMAND = Command(name="twins", doc=__doc__, produce=produce, options=_options, check=_check,
+                  estimate=_estimate)
 main = COMMAND.main
 
 

@@ -1,9 +1,12 @@
 """A run's cost, said before it starts (``experiments.core.estimate``), is honest: each engine
-record's ``step_cost_s`` is the bare step ``experiments.bench_engines`` measures (here, now),
-and the estimate of every committed baseline sweep is within the factor of a few the module
-promises of the wall time the sweep measured, for every engine slow enough to time."""
+record's ``step_cost_s`` is the bare step ``experiments.bench_engines`` measures (here, now,
+this host's speed divided out), and the estimate of every committed baseline sweep is within
+the factor of a few the module promises of the wall time the sweep measured, for every engine
+slow enough to time."""
 
 from __future__ import annotations
+
+import statistics
 
 import pandas as pd
 import pytest
@@ -18,7 +21,8 @@ from experiments.core.io import ROOT
 from .conftest import cheapest
 
 #: Records round the measured step to one significant figure (at most 1.5x off), and a loaded
-#: 2-core machine (the suite on both cores) runs a step up to 2x slower: 4x allowed.
+#: 2-core machine (the suite on both cores) slows one engine's step more than another's by up
+#: to 2x: 4x allowed, once the host's own speed is divided out (MACHINE_FACTOR).
 STEP_COST_FACTOR = 4.0
 #: The estimate's promise ("good to a factor of a few"), checked where the sweep took long
 #: enough (MIN_MEASURED_S) for per-impact fixed costs not to dominate.
@@ -26,17 +30,31 @@ ESTIMATE_FACTOR = 8.0
 MIN_MEASURED_S = 0.5
 
 
-@pytest.mark.full
-@pytest.mark.parametrize("name", adapters.names())
-def test_each_records_step_cost_is_what_the_benchmark_measures_now(name):
-    # one world stepped through three impacts of the paper's swing, here and now, by the
-    # benchmark's own measurement (bench_engines.per_collision's one_world_step_us)
+def one_world_step_s(name: str) -> float:
+    """One world stepped through three impacts of the paper's swing, here and now, by the
+    benchmark's own measurement (bench_engines.per_collision's one_world_step_us)."""
     firing = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, 3),
                            v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
                            omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
-    measured_s = bench_engines.per_collision(name, firing, 1)["one_world_step_us"] * 1e-6
-    ratio = adapters.record(name).step_cost_s / measured_s
-    assert 1 / STEP_COST_FACTOR <= ratio <= STEP_COST_FACTOR, (name, ratio)
+    return bench_engines.per_collision(name, firing, 1)["one_world_step_us"] * 1e-6
+
+
+@pytest.fixture(scope="module")
+def host_slowdown() -> float:
+    """How much slower this host steps than the machine the records were measured on: the
+    median, over the core engines (no extra to install), of measured over recorded step. CI's
+    hosts have run every engine 1x to 3.5x slower than the records' machine, all together."""
+    core = [n for n in adapters.names() if adapters.record(n).extra is None]
+    return statistics.median(one_world_step_s(n) / adapters.record(n).step_cost_s
+                             for n in core)
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("name", adapters.names())
+def test_each_records_step_cost_is_what_the_benchmark_measures_now(name, host_slowdown):
+    # a record states the step on the records' machine: here it is host_slowdown times that
+    ratio = adapters.record(name).step_cost_s * host_slowdown / one_world_step_s(name)
+    assert 1 / STEP_COST_FACTOR <= ratio <= STEP_COST_FACTOR, (name, ratio, host_slowdown)
 
 
 @pytest.mark.parametrize("label", list(baselines.BASELINES))

@@ -35,11 +35,14 @@ import adapters
 
 from . import fire, runs
 from . import runner as _runner
+from .estimate import duration
 from .runs import RESULTS, RUNS, Progress, publish, quiet_error, run_dir, shown
 
 MAX_WORKERS = 64
 #: The longest file name most file systems take (bytes).
 NAME_MAX = 255
+#: A command expected to run at least this long (s) says so before it starts.
+SAY_ESTIMATE_S = 10.0
 STEM = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._=+,-]{0,99}$")
 
 
@@ -169,12 +172,12 @@ def stem_arg(value: str) -> str:
     return value
 
 
-def directory_arg(value: str) -> Path:
-    """A directory that exists or can be made, writable (tried, not assumed: a root user's
-    os.access says yes to /proc), outside results/."""
+def resolved_path(value: str) -> Path:
+    """``value`` as an absolute path, or an ArgumentTypeError naming it: empty, unresolvable
+    (~nosuchuser, a loop of links) or with a name longer than the filesystem allows."""
     if not value.strip():
-        raise argparse.ArgumentTypeError("'' is not a directory; allowed: a directory's path "
-                                         "(default runs/)")
+        raise argparse.ArgumentTypeError(f"{value!r} is not a directory; allowed: a directory's "
+                                         "path")
     try:
         path = Path(value).expanduser().resolve()
     except (RuntimeError, OSError) as err:  # ~nosuchuser, a loop of links
@@ -184,6 +187,13 @@ def directory_arg(value: str) -> Path:
     if long:
         raise argparse.ArgumentTypeError(f"{value!r}: a name of {len(long[0].encode())} bytes; "
                                          f"allowed: names of at most {NAME_MAX} bytes")
+    return path
+
+
+def directory_arg(value: str) -> Path:
+    """A directory that exists or can be made, writable (tried, not assumed: a root user's
+    os.access says yes to /proc), outside results/."""
+    path = resolved_path(value)
     if path == RESULTS or RESULTS in path.parents:
         raise argparse.ArgumentTypeError(
             f"{value!r} is inside results/, which only `python -m experiments.baselines` "
@@ -299,8 +309,10 @@ class Command:
 
     ``produce(args)`` returns the run's files (name -> bytes) and the text to print;
     ``options(parser)`` adds the study's own options; ``check(parser, args)`` refuses option
-    combinations before any work (``parser.error``). The shared options come with ``engines``,
-    ``runner`` and ``output``; ``quick`` is the help of a --quick flag, if the study has one.
+    combinations before any work (``parser.error``); ``estimate(args)``, the run's expected
+    wall time (s), is said before the work when it is long. The shared options come with
+    ``engines``, ``runner`` and ``output``; ``quick`` is the help of a --quick flag, if the study
+    has one.
     """
 
     name: str
@@ -308,6 +320,7 @@ class Command:
     produce: Callable[[argparse.Namespace], tuple[dict[str, bytes], str]]
     options: Callable[[argparse.ArgumentParser], None] | None = None
     check: Callable[[argparse.ArgumentParser, argparse.Namespace], None] | None = None
+    estimate: Callable[[argparse.Namespace], float] | None = None
     quick: str | None = None
     engines: bool = True
     runner: bool = True
@@ -337,6 +350,9 @@ class Command:
         if self.check:
             self.check(p, args)
         target = run_dir(p, args, self.name)
+        expected_s = self.estimate(args) if self.estimate else 0.0
+        if expected_s >= SAY_ESTIMATE_S and not runs.quiet():
+            print(f"{self.name}: estimated about {duration(expected_s)}", file=sys.stderr)
 
         def body() -> int:
             t0 = time.perf_counter()

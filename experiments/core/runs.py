@@ -244,6 +244,7 @@ class Progress:
         self.total, self.desc, self.unit = total, desc, unit
         self.done = 0
         self.t0 = self.last = time.perf_counter()
+        self.first: tuple[float, int] | None = None
         self.bar = None
         if not quiet() and sys.stderr.isatty():
             from tqdm import tqdm
@@ -258,13 +259,17 @@ class Progress:
             self.bar.update(n)
             return
         now = time.perf_counter()
+        if self.first is None:  # what came before the first tick (start-up, a compile) is
+            self.first = (now, self.done)  # not the rate of the work: it is left out of it
         if quiet() or now - self.last < PROGRESS_EVERY_S:
             return
         self.last = now
         frac = self.done / self.total if self.total else 1.0
-        left = (now - self.t0) * (1 - frac) / frac if frac > 0 else math.nan
+        t1, n1 = self.first
+        rate = (self.done - n1) / (now - t1) if self.done > n1 and now > t1 else math.nan
+        left = f", about {(self.total - self.done) / rate:.0f} s left" if rate > 0 else ""
         print(f"{self.desc}: {self.done}/{self.total} {self.unit} ({frac:.0%}), "
-              f"{now - self.t0:.0f} s, about {left:.0f} s left", file=sys.stderr, flush=True)
+              f"{now - self.t0:.0f} s{left}", file=sys.stderr, flush=True)
 
     def __enter__(self) -> Progress:
         return self

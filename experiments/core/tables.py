@@ -16,7 +16,15 @@ import pandas as pd
 from scipy import optimize
 
 import adapters
-from analytic import Bat, ImpactCase, center_of_percussion, predict_arrays, presets, sweet_spot
+from analytic import (
+    Bat,
+    ImpactCase,
+    center_of_percussion,
+    episode_sweet_spot,
+    predict_arrays,
+    presets,
+    sweet_spot,
+)
 from analytic.dynamics import HingedSwing
 
 from . import friction_judge, judge
@@ -261,13 +269,19 @@ def locate_cop(name: str, settings: adapters.Settings, firing: Firing,
 
 
 def analytic_marks(firing: Firing) -> dict[str, float]:
-    """The analytic sweet spot and COP (s in m from the COM) for a firing."""
+    """The analytic sweet spot and COP (s in m from the COM) for a firing. The sweet spot is
+    that of the answer its rows are judged against: the whole rigid episode's (judge.rigid;
+    at e = 0 a sustained contact moves it) for a frictionless planar firing, else the single
+    impulse's closed form. A sweet spot beyond the cylinder's ends is flagged by the best
+    point the bat offers, ``sweet_spot_hittable_m``, the nearer end."""
     bat = firing.bat
-    return {
-        "sweet_spot_m": sweet_spot(bat, presets.BASEBALL, firing.v0_mps, firing.u0_mps,
-                                   firing.omega0_radps, theta_rad=firing.theta_rad),
-        "cop_m": center_of_percussion(bat, firing.hands_from_knob_m),
-    }
+    s_star = sweet_spot(bat, presets.BASEBALL, firing.v0_mps, firing.u0_mps,
+                        firing.omega0_radps, theta_rad=firing.theta_rad)
+    case = firing.case(min(max(s_star, bat.s_min_m), bat.s_max_m))
+    if case.frictionless_planar:
+        s_star = episode_sweet_spot(case)
+    return {"sweet_spot_m": s_star, "cop_m": center_of_percussion(bat, firing.hands_from_knob_m),
+            "sweet_spot_hittable_m": min(max(s_star, bat.s_min_m), bat.s_max_m)}
 
 
 def bracket_around(s: Iterable[float], values: Iterable[float],

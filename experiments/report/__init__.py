@@ -20,6 +20,7 @@ import re
 import sys
 from pathlib import Path
 
+from ..core import cli
 from ..core.cli import Command
 from ..core.runs import RESULTS
 from . import accuracy, dynamics, engines, failures, friction, performance, questions, sweeps
@@ -77,7 +78,7 @@ def _options(p: argparse.ArgumentParser) -> None:
 
 
 def _results_dir(value: str) -> Path:
-    path = Path(value).expanduser().resolve()
+    path = cli.resolved_path(value)
     if not (path / "summary.md").is_file():
         raise argparse.ArgumentTypeError(f"{value!r} holds no summary.md; allowed: a results "
                                          "directory written by python -m experiments.baselines")

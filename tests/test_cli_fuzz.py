@@ -1,0 +1,177 @@
+"""Every command survives what a user types. For command lines drawn from the command's own
+parser (its options, with values in range, out of range, of the wrong kind, empty; options
+repeated or unknown; flags; files that are not tables), a command either refuses with exit 2
+and one line before any work, or checks everything and starts the work; never a traceback.
+The work is where every command hands its body to ``cli.main_guard``: the test stops it there
+(compare, which only reads its two files, runs whole)."""
+
+from __future__ import annotations
+
+import argparse
+
+import pytest
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+
+import adapters
+from experiments import (
+    baselines,
+    bench_analytic,
+    bench_engines,
+    calibrate_soft,
+    check_engine,
+    compare,
+    defaults,
+    findings,
+    flex,
+    friction,
+    pareto,
+    report,
+    stability,
+    sweep,
+    swing,
+    twins,
+)
+from experiments.core import cli
+from experiments.core.io import ROOT
+from experiments.core.tables import TIMING_COLUMNS
+from experiments.sweep_options import build_parser
+
+from .conftest import examples
+
+PARSERS = {"sweep": build_parser}
+COMMANDS = {m.__name__.rsplit(".", 1)[-1]: m for m in (
+    baselines, bench_analytic, bench_engines, calibrate_soft, check_engine, compare, defaults,
+    findings, flex, friction, pareto, report, stability, sweep, swing, twins)}
+#: Values of the wrong kind or out of any range, beside each option's own.
+JUNK = ["", " ", "nan", "inf", "-inf", "-1", "0", "1e300", "-1e-300", "x", "1,2", "0x10",
+        "--", "🦇", "1" * 400]
+ENGINES = st.lists(st.sampled_from([*adapters.names(), "all", "nope", "", "MuJoCo"]),
+                   min_size=1, max_size=3).map(",".join)
+
+
+class Started(Exception):
+    """The command checked every option and handed its body to cli.main_guard."""
+
+
+def _parser(name: str) -> argparse.ArgumentParser:
+    if name in PARSERS:
+        return PARSERS[name]()
+    module = COMMANDS[name]
+    return module.COMMAND.parser() if hasattr(module, "COMMAND") else module.build_parser()
+
+
+def _value(action: argparse.Action, tmp: str) -> st.SearchStrategy[str]:
+    """A value for an option: one it offers, a number of any size, or junk."""
+    own = [st.sampled_from(list(map(str, action.choices)))] if action.choices else []
+    if isinstance(action.default, int | float) and not isinstance(action.default, bool):
+        own.append(st.just(str(action.default)))  # the default: most lines get far
+    if action.dest == "engine":
+        own.append(ENGINES)
+    if action.dest in ("out", "results"):
+        own.append(st.sampled_from([tmp, f"{tmp}/new", "/proc/x", "~nosuchuser/x", "a" * 300]))
+    if action.dest == "scheduler":
+        own.append(st.sampled_from(["local", "tcp://127.0.0.1:1", "tcp://[::1", "x:y"]))
+    numbers = st.one_of(st.integers(-10**6, 10**6).map(str),
+                        st.floats(allow_nan=True, allow_infinity=True).map(repr))
+    return st.one_of(*own, numbers, st.sampled_from(JUNK))
+
+
+@st.composite
+def command_lines(draw, parser: argparse.ArgumentParser, tmp: str) -> list[str]:
+    options = [a for a in parser._actions if a.option_strings and a.dest != "help"]
+    argv: list[str] = []
+    for action in draw(st.lists(st.sampled_from(options), max_size=6)):  # repeats included
+        argv.append(draw(st.sampled_from(action.option_strings)))
+        if action.nargs == 0:
+            continue
+        count = action.nargs if isinstance(action.nargs, int) else 1
+        argv += [draw(_value(action, tmp)) for _ in range(count)]
+    if draw(st.booleans()):
+        argv.insert(draw(st.integers(0, len(argv))), draw(st.sampled_from(["--nope", "-x",
+                                                                              "stray"])))
+    return argv
+
+
+def _outcome(main, argv: list[str], capsys) -> tuple[object, str]:
+    try:
+        code = main(argv)
+    except SystemExit as stop:
+        code = stop.code
+    except Started:
+        code = "started"
+    return code, capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", sorted(set(COMMANDS) - {"compare"}))
+def test_a_command_refuses_in_one_line_or_starts(name, tmp_path, monkeypatch, capsys):
+    def stop(body):
+        raise Started
+
+    monkeypatch.setattr(cli, "main_guard", stop)
+    monkeypatch.setenv("BATSIM_QUIET", "1")
+    parser = _parser(name)
+    has_out = any("--out" in a.option_strings for a in parser._actions)
+
+    @settings(max_examples=examples(100), deadline=None, derandomize=False,
+              suppress_health_check=[HealthCheck.function_scoped_fixture])
+    @given(argv=command_lines(parser, str(tmp_path)))
+    def check(argv):
+        if has_out and "--out" not in argv:  # a run that starts would go to tmp_path
+            argv = [*argv, "--out", str(tmp_path)]
+        code, err = _outcome(COMMANDS[name].main, argv, capsys)
+        event(f"exit {code}")
+        assert code in ("started", 2), (argv, code, err)
+        assert "Traceback" not in err, (argv, err)
+        if code == 2:  # one line, the command's
+            assert err.count("\n") == 1 and err.startswith(parser.prog), (argv, err)
+
+    check()
+
+
+@st.composite
+def tables(draw, good: str) -> tuple[bytes, str, int]:
+    """A sweep table's bytes, damaged or not, and how: cut mid-row, a value blanked or made
+    text or NaN, a row repeated, binary junk after the header, or nothing at all."""
+    lines = good.splitlines(keepends=True)
+    how = draw(st.sampled_from(["same", "cut", "blank", "text", "nan", "repeat", "junk",
+                                "empty"]))
+    row = draw(st.integers(1, len(lines) - 1))
+    cells = lines[row].rstrip("\n").split(",")
+    col = draw(st.integers(0, len(cells) - 1))
+    if how == "cut":
+        return "".join(lines[:row]).encode() + lines[row][:len(lines[row]) // 2].encode(), how, 0
+    if how in ("blank", "text", "nan"):
+        if cells[col] in ("", "nan"):  # blank already: not a change; another cell is
+            col = next(i for i, c in enumerate(cells) if c not in ("", "nan"))
+        cells[col] = {"blank": "", "text": "x", "nan": "nan"}[how]
+        lines[row] = ",".join(cells) + "\n"
+    if how == "repeat":
+        lines.insert(row, lines[row])
+    if how == "junk":
+        return lines[0].encode() + bytes(range(256)), how, 0
+    return ("" if how == "empty" else "".join(lines)).encode(), how, col
+
+
+def test_compare_judges_any_pair_of_files(tmp_path, capsys):
+    good = (ROOT / "results" / "sweep_all_reference_r161_still.csv").read_text()
+
+    @settings(max_examples=examples(100), deadline=None,
+              suppress_health_check=[HealthCheck.function_scoped_fixture])
+    @given(new=tables(good), missing=st.booleans())
+    def check(new, missing):
+        (tmp_path / "new.csv").write_bytes(new[0])
+        old = tmp_path / ("absent.csv" if missing else "old.csv")
+        (tmp_path / "old.csv").write_text(good)
+        code, err = _outcome(compare.main, [str(old), str(tmp_path / "new.csv")], capsys)
+        how, col = new[1], good.split("\n", 1)[0].split(",")[new[2]]
+        event(f"{how}: exit {code}")
+        assert "Traceback" not in err
+        if missing or how in ("junk", "empty"):
+            assert code == 2 and err.count("\n") == 1, (how, err)
+        elif how == "same":
+            assert code == 0, err
+        elif col not in TIMING_COLUMNS:  # damage anywhere but a timing column: 1 or 2
+            assert code in (1, 2), (how, col, err)
+
+    check()
