@@ -150,11 +150,13 @@ class _Impact:
 
 
 def frictional_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m: ArrayLike,
-                       normal: ArrayLike, e: float, mu: float,
-                       hypothesis: str = "energetic") -> FrictionalImpulse:
+                       normal: ArrayLike, e: float, mu: float, hypothesis: str = "energetic",
+                       rtol: float = RTOL) -> FrictionalImpulse:
     """The impulse between bodies A and B touching at one point with Coulomb friction mu and
     restitution e (module docstring). n is the contact normal from B to A; r_A, r_B go from
-    each COM to the contact point. Raises ValueError unless the points approach (n.v < 0)."""
+    each COM to the contact point; ``rtol`` the integration's relative tolerance (RTOL: to
+    rounding; a coarser one for many impacts). Raises ValueError unless the points approach
+    (n.v < 0)."""
     r_a, r_b, n = _vec3("r_a_m", r_a_m), _vec3("r_b_m", r_b_m), _vec3("normal", normal)
     if not np.linalg.norm(n) > 0.0:
         raise ValueError("normal is the zero vector; allowed: a non-zero 3-vector")
@@ -168,18 +170,20 @@ def frictional_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_
         raise ValueError(f"relative normal velocity v_rel={float(n @ v0)!r} m/s: the bodies "
                          "do not approach; allowed: v_rel < 0")
     K = collision_matrix(a, b, r_a, r_b)
-    P, p_c, phases = _integrate(_Impact(K, n, v0, mu), e, hypothesis)
+    rtol = checks.in_range("rtol", rtol, RTOL, 1e-6)
+    P, p_c, phases = _integrate(_Impact(K, n, v0, mu), e, hypothesis, rtol)
     a1, b1 = apply_impulse(a, b, r_a, r_b, P)
     return FrictionalImpulse(impulse_ns=P, a=a1, b=b1, compression_ns=p_c, phases=phases)
 
 
-def _integrate(imp: _Impact, e: float, hypothesis: str):
+def _integrate(imp: _Impact, e: float, hypothesis: str, rtol: float = RTOL):
     """Integrate dP/dp through slip and stick until restitution ends: (P, p_c, phases). y[3]
     is the normal force's work in the stage (compression, then restitution from 0: a target
     e^2 W_c stays resolved however small e is)."""
     n, v0 = imp.n, imp.v0
     scale = -(1.0 + e) * float(n @ v0) / float(n @ imp.K @ n)  # the frictionless impulse
-    atol = np.array([1e-16 * scale] * 3 + [1e-16 * scale * float(np.linalg.norm(v0))])
+    tiny = 1e-3 * rtol * scale
+    atol = np.array([tiny] * 3 + [tiny * float(np.linalg.norm(v0))])
     p, y, phases = 0.0, np.zeros(4), []
     mode, p_c, w_c, stopping, resumed = "slip", None, None, False, False
     for _ in range(MAX_PHASES):
@@ -201,7 +205,7 @@ def _integrate(imp: _Impact, e: float, hypothesis: str):
         if mode == "slip":
             events.append(_event(lambda p, y: imp.slip_speed(y) - imp.near, -1.0))
         rhs = imp.slip_rhs if mode == "slip" else imp.stick_rhs
-        sol = integrate.solve_ivp(rhs, (p, p + 100.0 * scale), y, method="DOP853", rtol=RTOL,
+        sol = integrate.solve_ivp(rhs, (p, p + 100.0 * scale), y, method="DOP853", rtol=rtol,
                                   atol=atol, events=events)
         if sol.status != 1:
             raise ArithmeticError("the impact did not end within 100 frictionless impulses")
@@ -347,14 +351,15 @@ class FrictionOutcome:
 LAWS = ("routh", "one_step", "relaxed")
 
 
-def predict_friction(case, *, hypothesis: str = "energetic",
-                     law: str = "routh") -> FrictionOutcome:
+def predict_friction(case, *, hypothesis: str = "energetic", law: str = "routh",
+                     rtol: float = RTOL) -> FrictionOutcome:
     """The impact of ``case`` (an ``ImpactCase``) with its Coulomb friction ``case.mu``, the
     ball's centre ``case.undercut_m`` off the swing plane (+z) and spinning at
     ``case.spin_radps`` (impact frame). The bat turns about z at omega0 with its inertia tensor
     diag(I_axial, J, J) about the COM; the contact normal tilts by ``case.tilt_rad`` out of the
     plane. ``law`` one of LAWS: Routh's integration (``frictional_impulse``), or the law an
-    impulse engine solves in one step (``one_step_impulse``), relaxed or not."""
+    impulse engine solves in one step (``one_step_impulse``), relaxed or not; ``rtol``
+    Routh's integration tolerance."""
     from .model import ImpactCase
     checks.instance("case", case, ImpactCase)
     checks.choice("law", law, LAWS)
@@ -374,7 +379,8 @@ def predict_friction(case, *, hypothesis: str = "energetic",
     contact = dict(r_a_m=-ball.radius_m * n,
                    r_b_m=np.array([case.s_m, 0.0, 0.0]) + bat.radius_m * n, normal=n, e=case.e,
                    mu=case.mu)
-    out = (frictional_impulse(a, b, hypothesis=hypothesis, **contact) if law == "routh"
+    out = (frictional_impulse(a, b, hypothesis=hypothesis, rtol=rtol, **contact)
+           if law == "routh"
            else one_step_impulse(a, b, relaxed=law == "relaxed", **contact))
     v0 = a.point_velocity(contact["r_a_m"]) - b.point_velocity(contact["r_b_m"])
     return FrictionOutcome(

@@ -11,7 +11,7 @@ from pathlib import Path
 import adapters
 from analytic import presets
 from analytic.ball import LAWS
-from analytic.model import MAX_MU
+from analytic.model import MAX_MU, MAX_OMEGA_RADPS, MAX_SPEED_MPS
 
 from .core import cli
 
@@ -71,12 +71,14 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"impact points over the hittable length (2..{MAX_POINTS})")
     p.add_argument("--s-range", type=num(), nargs=2, default=None, metavar=("MIN", "MAX"),
                    help="part of the bat to sweep, m from the COM (default: all of it)")
-    p.add_argument("--v0", type=num(0.0, 1e4, unit="m/s"), default=pitch, metavar="MPS",
-                   help="pitch speed")
-    p.add_argument("--u0", type=num(-1e4, 1e4, unit="m/s"), default=swing.u0_mps,
-                   metavar="MPS", help="bat COM speed")
-    p.add_argument("--omega0", type=num(-1e5, 1e5, unit="rad/s"), default=swing.omega0_radps,
-                   metavar="RADPS", help="bat angular speed about its COM (rad/s, -1e5..1e5)")
+    fast, spin = MAX_SPEED_MPS, MAX_OMEGA_RADPS
+    p.add_argument("--v0", type=num(0.0, fast, unit="m/s"), default=pitch, metavar="MPS",
+                   help=f"pitch speed (m/s, 0..{fast:g})")
+    p.add_argument("--u0", type=num(-fast, fast, unit="m/s"), default=swing.u0_mps,
+                   metavar="MPS", help=f"bat COM speed (m/s, -{fast:g}..{fast:g})")
+    p.add_argument("--omega0", type=num(-spin, spin, unit="rad/s"), default=swing.omega0_radps,
+                   metavar="RADPS",
+                   help=f"bat angular speed about its COM (rad/s, -{spin:g}..{spin:g})")
     p.add_argument("--e", type=num(0.0, 1.0), default=DEFAULT_E,
                    help="coefficient of restitution")
     p.add_argument("--theta", type=num(-1.5707, 1.5707, unit="rad"), default=0.0, metavar="RAD",

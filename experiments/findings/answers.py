@@ -278,6 +278,15 @@ def engine_checks(runner: Runner, engines: tuple[str, ...]) -> pd.DataFrame:
     cork bat and the aluminium bat at their best points under each swing model, both swings.
     A tidy table (``tables.table``): each row judged against the answer its engine's contact
     converges to (rigid theory, or the engine's own contact law)."""
+    jobs, labels = check_jobs(engines)
+    table = tables.table(runner.fire(jobs), "reference").drop(columns=["bat"])
+    meta = pd.DataFrame([lab for _ in engines for lab in labels],
+                        columns=["swing", "bat", "swing model"])
+    return pd.concat([meta, table], axis=1)
+
+
+def check_jobs(engines: tuple[str, ...]) -> tuple[list[Job], list[tuple[str, str, str]]]:
+    """``engine_checks``' jobs, engine by engine, and each case's (swing, bat, model)."""
     cases, labels = [], []
     for sc in SCENARIOS:
         for name, bat in (("1x10 in cork", CORK_1x10), ("aluminium", AL)):
@@ -287,12 +296,20 @@ def engine_checks(runner: Runner, engines: tuple[str, ...]) -> pd.DataFrame:
                 cases.append(ImpactCase(bat=bat, ball=BALL, s_m=s, v0_mps=sc.v0_mps,
                                         u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps, e=E))
                 labels.append((sc.label, name, m.value))
-    jobs = [Job(engine=n, settings=adapters.settings_for(n), case=c)
-            for n in engines for c in cases]
-    table = tables.table(runner.fire(jobs), "reference").drop(columns=["bat"])
-    meta = pd.DataFrame([lab for _ in engines for lab in labels],
-                        columns=["swing", "bat", "swing model"])
-    return pd.concat([meta, table], axis=1)
+    return [Job(engine=n, settings=adapters.settings_for(n), case=c)
+            for n in engines for c in cases], labels
+
+
+def sweet_spot_jobs(engines: tuple[str, ...]) -> list[Job]:
+    """An impact at the analytic sweet spot of each swing, per engine: what
+    ``engine_sweet_spots`` searches near."""
+    out = []
+    for sc in SCENARIOS:
+        s_star = sweet_spot(R161, BALL, sc.v0_mps, sc.swing.u0_mps, sc.swing.omega0_radps)
+        case = ImpactCase(bat=R161, ball=BALL, s_m=s_star, v0_mps=sc.v0_mps,
+                          u0_mps=sc.swing.u0_mps, omega0_radps=sc.swing.omega0_radps, e=E)
+        out += [Job(engine=n, settings=adapters.settings_for(n), case=case) for n in engines]
+    return out
 
 
 def engine_sweet_spots(engines: tuple[str, ...]) -> pd.DataFrame:
