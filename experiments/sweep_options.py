@@ -11,7 +11,7 @@ from pathlib import Path
 import adapters
 from analytic import presets
 from analytic.ball import LAWS
-from analytic.model import MAX_MU, MAX_OMEGA_RADPS, MAX_SPEED_MPS
+from analytic.model import MAX_MU, MAX_OMEGA_RADPS, MAX_SPEED_MPS, MAX_SPIN_RADPS
 
 from .core import cli
 
@@ -43,10 +43,23 @@ def _add_contact(p: argparse.ArgumentParser) -> None:
                    help="Coulomb friction between ball and bat (default 0: frictionless)")
     p.add_argument("--undercut", type=num(unit="m"), default=0.0, metavar="M",
                    help="ball centre above (+) or below the bat's axis, out of the swing plane")
-    p.add_argument("--spin", type=num(-1e4, 1e4, unit="rad/s"), default=0.0, metavar="RADPS",
+    p.add_argument("--spin", type=num(-MAX_SPIN_RADPS, MAX_SPIN_RADPS, unit="rad/s"),
+                   default=0.0, metavar="RADPS",
                    help="the pitch's backspin about the bat's axis (- : topspin)")
     p.add_argument("--flight", action="store_true",
                    help="add launch_*_deg, carry_*_m and hang_*_s per row (analytic, engine)")
+
+
+def _add_speeds(p: argparse.ArgumentParser, pitch: float, swing) -> None:
+    """--v0, --u0 and --omega0, within the ranges an analytic ImpactCase accepts."""
+    num, fast, spin = cli.number, MAX_SPEED_MPS, MAX_OMEGA_RADPS
+    p.add_argument("--v0", type=num(0.0, fast, unit="m/s"), default=pitch, metavar="MPS",
+                   help=f"pitch speed (m/s, 0..{fast:g})")
+    p.add_argument("--u0", type=num(-fast, fast, unit="m/s"), default=swing.u0_mps,
+                   metavar="MPS", help=f"bat COM speed (m/s, -{fast:g}..{fast:g})")
+    p.add_argument("--omega0", type=num(-spin, spin, unit="rad/s"), default=swing.omega0_radps,
+                   metavar="RADPS",
+                   help=f"bat angular speed about its COM (rad/s, -{spin:g}..{spin:g})")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -71,14 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"impact points over the hittable length (2..{MAX_POINTS})")
     p.add_argument("--s-range", type=num(), nargs=2, default=None, metavar=("MIN", "MAX"),
                    help="part of the bat to sweep, m from the COM (default: all of it)")
-    fast, spin = MAX_SPEED_MPS, MAX_OMEGA_RADPS
-    p.add_argument("--v0", type=num(0.0, fast, unit="m/s"), default=pitch, metavar="MPS",
-                   help=f"pitch speed (m/s, 0..{fast:g})")
-    p.add_argument("--u0", type=num(-fast, fast, unit="m/s"), default=swing.u0_mps,
-                   metavar="MPS", help=f"bat COM speed (m/s, -{fast:g}..{fast:g})")
-    p.add_argument("--omega0", type=num(-spin, spin, unit="rad/s"), default=swing.omega0_radps,
-                   metavar="RADPS",
-                   help=f"bat angular speed about its COM (rad/s, -{spin:g}..{spin:g})")
+    _add_speeds(p, pitch, swing)
     p.add_argument("--e", type=num(0.0, 1.0), default=DEFAULT_E,
                    help="coefficient of restitution")
     p.add_argument("--theta", type=num(-1.5707, 1.5707, unit="rad"), default=0.0, metavar="RAD",
