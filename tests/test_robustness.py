@@ -249,3 +249,20 @@ def test_a_run_of_unsupported_impacts_says_why(tmp_path):
     res = _sweep("--undercut", "0.02", "--out", str(tmp_path), engine=planar[0])
     assert res.returncode == 0, res.stderr
     assert f"{planar[0]}: 3 unsupported (" in res.stdout and "plane" in res.stdout, res.stdout
+
+
+def test_a_plastic_sweep_names_the_sweet_spot_its_rows_are_judged_by(tmp_path):
+    # At e = 0 the rows are judged against the whole rigid episode, whose sustained contact
+    # moves the sweet spot off the single impulse's closed form (76.07 mm for the paper's
+    # swing): the summary prints the episode's (analytic.episode_sweet_spot, checked against
+    # an independent grid in test_analytic_collide), to the 4 decimals of a mm it shows.
+    from analytic import ImpactCase, episode_sweet_spot, presets
+
+    res = _sweep("--e", "0", "--out", str(tmp_path))
+    assert res.returncode == 0, res.stderr
+    swing = presets.PAPER_SWING
+    case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.0,
+                      v0_mps=presets.PAPER_PITCH_MPS, u0_mps=swing.u0_mps,
+                      omega0_radps=swing.omega0_radps, e=0.0)
+    assert f"analytic: sweet spot {episode_sweet_spot(case) * 1e3:.4f} mm," in res.stdout, \
+        res.stdout
