@@ -48,8 +48,10 @@ def test_without_friction_a_level_square_hit_is_the_planar_model_flown_level(sc)
                                  omega0_radps=sc.swing.omega0_radps, e=A.E))
     assert got.speed_mps == pytest.approx(v1, rel=TOL_REL)
     assert abs(got.launch_rad) < 1e-12 and abs(got.backspin_radps) < 1e-9
-    level = fly(Launch(speed_mps=v1, launch_rad=0.0, height_m=got.height_m), samples=2)
-    assert C.carry_m(hit, s, 0.0) == pytest.approx(level.carry_m, rel=TOL_REL)
+    # both flights integrated to the carry's FLIGHT_RTOL: they agree to a few times it
+    level = fly(Launch(speed_mps=v1, launch_rad=0.0, height_m=got.height_m), samples=2,
+                rtol=C.FLIGHT_RTOL)
+    assert C.carry_m(hit, s, 0.0) == pytest.approx(level.carry_m, rel=10 * C.FLIGHT_RTOL)
 
 
 def test_without_friction_the_pitchs_spin_passes_through():
