@@ -107,8 +107,7 @@ def test_out_of_the_box_catches_no_more_than_the_tunnelling_bound(tmp_path):
     # engine, and every knob row names a setting that differs between the two profiles.
     from experiments import defaults
 
-    # two contact phases per speed (the bound holds at any phase; 4 cost CI another minute)
-    assert defaults.main(["--phases", "2", "--out", str(tmp_path), "--name", "d"]) == 0
+    assert defaults.main(["--phases", "4", "--out", str(tmp_path), "--name", "d"]) == 0
     caught = pd.read_csv(tmp_path / "d" / "defaults_caught.csv")
     assert set(caught.engine) == set(adapters.names())
     assert (caught.ok <= caught.theory_ok).all(), caught
