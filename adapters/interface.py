@@ -231,7 +231,8 @@ class BatchedEngine(abc.ABC):
 
     @abc.abstractmethod
     def read(self) -> np.ndarray:
-        """Every world's state, shape (n, 11)."""
+        """Every world's state: shape (n, 20) in ``STATE_FIELDS`` order, or (n, 11), the
+        ``PLANAR_FIELDS``, for a planar engine (as the class says)."""
 
     @abc.abstractmethod
     def in_contact(self) -> np.ndarray:

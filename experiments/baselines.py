@@ -29,13 +29,13 @@ from . import (
     pareto,
     report,
     stability,
-    sweep_chart,
     swing,
     twins,
 )
 from . import sweep as sweep_cmd
 from .core import cli, runs
 from .core.io import ROOT, atomic_write_bytes, atomic_write_many, json_bytes, provenance
+from .parts import sweep_chart
 from .report import readme
 
 #: name -> sweep command-line options (R161, 41 points, the paper's pitch).

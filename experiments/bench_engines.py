@@ -13,7 +13,7 @@ For each engine (reference profile, R161, the paper's swing, N impact points):
   the cheap sweep of every single-world engine (a batched engine's jobs stay in the runner's
   process) and on an expensive hinged-swing sweep of 96 points;
 - the wall time of the sweep command on 41 points, start-up included;
-- throughput against batch size (``experiments.throughput``): impacts per second at each
+- throughput against batch size (``experiments.parts.throughput``): impacts per second at each
   --batches size, with the largest error against theory and the harness's own share.
 Writes bench_engines.csv, .json and .png, and bench_batches.csv and .png into the run
 directory.
@@ -37,13 +37,13 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
-from . import throughput
 from .core import cli, runs, tables
 from .core.cli import Command
 from .core.fire import hosted
 from .core.io import ROOT, figure_png, json_bytes, provenance
 from .core.placement import start_state
 from .core.runner import MIN_PARALLEL_S, Runner
+from .parts import throughput
 
 
 def per_collision(name: str, firing: tables.Firing, repeats: int) -> dict:

@@ -23,12 +23,12 @@ import sys
 
 import pandas as pd
 
-from . import flex_beam as B
-from . import flex_chart
-from . import flex_engines as E
 from .core import runs
 from .core.cli import Command
 from .core.io import json_bytes, provenance
+from .parts import flex_beam as B
+from .parts import flex_chart
+from .parts import flex_engines as E
 
 
 def _csv(rows) -> bytes:

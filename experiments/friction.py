@@ -33,12 +33,12 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from . import friction_chart
 from .core import cli, runs, tables
 from .core.cli import Command
 from .core.fire import Job
 from .core.io import json_bytes, provenance
 from .core.judge import Status
+from .parts import friction_chart
 
 MUS = (0.1, 0.25, 0.5, 1.0)
 THETAS_RAD = (0.0, 0.2, 0.4)

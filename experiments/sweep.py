@@ -26,14 +26,14 @@ from analytic import Bat, compliant, predict, presets
 from analytic.ball import LAWS
 from analytic.dynamics import HingedSwing
 
-from . import sweep_chart
 from .core import carry, cli, estimate, judge, runs, tables
 from .core.estimate import duration
 from .core.fire import Job
 from .core.io import json_bytes, provenance
 from .core.placement import min_dt_s
 from .core.runner import Runner
-from .sweep_options import DEFAULT_E, build_parser, in_options
+from .parts import sweep_chart
+from .parts.sweep_options import DEFAULT_E, build_parser, in_options
 
 FLOAT_FORMAT = "%.12g"
 #: Runs estimated to take longer say so before they start.

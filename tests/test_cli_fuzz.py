@@ -35,7 +35,7 @@ from experiments import (
 from experiments.core import cli
 from experiments.core.io import ROOT
 from experiments.core.tables import TIMING_COLUMNS
-from experiments.sweep_options import build_parser
+from experiments.parts.sweep_options import build_parser
 
 from .conftest import examples
 

@@ -1,6 +1,7 @@
 """The house rules a reader relies on, read from the source itself: no module over 400 lines,
 no function over 60, and imports in one direction only: theory (``analytic``) <- engines
-(``adapters``) <- harness core (``experiments.core``) <- commands (``experiments.*``)."""
+(``adapters``) <- harness core (``experiments.core``) <- the commands' parts
+(``experiments.parts``: no command among them) <- commands (``experiments.*``)."""
 
 from __future__ import annotations
 
@@ -20,6 +21,7 @@ ALLOWED = {
     "analytic": ("analytic",),
     "adapters": ("analytic", "adapters"),
     "experiments.core": ("analytic", "adapters", "experiments.core"),
+    "experiments.parts": ("analytic", "adapters", "experiments.core", "experiments.parts"),
 }
 
 

@@ -12,9 +12,10 @@ import pytest
 
 import adapters
 from analytic import presets
-from experiments import compare, sweep, sweep_chart
+from experiments import compare, sweep
 from experiments.core import Runner, runs, tables
 from experiments.core.io import ROOT
+from experiments.parts import sweep_chart
 
 from .conftest import cheapest
 

@@ -1,11 +1,12 @@
-"""Section 3c of the findings: the flexible bat's two sweet spots, from ``experiments.flex_beam``
-(the R161 as a Timoshenko beam hit by the realistic ball, ``analytic.ball``)."""
+"""Section 3c of the findings: the flexible bat's two sweet spots, from
+``experiments.parts.flex_beam`` (the R161 as a Timoshenko beam hit by the realistic ball,
+``analytic.ball``)."""
 
 from __future__ import annotations
 
 import pandas as pd
 
-from .. import flex_beam as B
+from ..parts import flex_beam as B
 from .answers import MLB, PAPER
 from .report import md_table
 

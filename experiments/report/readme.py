@@ -45,7 +45,7 @@ def _out_of_the_box(meta: dict, name: str) -> str:
 
 def _costs(results: Path) -> dict[str, str]:
     """Per engine: the cost per impact through the harness in a batch of one and in its
-    cheapest batch (``experiments.throughput``, in bench_batches.csv); where that has no row,
+    cheapest batch (``experiments.parts.throughput``, in bench_batches.csv); where that has no row,
     the median over a grid through the runner (bench_engines.csv) and no batch."""
     bench = pd.read_csv(results / "bench_engines.csv")
     out = {name: f"{us:,.0f} us; not measured" for name, us in

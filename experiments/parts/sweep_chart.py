@@ -12,8 +12,8 @@ import pandas as pd
 import adapters
 from analytic import batted_ball_speed, presets
 
-from .core import judge
-from .core.io import figure_png
+from ..core import judge
+from ..core.io import figure_png
 
 
 def render(table: pd.DataFrame, sweep, marks: dict) -> bytes:

@@ -8,7 +8,7 @@ import pandas as pd
 
 import adapters
 
-from .core.io import figure_png
+from ..core.io import figure_png
 
 #: Errors below this are drawn on it (log axes; rounding is 1e-16 to 1e-7 relative).
 FLOOR = 1e-9

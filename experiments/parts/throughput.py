@@ -24,9 +24,9 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
-from .core import tables
-from .core.fire import Job, fire_jobs, hosted
-from .core.placement import start_state
+from ..core import tables
+from ..core.fire import Job, fire_jobs, hosted
+from ..core.placement import start_state
 
 GRID = 41
 SIZES = (1, 10, 100, 1_000, 10_000, 100_000)

@@ -18,7 +18,7 @@ from analytic import presets
 from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact
 
-from .core import chain as core_chain
+from ..core import chain as core_chain
 from .flex_beam import r161_beam
 
 #: The chain of the accuracy table, and its 11 impact points (m from the knob).

@@ -13,7 +13,7 @@ from analytic import presets
 from analytic.ball import LAWS
 from analytic.model import MAX_MU, MAX_OMEGA_RADPS, MAX_SPEED_MPS, MAX_SPIN_RADPS
 
-from .core import cli
+from ..core import cli
 
 #: The restitution of a sweep unless --e says otherwise (wood on a baseball).
 DEFAULT_E = presets.E_WOOD

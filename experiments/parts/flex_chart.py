@@ -9,8 +9,8 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from .core.io import figure_png
-from .core.judge import Status
+from ..core.io import figure_png
+from ..core.judge import Status
 
 #: Status colours of the stability map (the order is the legend's).
 STATUS_COLORS = {Status.OK.value: "#2ca02c", Status.INACCURATE.value: "#ff7f0e",
