@@ -19,6 +19,7 @@ from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact
 
 from ..core import chain as core_chain
+from ..core.judge import Status
 from .flex_beam import r161_beam
 
 #: The chain of the accuracy table, and its 11 impact points (m from the knob).
@@ -102,5 +103,6 @@ def _map_cell(name: str, segments: int, dt_s: float, step_body_s: float) -> dict
     cost = step_body_s * (segments + 1) * episode_s / dt_s
     if cost > MAP_BUDGET_S:
         return {"engine": name, "segments": segments, "dt_s": dt_s, "x_m": MAP_POINT_M,
-                "status": "unsupported", "why": f"over the map's budget ({cost:.0f} s est.)"}
+                "status": Status.UNSUPPORTED.value,
+                "why": f"over the map's budget ({cost:.0f} s est.)"}
     return fire(name, adapters.settings_for(name, dt_s=dt_s), segments, MAP_POINT_M)
