@@ -22,10 +22,13 @@ from experiments import (
     defaults,
     findings,
     flex,
+    friction,
     pareto,
+    report,
     stability,
     sweep,
     swing,
+    twins,
 )
 from experiments.core import runs
 from experiments.core.io import ROOT
@@ -33,7 +36,8 @@ from experiments.core.io import ROOT
 COMMANDS = {"sweep": sweep, "pareto": pareto, "stability": stability, "swing": swing,
             "calibrate_soft": calibrate_soft, "findings": findings, "baselines": baselines,
             "bench_engines": bench_engines, "bench_analytic": bench_analytic, "compare": compare,
-            "defaults": defaults, "check_engine": check_engine, "flex": flex}
+            "defaults": defaults, "check_engine": check_engine, "flex": flex,
+            "friction": friction, "twins": twins, "report": report}
 NOT_SOFT = [n for n in adapters.names() if adapters.record(n).soft_contact is None]
 
 
