@@ -9,6 +9,7 @@ steps (JAX traces, Warp modules) are made once per worker, not once per test.
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import shutil
@@ -105,6 +106,18 @@ def sound(table: pd.DataFrame) -> pd.Series:
 
 ROOT = Path(__file__).resolve().parents[1]
 PLUGIN = Path(__file__).parent / "plugin" / "toy_engine.py"
+
+
+def _commands() -> dict:
+    """Every command, by name: each module of ``experiments`` that runs as ``python -m`` (a
+    ``__main__`` guard, or a package's ``__main__.py``), imported."""
+    mains = {p.stem for p in (ROOT / "experiments").glob("*.py")
+             if 'if __name__ == "__main__":' in p.read_text()}
+    packages = {p.parent.name for p in (ROOT / "experiments").glob("*/__main__.py")}
+    return {n: importlib.import_module(f"experiments.{n}") for n in sorted(mains | packages)}
+
+
+COMMANDS = _commands()
 #: A command at small size finishes in well under a minute on 2 cores; a hang fails it here.
 COMMAND_TIMEOUT_S = 200
 

@@ -12,32 +12,12 @@ from pathlib import Path
 import pytest
 
 import adapters
-from experiments import (
-    baselines,
-    bench_analytic,
-    bench_engines,
-    calibrate_soft,
-    check_engine,
-    compare,
-    defaults,
-    findings,
-    flex,
-    friction,
-    pareto,
-    report,
-    stability,
-    sweep,
-    swing,
-    twins,
-)
+from experiments import sweep
 from experiments.core import runs
 from experiments.core.io import ROOT
 
-COMMANDS = {"sweep": sweep, "pareto": pareto, "stability": stability, "swing": swing,
-            "calibrate_soft": calibrate_soft, "findings": findings, "baselines": baselines,
-            "bench_engines": bench_engines, "bench_analytic": bench_analytic, "compare": compare,
-            "defaults": defaults, "check_engine": check_engine, "flex": flex,
-            "friction": friction, "twins": twins, "report": report}
+from .conftest import COMMANDS
+
 NOT_SOFT = [n for n in adapters.names() if adapters.record(n).soft_contact is None]
 
 

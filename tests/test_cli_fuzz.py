@@ -14,35 +14,15 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import adapters
-from experiments import (
-    baselines,
-    bench_analytic,
-    bench_engines,
-    calibrate_soft,
-    check_engine,
-    compare,
-    defaults,
-    findings,
-    flex,
-    friction,
-    pareto,
-    report,
-    stability,
-    sweep,
-    swing,
-    twins,
-)
+from experiments import compare
 from experiments.core import cli
 from experiments.core.io import ROOT
 from experiments.core.tables import TIMING_COLUMNS
 from experiments.parts.sweep_options import build_parser
 
-from .conftest import examples
+from .conftest import COMMANDS, examples
 
 PARSERS = {"sweep": build_parser}
-COMMANDS = {m.__name__.rsplit(".", 1)[-1]: m for m in (
-    baselines, bench_analytic, bench_engines, calibrate_soft, check_engine, compare, defaults,
-    findings, flex, friction, pareto, report, stability, sweep, swing, twins)}
 #: Values of the wrong kind or out of any range, beside each option's own.
 JUNK = ["", " ", "nan", "inf", "-inf", "-1", "0", "1e300", "-1e-300", "x", "1,2", "0x10",
         "--", "🦇", "1" * 400]
