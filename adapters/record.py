@@ -219,7 +219,9 @@ class EngineRecord:
     ``stiffness_setting``. ``engine_defaults``: the engine's own out-of-the-box values of
     settings fields (what the README quotes), each read back (``read_back_defaults``) or
     measured: a test pins both. ``step_cost_s``: the rough wall time of one reference step
-    (s, from ``experiments.bench_engines``), for run-time estimates only; a batched engine's
+    (s, ``experiments.bench_engines``' one-world step, every engine measured in the same run on
+    one 2-core host like CI's: only their ratios carry over to another host), for run-time
+    estimates only; a batched engine's
     ``world_step_cost_s`` is what each further world adds to a step (s; ``step_cost_s`` is then
     a step of one world; None for a single-world engine: ``batched`` says which), and
     ``start_s`` what each new batch size first costs in a process (s: JAX's trace and compile,

@@ -220,7 +220,7 @@ RECORD = EngineRecord(
     # by pyb2d3 and moves no velocity here, so it is neither quoted nor measurable.
     engine_defaults={"contact_hertz": 30.0, "contact_damping_ratio": 10.0,
                      "restitution_threshold_mps": 1.0, "maximum_linear_speed_mps": 400.0},
-    step_cost_s=2e-6,
+    step_cost_s=4.8e-6,
     label="Box2D",
     notes=ReportNotes(
         profile=("dt = {dt_s}, sub-steps of at most {max_sub_step_s}, restitution threshold "

@@ -274,7 +274,7 @@ RECORD = EngineRecord(
                      "sap_near_rigid_threshold": 1.0,
                      "point_stiffness_npm": DEFAULT_POINT_STIFFNESS_NPM,
                      "stiction_tolerance_mps": DEFAULT_STICTION_TOLERANCE_MPS},
-    step_cost_s=1.5e-4,
+    step_cost_s=5.8e-4,
     label="Drake",
     notes=ReportNotes(
         profile=("{solver} plant, RK3 with error control at {accuracy}, read every {dt_s}; "

@@ -142,7 +142,7 @@ RECORD = EngineRecord(
     friction_rule_overrides=NATIVE_FRICTION,
     soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=6e-5, world_step_cost_s=2e-5, start_s=0.5,
+    step_cost_s=1.0e-4, world_step_cost_s=2e-5, start_s=0.5,
     label="MuJoCo Warp",
     twin_of="mujoco",
     twin_steps=TWIN_STEPS,

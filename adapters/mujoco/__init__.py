@@ -173,7 +173,7 @@ RECORD = EngineRecord(
     engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
                      "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler",
                      "cone": "pyramidal"},
-    step_cost_s=8e-6,  # one world's step on CI's 2-core hosts: 7.6 and 8.5 us (2026-11-26)
+    step_cost_s=5.3e-6,
     label="MuJoCo",
     notes=ReportNotes(
         profile=("dt = {dt_s}, {integrator}, `impulse` contact: `solref = (0, -(1+e)/dt)`, "

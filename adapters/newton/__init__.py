@@ -355,7 +355,7 @@ RECORD = EngineRecord(
                    overrides=(("solver", "semi_implicit"),)),
     ),
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=8e-4, world_step_cost_s=2e-6, start_s=0.3,
+    step_cost_s=2.7e-3, world_step_cost_s=2e-6, start_s=0.3,
     label="Newton",
     notes=ReportNotes(
         profile=("dt = {dt_s}, XPBD with `enable_restitution`, contact gap {contact_gap_m} "

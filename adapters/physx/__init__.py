@@ -202,7 +202,7 @@ RECORD = EngineRecord(
                      "max_angular_velocity_radps": 100.0,
                      "max_depenetration_velocity_mps": 1e32, "sleep_threshold": 0.005,
                      "friction_every_iteration": True},
-    step_cost_s=7e-6,
+    step_cost_s=2.3e-5,
     label="PhysX",
     notes=ReportNotes(
         profile=("dt = {dt_s}, TGS, bounce threshold 0, spin cap lifted "

@@ -151,7 +151,7 @@ RECORD = EngineRecord(
     # measured by read_back_defaults (an oblique slide, bit for bit the cone's, not the box's).
     engine_defaults={"contact_erp": 0.08, "contact_slop": 1e-5, "solver_iterations": 50,
                      "dt_s": 1 / 240, "cone_friction": True},
-    step_cost_s=2e-6,
+    step_cost_s=5.8e-6,
     label="PyBullet",
     notes=ReportNotes(
         profile=("dt = {dt_s}, `contactERP = erp = 0`, `contactSlop = 0`, no restitution "

@@ -93,7 +93,7 @@ RECORD = EngineRecord(
     planar=True,
     engine_defaults={"iterations": 10, "collision_slop": CHIPMUNK_SLOP,
                      "collision_bias": CHIPMUNK_BIAS, "joint_error_bias": CHIPMUNK_BIAS},
-    step_cost_s=1e-6,
+    step_cost_s=3.2e-6,
     label="pymunk",
     notes=ReportNotes(
         profile="dt = {dt_s}, Chipmunk's own solver values (exact for one contact)",

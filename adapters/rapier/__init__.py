@@ -227,7 +227,7 @@ RECORD = EngineRecord(
                      "max_ccd_substeps": 1, "ccd_bodies": "none", "soft_ccd_prediction_m": 0.0,
                      "hinge_frequency_hz": 1.0e6, "hinge_damping_ratio": 1.0,
                      "friction_model": "simplified", "friction_in_bias_pass": False},
-    step_cost_s=3e-5,  # bench_engines measured 18 and 47 us a step on two runs
+    step_cost_s=2.7e-5,
     label="Rapier",
     notes=ReportNotes(
         profile=("dt = {dt_s}, {solver_iterations} substep, prediction distance "
