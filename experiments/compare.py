@@ -120,7 +120,7 @@ def _column_change(engine: str, df: pd.DataFrame, col: str, out) -> bool:
     moved = (diff > 0) | one_nan
     if not moved.any():
         return False
-    i = (diff + one_nan * math.inf).idxmax()
+    i = diff.mask(one_nan, math.inf).idxmax()  # a NaN on one side first
     print(f"{engine} {col}: {int(moved.sum())} rows changed, largest "
           f"{diff[i] if not one_nan[i] else math.nan:.3e} at s={df.loc[i, 's_m']:.4f} "
           f"({a[i]:.6g} -> {b[i]:.6g})", file=out)

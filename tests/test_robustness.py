@@ -186,13 +186,14 @@ def _edit_v1(text: str, value: str) -> str:
     return "\n".join([head, ",".join(cells), *rest]) + "\n"
 
 
-@pytest.mark.parametrize("change", ["nan", "blank", "duplicated"])
+@pytest.mark.parametrize("change", ["nan", "blank", "duplicated", "moved"])
 def test_compare_counts_every_damage_as_a_change(tmp_path, sweep_csv, change):
     lines = sweep_csv.splitlines(keepends=True)
     new = {"nan": lambda: _edit_v1(sweep_csv, "nan"), "blank": lambda: _edit_v1(sweep_csv, ""),
-           "duplicated": lambda: sweep_csv + lines[-1]}[change]()
+           "duplicated": lambda: sweep_csv + lines[-1],
+           "moved": lambda: _edit_v1(sweep_csv, "-1.0")}[change]()  # no engine returns -1 m/s
     res = _compare(tmp_path, sweep_csv, new)
-    assert res.returncode == 1, res.stdout + res.stderr
+    assert res.returncode == 1 and "Traceback" not in res.stderr, res.stdout + res.stderr
     assert "no change apart from timing" not in res.stdout
     assert _compare(tmp_path, sweep_csv, sweep_csv).returncode == 0
 
