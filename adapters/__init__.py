@@ -186,11 +186,6 @@ def missing() -> MappingProxyType:
                              if not _installed(record(n))})
 
 
-def loaded() -> tuple[str, ...]:
-    """Registered engines whose adapter (and so engine) this process has imported."""
-    return tuple(n for n in names() if record(n).adapter.split(":")[0] in sys.modules)
-
-
 def engine_class(name: str) -> type[Engine] | type[BatchedEngine]:
     """The adapter class for ``name``, importing its engine now (EngineNotInstalled if missing)."""
     rec = record(name)

@@ -39,7 +39,7 @@ from analytic import presets
 
 from .core import cli, runs, tables
 from .core.cli import Command
-from .core.fire import hosted
+from .core.hosting import hosted
 from .core.io import ROOT, figure_png, json_bytes, provenance
 from .core.placement import start_state
 from .core.runner import MIN_PARALLEL_S, Runner

@@ -13,7 +13,7 @@ from adapters import Scene
 from analytic import ImpactCase, compliant, predict, presets
 from analytic.compliant import damping_ratio_for, restitution_of_damping_ratio
 from experiments.core import Job, fire_jobs, judge
-from experiments.core.fire import Hosted
+from experiments.core.hosting import Hosted
 from experiments.core.placement import start_state
 
 R161, BALL = presets.R161, presets.BASEBALL

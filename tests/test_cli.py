@@ -214,7 +214,9 @@ def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(name, tmp_p
                    capture_output=True, check=True)
     kept = {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()}
     env = {**os.environ, "BATSIM_QUIET": "0", "PYTHONUNBUFFERED": "1"}
-    proc = subprocess.Popen([sys.executable, *args, "--swing", "--points", "600"], cwd=ROOT,
+    # (interrupted within seconds: the estimate, an hour for Drake, must not refuse it)
+    proc = subprocess.Popen([sys.executable, *args, "--swing", "--points", "600",
+                             "--budget-h", "100"], cwd=ROOT,
                             env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     seen = []
     for line in proc.stderr:

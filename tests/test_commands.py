@@ -7,6 +7,7 @@ engine and for a batched one. The README's own command lines are in ``test_readm
 
 from __future__ import annotations
 
+import json
 import shutil
 from pathlib import Path
 
@@ -60,6 +61,12 @@ def test_command_runs_at_small_size(command, tmp_path):
     if out:  # one run directory, published whole
         (run,) = tmp_path.iterdir()
         assert any(run.iterdir()), res.stdout
+        # whichever process ran the engine, its version is in the run's provenance
+        for meta in run.glob("*.json"):
+            versions = json.loads(meta.read_text()).get("provenance", {}).get("versions")
+            if versions is not None and "--engine" in SMALL[command]:
+                engine = SMALL[command][SMALL[command].index("--engine") + 1]
+                assert adapters.record(engine).package in versions, (meta.name, versions)
     if command == "compare":
         assert "no change apart from timing" in res.stdout
 

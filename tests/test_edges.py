@@ -20,7 +20,8 @@ import pytest
 import adapters
 from analytic import ImpactCase, presets
 from experiments.core import Job, judge, tables
-from experiments.core.fire import Hosted, fire_group
+from experiments.core.fire import fire_group
+from experiments.core.hosting import Hosted
 from experiments.core.placement import min_dt_s
 
 pytestmark = pytest.mark.full

@@ -12,7 +12,7 @@ import adapters
 from adapters import Scene
 from analytic import Bat, ImpactCase, presets
 from experiments.core import Job, Status, fire_jobs, judge, table
-from experiments.core.fire import Hosted
+from experiments.core.hosting import Hosted
 from experiments.core.placement import start_state
 
 R161, BALL = presets.R161, presets.BASEBALL

@@ -25,7 +25,8 @@ From the theory (``analytic``) and the engine interface (``adapters``) up:
 
 from .check import CheckReport, check_engine
 from .episode import SimOutcome
-from .fire import Fired, Job, SceneMismatch, fire_jobs
+from .fire import Fired, Job, fire_jobs
+from .hosting import SceneMismatch
 from .judge import MEASURED, Status
 from .placement import SwingPlan, start_state, swing_case
 from .runner import Runner

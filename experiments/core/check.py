@@ -28,7 +28,8 @@ from analytic import ImpactCase, center_of_percussion, predict, presets
 from analytic.dynamics import HingedSwing
 
 from . import friction_judge, judge
-from .fire import Hosted, Job, SceneMismatch, check_mass_properties, fire_group, fire_jobs, hosted
+from .fire import Job, fire_group, fire_jobs
+from .hosting import Hosted, SceneMismatch, check_mass_properties, hosted
 from .judge import Status
 from .tables import table
 

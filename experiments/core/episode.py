@@ -1,5 +1,6 @@
 """The impact episode: step a batch of worlds from their start states until each impact is over,
-then classify how it ended. One path for every engine: a single-world engine is a batch of one.
+then classify how it ended. One path for every engine: single-world engines are a batch of one
+(``OneWorld``, in Python floats) or of several engines stepped in turn (``EngineWorlds``).
 
 An episode ends as ``analytic.collide`` ends the rigid one: the bodies apart with no contact to
 come in free flight (``analytic.collide.free_flight``), the ball off the cylinder's span, or
@@ -95,6 +96,40 @@ class OneWorld:
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
         self.engine.set_drive(None if hands is None else hands[0])
+
+
+class EngineWorlds:
+    """Several single-world engines (``adapters.Engine``), one world each, stepped in turn and
+    seen as one batch in numpy arrays: the harness's work on a step is done once for them all."""
+
+    xp = g.ARRAYS
+
+    def __init__(self, engines: Sequence) -> None:
+        self.engines, self.n = engines, len(engines)
+
+    def set_state(self, states: np.ndarray) -> None:
+        for engine, row in zip(self.engines, states.tolist()):
+            engine.set_state(State(*row))
+
+    def step(self) -> None:
+        for engine in self.engines:
+            engine.step()
+
+    def any_contact(self) -> bool:
+        return any(engine.in_contact() for engine in self.engines)
+
+    def in_contact(self) -> np.ndarray:
+        return np.array([engine.in_contact() for engine in self.engines], dtype=bool)
+
+    def read(self) -> np.ndarray:
+        return g.padded(np.array([engine.read() for engine in self.engines], dtype=float))
+
+    def failed(self) -> np.ndarray:
+        return np.array([engine.failed() for engine in self.engines], dtype=bool)
+
+    def set_drive(self, hands: Sequence[Hands] | None) -> None:
+        for i, engine in enumerate(self.engines):
+            engine.set_drive(None if hands is None else hands[i])
 
 
 class ManyWorlds:

@@ -2,36 +2,35 @@
 
     fired = fire_jobs([Job(engine="mujoco", settings=s, case=c) for c in cases])
 
-Each job is placed (``placement``), fired on the process's adapter for its engine and settings
-(made once and reused: adapters hold no state between impacts), stepped through its episode
-(``episode``) and measured. A single-world engine fires one job at a time; a batched engine
-fires each run of consecutive jobs that share a scene as one batch. Where the jobs run is the
-runner's business (``experiments.core.runner``).
+Each job is placed (``placement``), fired on the process's engine for its settings
+(``hosting``), stepped through its episode (``episode``) and measured. A batched engine fires
+each run of consecutive jobs that share a scene as one batch; a single-world engine fires them
+one at a time, or, in a long run, on several of its adapters stepped together. Where the jobs
+run is the runner's business (``experiments.core.runner``).
 """
 
 from __future__ import annotations
 
-import atexit
 import math
 import threading
 import time
-from collections import OrderedDict
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from itertools import compress, pairwise
 from operator import attrgetter, ne
 
 import numpy as np
 
 import adapters
-from adapters import BatchedEngine, MassProperties, Scene, Settings, State
+from adapters import Scene, Settings, State
 from analytic import ImpactCase
 from analytic.dynamics import HingedSwing, MotionState
 
 from . import geometry as g
-from .episode import ManyWorlds, OneWorld, SimOutcome, classify, step_episodes
+from .episode import OneWorld, SimOutcome, classify, step_episodes
 from .fired import Fired, FiredBlock, FiredSeq, nan_release, outcome
-from .judge import Status, energy_allowance, mass_allowance
+from .hosting import Hosted, SceneMismatch, engine_settings, hosted
+from .judge import Status, energy_allowance
 from .placement import (
     PARKED_BALL_Y_M,
     SwingPlan,
@@ -42,16 +41,10 @@ from .placement import (
     swing_case,
 )
 
-#: Engines kept alive per process (one per engine and settings), oldest closed first.
-ENGINE_CACHE = 8
 #: Set by the SIGINT handler of ``experiments.core.cli.main_guard``. Python code that an engine
 #: calls back (pymunk's velocity functions) swallows the KeyboardInterrupt raised there, so
 #: every batch checks this flag once it is done.
 INTERRUPTED = threading.Event()
-
-
-class SceneMismatch(RuntimeError):
-    """The engine holds mass properties other than the scene's (an adapter bug, not physics)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -65,112 +58,38 @@ class Job:
     swing: HingedSwing | None = None
 
 
-class Hosted:
-    """One adapter of an engine with its settings, and the scene it holds."""
-
-    def __init__(self, name: str, settings: Settings) -> None:
-        self.name, self.settings = name, settings
-        self.record = adapters.record(name)
-        self.adapter = adapters.create(name, settings)
-        self.batched = isinstance(self.adapter, BatchedEngine)
-        self.scene: Scene | None = None
-        self.worlds = 0
-
-    def batch(self, scene: Scene, n: int):
-        """The adapter holding ``scene`` in ``n`` worlds (built when either changed, and its mass
-        properties checked), seen as the episode steps it."""
-        if not self.batched and n != 1:
-            raise ValueError(f"{self.name} steps one world at a time; allowed: n=1")
-        if scene != self.scene or (self.batched and n != self.worlds):
-            self.scene = None
-            if self.batched:
-                self.adapter.build(scene, n)
-            else:
-                self.adapter.build(scene)
-            check_mass_properties(self.name, self.adapter.mass_properties(), scene,
-                                  self.record.eps)
-            self.scene, self.worlds = scene, n
-        return ManyWorlds(self.adapter, n) if self.batched else OneWorld(self.adapter)
-
-    def close(self) -> None:
-        self.scene = None
-        self.adapter.close()
-
-
-def check_mass_properties(name: str, got: MassProperties, scene: Scene, eps: float) -> None:
-    """Raise SceneMismatch unless the engine holds the scene's mass properties, to
-    ``judge.mass_allowance`` of its precision."""
-    bat, ball = scene.bat, scene.ball
-    want = MassProperties(bat_mass_kg=bat.mass_kg, bat_com_from_knob_m=bat.com_from_knob_m,
-                          bat_inertia_kgm2=bat.inertia_cm_kgm2, ball_mass_kg=ball.mass_kg,
-                          ball_inertia_kgm2=ball.inertia_kgm2)
-    rel = mass_allowance(eps)
-    for field in MassProperties.__dataclass_fields__:
-        a, b = getattr(got, field), getattr(want, field)
-        if not math.isclose(a, b, rel_tol=rel, abs_tol=1e-15):
-            raise SceneMismatch(f"{name}: {field} read back as {a!r}, the scene has {b!r} "
-                                f"(allowed relative difference {rel:g})")
-
-
-_HOSTED: OrderedDict[tuple[str, Settings], Hosted] = OrderedDict()
-
-
-def engine_settings(name: str, settings: Settings) -> Settings:
-    """The settings an engine is made with: a batched engine's worlds may differ in where the
-    contact falls in a step (``contact_phase``: placement, the harness's, not the engine's),
-    so its adapter is made with contact_phase 0 and serves them all."""
-    if adapters.record(name).batched and settings.contact_phase != 0.0:
-        return replace(settings, contact_phase=0.0)
-    return settings
-
-
-def hosted(name: str, settings: Settings) -> Hosted:
-    """This process's adapter for ``name`` and ``settings`` (made once, reused)."""
-    settings = engine_settings(name, settings)
-    key = (name, settings)
-    if key in _HOSTED:
-        _HOSTED.move_to_end(key)
-        return _HOSTED[key]
-    while len(_HOSTED) >= ENGINE_CACHE:
-        _HOSTED.popitem(last=False)[1].close()
-    made = _HOSTED[key] = Hosted(name, settings)
-    return made
-
-
-def close_engines() -> None:
-    """Close every adapter this process holds."""
-    while _HOSTED:
-        _HOSTED.popitem()[1].close()
-
-
-# at exit, while the engines' own modules are still there to free their worlds
-atexit.register(close_engines)
-
-
-def forget_engines() -> None:
-    """In a forked worker: drop the copies of the parent's adapters (they are the parent's)."""
-    _HOSTED.clear()
-
-
 def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> FiredSeq:
-    """Fire jobs in this process, in order: one at a time on a single-world engine, each run of
-    consecutive jobs sharing engine, settings, scene and swing as one batch on a batched one."""
+    """Fire jobs in this process, in order: each run of consecutive jobs sharing engine,
+    settings, scene and swing as one batch on a batched engine, and on a single-world one in
+    batches of as many engines as the run repays (``Hosted.pool_size``; one under a swing)."""
     parts: list[Sequence[Fired]] = []
     for run in runs(jobs):
         host = hosted(run[0].engine, run[0].settings)
-        single: list[Fired] = []
-        for group in [run] if host.batched else [[job] for job in run]:
+        for group in _groups(host, run):
             fired = fire_group(host, group)
-            if host.batched:
+            if isinstance(fired, FiredBlock) or not parts or isinstance(parts[-1], FiredBlock):
                 parts.append(fired)
             else:
-                single += fired
+                parts[-1] += fired
             if INTERRUPTED.is_set():
                 raise KeyboardInterrupt
             if tick is not None:
                 tick(len(group))
-        parts.append(single)
     return FiredSeq(parts)
+
+
+def _groups(host: Hosted, run: Sequence[Job]):
+    """The batches a run is fired in: one on a batched engine; on a single-world one, as many
+    engines at a time as the rest of the run repays (one under a swing, whose worlds may swing
+    for different times)."""
+    if host.batched:
+        yield run
+        return
+    at = 0
+    while at < len(run):
+        size = 1 if run[0].swing is not None else host.pool_size(len(run) - at)
+        yield run[at:at + size]
+        at += size
 
 
 #: What the jobs of one batch share: engine, settings, swing, bat, ball, e and mu (equal tuples
@@ -204,6 +123,7 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     a ``FiredBlock`` on a batched engine, a list of one ``Fired`` on a single-world one."""
     t0 = time.perf_counter()
     st = host.settings
+    host.fired += len(jobs)
     plans: list[SwingPlan] | None = None
     cases, each = [j.case for j in jobs], [j.settings for j in jobs]
     if jobs[0].swing is not None:
@@ -213,13 +133,15 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
                    for c, k in zip(cases, each)]
         cases, plans = [p[0] for p in planned], [p[1] for p in planned]
     bat, ball = cases[0].bat, cases[0].ball
-    spatial = any(c.out_of_plane for c in cases)
+    xp = g.ARRAYS if host.batched or len(cases) > 1 else g.SCALARS
+    cc = case_columns(xp, cases)
+    t = cc.turned  # ImpactCase.out_of_plane, over the columns
+    spatial = t is not None and bool(np.any((t.undercut_m != 0.0) | (t.spin_x != 0.0)
+                                            | (t.spin_y != 0.0)))
     lacking = _lacking(host.record, cases[0].mu, spatial)
     if lacking:
         return _failed(host, cases, each, plans, Status.UNSUPPORTED, lacking, t0)
     batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e, mu=cases[0].mu), len(cases))
-    xp = batch.xp
-    cc = case_columns(xp, cases)
     cc.contact_phase = (each[0].contact_phase if each.count(each[0]) == len(each)
                         else np.array([k.contact_phase for k in each]))
     check_placements(xp, cases, cc, each)
@@ -239,7 +161,7 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     cols["release_omega_radps"], cols["release_angle_rad"] = release
     cols["steps"] = cols["steps"] + (plans[0].steps if plans else 0)
     wall = (time.perf_counter() - t0) / len(cases)
-    if not host.batched:
+    if isinstance(batch, OneWorld):
         return [Fired(cases[0], outcome(cols, None, engine=host.name, settings=st, wall_s=wall),
                       *_analytic_release(plans[0] if plans else None))]
     cols.update(nan_release(len(cases)) if plans is None else {

@@ -79,10 +79,17 @@ def _free_flights(S, mask, **kw) -> tuple[np.ndarray, np.ndarray]:
     return t, why
 
 
-#: numpy over a batch: arrays of n values, n rows.
+def _hypot(x: float, y: float) -> float:
+    """numpy's hypot on two floats: math.hypot rounds otherwise in about 1 case in 300, and a
+    world's numbers must not depend on whether it was stepped alone or in a batch."""
+    return float(np.hypot(x, y))
+
+
+#: numpy over a batch: arrays of n values, n rows. The two namespaces round alike (``sqrt``,
+#: not ``** 0.5``: Python's pow and numpy's differ in the last bit).
 ARRAYS = SimpleNamespace(
-    cos=np.cos, sin=np.sin, hypot=np.hypot, clip=np.clip, where=np.where, maximum=np.maximum,
-    any=np.any, not_=np.logical_not, full=np.full, put=_put,
+    cos=np.cos, sin=np.sin, hypot=np.hypot, sqrt=np.sqrt, clip=np.clip, where=np.where,
+    maximum=np.maximum, any=np.any, not_=np.logical_not, full=np.full, put=_put,
     where_rows=lambda mask, a, b: np.where(mask[:, None], a, b),
     cols=lambda states: states.T, row=lambda states, i: states[i],
     stack=lambda rows: np.array(rows, dtype=float), finite=_finite_rows, indices=_indices,
@@ -92,7 +99,7 @@ ARRAYS = SimpleNamespace(
 
 #: Python floats for one world: a value, a bool, one State.
 SCALARS = SimpleNamespace(
-    cos=math.cos, sin=math.sin, hypot=math.hypot,
+    cos=math.cos, sin=math.sin, hypot=_hypot, sqrt=math.sqrt,
     clip=lambda x, lo, hi: min(max(x, lo), hi), where=lambda c, a, b: a if c else b,
     maximum=max, any=bool, not_=lambda flag: not flag, full=lambda n, value: value,
     put=lambda value, i, new: new, where_rows=lambda flag, a, b: a if flag else b,
@@ -150,7 +157,7 @@ def jumped(xp, before, after, elapsed_s, limit_m: float):
     for x, y, vx, vy in ((BALL_X, BALL_Y, BALL_VX, BALL_VY), (BAT_X, BAT_Y, BAT_VX, BAT_VY)):
         dx, dy = after[x] - before[x], after[y] - before[y]
         speed2 = xp.maximum(before[vx] ** 2 + before[vy] ** 2, after[vx] ** 2 + after[vy] ** 2)
-        allowed = 2.0 * elapsed_s * speed2 ** 0.5 + limit_m
+        allowed = 2.0 * elapsed_s * xp.sqrt(speed2) + limit_m
         out = out | (dx * dx + dy * dy > allowed * allowed)  # squared: no square root per body
     return out
 
@@ -175,7 +182,7 @@ def contact_geometry_3d(xp, bat: Bat, ball: Ball, S, came_from=1.0):
     along = dx * ax + dy * ay + dz * az
     t = xp.clip(along, bat.s_min_m, bat.s_max_m)
     nx, ny, nz = dx - t * ax, dy - t * ay, dz - t * az
-    dist = (nx * nx + ny * ny + nz * nz) ** 0.5
+    dist = xp.sqrt(nx * nx + ny * ny + nz * nz)
     side = (dy * ca - dx * sa) * came_from
     pen = bat.radius_m + ball.radius_m - xp.where(side > 0.0, dist, -dist)
     wx, wy, wz = S[BAT_WX], S[BAT_WY], S[BAT_W]
@@ -211,7 +218,7 @@ def jumped_3d(xp, before, after, elapsed_s, limit_m: float):
         dx, dy, dz = after[x] - before[x], after[y] - before[y], after[z] - before[z]
         speed2 = xp.maximum(before[vx] ** 2 + before[vy] ** 2 + before[vz] ** 2,
                             after[vx] ** 2 + after[vy] ** 2 + after[vz] ** 2)
-        allowed = 2.0 * elapsed_s * speed2 ** 0.5 + limit_m
+        allowed = 2.0 * elapsed_s * xp.sqrt(speed2) + limit_m
         out = out | (dx * dx + dy * dy + dz * dz > allowed * allowed)
     return out
 

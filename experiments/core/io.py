@@ -107,10 +107,11 @@ def _git(*args: str) -> str:
 
 def versions() -> dict[str, str]:
     """Installed versions of the libraries whose behaviour the results depend on: the
-    scientific stack and the package of every engine this process has used."""
+    scientific stack and every registered engine's package (read from the installed metadata,
+    no engine imported: the engines may have run in worker processes)."""
     import adapters
 
-    engines = sorted({adapters.record(n).package for n in adapters.loaded()})
+    engines = sorted({adapters.record(n).package for n in adapters.names()})
     out = {"python": platform.python_version()}
     for name in (*PACKAGES, *engines):
         try:

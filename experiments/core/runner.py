@@ -23,8 +23,9 @@ from typing import Any
 
 import adapters
 
-from .fire import Fired, Job, close_engines, fire_jobs, forget_engines
+from .fire import Fired, Job, fire_jobs
 from .fired import FiredSeq
+from .hosting import close_engines, forget_engines
 
 #: Below this much estimated work (s) the rest of a run stays in this process: starting workers
 #: and shipping the work costs more than it saves.

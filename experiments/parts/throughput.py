@@ -25,7 +25,8 @@ from adapters import Scene
 from analytic import presets
 
 from ..core import tables
-from ..core.fire import Job, fire_jobs, hosted
+from ..core.fire import Job, fire_jobs
+from ..core.hosting import hosted
 from ..core.placement import start_state
 
 GRID = 41
@@ -65,8 +66,9 @@ ENGINE_CALLS = ("set_state", "step", "read", "in_contact", "failed", "set_drive"
 
 
 @contextlib.contextmanager
-def _clocked(adapter, spent: list[float]):
-    """While open, the time inside the adapter's ENGINE_CALLS adds up in ``spent[0]`` (s)."""
+def _clocked(cls: type, spent: list[float]):
+    """While open, the time inside the ENGINE_CALLS of every adapter of class ``cls`` (those
+    made meanwhile too) adds up in ``spent[0]`` (s)."""
     def clock(call):
         def timed(*args):
             t0 = time.perf_counter()
@@ -76,19 +78,23 @@ def _clocked(adapter, spent: list[float]):
                 spent[0] += time.perf_counter() - t0
         return timed
 
+    calls = {name: cls.__dict__.get(name) for name in ENGINE_CALLS}
     for name in ENGINE_CALLS:
-        setattr(adapter, name, clock(getattr(adapter, name)))
+        setattr(cls, name, clock(getattr(cls, name)))
     try:
         yield
     finally:
-        for name in ENGINE_CALLS:
-            delattr(adapter, name)
+        for name, own in calls.items():
+            if own is None:
+                delattr(cls, name)
+            else:
+                setattr(cls, name, own)
 
 
 def _timed(name: str, settings, jobs: list[Job]):
     """Fire ``jobs``: the outcomes, the wall time and the time inside the engine's calls (s)."""
     spent = [0.0]
-    with _clocked(hosted(name, settings).adapter, spent):
+    with _clocked(type(hosted(name, settings).adapter), spent):
         t0 = time.perf_counter()
         fired = fire_jobs(jobs)
         wall = time.perf_counter() - t0

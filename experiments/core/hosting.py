@@ -1,0 +1,149 @@
+"""The engines a process holds: one ``Hosted`` per engine and settings, made once and reused
+(adapters hold no state between impacts), oldest closed first; a single-world engine's
+``Hosted`` makes more of its adapters for a long run, stepped together as one batch.
+"""
+
+from __future__ import annotations
+
+import atexit
+import math
+import time
+from collections import OrderedDict
+from dataclasses import replace
+
+import adapters
+from adapters import BatchedEngine, MassProperties, Scene, Settings
+
+from .episode import EngineWorlds, ManyWorlds, OneWorld
+from .judge import mass_allowance
+
+#: Engines kept alive per process (one per engine and settings), oldest closed first.
+ENGINE_CACHE = 8
+
+
+class SceneMismatch(RuntimeError):
+    """The engine holds mass properties other than the scene's (an adapter bug, not physics)."""
+
+
+
+#: The most single-world engines one ``Hosted`` steps together as one batch (``EngineWorlds``),
+#: and the fewest worth it: the batch's numpy work on a step (about 0.3 ms here) must be shared
+#: by enough worlds to cost less than a world alone does in Python floats.
+POOL_MAX, POOL_MIN = 64, 16
+#: What an impact costs the harness less when fired in a batch of single-world engines than
+#: alone (s): about 60 us alone against 10 us in a batch of 64 (``bench_engines`` on a 2-core
+#: host). More engines are made only once the impacts fired repay their making.
+POOLED_SAVING_S = 5e-5
+
+
+class Hosted:
+    """One engine with its settings, and the scene it holds: a batched adapter, or the
+    single-world adapters (one, or more for a long run: ``pool_size``) stepped together."""
+
+    def __init__(self, name: str, settings: Settings) -> None:
+        self.name, self.settings = name, settings
+        self.record = adapters.record(name)
+        self.adapter = adapters.create(name, settings)
+        self.make_s: float | None = None  # what one more engine costs: its first build, timed
+        self.batched = isinstance(self.adapter, BatchedEngine)
+        self.engines, self.scenes = [self.adapter], [None]
+        self.fired = 0  # impacts fired so far: what repays more engines
+        self.scene: Scene | None = None
+        self.worlds = 0
+
+    def pool_size(self, impacts: int) -> int:
+        """How many single-world engines to step the next ``impacts`` on: those made already,
+        or as many as the impacts fired so far and these repay (``POOLED_SAVING_S`` an impact
+        against each engine's making, its first build as timed), if at least ``POOL_MIN``."""
+        if self.make_s is None:
+            return 1
+        repaid = int((self.fired + impacts) * POOLED_SAVING_S / self.make_s)
+        size = min(POOL_MAX, impacts, max(len(self.engines), repaid))
+        return size if size >= POOL_MIN else 1
+
+    def batch(self, scene: Scene, n: int):
+        """The adapter(s) holding ``scene`` in ``n`` worlds (built when either changed, and
+        their mass properties checked), seen as the episode steps them."""
+        if self.batched:
+            if scene != self.scene or n != self.worlds:
+                self.scene = None
+                self.adapter.build(scene, n)
+                self._check(self.adapter, scene)
+                self.scene, self.worlds = scene, n
+            return ManyWorlds(self.adapter, n)
+        while len(self.engines) < n:
+            self.engines.append(adapters.create(self.name, self.settings))
+            self.scenes.append(None)
+        for i in range(n):
+            if self.scenes[i] != scene:
+                self.scenes[i] = None
+                t0 = time.perf_counter()
+                self.engines[i].build(scene)
+                if self.make_s is None:
+                    self.make_s = time.perf_counter() - t0
+                self._check(self.engines[i], scene)
+                self.scenes[i] = self.scene = scene
+        return OneWorld(self.adapter) if n == 1 else EngineWorlds(self.engines[:n])
+
+    def _check(self, adapter, scene: Scene) -> None:
+        check_mass_properties(self.name, adapter.mass_properties(), scene, self.record.eps)
+
+    def close(self) -> None:
+        self.scene, self.scenes = None, [None] * len(self.engines)
+        for engine in self.engines:
+            engine.close()
+
+
+def check_mass_properties(name: str, got: MassProperties, scene: Scene, eps: float) -> None:
+    """Raise SceneMismatch unless the engine holds the scene's mass properties, to
+    ``judge.mass_allowance`` of its precision."""
+    bat, ball = scene.bat, scene.ball
+    want = MassProperties(bat_mass_kg=bat.mass_kg, bat_com_from_knob_m=bat.com_from_knob_m,
+                          bat_inertia_kgm2=bat.inertia_cm_kgm2, ball_mass_kg=ball.mass_kg,
+                          ball_inertia_kgm2=ball.inertia_kgm2)
+    rel = mass_allowance(eps)
+    for field in MassProperties.__dataclass_fields__:
+        a, b = getattr(got, field), getattr(want, field)
+        if not math.isclose(a, b, rel_tol=rel, abs_tol=1e-15):
+            raise SceneMismatch(f"{name}: {field} read back as {a!r}, the scene has {b!r} "
+                                f"(allowed relative difference {rel:g})")
+
+
+_HOSTED: OrderedDict[tuple[str, Settings], Hosted] = OrderedDict()
+
+
+def engine_settings(name: str, settings: Settings) -> Settings:
+    """The settings an engine is made with: a batched engine's worlds may differ in where the
+    contact falls in a step (``contact_phase``: placement, the harness's, not the engine's),
+    so its adapter is made with contact_phase 0 and serves them all."""
+    if adapters.record(name).batched and settings.contact_phase != 0.0:
+        return replace(settings, contact_phase=0.0)
+    return settings
+
+
+def hosted(name: str, settings: Settings) -> Hosted:
+    """This process's adapter for ``name`` and ``settings`` (made once, reused)."""
+    settings = engine_settings(name, settings)
+    key = (name, settings)
+    if key in _HOSTED:
+        _HOSTED.move_to_end(key)
+        return _HOSTED[key]
+    while len(_HOSTED) >= ENGINE_CACHE:
+        _HOSTED.popitem(last=False)[1].close()
+    made = _HOSTED[key] = Hosted(name, settings)
+    return made
+
+
+def close_engines() -> None:
+    """Close every adapter this process holds."""
+    while _HOSTED:
+        _HOSTED.popitem()[1].close()
+
+
+# at exit, while the engines' own modules are still there to free their worlds
+atexit.register(close_engines)
+
+
+def forget_engines() -> None:
+    """In a forked worker: drop the copies of the parent's adapters (they are the parent's)."""
+    _HOSTED.clear()

@@ -1,0 +1,52 @@
+"""Single-world engines fired as a batch (``experiments.core.hosting``: several engines stepped in
+turn, their worlds judged together in numpy) give each impact the outcome it gets fired alone
+(in Python floats), bit for bit: worlds are independent, and the two namespaces of
+``experiments.core.geometry`` round alike."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+import adapters
+from analytic import ImpactCase, presets
+from experiments.core import Job, fire_jobs, hosting, tables
+
+SINGLE = [n for n in adapters.names() if not adapters.record(n).batched]
+
+
+def _jobs(name: str) -> list[Job]:
+    """The paper's swing over 21 points (e = 0.5), and over 3 with e = 0 (contacts that end
+    hundreds of steps apart), then undercut balls that leave the swing plane (a planar
+    engine's come back unsupported)."""
+    settings = adapters.settings_for(name)
+    jobs = []
+    for e, points in ((0.5, 21), (0.0, 3)):
+        firing = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, points),
+                               v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
+                               omega0_radps=presets.PAPER_SWING.omega0_radps, e=e)
+        jobs += firing.jobs(name, settings)
+    jobs += [Job(engine=name, settings=settings,
+                 case=ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=40.0,
+                                 e=0.5, undercut_m=0.01)) for s in (-0.2, 0.0, 0.1, 0.2)]
+    return jobs
+
+
+def _outcomes(fired) -> list[tuple]:
+    return [tuple(v for k, v in dataclasses.asdict(f.outcome).items()
+                  if k not in ("wall_s", "settings")) for f in fired]
+
+
+@pytest.mark.parametrize("name", SINGLE)
+def test_a_world_fired_in_a_batch_of_engines_ends_as_it_does_alone(name, monkeypatch):
+    jobs = _jobs(name)
+    monkeypatch.setattr(hosting, "POOL_MIN", 10**9)  # every impact alone
+    alone = _outcomes(fire_jobs(jobs))
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 16)  # 21 = 16 + 5: batches of unequal size
+    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)  # any run repays its engines
+    batched = _outcomes(fire_jobs(jobs))
+    assert len(hosting.hosted(name, jobs[0].settings).engines) == 16
+    # NaN != NaN: compare the text of each value
+    assert [repr(o) for o in batched] == [repr(o) for o in alone]
