@@ -15,7 +15,6 @@ import math
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from unittest import mock
 
 import mujoco
 import numpy as np
@@ -37,7 +36,6 @@ if "concurrency_optimized_scheduler" not in os.environ.get("XLA_FLAGS", ""):
 mjx = import_engine(RECORD)
 import jax  # noqa: E402  (mujoco.mjx brings JAX; imported after the install check)
 import jax.numpy as jnp  # noqa: E402
-from mujoco.mjx._src import math as mjx_math  # noqa: E402
 
 # Compiled steps are kept on disk (JAX's persistent cache): a new process, a worker, a test's
 # subprocess, a rerun, loads them instead of compiling again (6-9 s each on a CPU; the model
@@ -75,36 +73,16 @@ def _advance(m, d, bad):
     return d, row, touching, bad | ~jnp.all(jnp.isfinite(row))
 
 
-def _exact_segment_point(a, b, pt):
-    """The closest point of segment a-b to pt, without MJX's 1e-6 m^2 added to |b - a|^2
-    (``mujoco.mjx._src.math.closest_segment_point``), which moves the capsule's contact foot
-    toward a by (t |b - a|) 1e-6 / |b - a|^2 and tilts the normal by that over r1 + r2."""
-    ab = b - a
-    t = jnp.dot(pt - a, ab) / jnp.maximum(jnp.dot(ab, ab), 1e-30)
-    return a + jnp.clip(t, 0.0, 1.0) * ab
-
-
-@contextlib.contextmanager
-def _collision(kind: str):
-    """Trace MJX's step with its own capsule routine (``mjx``) or the exact one (``exact``)."""
-    if kind == "mjx":
-        yield
-        return
-    with mock.patch.object(mjx_math, "closest_segment_point", _exact_segment_point):
-        yield
-
-
 @functools.lru_cache(maxsize=32)
-def _traced(kind: str, model_def, data_def):
-    """The jitted, vmapped step whose collision routine is ``kind`` (traced with it), over the
-    model's and the data's leaves. Passing MJX's Model itself to a jitted function flattens it
-    and compares its static numpy fields on every call: 40% of a step at a few worlds."""
+def _traced(model_def, data_def):
+    """The jitted, vmapped step over the model's and the data's leaves. Passing MJX's Model
+    itself to a jitted function flattens it and compares its static numpy fields on every
+    call: 40% of a step at a few worlds."""
 
     def advance(m_leaves, d_leaves, bad):
         m = jax.tree_util.tree_unflatten(model_def, m_leaves)
         d = jax.tree_util.tree_unflatten(data_def, d_leaves)
-        with _collision(kind):
-            d, row, touching, bad = jax.vmap(_advance, in_axes=(None, 0, 0))(m, d, bad)
+        d, row, touching, bad = jax.vmap(_advance, in_axes=(None, 0, 0))(m, d, bad)
         return jax.tree_util.tree_leaves(d), row, touching, bad
 
     return jax.jit(advance)
@@ -117,12 +95,12 @@ class _Flat:
     structure, the step traced for them, the data's leaves as last stepped (None once
     unflattened back into the data) and where its qpos and qvel lie among them."""
 
-    def __init__(self, model, data, collision: str) -> None:
+    def __init__(self, model, data) -> None:
         self.m_leaves, m_def = jax.tree_util.tree_flatten(model)
         paths, self.d_def = jax.tree_util.tree_flatten_with_path(data)
         names = [jax.tree_util.keystr(path) for path, _ in paths]
         self.qpos_at, self.qvel_at = names.index(".qpos"), names.index(".qvel")
-        self.advance = _traced(collision, m_def, self.d_def)
+        self.advance = _traced(m_def, self.d_def)
         self.d_leaves = None
 
 
@@ -295,7 +273,7 @@ class MjxEngine(BatchedEngine):
     def step(self) -> None:
         with self._scope():
             if self._flat is None:
-                self._flat = _Flat(self._model, self._data, self.settings.collision)
+                self._flat = _Flat(self._model, self._data)
             f = self._flat
             if f.d_leaves is None:  # the data as last set or read
                 f.d_leaves = jax.tree_util.tree_leaves(self._data)
