@@ -7,8 +7,9 @@
 - the studies, each into its usual file names: pareto, stability, swing, defaults,
   calibrate_soft, twins, friction, flex, findings, bench_analytic, bench_engines (run the benchmarks
   on a quiet machine);
-- report: results/report.md, written from the files above as they are in results/ (so it runs
-  last, whatever order --only names the parts in), and the README's engines table from them.
+- report: results/report.md and the engine pages (engines.md, engine_<name>.md), written from
+  the files above as they are in results/ (so it runs last, whatever order --only names the
+  parts in), and the README's engines table from them.
 Each part's files are written together, atomically; an interrupted part leaves its old files.
 """
 

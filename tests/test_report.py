@@ -115,3 +115,34 @@ def test_baselines_writes_the_report_last():
 def test_the_command_writes_report_md(tmp_path, committed, capsys):
     assert report.main(["--out", str(tmp_path), "--name", "r"]) == 0
     assert (tmp_path / "r" / "report.md").read_text() == committed
+
+
+def test_committed_engine_pages_are_what_the_results_give():
+    # Regenerate with: python -m experiments.baselines --only report
+    files = report.pages.pages(RESULTS)
+    assert len(files) == 1 + len(set(pd.read_csv(RESULTS / "sweep_all_reference_r161_swing.csv")
+                                     .engine))
+    for name, data in files.items():
+        assert (RESULTS / name).read_bytes() == data, f"results/{name} is stale"
+    for target in re.findall(r"\]\(([^)]+\.md)\)", files["engines.md"].decode()):
+        assert target in files or (RESULTS / target).is_file(), target
+
+
+def test_a_page_reads_its_numbers_from_the_files(copy):
+    # the ok count of the reference sweep, counted here; the best batch's cost and the
+    # cheapest setting, edited in their CSVs, reach the page
+    ref = pd.read_csv(copy / "sweep_all_reference_r161_swing.csv")
+    name = sorted(set(ref.engine))[0]
+    rows = ref[ref.engine == name]
+    text = report.pages.page(copy, name)
+    assert f"{(rows.status == 'ok').sum()}/{len(rows)} ok" in text
+    bench = pd.read_csv(copy / "bench_batches.csv")
+    bench.loc[bench.engine == name, "us_per_impact"] += 1000.0
+    bench.loc[(bench.engine == name) & (bench.batch == 10), "us_per_impact"] = 1.5
+    bench.to_csv(copy / "bench_batches.csv", index=False, lineterminator="\n")
+    cheap = pd.read_csv(copy / "pareto_cheapest.csv")
+    at = (cheap.engine == name) & (cheap.target == report.pages.PAGE_TARGET)
+    cheap.loc[at, ["winner", "setting"]] = [name, "a setting typed here"]
+    cheap.to_csv(copy / "pareto_cheapest.csv", index=False, lineterminator="\n")
+    text = report.pages.page(copy, name)
+    assert "1.5 us in a batch of 10 " in text and "a setting typed here" in text

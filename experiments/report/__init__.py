@@ -9,8 +9,9 @@ calibration (soft_calibration.csv), the friction study (friction.csv/.json) and 
 (findings.md) from DIR (default results/),
 and writes report.md: one section per study, its charts linked beside it, its narrative with
 every number formatted from those files (the model's inputs from ``analytic.presets``, engine
-defaults from the engines' records). The same files give the same report, byte for byte;
-``python -m experiments.baselines`` runs it last, into results/.
+defaults from the engines' records); and one short page per engine with their index
+(``engines.md``, ``engine_<name>.md``: ``pages``). The same files give the same report, byte
+for byte; ``python -m experiments.baselines`` runs it last, into results/.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from pathlib import Path
 from ..core import cli
 from ..core.cli import Command
 from ..core.runs import RESULTS
-from . import accuracy, dynamics, engines, failures, friction, performance, questions, sweeps
+from . import accuracy, dynamics, engines, failures, friction, pages, performance, questions, sweeps
 from .base import Damaged, Missing, Results
 
 TITLE = "# batsim results: what the engines do with a baseball bat"
@@ -87,7 +88,13 @@ def _results_dir(value: str) -> Path:
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     text = render(args.results)
-    return {"report.md": text.encode()}, f"report.md: {text.count(chr(10))} lines"
+    files = {"report.md": text.encode()}
+    try:
+        files.update(pages.pages(args.results))
+    except (OSError, KeyError, ValueError, TypeError, IndexError, AttributeError) as err:
+        print(f"report: the engine pages are not written: a results file they read is missing "
+              f"or damaged ({type(err).__name__}: {err})", file=sys.stderr)
+    return files, f"report.md: {text.count(chr(10))} lines; {len(files) - 1} engine pages"
 
 
 COMMAND = Command(name="report", doc=__doc__, produce=produce, options=_options,

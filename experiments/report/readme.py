@@ -27,7 +27,7 @@ def _install(rec) -> str:
     return f"`[{rec.extra}]` ({rec.package})" if rec.extra else f"core ({rec.package})"
 
 
-def _accuracy(rows: pd.DataFrame, name: str) -> str:
+def accuracy(rows: pd.DataFrame, name: str) -> str:
     """ok count and the largest error over the ok rows: against rigid theory, or against the
     engine's own contact law where that is what it converges to."""
     ok = rows[rows.status == "ok"]
@@ -37,7 +37,7 @@ def _accuracy(rows: pd.DataFrame, name: str) -> str:
     return f"{len(ok)}/{len(rows)} ok, {err:.1e} m/s against {against}"
 
 
-def _out_of_the_box(meta: dict, name: str) -> str:
+def out_of_the_box(meta: dict, name: str) -> str:
     counts = meta["engines"][name]["status_counts"]
     dt = meta["engines"][name]["settings"]["dt_s"]
     return f"{', '.join(f'{k} {v}' for k, v in counts.items())} ({dt:.2g} s)"
@@ -67,8 +67,8 @@ def engines_table(results: Path) -> str:
     for name, rows in ref.groupby("engine", sort=True):
         rec = adapters.record(name)
         cost = costs.get(name, "not benchmarked")
-        lines.append(f"| {name} | {_install(rec)} | {rec.precision} | {_accuracy(rows, name)} | "
-                     f"{_out_of_the_box(default, name)} | {cost} |")
+        lines.append(f"| {name} | {_install(rec)} | {rec.precision} | {accuracy(rows, name)} | "
+                     f"{out_of_the_box(default, name)} | {cost} |")
     for name in sorted(set(adapters.names()) - set(ref.engine)):
         if adapters.record(name).adapter.startswith("adapters."):  # a built-in, not measured
             rec = adapters.record(name)

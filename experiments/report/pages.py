@@ -1,0 +1,122 @@
+"""One short page per engine, as its users read it, and their index (``engines.md``).
+
+Each page says, from the files in results/ and the engine's record: how to install it, what it
+computes in, how close its reference profile comes to theory, what its out-of-the-box settings
+do, the cheapest setting within PAGE_TARGET of rigid theory (``pareto_cheapest.csv``), the
+defects its record declares (measured failures no setting removes), and what an impact costs
+through the harness, alone and in its best batch, on each device ``bench_batches.csv`` has.
+The long report (``report.md``) keeps the studies; a page repeats none of its tables.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+
+import adapters
+from analytic import presets
+
+from . import readme
+
+#: The accuracy a page names the cheapest setting for: the max relative error of v1 against
+#: rigid theory over the Pareto grid (one of ``pareto_cheapest.csv``'s targets).
+PAGE_TARGET = 0.01
+
+
+def page_name(name: str) -> str:
+    """The file an engine's page is written to."""
+    return f"engine_{name}.md"
+
+
+def _install(rec: adapters.EngineRecord) -> str:
+    return (f"`pip install 'batsim[{rec.extra}]'` (the `{rec.package}` package)" if rec.extra
+            else f"a core dependency (`{rec.package}`): `pip install -e .`")
+
+
+def _cheapest(results: Path, name: str) -> str:
+    table = pd.read_csv(results / "pareto_cheapest.csv")
+    rows = table[(table.engine == name) & (table.target == PAGE_TARGET)]
+    if not len(rows) or pd.isna(rows.winner.iloc[0]):
+        return f"no setting of its families reaches {PAGE_TARGET:.0%} (`pareto.csv`)"
+    r = rows.iloc[0]
+    return (f"{r.setting}: max relative error {r.max_rel_err:.1e}, "
+            f"{r.wall_per_collision_s * 1e6:,.0f} us a collision (`pareto_cheapest.csv`)")
+
+
+def _defects(name: str) -> list[str]:
+    """What the record declares it gets wrong whatever the settings."""
+    rec, st = adapters.record(name), adapters.settings_for(name)
+    out = [f"friction: {rec.friction_defect}"] if rec.friction_defect else []
+    if rec.chain_defect:  # (its text names the segmented bat)
+        out.append(rec.chain_defect)
+    slide = st.collision_slide_m(presets.R161)
+    if slide > 0.0:
+        out.append(f"its collision routine slides the contact point up to {slide * 1e6:.2f} um "
+                   "along the R161's axis (in its tolerance)")
+    if rec.host_rounding:
+        out.append("its kernels round as the host CPU's instruction set orders them: rows "
+                   "differ by rounding between hosts")
+    return out or ["none declared"]
+
+
+def _costs(results: Path, name: str) -> list[str]:
+    path = results / "bench_batches.csv"
+    rows = pd.read_csv(path) if path.exists() else pd.DataFrame(columns=["engine"])
+    rows = rows[rows.engine == name]
+    if not len(rows):
+        return ["not benchmarked (`python -m experiments.bench_engines`)"]
+    out = []
+    kind = rows.device.map(lambda d: "CPU" if "cpu" in d.lower() else f"GPU ({d})")
+    for device, on in rows.groupby(kind, sort=True):
+        one, best = on[on.batch == 1], on.loc[on.us_per_impact.idxmin()]
+        alone = f"{one.us_per_impact.iloc[0]:,.0f} us alone" if len(one) else "alone not measured"
+        out.append(f"{device}: {alone}; {best.us_per_impact:,.1f} us in a batch of "
+                   f"{best.batch:,} (the harness's share {best.harness_us_per_impact:,.1f} us)")
+    return out
+
+
+def page(results: Path, name: str) -> str:
+    """The engine's page (module docstring)."""
+    rec = adapters.record(name)
+    ref = pd.read_csv(results / f"{readme.REFERENCE}.csv")
+    default = json.loads((results / f"{readme.DEFAULT}.json").read_text())
+    rows = ref[ref.engine == name]
+    kind = ("many worlds a call" if rec.batched else "one world at a time") + (
+        ", in the swing plane only" if rec.planar else "")
+    lines = [f"# {rec.label or name} (`{name}`)", "",
+             f"- **Install**: {_install(rec)}.",
+             f"- **Computes** in {rec.precision}, {kind}.",
+             f"- **Reference profile** (the paper's swing, R161, 41 points): "
+             f"{readme.accuracy(rows, name) if len(rows) else 'not in results/ yet'}.",
+             f"- **Out of the box** (its own dt): "
+             f"{readme.out_of_the_box(default, name) if name in default['engines'] else '-'}.",
+             f"- **Cheapest within {PAGE_TARGET:.0%}** of rigid theory: "
+             f"{_cheapest(results, name)}.",
+             "- **Declared defects**: " + "; ".join(_defects(name)) + ".",
+             "- **Cost per impact** through the harness (`bench_batches.csv`): "
+             + "; ".join(_costs(results, name)) + ".", ""]
+    return "\n".join(lines)
+
+
+def index(results: Path) -> str:
+    """The pages' index: one line per engine."""
+    ref = pd.read_csv(results / f"{readme.REFERENCE}.csv")
+    lines = ["# Engines", "",
+             "One page per engine, from the files in `results/` (written by "
+             "`python -m experiments.report`); the studies are in [report.md](report.md).", ""]
+    for name in sorted(set(ref.engine)):
+        rec = adapters.record(name)
+        lines.append(f"- [{rec.label or name}]({page_name(name)}): {rec.precision}, "
+                     f"{'batched' if rec.batched else 'single-world'}")
+    return "\n".join(lines) + "\n"
+
+
+def pages(results: Path) -> dict[str, bytes]:
+    """The index and every engine's page of the reference baseline, as files."""
+    ref = pd.read_csv(results / f"{readme.REFERENCE}.csv")
+    files = {"engines.md": index(results).encode()}
+    for name in sorted(set(ref.engine)):
+        files[page_name(name)] = page(results, name).encode()
+    return files
