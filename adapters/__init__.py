@@ -3,7 +3,7 @@ no engine; an engine is imported when an adapter is made (``load``, ``create``).
 
     import adapters
     adapters.names()                                    # every registered engine
-    adapters.record("mujoco").color                     # an engine's facts (adapters.record)
+    adapters.record("mujoco").look.color                     # an engine's facts (adapters.record)
     adapters.available(), adapters.missing()            # installed or not (without importing)
     eng = adapters.load("pybullet", profile="default", dt_s=1e-4)   # an adapter, any override
 
@@ -43,15 +43,21 @@ from .interface import (
 )
 from .record import (
     PROFILES,
+    Capabilities,
     ContactReference,
+    Cost,
     EngineNotInstalled,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
+    Install,
     Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
     TwinStep,
     import_engine,
 )
@@ -133,12 +139,13 @@ def record(name: str) -> EngineRecord:
     rec = target if isinstance(target, EngineRecord) else _load_target(name, target)
     if not isinstance(rec, EngineRecord):
         raise TypeError(f"engine {name!r}: {target} is not an adapters.EngineRecord")
-    changes = {}
+    color = rec.look.color
     if rec.name != name:  # a plug-in reusing a record under its own name gets its own style
-        changes = {"name": name, "color": None}
-    if changes.get("color", rec.color) is None:
-        changes["color"] = PALETTE[names().index(name) % len(PALETTE)]
-    return dataclasses.replace(rec, **changes) if changes else rec
+        rec, color = dataclasses.replace(rec, name=name), None
+    if color is None:
+        color = PALETTE[names().index(name) % len(PALETTE)]
+        rec = dataclasses.replace(rec, look=dataclasses.replace(rec.look, color=color))
+    return rec
 
 
 def _load_target(name: str, target: str):
@@ -154,12 +161,12 @@ def _installed(rec: EngineRecord) -> bool:
     """Its modules (``import_name`` and ``requires``) are found and its distribution installed
     (MJX's ``mujoco.mjx`` comes from ``mujoco-mjx`` into the ``mujoco`` package: finding
     ``mujoco`` is not enough)."""
-    if not all(_found(m) for m in (rec.import_name, *rec.requires)):
+    if not all(_found(m) for m in (rec.install.import_name, *rec.install.requires)):
         return False
-    if rec.import_name == rec.import_name.split(".")[0]:
+    if rec.install.import_name == rec.install.import_name.split(".")[0]:
         return True
     try:
-        metadata.distribution(rec.package)
+        metadata.distribution(rec.install.package)
     except metadata.PackageNotFoundError:
         return False
     return True
@@ -202,11 +209,11 @@ def chain_class(name: str):
     """The segmented-bat adapter class for ``name`` (its record's ``chain_adapter``, an
     ``adapters.segmented.ChainEngine``), importing its engine now; None if it has none."""
     rec = record(name)
-    if rec.chain_adapter is None:
+    if rec.can.chain_adapter is None:
         return None
     if not _installed(rec):
         raise EngineNotInstalled(rec.install_hint)
-    return _load_target(name, rec.chain_adapter)
+    return _load_target(name, rec.can.chain_adapter)
 
 
 def is_batched(name: str) -> bool:
@@ -238,10 +245,11 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
     return create(name, settings_for(name, profile, **overrides))
 
 
-__all__ = ["BatchedEngine", "ContactReference", "ENTRY_POINT_GROUP", "Engine",
-           "EngineNotInstalled", "EngineRecord", "FrictionRule", "Hands", "Integrator",
-           "KnobFamily", "MassProperties", "PLANAR_FIELDS", "PROFILES", "PluginConflict",
-           "ReportNotes", "RestitutionRule", "SPATIAL_FIELDS", "STATE_FIELDS", "Scene",
-           "Settings", "State", "TwinStep", "available", "chain_class", "create", "engine_class",
-           "import_engine", "is_batched", "load", "loaded", "missing", "names", "record",
-           "register", "reload_plugins", "settings_for", "unregister"]
+__all__ = ["BatchedEngine", "Capabilities", "ContactReference", "Cost", "ENTRY_POINT_GROUP",
+           "Engine", "EngineNotInstalled", "EngineRecord", "ErrorModel", "FrictionRule", "Hands",
+           "Install", "Integrator", "KnobFamily", "MassProperties", "PLANAR_FIELDS", "PROFILES",
+           "PluginConflict", "Presentation", "ReportNotes", "RestitutionRule", "SPATIAL_FIELDS",
+           "STATE_FIELDS", "Scene", "Settings", "State", "Studies", "TwinStep", "available",
+           "chain_class", "create", "engine_class", "import_engine", "is_batched", "load",
+           "missing", "names", "record", "register", "reload_plugins", "settings_for",
+           "unregister"]

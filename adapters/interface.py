@@ -3,9 +3,10 @@
 An engine is two things, kept apart so that the harness can read about an engine without
 importing it (``--engine`` validation, charts, tolerances):
 
-- a **record** (``adapters.record.EngineRecord``, in a module that imports no engine): its name,
-  package, profiles (instances of its ``Settings`` subclass), plot style, knobs and precision,
-  and ``adapter = "module:Class"``, where the adapter lives;
+- a **record** (``adapters.record.EngineRecord``, in a module that imports no engine): its
+  name, ``adapter = "module:Class"`` (where the adapter lives), ``install`` (its package),
+  ``profiles`` (instances of its ``Settings`` subclass) and ``can`` (what it can do); the
+  other parts have defaults (``adapters.parts``: error model, cost, presentation, studies);
 - an **adapter class**, one of the two forms below, which imports the engine.
 
 The harness does the rest the same way for every engine (``experiments.core``): it places the

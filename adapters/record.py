@@ -27,7 +27,25 @@ import numpy as np
 
 from analytic import checks
 
+from .parts import (
+    Capabilities,
+    Cost,
+    ErrorModel,
+    Install,
+    Integrator,
+    KnobFamily,
+    Presentation,
+    ReportNotes,
+    Studies,
+    TwinStep,
+)
 from .rules import FrictionRule, RestitutionRule
+
+#: The record's vocabulary, for the engines' record modules: this module and ``parts``.
+__all__ = ["PROFILES", "Capabilities", "ContactReference", "Cost", "EngineNotInstalled",
+           "EngineRecord", "ErrorModel", "FrictionRule", "Install", "Integrator", "KnobFamily",
+           "Presentation", "ReportNotes", "RestitutionRule", "Settings", "Studies", "TwinStep",
+           "import_engine"]
 
 #: Profiles every engine must offer: tuned for fidelity, and the engine's own defaults.
 PROFILES = ("reference", "default")
@@ -142,193 +160,70 @@ class Settings:
 
 
 @dataclass(frozen=True, kw_only=True)
-class KnobFamily:
-    """One family of settings in the speed-vs-accuracy study; the study crosses it with its time
-    steps. ``overrides`` are settings fields and values; ``quick`` keeps it in ``--quick``."""
-
-    label: str
-    overrides: tuple[tuple[str, Any], ...] = ()
-    profile: str = "reference"
-    quick: bool = False
-
-
-@dataclass(frozen=True, kw_only=True)
-class Integrator:
-    """One of an engine's time integrators, for the swing study: its ``label``, the settings
-    ``overrides`` that choose it, and its global ``order`` (1: the semi-implicit Euler family,
-    which leaves a constant angular acceleration's angle off by alpha t dt / 2; 4: RK4)."""
-
-    label: str
-    overrides: tuple[tuple[str, Any], ...] = ()
-    order: int = 1
-    #: How the hands' hinge error shrinks with dt: 2 for a pivot re-projected every step (a
-    #: relative (omega dt)^2), 1 for a soft joint whose drift is corrected at a fixed rate
-    #: (Box2D's 60 Hz joints).
-    hinge_order: int = 2
-
-
-@dataclass(frozen=True, kw_only=True)
-class TwinStep:
-    """One comparison of an engine with the engine whose model it implements (its record's
-    ``twin_of``), for ``experiments.twins``: the engine at its reference profile with
-    ``overrides``, the twin at its own reference profile, with every settings field the two
-    share copied over when ``shared`` (the same model, as far as the twin can express it), then
-    ``twin_overrides``. Steps go from as-configured to every known cause removed."""
-
-    label: str
-    overrides: tuple[tuple[str, Any], ...] = ()
-    twin_overrides: tuple[tuple[str, Any], ...] = ()
-    shared: bool = True
-
-
-@dataclass(frozen=True, kw_only=True)
-class ReportNotes:
-    """What the results report says of an engine, in the engine's own words. Each text is a
-    format string filled with the reference settings the baseline sweep recorded (by field
-    name), the record's ``engine_defaults`` (``default_`` + field name), ``version``, and the
-    sweep's ``err_mps`` (largest |v1 - rigid theory|) and ``law_err_mps`` (against its own
-    contact law); times, lengths and other numbers come formatted by their unit suffix.
-    ``profile``: the reference profile in words; ``restitution``: what plays the role of e;
-    ``handled``: what the adapter had to work around ('' for nothing worth a line);
-    ``defaults``: how its quoted defaults were read back or measured."""
-
-    profile: str
-    restitution: str
-    handled: str = ""
-    defaults: str = ""
-
-
-@dataclass(frozen=True, kw_only=True)
 class EngineRecord:
-    """Everything the harness knows about one engine.
+    """Everything the harness knows about one engine, in parts (``adapters.parts``).
 
-    ``adapter``: "module:Class" of its adapter (an ``adapters.interface`` Engine or
-    BatchedEngine), imported only to fire. ``package``: the PyPI distribution that provides the
-    engine, ``import_name`` the module it imports (they differ, e.g. sapien vs physx), ``extra``
-    the batsim extra that installs it (None: a core dependency); ``requires``: other modules its
-    adapter imports, another engine's among them (MJX and MuJoCo Warp load MJCF through
-    ``mujoco``): without one, the engine counts as not installed. ``profiles``: at least
-    PROFILES; the ``default`` profile is the engine out of the box (its own time step and
-    solver values). ``color``/``marker``: plot style (None: one from the registry's palette).
-    ``speed_accuracy``: its knob families besides the two profiles. ``integrators``: for the
-    swing study (empty: the engine cannot drive the bat). ``precision``: the float type it
-    computes in ("float64" or "float32"). ``restitution_rule``: how it combines two bodies'
-    restitution; ``threshold_setting``: the settings field of its restitution velocity
-    threshold, if any. ``soft_contact``: the overrides that switch it to a spring-damper
-    contact, if it has one, whose natural frequency (rad/s) is the settings field
-    ``stiffness_setting``. ``engine_defaults``: the engine's own out-of-the-box values of
-    settings fields (what the README quotes), each read back (``read_back_defaults``) or
-    measured: a test pins both. ``step_cost_s``: the rough wall time of one reference step
-    (s, ``experiments.bench_engines``' one-world step, every engine measured in the same run on
-    one 2-core host like CI's: only their ratios carry over to another host), for run-time
-    estimates only; a batched engine's
-    ``world_step_cost_s`` is what each further world adds to a step (s; ``step_cost_s`` is then
-    a step of one world; None for a single-world engine: ``batched`` says which), and
-    ``start_s`` what each new batch size first costs in a process (s: JAX's trace and compile,
-    Warp's module load; measured from the baseline sweeps' wall times). ``label``: the
-    name as prose spells it ('' for ``name``); ``notes``: what the report says of it.
-    ``twin_of``: the engine whose model this one implements (MJX of MuJoCo C), for
-    ``experiments.twins``; its settings class extends the twin's, so the same fields mean the
-    same model; ``twin_steps`` the comparisons that find what makes them differ.
-    ``friction_rule``: how it combines two bodies' friction (None: its adapter does not set
-    friction, and an impact with friction is ``unsupported``); ``planar``: a 2-D engine, which
-    cannot fire an impact out of the swing plane (an undercut, a spin about x or y);
-    ``friction_families``: its friction models besides the reference's (another cone, friction
-    solved otherwise), for the friction study; ``friction_rule_overrides``: the reference
-    settings overridden so that the two bodies' own friction values make the contact's (where
-    the reference's contact takes a mu of its own, as MuJoCo's explicit pair does), for the
-    test that pins ``friction_rule``; ``friction_defect``: a measured failure of its friction at
-    impact that no setting removes ('' for none): the wall tests then pin that the engine still
-    misses Coulomb's limits, and the report quotes it. ``host_rounding``: its kernels are
-    compiled for the host's CPU (XLA), whose instruction set orders the rounding: its rows differ
-    from host to host by rounding (amplified where its solve is ill-conditioned), so a committed
-    baseline is reproduced bit for bit only where it was made. ``chain_adapter``: "module:Class"
-    of its segmented-bat adapter (``adapters.segmented.ChainEngine``), None where it has none;
-    ``chain_defect``: a measured failure of its segmented bat that no setting removes ('' for
-    none): the chain tests then pin that the engine still misses the linear chain.
+    ``name``: what ``--engine`` takes. ``adapter``: "module:Class" of its adapter (an
+    ``adapters.interface`` Engine or BatchedEngine), imported only to fire. ``install``: where
+    the engine comes from. ``profiles``: at least PROFILES (instances of its ``Settings``
+    subclass); the ``default`` profile is the engine out of the box (its own time step and
+    solver values). ``can``: what it can do. An adapter author fills these five; the rest have
+    defaults. ``errors``: its error model beyond the settings (precision, declared defects).
+    ``engine_defaults``: the engine's own out-of-the-box values of settings fields (what the
+    README quotes), each read back (``read_back_defaults``) or measured: a test pins both.
+    ``cost``: what a step costs, for estimates. ``look``: how charts and the report show it.
+    ``studies``: what the studies vary in it.
     """
 
     name: str
     adapter: str
-    package: str
-    import_name: str
-    extra: str | None = None
-    requires: tuple[str, ...] = ()
+    install: Install
     profiles: Mapping[str, Settings]
-    color: str | None = None
-    marker: str = "o"
-    speed_accuracy: tuple[KnobFamily, ...] = ()
-    integrators: tuple[Integrator, ...] = (Integrator(label="semi-implicit Euler"),)
-    precision: str = "float64"
-    restitution_rule: RestitutionRule = RestitutionRule.PRODUCT
-    threshold_setting: str | None = None
-    soft_contact: Mapping[str, Any] | None = None
-    stiffness_setting: str | None = None
+    can: Capabilities = Capabilities(integrators=(Integrator(label="semi-implicit Euler"),))
+    errors: ErrorModel = ErrorModel()
     engine_defaults: Mapping[str, Any] = field(default_factory=dict)
-    step_cost_s: float = 1e-5
-    world_step_cost_s: float | None = None
-    start_s: float = 0.0
-    label: str = ""
-    notes: ReportNotes | None = None
-    twin_of: str | None = None
-    twin_steps: tuple[TwinStep, ...] = ()
-    friction_rule: FrictionRule | None = None
-    planar: bool = False
-    friction_families: tuple[KnobFamily, ...] = ()
-    friction_rule_overrides: Mapping[str, Any] = field(default_factory=dict)
-    friction_defect: str = ""
-    host_rounding: bool = False
-    chain_adapter: str | None = None
-    chain_defect: str = ""
+    cost: Cost = Cost()
+    look: Presentation = Presentation()
+    studies: Studies = Studies()
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]
         if missing:
             raise ValueError(f"engine {self.name!r} has no {missing[0]!r} profile; allowed: "
                              f"profiles that include {', '.join(PROFILES)}")
-        if self.precision not in ("float64", "float32"):
-            raise ValueError(f"precision={self.precision!r} is unknown; allowed: float64, float32")
         if ":" not in self.adapter:
             raise ValueError(f"adapter={self.adapter!r} is not 'module:Class'; allowed: the "
                              "adapter class's module and name, joined by ':'")
         object.__setattr__(self, "profiles", MappingProxyType(dict(self.profiles)))
         object.__setattr__(self, "engine_defaults", MappingProxyType(dict(self.engine_defaults)))
-        object.__setattr__(self, "friction_rule_overrides",
-                           MappingProxyType(dict(self.friction_rule_overrides)))
-        if (self.soft_contact is None) != (self.stiffness_setting is None):
-            raise ValueError(f"engine {self.name!r}: soft_contact and stiffness_setting go "
-                             "together; allowed: both or neither")
-        checks.positive("step_cost_s", self.step_cost_s)
-        if self.world_step_cost_s is not None:
-            checks.positive("world_step_cost_s", self.world_step_cost_s)
-        checks.non_negative("start_s", self.start_s)
 
     @property
     def eps(self) -> float:
         """Unit roundoff of the engine's float type (2.2e-16 for float64, 1.2e-7 for float32)."""
-        return float(np.finfo(self.precision).eps)
+        return float(np.finfo(self.errors.precision).eps)
 
     @property
     def install_hint(self) -> str:
         """What to run when the engine's package is missing."""
-        target = f"'batsim[{self.extra}]'" if self.extra else self.package
-        return (f"engine {self.name!r} needs the package {self.package!r}: pip install {target}  "
+        i = self.install
+        target = f"'batsim[{i.extra}]'" if i.extra else i.package
+        return (f"engine {self.name!r} needs the package {i.package!r}: pip install {target}  "
                 "(or `make test`, which installs every engine)")
 
     @property
     def batched(self) -> bool:
         """Whether the engine steps many worlds per call (``BatchedEngine``): a batched record
-        prices its worlds (``world_step_cost_s``), a single-world one does not."""
-        return self.world_step_cost_s is not None
+        prices its worlds (``cost.world_step_cost_s``), a single-world one does not."""
+        return self.cost.world_step_cost_s is not None
 
     @property
     def drives_bat(self) -> bool:
         """Whether the engine can swing the bat (its adapter implements ``set_drive``)."""
-        return bool(self.integrators)
+        return bool(self.can.integrators)
 
     def version(self) -> str:
         """The installed version of the engine's package."""
-        return metadata.version(self.package)
+        return metadata.version(self.install.package)
 
 
 def import_engine(record: EngineRecord) -> ModuleType:
@@ -337,11 +232,11 @@ def import_engine(record: EngineRecord) -> ModuleType:
     dropped, so that it never mixes with a command's own output."""
     try:
         with _stdout_silenced():
-            for name in record.requires:
+            for name in record.install.requires:
                 importlib.import_module(name)
-            return importlib.import_module(record.import_name)
+            return importlib.import_module(record.install.import_name)
     except ModuleNotFoundError as err:
-        tops = {m.split(".")[0] for m in (record.import_name, *record.requires)}
+        tops = {m.split(".")[0] for m in (record.install.import_name, *record.install.requires)}
         if err.name is None or err.name.split(".")[0] not in tops:
             raise
         raise EngineNotInstalled(record.install_hint) from err

@@ -36,8 +36,8 @@ def jobs(engine: str, steps_s: tuple[float, ...] = STEPS_S) -> list[Job]:
     rec = adapters.record(engine)
     out = []
     for dt in steps_s:
-        settings = adapters.settings_for(engine, dt_s=dt, **rec.soft_contact,
-                                         **{rec.stiffness_setting: OMEGA_RADPS})
+        settings = adapters.settings_for(engine, dt_s=dt, **rec.can.soft_contact,
+                                         **{rec.can.stiffness_setting: OMEGA_RADPS})
         # placed no deeper than half the slowest approach's step (MJX's reference 1 um is
         # more than a 5 m/s ball travels in two steps of 1e-7 s; a soft force starts at zero)
         settings = replace(settings, overlap_m=min(settings.overlap_m,
@@ -57,7 +57,7 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
 
 def soft_engines(engines: tuple[str, ...]) -> list[str]:
     """The engines among these whose record declares a soft contact."""
-    return [n for n in engines if adapters.record(n).soft_contact is not None]
+    return [n for n in engines if adapters.record(n).can.soft_contact is not None]
 
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:

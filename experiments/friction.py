@@ -54,7 +54,7 @@ SPIN_COST_REL = 0.01
 
 def friction_engines(names: tuple[str, ...]) -> list[str]:
     """The engines among ``names`` whose adapter sets friction."""
-    return [n for n in names if adapters.record(n).friction_rule is not None]
+    return [n for n in names if adapters.record(n).can.friction_rule is not None]
 
 
 def families(name: str) -> list[tuple[str, adapters.Settings]]:
@@ -62,7 +62,7 @@ def families(name: str) -> list[tuple[str, adapters.Settings]]:
     rec = adapters.record(name)
     return [("reference", adapters.settings_for(name)), *(
         (f.label, adapters.settings_for(name, f.profile, **dict(f.overrides)))
-        for f in rec.friction_families)]
+        for f in rec.studies.friction_families)]
 
 
 def cells(planar: bool, quick: bool) -> list[dict]:
@@ -81,7 +81,7 @@ def jobs(name: str, quick: bool) -> list[tuple[str, Job]]:
                          u0_mps=presets.PAPER_SWING.u0_mps,
                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     return [(label, job) for label, st in families(name)
-            for cell in cells(adapters.record(name).planar, quick)
+            for cell in cells(adapters.record(name).can.planar, quick)
             for job in replace(base, **cell).jobs(name, st)]
 
 

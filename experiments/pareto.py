@@ -71,7 +71,7 @@ def configs(quick: bool, engines: tuple[str, ...]) -> list[Config]:
     out = []
     for engine in engines:
         rec = adapters.record(engine)
-        families = [f for f in rec.speed_accuracy if f.quick or not quick]
+        families = [f for f in rec.studies.speed_accuracy if f.quick or not quick]
         families.append(adapters.KnobFamily(label=DEFAULT_FAMILY, profile="default"))
         for fam in families:
             dts = steps
@@ -196,7 +196,7 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
 
     fig, ax = plt.subplots(figsize=(13, 9.5), layout="constrained")
     notes = []
-    colors = {n: adapters.record(n).color for n in table.engine.unique()}
+    colors = {n: adapters.record(n).look.color for n in table.engine.unique()}
     for name in table.engine.unique():
         df = table[table.engine == name]
         good = df[df.all_ok]

@@ -70,7 +70,7 @@ def map_jobs(engine: str, profile: str, steps, speeds, k: int, extra: dict | Non
     jobs, meta = [], []
     base = adapters.settings_for(engine, profile, **(extra or {}))
     rec = adapters.record(engine)
-    stiffness = (extra or {}).get(rec.stiffness_setting, np.nan) if rec.stiffness_setting \
+    stiffness = (extra or {}).get(rec.can.stiffness_setting, np.nan) if rec.can.stiffness_setting \
         else np.nan
     for dt in steps:
         for phase in judge.phases(k):
@@ -238,7 +238,7 @@ def chart_energy(rows: pd.DataFrame):
     import matplotlib.pyplot as plt
 
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 7.5), sharex=True)
-    colors = {n: adapters.record(n).color for n in rows.engine.unique()}
+    colors = {n: adapters.record(n).look.color for n in rows.engine.unique()}
     maps = rows[rows.soft_omega_radps.isna()]
     for (engine, profile), df in maps.groupby(["engine", "profile"], sort=False):
         x = df.v0_mps * df.dt_s * df.phase / REACH_M
@@ -305,9 +305,9 @@ def all_jobs(engines: tuple[str, ...], steps, speeds, k: int, omegas):
             laws[hc_label(engine)] = law
     for engine in engines:
         rec = adapters.record(engine)
-        for w in omegas if rec.soft_contact is not None else ():
+        for w in omegas if rec.can.soft_contact is not None else ():
             add(*map_jobs(engine, "reference", steps, (SOFT_SPEED_MPS,), k,
-                          {**rec.soft_contact, rec.stiffness_setting: w}, e=SOFT_E,
+                          {**rec.can.soft_contact, rec.can.stiffness_setting: w}, e=SOFT_E,
                           label=soft_label(engine)))
     return jobs, meta, laws
 

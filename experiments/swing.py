@@ -78,7 +78,7 @@ def method_rows(engine: str, integrator: adapters.Integrator, dt: float) -> list
     """Every scene in one engine with one integrator and time step, against closed form."""
     bat = presets.R161
     settings = adapters.settings_for(engine, dt_s=dt, **dict(integrator.overrides))
-    label = engine if len(adapters.record(engine).integrators) == 1 \
+    label = engine if len(adapters.record(engine).can.integrators) == 1 \
         else f"{engine} {integrator.label}"
     rows = []
     for name, drive in SCENES.items():
@@ -99,13 +99,13 @@ def method_rows(engine: str, integrator: adapters.Integrator, dt: float) -> list
 def affordable(engine: str, dt: float) -> bool:
     """Whether the scenes at step dt fit BUDGET_S at the record's measured step cost (a batched
     engine steps one world at milliseconds a step on a CPU: its finest steps are left out)."""
-    return adapters.record(engine).step_cost_s * round(T_END_S / dt) * len(SCENES) <= BUDGET_S
+    return adapters.record(engine).cost.step_cost_s * round(T_END_S / dt) * len(SCENES) <= BUDGET_S
 
 
 def scene_errors(runner: Runner, engines: tuple[str, ...], steps) -> pd.DataFrame:
     """Every engine x integrator (from its record) x affordable time step, side by side."""
     calls = [(method_rows, (engine, integrator, dt)) for engine in engines
-             for integrator in adapters.record(engine).integrators for dt in steps
+             for integrator in adapters.record(engine).can.integrators for dt in steps
              if affordable(engine, dt)]
     engines_of_calls = [args[0] for _, args in calls]
     return pd.DataFrame([r for rows in runner.call_all(calls, engines_of_calls) for r in rows])

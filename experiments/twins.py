@@ -40,20 +40,20 @@ def firing(points: int) -> tables.Firing:
 
 def twinned(names: tuple[str, ...]) -> list[str]:
     """The engines among ``names`` whose record names a twin."""
-    return [n for n in names if adapters.record(n).twin_of]
+    return [n for n in names if adapters.record(n).can.twin_of]
 
 
 def pair(name: str, step: adapters.TwinStep) -> tuple[adapters.Settings, adapters.Settings]:
     """The engine's settings and its twin's for one step (module docstring)."""
     rec = adapters.record(name)
     mine = adapters.settings_for(name, "reference", **dict(step.overrides))
-    twin_ref = adapters.record(rec.twin_of).profiles["reference"]
+    twin_ref = adapters.record(rec.can.twin_of).profiles["reference"]
     shared = {}
     if step.shared:
         theirs = {f.name for f in dataclasses.fields(twin_ref)}
         shared = {f.name: getattr(mine, f.name) for f in dataclasses.fields(mine)
                   if f.name in theirs}
-    twin = adapters.settings_for(rec.twin_of, "reference",
+    twin = adapters.settings_for(rec.can.twin_of, "reference",
                                  **{**shared, **dict(step.twin_overrides)})
     return mine, twin
 
@@ -74,9 +74,9 @@ def _work(args: argparse.Namespace) -> tuple[tables.Firing, list, list]:
     engine's impacts then its twin's."""
     f = firing(args.points)
     todo = [(name, step, *pair(name, step)) for name in twinned(args.engine)
-            for step in adapters.record(name).twin_steps]
+            for step in adapters.record(name).studies.twin_steps]
     jobs = [j for name, _, mine, twin in todo
-            for j in f.jobs(name, mine) + f.jobs(adapters.record(name).twin_of, twin)]
+            for j in f.jobs(name, mine) + f.jobs(adapters.record(name).can.twin_of, twin)]
     return f, todo, jobs
 
 
@@ -95,7 +95,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         b = table.iloc[(2 * i + 1) * n:(2 * i + 2) * n].reset_index(drop=True)
         diff = (a.v1_engine_mps - b.v1_engine_mps).abs()
         worst = int(diff.idxmax()) if diff.notna().any() else 0
-        rows.append({"engine": name, "twin": adapters.record(name).twin_of, "step": step.label,
+        rows.append({"engine": name, "twin": adapters.record(name).can.twin_of, "step": step.label,
                      "points": n, "max_abs_diff_mps": float(diff.max()),
                      "at_s_m": float(a.s_m[worst]), "median_abs_diff_mps": float(diff.median()),
                      "engine_err_mps": float(a.v1_abs_err_mps.max()),

@@ -140,7 +140,7 @@ def cheapest(batched: bool) -> str:
     """The registered engine of that kind with the smallest measured step cost (records only:
     the tests name no engine)."""
     return min((n for n in adapters.available() if adapters.record(n).batched == batched),
-               key=lambda n: adapters.record(n).step_cost_s)
+               key=lambda n: adapters.record(n).cost.step_cost_s)
 
 
 @pytest.fixture(scope="session")

@@ -27,7 +27,7 @@ def test_registry_and_engine_validation_load_no_engine():
     # Listing, reading every record, asking what is installed, making settings, parsing
     # --engine and drawing nothing yet: neither an engine's package nor its adapter module is
     # imported (sys.modules in a fresh interpreter).
-    watched = sorted({adapters.record(n).import_name.split(".")[0] for n in ENGINES}
+    watched = sorted({adapters.record(n).install.import_name.split(".")[0] for n in ENGINES}
                      | {adapters.record(n).adapter.split(":")[0] for n in ENGINES})
     code = ("import sys, adapters\n"
             "for n in adapters.names():\n"
@@ -46,7 +46,7 @@ def test_loading_a_missing_engine_raises_its_install_hint():
     # the API's side (the command line's, engine by engine: test_cli): with the engine's
     # module hidden in a fresh interpreter, load() raises EngineNotInstalled with the hint
     rec = adapters.record(ENGINES[0])
-    res = _run(f"import sys; sys.modules[{rec.import_name!r}] = None\n"
+    res = _run(f"import sys; sys.modules[{rec.install.import_name!r}] = None\n"
                "import adapters\n"
                f"try:\n    adapters.load({rec.name!r})\n"
                "except adapters.EngineNotInstalled as err:\n    print(err)")
@@ -70,7 +70,7 @@ def test_builtins_are_the_adapter_packages():
 
 
 def test_plot_styles_are_distinct():
-    styles = [(adapters.record(n).color, adapters.record(n).marker) for n in ENGINES]
+    styles = [(adapters.record(n).look.color, adapters.record(n).look.marker) for n in ENGINES]
     assert len(set(styles)) == len(styles)
 
 
@@ -141,7 +141,7 @@ def test_a_plugin_takes_its_entry_points_name_and_its_own_style(tmp_path, monkey
         assert adapters.names() == (*ENGINES, "plugged")
         rec = adapters.record("plugged")
         assert rec.name == "plugged" and rec.adapter == adapters.record(ENGINES[0]).adapter
-        assert rec.color not in {adapters.record(n).color for n in ENGINES}
+        assert rec.look.color not in {adapters.record(n).look.color for n in ENGINES}
     finally:
         monkeypatch.undo()
         sys.modules.pop("batsim_test_plugin", None)
@@ -169,7 +169,7 @@ def test_register_refuses_a_taken_name():
 def test_collecting_the_tests_loads_no_engine():
     # the suite's collection reads records only (conftest's tiers and groups, parametrize over
     # adapters.names()): no engine package or adapter module is imported before a test runs
-    watched = sorted({adapters.record(n).import_name.split(".")[0] for n in ENGINES}
+    watched = sorted({adapters.record(n).install.import_name.split(".")[0] for n in ENGINES}
                      | {adapters.record(n).adapter.split(":")[0] for n in ENGINES})
     res = _run("import sys, pytest\n"
                "code = pytest.main(['--collect-only', '-q', '-p', 'no:cacheprovider', "

@@ -19,9 +19,9 @@ from experiments.core.placement import start_state
 R161, BALL = presets.R161, presets.BASEBALL
 ENGINES = adapters.names()
 COMBINING = [n for n in ENGINES
-             if adapters.record(n).restitution_rule is not adapters.RestitutionRule.MAPPED]
-THRESHOLDS = [n for n in ENGINES if adapters.record(n).threshold_setting is not None]
-SOFT = [n for n in ENGINES if adapters.record(n).soft_contact is not None]
+             if adapters.record(n).can.restitution_rule is not adapters.RestitutionRule.MAPPED]
+THRESHOLDS = [n for n in ENGINES if adapters.record(n).can.threshold_setting is not None]
+SOFT = [n for n in ENGINES if adapters.record(n).can.soft_contact is not None]
 
 
 def _central_e(name: str, settings, v0=40.0, e=0.5, bat=R161) -> float:
@@ -58,7 +58,7 @@ def test_body_restitutions_combine_as_the_record_says(name):
         r = eng.read()
     finally:
         host.close()
-    want = adapters.record(name).restitution_rule.combine(0.6, 0.5)
+    want = adapters.record(name).can.restitution_rule.combine(0.6, 0.5)
     assert (r.ball_vy_mps - r.bat_vy_mps) / 40.0 == pytest.approx(want, abs=_tol(name))
 
 
@@ -66,7 +66,7 @@ def test_body_restitutions_combine_as_the_record_says(name):
 def test_restitution_threshold_drops_e(name):
     # Below the restitution velocity threshold the engine makes the contact plastic: a 40 m/s
     # impact under a 50 m/s threshold separates at 0.
-    st = adapters.settings_for(name, **{adapters.record(name).threshold_setting: 50.0})
+    st = adapters.settings_for(name, **{adapters.record(name).can.threshold_setting: 50.0})
     assert _central_e(name, st) == pytest.approx(0.0, abs=_tol(name))
 
 
@@ -99,7 +99,8 @@ def test_soft_calibration_is_independent_of_speed_and_mass(name, w, dt):
     # to the release speed: w x0 / v relative, largest at the slowest v), and each of the
     # contact's pi / (w dt) steps rounds the velocities once (at worst adding up: steps * eps).
     rec = adapters.record(name)
-    st = adapters.settings_for(name, dt_s=dt, **rec.soft_contact, **{rec.stiffness_setting: w})
+    st = adapters.settings_for(name, dt_s=dt, **rec.can.soft_contact,
+                               **{rec.can.stiffness_setting: w})
     heavy = R161.__class__(**{**R161.__dict__, "name": "heavy", "mass_kg": 3.0})
     speeds = (5.0, 40.0, 80.0)
     measured = [e for bat in (R161, heavy) for e in _central_es(name, st, speeds, bat=bat)]
@@ -121,9 +122,9 @@ def _soft_engines():
     out = []
     for name in adapters.names():
         rec = adapters.record(name)
-        if rec.soft_contact is None:
+        if rec.can.soft_contact is None:
             continue
-        for k, integ in enumerate(rec.integrators or (None,)):
+        for k, integ in enumerate(rec.can.integrators or (None,)):
             out.append((name, getattr(integ, "label", "default"),
                         dict(integ.overrides) if integ else {}, k == 0 and not rec.batched))
     return out
@@ -147,8 +148,8 @@ def test_soft_contact_converges_to_its_own_law(engine, label, overrides, fine):
     steps = (1e-6, 1e-7) if fine else (1e-5, 1e-6)
     errors = []
     for dt in steps:
-        settings = adapters.settings_for(engine, dt_s=dt, **rec.soft_contact, **overrides,
-                                         **{rec.stiffness_setting: 3000.0})
+        settings = adapters.settings_for(engine, dt_s=dt, **rec.can.soft_contact, **overrides,
+                                         **{rec.can.stiffness_setting: 3000.0})
         law = settings.contact_law(case.e)
         assert law is not None, f"{engine}: a soft contact must declare its law"
         out = fire_jobs([Job(engine=engine, settings=settings, case=case)])[0].outcome

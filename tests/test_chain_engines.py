@@ -24,7 +24,7 @@ from analytic.chain_impact import ChainImpact
 from experiments.core.chain import fire_chain, measured_period_s, mode_states
 
 pytestmark = pytest.mark.full
-ENGINES = [n for n in adapters.available() if adapters.record(n).chain_adapter]
+ENGINES = [n for n in adapters.available() if adapters.record(n).can.chain_adapter]
 #: Bound on the (omega dt)^2 constant of a step's period error (semi-implicit Euler: 1/24).
 PERIOD_K = 0.5
 POINTS_M = np.linspace(0.30, 0.80, 11)
@@ -56,7 +56,7 @@ def test_spring_gives_the_chain_its_lowest_mode(name, r161_chain):
     w1 = float(omega[omega > 0].min())
     want = 2 * math.pi / w1
     tol = PERIOD_K * (w1 * settings.dt_s) ** 2 + settings.dt_s / want / 3
-    if "period" in adapters.record(name).chain_defect:  # a declared spring defect: still there
+    if "period" in adapters.record(name).errors.chain_defect:  # a declared spring defect
         assert got != pytest.approx(want, rel=tol)
     else:
         assert got == pytest.approx(want, rel=tol)
@@ -73,7 +73,7 @@ def test_chain_impacts_match_the_linear_chain(name, r161_chain):
     # coarsely (a re-touch at N = 8, dt = 1e-5 s), or a soft contact's patch reaches the next
     # segment (the reference has one contact point); at least 2 of the 11 are judged ok
     statuses = [r["status"] for r in rows]
-    if adapters.record(name).chain_defect:  # the record's measured defect: still there
+    if adapters.record(name).errors.chain_defect:  # the record's measured defect: still there
         assert {"inaccurate", "non_finite"} & set(statuses)
         return
     bad = [(r["x_m"], r["status"], r.get("why"), r["err_mps"], r["tol_mps"]) for r in rows

@@ -18,7 +18,7 @@ from experiments.core.io import ROOT
 
 from .conftest import COMMANDS
 
-NOT_SOFT = [n for n in adapters.names() if adapters.record(n).soft_contact is None]
+NOT_SOFT = [n for n in adapters.names() if adapters.record(n).can.soft_contact is None]
 
 
 def _bad_inputs(tmp: Path) -> list[tuple[str, list[str], str]]:
@@ -235,7 +235,8 @@ def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(name, tmp_p
 
 def _needs(rec: adapters.EngineRecord, module: str) -> bool:
     """Whether the engine imports ``module`` (or a module inside it)."""
-    return any(m == module or m.startswith(module + ".") for m in (rec.import_name, *rec.requires))
+    return any(m == module or m.startswith(module + ".")
+               for m in (rec.install.import_name, *rec.install.requires))
 
 
 @pytest.mark.parametrize("name", adapters.names())
@@ -244,8 +245,8 @@ def test_a_missing_engine_is_named_with_its_install_hint(name, tmp_path, monkeyp
     # mujoco's too) are missing, each with its install hint, and the rest available; naming the
     # engine is a bad input (exit 2, the hint, nothing written).
     rec = adapters.record(name)
-    monkeypatch.setitem(sys.modules, rec.import_name, None)
-    gone = {n for n in adapters.names() if _needs(adapters.record(n), rec.import_name)}
+    monkeypatch.setitem(sys.modules, rec.install.import_name, None)
+    gone = {n for n in adapters.names() if _needs(adapters.record(n), rec.install.import_name)}
     assert name in gone
     assert set(adapters.missing()) == gone
     assert adapters.missing()[name] == rec.install_hint
@@ -261,7 +262,7 @@ def test_engine_all_skips_a_missing_engine_and_runs_the_rest(tmp_path):
     # In a fresh process with the last engine's module hidden: --engine all runs every other
     # engine (a row each in the summary), and says which it skipped and how to install it.
     rec = adapters.record(adapters.names()[-1])
-    code = (f"import sys; sys.modules[{rec.import_name!r}] = None\n"
+    code = (f"import sys; sys.modules[{rec.install.import_name!r}] = None\n"
             "from experiments import sweep\n"
             f"sweep.main(['--points', '2', '--out', {str(tmp_path)!r}, '--name', 'x', "
             "'--engine', 'all'])")
@@ -269,7 +270,8 @@ def test_engine_all_skips_a_missing_engine_and_runs_the_rest(tmp_path):
                          cwd=ROOT, timeout=600, check=False)
     assert res.returncode == 0, res.stderr
     assert f"skipped: {rec.install_hint}" in res.stderr
-    others = [n for n in adapters.names() if not _needs(adapters.record(n), rec.import_name)]
+    others = [n for n in adapters.names()
+              if not _needs(adapters.record(n), rec.install.import_name)]
     assert all(f"\n{n} " in res.stdout for n in others) and f"\n{rec.name} " not in res.stdout
 
 

@@ -22,9 +22,9 @@ from .conftest import COMMANDS, ROOT, cheapest, run_command
 
 SINGLE = cheapest(batched=False)
 BATCHED = cheapest(batched=True)
-SOFT = min((n for n in adapters.available() if adapters.record(n).soft_contact is not None),
-           key=lambda n: adapters.record(n).step_cost_s)
-TWIN = min(twins.twinned(adapters.available()), key=lambda n: adapters.record(n).step_cost_s)
+SOFT = min((n for n in adapters.available() if adapters.record(n).can.soft_contact is not None),
+           key=lambda n: adapters.record(n).cost.step_cost_s)
+TWIN = min(twins.twinned(adapters.available()), key=lambda n: adapters.record(n).cost.step_cost_s)
 BASELINE_CSV = str(ROOT / "results" / "sweep_all_reference_r161_swing.csv")
 WORKERS = ["--workers", "2"]
 
@@ -66,7 +66,7 @@ def test_command_runs_at_small_size(command, tmp_path):
             versions = json.loads(meta.read_text()).get("provenance", {}).get("versions")
             if versions is not None and "--engine" in SMALL[command]:
                 engine = SMALL[command][SMALL[command].index("--engine") + 1]
-                assert adapters.record(engine).package in versions, (meta.name, versions)
+                assert adapters.record(engine).install.package in versions, (meta.name, versions)
     if command == "compare":
         assert "no change apart from timing" in res.stdout
 

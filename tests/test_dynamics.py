@@ -38,7 +38,7 @@ BAT = presets.R161
 T, DT = 0.04, 1e-4
 T_HINGE = 0.1
 N = round(T_HINGE / DT)  # the longest run's steps, for ROUND
-METHODS = [(n, i) for n in adapters.names() for i in adapters.record(n).integrators]
+METHODS = [(n, i) for n in adapters.names() for i in adapters.record(n).can.integrators]
 IDS = [f"{n}-{i.label}" for n, i in METHODS]
 
 

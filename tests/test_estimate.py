@@ -45,7 +45,7 @@ def host_slowdown() -> float:
     over the single-world engines (cheap to measure, seven of them), of measured over recorded
     step. One engine's step varies up to 2x between runs on one loaded host."""
     single = [n for n in adapters.names() if not adapters.record(n).batched]
-    return statistics.median(one_world_step_s(n) / adapters.record(n).step_cost_s
+    return statistics.median(one_world_step_s(n) / adapters.record(n).cost.step_cost_s
                              for n in single)
 
 
@@ -53,7 +53,7 @@ def host_slowdown() -> float:
 @pytest.mark.parametrize("name", adapters.names())
 def test_each_records_step_cost_is_what_the_benchmark_measures_now(name, host_slowdown):
     # a record states the step on the records' machine: here it is host_slowdown times that
-    ratio = adapters.record(name).step_cost_s * host_slowdown / one_world_step_s(name)
+    ratio = adapters.record(name).cost.step_cost_s * host_slowdown / one_world_step_s(name)
     assert 1 / STEP_COST_FACTOR <= ratio <= STEP_COST_FACTOR, (name, ratio, host_slowdown)
 
 

@@ -14,7 +14,7 @@ from experiments.core.judge import Status
 
 
 def test_quick_flex_study_writes_consistent_tables(tmp_path):
-    engine = next(n for n in adapters.available() if adapters.record(n).chain_adapter)
+    engine = next(n for n in adapters.available() if adapters.record(n).can.chain_adapter)
     assert flex.main(["--quick", "--engine", engine, "--out", str(tmp_path), "--name", "f"]) == 0
     out = tmp_path / "f"
     for name in ("flex.csv", "flex_modes.csv", "flex_sweet.csv", "flex_chain.csv",

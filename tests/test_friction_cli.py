@@ -19,8 +19,8 @@ from experiments.core.io import ROOT
 
 #: A single-world engine whose rigid contact has friction and no declared defect, taken from
 #: the registry (no engine named here).
-EXACT = next(n for n in adapters.names() if adapters.record(n).friction_rule is not None
-             and not adapters.record(n).friction_defect and not adapters.record(n).batched
+EXACT = next(n for n in adapters.names() if adapters.record(n).can.friction_rule is not None
+             and not adapters.record(n).errors.friction_defect and not adapters.record(n).batched
              and adapters.settings_for(n).contact_reference()
              is adapters.ContactReference.RIGID_IMPULSE)
 

@@ -16,8 +16,8 @@ from experiments.core.hosting import Hosted
 from experiments.core.placement import start_state
 
 R161, BALL = presets.R161, presets.BASEBALL
-FRICTION = [n for n in adapters.names() if adapters.record(n).friction_rule is not None]
-SPATIAL = [n for n in FRICTION if not adapters.record(n).planar]
+FRICTION = [n for n in adapters.names() if adapters.record(n).can.friction_rule is not None]
+SPATIAL = [n for n in FRICTION if not adapters.record(n).can.planar]
 #: A bat a thousand kilograms heavy, with inertia to match: a wall to 1.5e-4 (m / M).
 WALL = Bat(name="wall", length_m=0.84, radius_m=0.03, mass_kg=1e3, com_from_knob_m=0.42,
            inertia_cm_kgm2=1e3, inertia_axial_kgm2=1e3)
@@ -30,7 +30,7 @@ def _sliding_mu(name: str, bat: float, ball: float) -> float:
     the ball at 20 m/s and theta = 0.8 rad onto the resting wall, e = 0 (no restitution pass
     to carry less friction than the compression), slides throughout for any mu up to 0.29
     (2 tan(theta) / 7), so its velocity turns by dv_t = -mu dv_n exactly."""
-    st = adapters.settings_for(name, **adapters.record(name).friction_rule_overrides)
+    st = adapters.settings_for(name, **adapters.record(name).studies.friction_rule_overrides)
     case = ImpactCase(bat=WALL, ball=BALL, s_m=0.0, v0_mps=20.0, theta_rad=0.8, e=0.0, mu=0.1)
     host = Hosted(name, st)
     try:
@@ -57,7 +57,7 @@ def test_body_frictions_combine_as_the_record_says(name):
     # Set by hand, bat 0.1 and ball 0.15 make mu = 0.015 (product), 0.15 (max), 0.125
     # (mean), 0.1 (min), 0.1225 (geometric) or 0.12 (harmonic): rules 2.5e-3 apart at least,
     # measured to rounding (ROUND_OPS eps: 1.2e-3 in float32) plus the wall's finite mass.
-    want = adapters.record(name).friction_rule.combine(0.1, 0.15)
+    want = adapters.record(name).can.friction_rule.combine(0.1, 0.15)
     got = _sliding_mu(name, 0.1, 0.15)
     assert got == pytest.approx(want, abs=judge.ROUND_OPS * adapters.record(name).eps
                                 + WALL_REL * want)
@@ -70,8 +70,8 @@ def _on_wall(name: str, mu: float):
     return table(fire_jobs([job]), "reference").iloc[0]
 
 
-EXACT = [n for n in FRICTION if not adapters.record(n).friction_defect]
-DEFECTIVE = [n for n in FRICTION if adapters.record(n).friction_defect]
+EXACT = [n for n in FRICTION if not adapters.record(n).errors.friction_defect]
+DEFECTIVE = [n for n in FRICTION if adapters.record(n).errors.friction_defect]
 RIGID = [n for n in EXACT if adapters.settings_for(n).contact_reference()
          is adapters.ContactReference.RIGID_IMPULSE]
 
@@ -157,7 +157,7 @@ def test_undercut_hits_end_with_a_status_that_says_why(name):
 
 
 @pytest.mark.parametrize("name", [n for n in adapters.names()
-                                  if adapters.record(n).planar])
+                                  if adapters.record(n).can.planar])
 def test_a_planar_engine_refuses_an_undercut(name):
     # A 2-D engine cannot put the ball off the swing plane: 'unsupported', not a wrong answer.
     case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=40.0, e=0.5, mu=0.5,

@@ -31,13 +31,13 @@ def stability_out(tmp_path_factory):
 def test_stability_outputs(stability_out):
     names = {p.name for p in stability_out.iterdir()}
     soft = {f"stability_{n}_soft.png" for n in adapters.names()
-            if adapters.record(n).soft_contact is not None}
+            if adapters.record(n).can.soft_contact is not None}
     assert {"stability.csv", "stability.png", "stability_energy.png", "stability_cells.csv",
             "stability.json", *soft} <= names
     rows = pd.read_csv(stability_out / "stability.csv")
     q = stability.QUICK
     per_map = len(q["steps"]) * len(q["speeds"]) * q["phases"]
-    soft = [n for n in adapters.names() if adapters.record(n).soft_contact is not None]
+    soft = [n for n in adapters.names() if adapters.record(n).can.soft_contact is not None]
     hunt_crossley = [n for n in adapters.names() if stability.hunt_crossley_law(n) is not None]
     assert len(rows) == (2 * len(adapters.names()) + len(hunt_crossley)) * per_map \
         + len(soft) * len(q["omegas"]) * len(q["steps"]) * q["phases"]

@@ -34,7 +34,7 @@ def toyengine(toy_site):
 def test_the_entry_point_registers_it_under_its_name(toyengine):
     assert toyengine in adapters.names() and toyengine in adapters.available()
     rec = adapters.record(toyengine)
-    assert rec.name == toyengine and rec.color not in {adapters.record(n).color
+    assert rec.name == toyengine and rec.look.color not in {adapters.record(n).look.color
                                                        for n in adapters.names()
                                                        if n != toyengine}
     assert adapters.is_batched(toyengine)

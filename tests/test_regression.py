@@ -51,7 +51,7 @@ def test_agreement_does_not_regress_and_the_baseline_is_what_the_code_produces(b
     committed = pd.read_csv(ROOT / "results" / f"{baseline}.csv")
     committed = committed[committed.engine == engine].iloc[::5].reset_index(drop=True)
     assert list(rows.status) == list(committed.status)
-    if adapters.record(engine).host_rounding:
+    if adapters.record(engine).errors.host_rounding:
         rtol, atol = 0.0, 2 * spec["engines"][engine]["baseline_max_abs_err_mps"]
     else:
         rtol, atol = 1e-11, 1e-12

@@ -245,7 +245,7 @@ def test_a_run_of_unsupported_impacts_says_why(tmp_path):
     # (exit 0, every row 'unsupported') and its summary gives the reason, not just the count.
     import adapters
 
-    planar = [n for n in adapters.available() if adapters.record(n).planar]
+    planar = [n for n in adapters.available() if adapters.record(n).can.planar]
     assert planar  # pymunk and Box2D are core and planar
     res = _sweep("--undercut", "0.02", "--out", str(tmp_path), engine=planar[0])
     assert res.returncode == 0, res.stderr

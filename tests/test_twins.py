@@ -33,7 +33,7 @@ def test_batched_twins_are_registered():
     # the issue's twins: MJX (both precisions) of MuJoCo C, each with its causes as steps
     assert len(TWINNED) >= 2
     for name in TWINNED:
-        assert adapters.record(name).twin_steps, name
+        assert adapters.record(name).studies.twin_steps, name
 
 
 def _slid(settings: adapters.Settings) -> np.ndarray:
@@ -48,19 +48,19 @@ def _slid(settings: adapters.Settings) -> np.ndarray:
 
 @pytest.mark.parametrize("name", TWINNED)
 def test_twin_agrees_to_rounding_once_every_cause_is_removed(name):
-    mine, theirs = twins.pair(name, adapters.record(name).twin_steps[-1])
+    mine, theirs = twins.pair(name, adapters.record(name).studies.twin_steps[-1])
     case = twins.firing(POINTS).cases()[0]
     speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * case.bat.length_m
     allowed = judge.ROUND_OPS * adapters.record(name).eps * speed + _slid(mine)
-    diff = np.abs(_v1(name, mine) - _v1(adapters.record(name).twin_of, theirs))
+    diff = np.abs(_v1(name, mine) - _v1(adapters.record(name).can.twin_of, theirs))
     assert np.all(diff <= allowed), (diff, allowed)
 
 
 @pytest.mark.parametrize("name", [n for n in TWINNED
-                                  if adapters.record(n).precision == "float64"])
+                                  if adapters.record(n).errors.precision == "float64"])
 def test_float64_twin_differs_as_configured(name):
     # each at its reference profile, the causes act (MJX's regulariser and capsule routine:
     # 8e-5 m/s on the R161's barrel), far above rounding: the comparison can fail
-    mine, theirs = twins.pair(name, adapters.record(name).twin_steps[0])
-    diff = np.abs(_v1(name, mine) - _v1(adapters.record(name).twin_of, theirs))
+    mine, theirs = twins.pair(name, adapters.record(name).studies.twin_steps[0])
+    diff = np.abs(_v1(name, mine) - _v1(adapters.record(name).can.twin_of, theirs))
     assert diff.max() > 1e3 * judge.ROUND_OPS * adapters.record(name).eps * 80.0

@@ -92,13 +92,19 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..record import (
+    Capabilities,
+    Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
+    Install,
     Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
 )
 
 #: Box2D's speculative distance, 4 linear slops of 5 mm (compile-time, with 1 length unit = 1 m):
@@ -161,15 +167,13 @@ class Box2dSettings(Settings):
 
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.box2d.chain:Box2dChain",
-    chain_defect=("segmented bat: one solver sweep per substep and the restitution impulse on "
-                  "the contact alone, so the ball bounces off the touched segment as if it were "
-                  "free (x = 0.65 m: -15.20 m/s for the chain's -5.26) and is struck again; the "
-                  "joint spring is a soft constraint on the two segments' own inertias, which "
-                  "leaves the lowest mode's period 1.7e-4 long at 10 us and damps it by 6% a "
-                  "period"),
-    name="box2d", adapter="adapters.box2d.adapter:Box2dEngine", package="pyb2d3",
-    import_name="pyb2d3", extra="box2d",
+    name="box2d",
+    adapter="adapters.box2d.adapter:Box2dEngine",
+    install=Install(
+        package="pyb2d3",
+        import_name="pyb2d3",
+        extra="box2d",
+    ),
     profiles={
         # Fidelity: a 1 us step, because the speculative contact resolves an impact with the
         # geometry of its step's start, an error first order in dt (module docstring): a fuzz
@@ -190,50 +194,74 @@ RECORD = EngineRecord(
         # unaligned simulation.
         "default": Box2dSettings(dt_s=1 / 60, sub_steps=4, contact_phase=0.5),
     },
-    color="tab:red", marker="D",
-    speed_accuracy=(
-        KnobFamily(label="sub-steps of at most 5 us (reference)", quick=True),
-        KnobFamily(label="1 sub-step", overrides=(("sub_steps", 1), ("max_sub_step_s", None))),
-        KnobFamily(label="4 sub-steps (Box2D's)",
-                   overrides=(("sub_steps", 4), ("max_sub_step_s", None))),
+    can=Capabilities(
+        chain_adapter="adapters.box2d.chain:Box2dChain",
+        # One sub-step per step: the semi-implicit Euler step is then dt (with n sub-steps it is
+        # dt/n), whose first-order terms the swing study and tests/test_dynamics.py derive.
+        # Its joints are soft (60 Hz, damping ratio 2, compile-time constants pyb2d3 cannot change):
+        # the hinge drifts at first order in the step.
+        integrators=(Integrator(label="semi-implicit Euler, 1 sub-step",
+                                overrides=(("sub_steps", 1), ("max_sub_step_s", None)),
+                                hinge_order=1),),
+        restitution_rule=RestitutionRule.MAX,
+        friction_rule=FrictionRule.GEOMETRIC,
+        planar=True,
+        threshold_setting="restitution_threshold_mps",
     ),
-    # One sub-step per step: the semi-implicit Euler step is then dt (with n sub-steps it is
-    # dt/n), whose first-order terms the swing study and tests/test_dynamics.py derive.
-    # Its joints are soft (60 Hz, damping ratio 2, compile-time constants pyb2d3 cannot change):
-    # the hinge drifts at first order in the step.
-    integrators=(Integrator(label="semi-implicit Euler, 1 sub-step",
-                            overrides=(("sub_steps", 1), ("max_sub_step_s", None)),
-                            hinge_order=1),),
-    precision="float32",
-    restitution_rule=RestitutionRule.MAX,
-    friction_rule=FrictionRule.GEOMETRIC,
-    # The rule pinned with the restitution pass off (threshold above every approach speed):
-    # that pass is frictionless, so with it an impact's friction is a share of mu (docstring).
-    friction_rule_overrides={"restitution_threshold_mps": 1e4},
-    friction_defect=("the restitution impulse, applied after the sub-steps, carries no friction: "
-                     "a slide gets mu p P / (1 + e) of tangential impulse for Coulomb's mu P, p "
-                     "the share of the approach the speculative relax pass stops (at the "
-                     "reference's step-aligned contact 0 or 2/3 of the spin; package docstring)"),
-    planar=True,
-    threshold_setting="restitution_threshold_mps",
+    errors=ErrorModel(
+        chain_defect="segmented bat: one solver sweep per substep and the restitution impulse on "
+                      "the contact alone, so the ball bounces off the touched segment as if it "
+                      "were "
+                      "free (x = 0.65 m: -15.20 m/s for the chain's -5.26) and is struck again; "
+                      "the "
+                      "joint spring is a soft constraint on the two segments' own inertias, which "
+                      "leaves the lowest mode's period 1.7e-4 long at 10 us and damps it by 6% a "
+                      "period",
+        precision="float32",
+        friction_defect="the restitution impulse, applied after the sub-steps, carries no "
+                        "friction: "
+                         "a slide gets mu p P / (1 + e) of tangential impulse for Coulomb's mu P, "
+                         "p "
+                         "the share of the approach the speculative relax pass stops (at the "
+                         "reference's step-aligned contact 0 or 2/3 of the spin; package "
+                         "docstring)",
+    ),
     # All four read back from a fresh b2DefaultWorldDef; the push speed (3 m/s) is not exposed
     # by pyb2d3 and moves no velocity here, so it is neither quoted nor measurable.
     engine_defaults={"contact_hertz": 30.0, "contact_damping_ratio": 10.0,
                      "restitution_threshold_mps": 1.0, "maximum_linear_speed_mps": 400.0},
-    step_cost_s=4.8e-6,
-    label="Box2D",
-    notes=ReportNotes(
-        profile=("dt = {dt_s}, sub-steps of at most {max_sub_step_s}, restitution threshold "
-                 "0, speed clamp lifted"),
-        restitution=("max of the two shapes' restitution (bat 0, ball e); 0 below "
-                     "`restitutionThreshold` ({default_restitution_threshold_mps} m/s)"),
-        handled=("restitution is the max of the two values and dropped below "
-                 "{default_restitution_threshold_mps} m/s; the speculative margin "
-                 "(compile-time) solves an impact with the step start's normal, an error first "
-                 "order in dt (hence the {dt_s} reference); each sub-step turns a body by "
-                 "atan(omega h); `b2MakeRot` approximates cos/sin (the adapter builds rotations "
-                 "itself); its joints are soft (fixed in pyb2d3), so the hinge drifts at first "
-                 "order; float32 positions lose a long motion split into many tiny sub-steps; "
-                 "pyb2d3 exposes no per-body contact data, so the adapter calls a step a "
-                 "contact when the ball's velocity changed (only the bat acts on it).")),
+    cost=Cost(
+        step_cost_s=4.8e-6,
+    ),
+    look=Presentation(
+        color="tab:red",
+        marker="D",
+        label="Box2D",
+        notes=ReportNotes(
+            profile=("dt = {dt_s}, sub-steps of at most {max_sub_step_s}, restitution threshold "
+                     "0, speed clamp lifted"),
+            restitution=("max of the two shapes' restitution (bat 0, ball e); 0 below "
+                         "`restitutionThreshold` ({default_restitution_threshold_mps} m/s)"),
+            handled=("restitution is the max of the two values and dropped below "
+                     "{default_restitution_threshold_mps} m/s; the speculative margin "
+                     "(compile-time) solves an impact with the step start's normal, an error first "
+                     "order in dt (hence the {dt_s} reference); each sub-step turns a body by "
+                     "atan(omega h); `b2MakeRot` approximates cos/sin (the adapter builds "
+                     "rotations "
+                     "itself); its joints are soft (fixed in pyb2d3), so the hinge drifts at first "
+                     "order; float32 positions lose a long motion split into many tiny sub-steps; "
+                     "pyb2d3 exposes no per-body contact data, so the adapter calls a step a "
+                     "contact when the ball's velocity changed (only the bat acts on it).")),
+    ),
+    studies=Studies(
+        speed_accuracy=(
+            KnobFamily(label="sub-steps of at most 5 us (reference)", quick=True),
+            KnobFamily(label="1 sub-step", overrides=(("sub_steps", 1), ("max_sub_step_s", None))),
+            KnobFamily(label="4 sub-steps (Box2D's)",
+                       overrides=(("sub_steps", 4), ("max_sub_step_s", None))),
+        ),
+        # The rule pinned with the restitution pass off (threshold above every approach speed):
+        # that pass is frictionless, so with it an impact's friction is a share of mu (docstring).
+        friction_rule_overrides={"restitution_threshold_mps": 1e4},
+    ),
 )

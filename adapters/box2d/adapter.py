@@ -89,7 +89,7 @@ class Box2dEngine(Engine):
             body.mass_data = md
         self._v_before: tuple[float, float, float] | None = None
         self.set_body_restitution(bat=0.0, ball=scene.e)  # Box2D takes the larger of the two
-        bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)  # sqrt(mu mu) = mu
+        bat_mu, ball_mu = RECORD.can.friction_rule.per_body(scene.mu)  # sqrt(mu mu) = mu
         self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def mass_properties(self) -> MassProperties:

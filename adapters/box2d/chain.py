@@ -120,7 +120,7 @@ class Box2dChain(ChainEngine):
                                                           b2.circle((0.0, 0.0), ball.radius_m))
         self._set_mass(self._ball, ball.mass_kg, ball.inertia_kgm2)
         self._ball_shape.restitution = scene.e  # Box2D takes the larger: max(0, e) = e
-        bat_mu, ball_mu = RECORD.friction_rule.per_body(0.0)  # sqrt(0 * 0) = 0
+        bat_mu, ball_mu = RECORD.can.friction_rule.per_body(0.0)  # sqrt(0 * 0) = 0
         for shape in self._shapes:
             shape.friction = bat_mu
         self._ball_shape.friction = ball_mu

@@ -85,14 +85,20 @@ from analytic.compliant import (
 )
 
 from ..record import (
+    Capabilities,
     ContactReference,
+    Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
+    Install,
     Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
 )
 
 #: Discrete contact approximations (Drake's DiscreteContactApproximation) and "continuous" (an
@@ -235,9 +241,13 @@ def _speed_accuracy() -> tuple[KnobFamily, ...]:
 
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.drake.chain:DrakeChain",
-    name="drake", adapter="adapters.drake.adapter:DrakeEngine", package="drake",
-    import_name="pydrake", extra="drake",
+    name="drake",
+    adapter="adapters.drake.adapter:DrakeEngine",
+    install=Install(
+        package="drake",
+        import_name="pydrake",
+        extra="drake",
+    ),
     profiles={
         # Fidelity to Drake's own contact law (Hunt-Crossley point contact, k = 1e6 N/m, d
         # from e at 40 m/s): the continuous plant under RK3 with error control at 1e-6 relative
@@ -258,41 +268,55 @@ RECORD = EngineRecord(
                                  contact_model="hydroelastic_with_fallback",
                                  point_stiffness_npm=None, contact_phase=0.5),
     },
-    color="black", marker="X",
-    speed_accuracy=_speed_accuracy(),
-    # The swing study's integrators: each discrete approximation steps semi-implicit Euler
-    # (v then q); the continuous mode is not one of them, since a body-frame load is held
-    # constant over each of its steps (first order, whatever RK3's own order).
-    integrators=tuple(Integrator(label=f"discrete {a}", overrides=(("solver", a),))
-                      for a in ("lagged", "sap", "tamsi")),
-    precision="float64",
-    restitution_rule=RestitutionRule.MAPPED,
-    friction_rule=FrictionRule.HARMONIC,
+    can=Capabilities(
+        chain_adapter="adapters.drake.chain:DrakeChain",
+        # The swing study's integrators: each discrete approximation steps semi-implicit Euler
+        # (v then q); the continuous mode is not one of them, since a body-frame load is held
+        # constant over each of its steps (first order, whatever RK3's own order).
+        integrators=tuple(Integrator(label=f"discrete {a}", overrides=(("solver", a),))
+                          for a in ("lagged", "sap", "tamsi")),
+        restitution_rule=RestitutionRule.MAPPED,
+        friction_rule=FrictionRule.HARMONIC,
+    ),
+    errors=ErrorModel(
+        precision="float64",
+    ),
     # Every value read back from a fresh MultibodyPlantConfig / DefaultProximityProperties.
     engine_defaults={"dt_s": 1e-3, "solver": "lagged",
                      "contact_model": "hydroelastic_with_fallback",
                      "sap_near_rigid_threshold": 1.0,
                      "point_stiffness_npm": DEFAULT_POINT_STIFFNESS_NPM,
                      "stiction_tolerance_mps": DEFAULT_STICTION_TOLERANCE_MPS},
-    step_cost_s=5.8e-4,
-    label="Drake",
-    notes=ReportNotes(
-        profile=("{solver} plant, RK3 with error control at {accuracy}, read every {dt_s}; "
-                 "{contact_model} contact k = {point_stiffness_npm} N/m"),
-        restitution=("none: Hunt-Crossley dissipation d chosen so that a "
-                     "{restitution_speed_mps} m/s impact bounces with e; its e then falls "
-                     "with speed; judged against its own law"),
-        handled=("no coefficient of restitution: its point contact is Hunt-Crossley, "
-                 "F = k x (1 + d x'), whose e falls with the impact speed (d set for e at "
-                 "{restitution_speed_mps} m/s), so against rigid theory it is up to {err_mps} "
-                 "m/s off on the paper's swing by design; against its own law "
-                 "(`analytic.compliant.HuntCrossley`, exponent 1) the reference is within "
-                 "{law_err_mps} m/s. Every discrete approximation is about first order against "
-                 "that law (`convergence.csv`); SAP replaces d by a linear damper (the adapter "
-                 "sets its relaxation time for e and judges it against `LinearSpringDamper`); "
-                 "hydroelastic contact states no closed law here (`unjudged`). The bat hangs on "
-                 "a planar joint chain whose pivot frame moves at run time, so the hands' hinge "
-                 "is a lock on that chain. A small e is floored (`E_FLOOR`): a Hunt-Crossley "
-                 "contact lets go with the overlap still open and cannot separate faster than "
-                 "1/d (drake#19320), so a near-plastic ball is caught again and again.")),
+    cost=Cost(
+        step_cost_s=5.8e-4,
+    ),
+    look=Presentation(
+        color="black",
+        marker="X",
+        label="Drake",
+        notes=ReportNotes(
+            profile=("{solver} plant, RK3 with error control at {accuracy}, read every {dt_s}; "
+                     "{contact_model} contact k = {point_stiffness_npm} N/m"),
+            restitution=("none: Hunt-Crossley dissipation d chosen so that a "
+                         "{restitution_speed_mps} m/s impact bounces with e; its e then falls "
+                         "with speed; judged against its own law"),
+            handled=("no coefficient of restitution: its point contact is Hunt-Crossley, "
+                     "F = k x (1 + d x'), whose e falls with the impact speed (d set for e at "
+                     "{restitution_speed_mps} m/s), so against rigid theory it is up to {err_mps} "
+                     "m/s off on the paper's swing by design; against its own law "
+                     "(`analytic.compliant.HuntCrossley`, exponent 1) the reference is within "
+                     "{law_err_mps} m/s. Every discrete approximation is about first order against "
+                     "that law (`convergence.csv`); SAP replaces d by a linear damper (the adapter "
+                     "sets its relaxation time for e and judges it against `LinearSpringDamper`); "
+                     "hydroelastic contact states no closed law here (`unjudged`). The bat hangs "
+                     "on "
+                     "a planar joint chain whose pivot frame moves at run time, so the hands' "
+                     "hinge "
+                     "is a lock on that chain. A small e is floored (`E_FLOOR`): a Hunt-Crossley "
+                     "contact lets go with the overlap still open and cannot separate faster than "
+                     "1/d (drake#19320), so a near-plastic ball is caught again and again.")),
+    ),
+    studies=Studies(
+        speed_accuracy=_speed_accuracy(),
+    ),
 )

@@ -123,7 +123,7 @@ class DrakeEngine(Engine):
         a, b = bat.s_min_m, bat.s_max_m
         along_x = RigidTransform(RotationMatrix.MakeYRotation(math.pi / 2),
                                  [(a + b) / 2, 0.0, 0.0])  # Drake's capsules lie along z
-        mu_bat, mu_ball = RECORD.friction_rule.per_body(scene.mu)
+        mu_bat, mu_ball = RECORD.can.friction_rule.per_body(scene.mu)
         self._friction = (CoulombFriction(mu_bat, mu_bat), CoulombFriction(mu_ball, mu_ball))
         self._geoms = (
             plant.RegisterCollisionGeometry(bat_body, along_x, Capsule(bat.radius_m, b - a),

@@ -86,7 +86,7 @@ class DrakeChain(ChainEngine):
         super().__init__(settings)
         self._failed = False
         self._load = None  # no hands on a chain
-        mu_bat, mu_ball = RECORD.friction_rule.per_body(0.0)
+        mu_bat, mu_ball = RECORD.can.friction_rule.per_body(0.0)
         self._friction = (CoulombFriction(mu_bat, mu_bat), CoulombFriction(mu_ball, mu_ball))
 
     # -- building ------------------------------------------------------------------------------

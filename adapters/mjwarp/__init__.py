@@ -54,12 +54,18 @@ from dataclasses import dataclass
 
 from ..mujoco import NATIVE_FRICTION, RegularisedSettings
 from ..record import (
+    Capabilities,
+    Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
+    Install,
     Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
+    Studies,
     TwinStep,
 )
 
@@ -106,9 +112,14 @@ TWIN_STEPS = (
 )
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.mjwarp.chain:MjwarpChain",
-    name="mjwarp", adapter="adapters.mjwarp.adapter:MjwarpEngine", package="mujoco-warp",
-    import_name="mujoco_warp", extra="mujoco-warp", requires=("mujoco", "warp"),
+    name="mjwarp",
+    adapter="adapters.mjwarp.adapter:MjwarpEngine",
+    install=Install(
+        package="mujoco-warp",
+        import_name="mujoco_warp",
+        extra="mujoco-warp",
+        requires=("mujoco", "warp"),
+    ),
     profiles={
         # Fidelity: MuJoCo C's reference (10 us, Euler, impulse contact) with MuJoCo Warp's
         # own regulariser at d = 0.9998: a bias of 3.4e-5 relative on the R161 (stated, loosely:
@@ -124,38 +135,53 @@ RECORD = EngineRecord(
         "default": MjwarpSettings(dt_s=0.002, contact_model="native", tolerance=1e-6,
                                   contact_phase=0.5, cone="pyramidal"),
     },
-    color="seagreen", marker="<",
-    speed_accuracy=(
-        KnobFamily(label="impulse, Euler", quick=True),
-        KnobFamily(label="soft w=3000, Euler", quick=True, overrides=SOFT),
-        # no RK4 family: RK4 under the impulse solref holds the contact for ~5e4 steps at
-        # dt = 1e-6 s, as MuJoCo C's does (its pareto rows), and a batch steps until its
-        # last world ends: an hour of a 20 ms RK4 step on a CPU for a failure MuJoCo C shows
+    can=Capabilities(
+        chain_adapter="adapters.mjwarp.chain:MjwarpChain",
+        integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
+                                     order=4 if name == "RK4" else 1)
+                          for name in ("Euler", "implicitfast", "RK4")),
+        restitution_rule=RestitutionRule.MAPPED,
+        friction_rule=FrictionRule.MAX,
+        soft_contact={"contact_model": "soft"},
+        stiffness_setting="soft_omega_radps",
+        twin_of="mujoco",
     ),
-    integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
-                                 order=4 if name == "RK4" else 1)
-                      for name in ("Euler", "implicitfast", "RK4")),
-    precision="float32",
-    restitution_rule=RestitutionRule.MAPPED,
-    friction_rule=FrictionRule.MAX,
-    friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
-    friction_rule_overrides=NATIVE_FRICTION,
-    soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
+    errors=ErrorModel(
+        precision="float32",
+    ),
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=1.0e-4, world_step_cost_s=2e-5, start_s=0.5,
-    label="MuJoCo Warp",
-    twin_of="mujoco",
-    twin_steps=TWIN_STEPS,
-    notes=ReportNotes(
-        profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MuJoCo "
-                 "Warp's regulariser, solver tolerance {tolerance} and {iterations} "
-                 "iterations, placed {overlap_m} deep, on Warp's CPU device"),
-        restitution="none: mapped by the adapter, as for MuJoCo C",
-        handled=("no `diagexact` in MuJoCo Warp: the impulse is up to 3.4e-5 relative off "
-                 "on the R161 at d = {impedance} (stated); its tolerance is raised to "
-                 "{default_tolerance} as the model is put on the device, and its float32 "
-                 "solve stopped there splits the impulse between the bodies up to 1e-3 "
-                 "wrong: tolerance 0 instead"),
-        defaults=("MuJoCo Warp's solref {default_solref}, iterations, tolerance "
-                  "{default_tolerance} and {default_dt_s} step, read back")),
+    cost=Cost(
+        step_cost_s=1.0e-4,
+        world_step_cost_s=2e-5,
+        start_s=0.5,
+    ),
+    look=Presentation(
+        color="seagreen",
+        marker="<",
+        label="MuJoCo Warp",
+        notes=ReportNotes(
+            profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MuJoCo "
+                     "Warp's regulariser, solver tolerance {tolerance} and {iterations} "
+                     "iterations, placed {overlap_m} deep, on Warp's CPU device"),
+            restitution="none: mapped by the adapter, as for MuJoCo C",
+            handled=("no `diagexact` in MuJoCo Warp: the impulse is up to 3.4e-5 relative off "
+                     "on the R161 at d = {impedance} (stated); its tolerance is raised to "
+                     "{default_tolerance} as the model is put on the device, and its float32 "
+                     "solve stopped there splits the impulse between the bodies up to 1e-3 "
+                     "wrong: tolerance 0 instead"),
+            defaults=("MuJoCo Warp's solref {default_solref}, iterations, tolerance "
+                      "{default_tolerance} and {default_dt_s} step, read back")),
+    ),
+    studies=Studies(
+        speed_accuracy=(
+            KnobFamily(label="impulse, Euler", quick=True),
+            KnobFamily(label="soft w=3000, Euler", quick=True, overrides=SOFT),
+            # no RK4 family: RK4 under the impulse solref holds the contact for ~5e4 steps at
+            # dt = 1e-6 s, as MuJoCo C's does (its pareto rows), and a batch steps until its
+            # last world ends: an hour of a 20 ms RK4 step on a CPU for a failure MuJoCo C shows
+        ),
+        friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
+        friction_rule_overrides=NATIVE_FRICTION,
+        twin_steps=TWIN_STEPS,
+    ),
 )

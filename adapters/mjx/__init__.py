@@ -42,12 +42,18 @@ from dataclasses import dataclass
 
 from ..mujoco import NATIVE_FRICTION, RegularisedSettings
 from ..record import (
+    Capabilities,
+    Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
+    Install,
     Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
+    Studies,
     TwinStep,
 )
 
@@ -95,12 +101,14 @@ ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0)
                    "integrator": "Euler", "cone": "pyramidal"}
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.mjx.chain:MjxChain",
-    chain_defect=("float32 Newton solve of a touch on a light hinged segment: its matrix's "
-                  "condition (about 3e8) is past 1/eps, the solve returns a NaN qacc and drops "
-                  "the contact (2 of 11 points at N = 8 non_finite, every point at N >= 16)"),
-    name="mjx", adapter="adapters.mjx.adapter:MjxEngine", package="mujoco-mjx",
-    import_name="mujoco.mjx", extra="mjx", requires=("mujoco", "jax"),
+    name="mjx",
+    adapter="adapters.mjx.adapter:MjxEngine",
+    install=Install(
+        package="mujoco-mjx",
+        import_name="mujoco.mjx",
+        extra="mjx",
+        requires=("mujoco", "jax"),
+    ),
     profiles={
         # Fidelity: MuJoCo C's reference (10 us, Euler, impulse contact) at d = 0.9999 with
         # MJX's own regulariser: a 1e-4 relative bias (stated: ``mapping_error_rel``); a
@@ -114,54 +122,75 @@ RECORD = EngineRecord(
         "default": MjxSettings(dt_s=0.002, contact_model="native", contact_phase=0.5,
                                cone="pyramidal"),
     },
-    color="darkgreen", marker="v",
-    speed_accuracy=(
-        KnobFamily(label="impulse, MJX's regulariser", quick=True),
-        KnobFamily(label="soft w=3000, Euler", quick=True,
-                   overrides=(("contact_model", "soft"), ("soft_omega_radps", 3000.0),
-                              ("impedance", 0.99))),
+    can=Capabilities(
+        chain_adapter="adapters.mjx.chain:MjxChain",
+        integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
+                                     order=4 if name == "RK4" else 1)
+                          for name in ("Euler", "RK4")),
+        restitution_rule=RestitutionRule.MAPPED,
+        friction_rule=FrictionRule.MAX,
+        soft_contact={"contact_model": "soft"},
+        stiffness_setting="soft_omega_radps",
+        twin_of="mujoco",
     ),
-    integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
-                                 order=4 if name == "RK4" else 1)
-                      for name in ("Euler", "RK4")),
-    precision="float32",
-    restitution_rule=RestitutionRule.MAPPED,
-    friction_rule=FrictionRule.MAX,
-    friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
-    friction_rule_overrides=NATIVE_FRICTION,
-    soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
+    errors=ErrorModel(
+        chain_defect="float32 Newton solve of a touch on a light hinged segment: its matrix's "
+                      "condition (about 3e8) is past 1/eps, the solve returns a NaN qacc and drops "
+                      "the contact (2 of 11 points at N = 8 non_finite, every point at N >= 16)",
+        precision="float32",
+        # measured: float32 rows 0.086 m/s apart (2.8%) between two x86-64 hosts, float64 2e-8 m/s
+        host_rounding=True,
+    ),
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=1.6e-3, world_step_cost_s=1e-5, start_s=3.0,
-    # measured: float32 rows 0.086 m/s apart (2.8%) between two x86-64 hosts, float64 2e-8 m/s
-    host_rounding=True,
-    label="MJX",
-    twin_of="mujoco",
-    twin_steps=TWIN_STEPS,
-    notes=ReportNotes(
-        profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MJX's "
-                 "regulariser, placed {overlap_m} deep"),
-        restitution="none: mapped by the adapter, as for MuJoCo C",
-        handled=("no `diagexact` in MJX: the regulariser scaled instead (its own leaves the "
-                 "impulse 1e-4 relative off); its capsule routine adds 1e-6 m^2 to the "
-                 "segment's squared length (a 1.3 um foot bias, stated)"),
-        defaults="MJX's solref {default_solref}, iterations and {default_dt_s} step, read back"),
+    cost=Cost(
+        step_cost_s=1.6e-3,
+        world_step_cost_s=1e-5,
+        start_s=3.0,
+    ),
+    look=Presentation(
+        color="darkgreen",
+        marker="v",
+        label="MJX",
+        notes=ReportNotes(
+            profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MJX's "
+                     "regulariser, placed {overlap_m} deep"),
+            restitution="none: mapped by the adapter, as for MuJoCo C",
+            handled=("no `diagexact` in MJX: the regulariser scaled instead (its own leaves the "
+                     "impulse 1e-4 relative off); its capsule routine adds 1e-6 m^2 to the "
+                     "segment's squared length (a 1.3 um foot bias, stated)"),
+            defaults="MJX's solref {default_solref}, iterations and {default_dt_s} step, read "
+                     "back"),
+    ),
+    studies=Studies(
+        speed_accuracy=(
+            KnobFamily(label="impulse, MJX's regulariser", quick=True),
+            KnobFamily(label="soft w=3000, Euler", quick=True,
+                       overrides=(("contact_model", "soft"), ("soft_omega_radps", 3000.0),
+                                  ("impedance", 0.99))),
+        ),
+        friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
+        friction_rule_overrides=NATIVE_FRICTION,
+        twin_steps=TWIN_STEPS,
+    ),
 )
 
 #: The same engine in float64, its regulariser made negligible, as diagexact does in C (package
 #: docstring): 1e-7 leaves 1e-11 relative; smaller ones lose more to the solver's conditioning
 #: (1e-8: 3e-8 m/s off at the COM, 1e-9: 5e-6 m/s).
 RECORD_64 = dataclasses.replace(
-    RECORD, name="mjx64", adapter="adapters.mjx.adapter:Mjx64Engine", precision="float64",
-    chain_adapter="adapters.mjx.chain:Mjx64Chain", chain_defect="",
-    color="yellowgreen", label="MJX (float64)",
+    RECORD, name="mjx64", adapter="adapters.mjx.adapter:Mjx64Engine",
+    errors=dataclasses.replace(RECORD.errors, precision="float64", chain_defect=""),
+    can=dataclasses.replace(RECORD.can, chain_adapter="adapters.mjx.chain:Mjx64Chain"),
     profiles={**RECORD.profiles, "reference": MjxSettings(
         dt_s=1e-5, contact_model="impulse", impedance=0.9999, invweight_scale=1e-7)},
-    speed_accuracy=(
+    studies=dataclasses.replace(RECORD.studies, speed_accuracy=(
         KnobFamily(label="impulse, regulariser x 1e-7", quick=True),
         KnobFamily(label="impulse, MJX's regulariser", overrides=(("invweight_scale", 1.0),)),
         KnobFamily(label="soft w=3000, Euler", quick=True,
                    overrides=(("contact_model", "soft"), ("soft_omega_radps", 3000.0),
-                              ("impedance", 0.99), ("invweight_scale", 1.0)))),
-    notes=dataclasses.replace(RECORD.notes, profile=(
-        "dt = {dt_s}, {integrator}, `impulse` contact (`solref = (0, -(1+e) c/dt)`, "
-        "d = {impedance}) with `body_invweight0` x {invweight_scale}")))
+                              ("impedance", 0.99), ("invweight_scale", 1.0))))),
+    look=dataclasses.replace(
+        RECORD.look, color="yellowgreen", label="MJX (float64)",
+        notes=dataclasses.replace(RECORD.look.notes, profile=(
+            "dt = {dt_s}, {integrator}, `impulse` contact (`solref = (0, -(1+e) c/dt)`, "
+            "d = {impedance}) with `body_invweight0` x {invweight_scale}"))))

@@ -115,7 +115,7 @@ class MjxEngine(BatchedEngine):
         lowering of small jitted helpers (MJX's RK4 calls ``jnp.tril``) across a change of
         mode: the float64 step then calls a float32 one and fails to lower. Its caches are
         cleared whenever the mode differs from the last one used (disk-cached compiles)."""
-        x64 = self.record.precision == "float64"
+        x64 = self.record.errors.precision == "float64"
         if _LAST_X64[0] is not None and _LAST_X64[0] != x64:
             jax.clear_caches()
         _LAST_X64[0] = x64

@@ -25,14 +25,19 @@ from analytic import checks
 from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
 from ..record import (
+    Capabilities,
     ContactReference,
+    Cost,
     EngineRecord,
     FrictionRule,
+    Install,
     Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
 )
 
 INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
@@ -147,9 +152,12 @@ def _speed_accuracy() -> tuple[KnobFamily, ...]:
 
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.mujoco.chain:MujocoChain",
-    name="mujoco", adapter="adapters.mujoco.adapter:MujocoEngine", package="mujoco",
-    import_name="mujoco",
+    name="mujoco",
+    adapter="adapters.mujoco.adapter:MujocoEngine",
+    install=Install(
+        package="mujoco",
+        import_name="mujoco",
+    ),
     profiles={
         # Fidelity to the impulse model: a 10 us step (contact tilt while the bat turns stays
         # ~1e-10), Euler (the impulse mapping is exact for one explicit step), impulse contact.
@@ -160,28 +168,39 @@ RECORD = EngineRecord(
         "default": MujocoSettings(dt_s=0.002, integrator="Euler", contact_model="native",
                                   diagexact=False, contact_phase=0.5, cone="pyramidal"),
     },
-    color="tab:green", marker="^",
-    speed_accuracy=_speed_accuracy(),
-    integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
-                                 order=4 if name == "RK4" else 1)
-                      for name in ("Euler", "implicitfast", "RK4")),
-    restitution_rule=RestitutionRule.MAPPED,
-    friction_rule=FrictionRule.MAX,
-    friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
-    friction_rule_overrides=NATIVE_FRICTION,
-    soft_contact={"contact_model": "soft"}, stiffness_setting="soft_omega_radps",
+    can=Capabilities(
+        chain_adapter="adapters.mujoco.chain:MujocoChain",
+        integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
+                                     order=4 if name == "RK4" else 1)
+                          for name in ("Euler", "implicitfast", "RK4")),
+        restitution_rule=RestitutionRule.MAPPED,
+        friction_rule=FrictionRule.MAX,
+        soft_contact={"contact_model": "soft"},
+        stiffness_setting="soft_omega_radps",
+    ),
     engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
                      "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler",
                      "cone": "pyramidal"},
-    step_cost_s=5.3e-6,
-    label="MuJoCo",
-    notes=ReportNotes(
-        profile=("dt = {dt_s}, {integrator}, `impulse` contact: `solref = (0, -(1+e)/dt)`, "
-                 "constant impedance, `diagexact`"),
-        restitution=("none: mapped by the adapter (`impulse`, or `soft` spring-damper "
-                     "calibrated for e)"),
-        defaults=("MuJoCo's solref {default_solref}, solimp, iterations and {default_dt_s} "
-                  "step, read back")),
+    cost=Cost(
+        step_cost_s=5.3e-6,
+    ),
+    look=Presentation(
+        color="tab:green",
+        marker="^",
+        label="MuJoCo",
+        notes=ReportNotes(
+            profile=("dt = {dt_s}, {integrator}, `impulse` contact: `solref = (0, -(1+e)/dt)`, "
+                     "constant impedance, `diagexact`"),
+            restitution=("none: mapped by the adapter (`impulse`, or `soft` spring-damper "
+                         "calibrated for e)"),
+            defaults=("MuJoCo's solref {default_solref}, solimp, iterations and {default_dt_s} "
+                      "step, read back")),
+    ),
+    studies=Studies(
+        speed_accuracy=_speed_accuracy(),
+        friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
+        friction_rule_overrides=NATIVE_FRICTION,
+    ),
 )
 
 

@@ -94,13 +94,19 @@ from scipy import optimize
 from analytic import checks
 
 from ..record import (
+    Capabilities,
     ContactReference,
+    Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
+    Install,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
 )
 
 SOLVERS = ("xpbd", "mujoco", "semi_implicit", "featherstone")
@@ -313,14 +319,14 @@ ENGINE_DEFAULTS = {"dt_s": 1 / 600, "iterations": 2, "contact_relaxation": 0.8,
                    "angular_damping": 0.0, "friction_gain_nspm": 1000.0, "cone": DEFAULT_CONE}
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.newton.chain:NewtonChain",
-    chain_defect=("XPBD: a joint's anchor correction is relaxed by 0.7 linearly and 0.4 "
-                  "angularly (no force at the anchor: the 8-segment chain's lowest mode at "
-                  "0.79 of its period, angular momentum not kept), and restitution solves a "
-                  "contact with the struck segment's own mass (first touch at x = 0.66 m: "
-                  "-7.49 m/s against -2.20 through the joints)"),
-    name="newton", adapter="adapters.newton.adapter:NewtonEngine", package="newton",
-    import_name="newton", extra="newton", requires=("warp",),
+    name="newton",
+    adapter="adapters.newton.adapter:NewtonEngine",
+    install=Install(
+        package="newton",
+        import_name="newton",
+        extra="newton",
+        requires=("warp",),
+    ),
     profiles={
         # XPBD with restitution: a rigid impulse. A 10 us step: the velocity pass takes the
         # lever arms of the pose after the step's integration, the bat turned omega dt past
@@ -337,38 +343,57 @@ RECORD = EngineRecord(
         # e = 0.037 whatever the target), the contact instant mid-step.
         "default": NewtonSettings(dt_s=1 / 600, contact_phase=0.5),
     },
-    color="crimson", marker="X",
-    speed_accuracy=_speed_accuracy(),
-    integrators=(),  # no set_drive: the engine sits out the swing studies
-    precision="float32",
-    restitution_rule=RestitutionRule.MEAN,
-    friction_rule=FrictionRule.MEAN,
-    friction_defect=("XPBD's friction is positional, capped by its position pass's normal "
-                     "correction: the restitution pass carries none, so a slide gets mu P / "
-                     "(1 + e) of tangential impulse for Coulomb's mu P (2/3 at e = 0.5; "
-                     "package docstring)"),
-    friction_families=(
-        KnobFamily(label="XPBD, relaxation 1", overrides=(("contact_relaxation", 1.0),)),
-        KnobFamily(label="MuJoCo Warp, impulse solref, elliptic cone, tolerance 0",
-                   overrides=(("solver", "mujoco"), ("tolerance", 0.0), ("cone", "elliptic"))),
-        KnobFamily(label="SemiImplicit, penalty w = 3000, Newton's kf",
-                   overrides=(("solver", "semi_implicit"),)),
+    can=Capabilities(
+        chain_adapter="adapters.newton.chain:NewtonChain",
+        integrators=(),  # no set_drive: the engine sits out the swing studies
+        restitution_rule=RestitutionRule.MEAN,
+        friction_rule=FrictionRule.MEAN,
+    ),
+    errors=ErrorModel(
+        chain_defect="XPBD: a joint's anchor correction is relaxed by 0.7 linearly and 0.4 "
+                      "angularly (no force at the anchor: the 8-segment chain's lowest mode at "
+                      "0.79 of its period, angular momentum not kept), and restitution solves a "
+                      "contact with the struck segment's own mass (first touch at x = 0.66 m: "
+                      "-7.49 m/s against -2.20 through the joints)",
+        precision="float32",
+        friction_defect="XPBD's friction is positional, capped by its position pass's normal "
+                         "correction: the restitution pass carries none, so a slide gets mu P / "
+                         "(1 + e) of tangential impulse for Coulomb's mu P (2/3 at e = 0.5; "
+                         "package docstring)",
     ),
     engine_defaults=ENGINE_DEFAULTS,
-    step_cost_s=2.7e-3, world_step_cost_s=2e-6, start_s=0.3,
-    label="Newton",
-    notes=ReportNotes(
-        profile=("dt = {dt_s}, XPBD with `enable_restitution`, contact gap {contact_gap_m} "
-                 "per shape ({default_contact_gap_m} by default)"),
-        restitution=("each shape's restitution, combined as their mean (XPBD; both set to "
-                     "e); ignored unless the solver's `enable_restitution` is on (off by "
-                     "default)"),
-        handled=("XPBD's velocity pass uses the lever arms of the pose after the step's "
-                 "integration (first order in dt); Newton projects "
-                 "the ball onto the capsule's axis with a 1e-6 m^2 regulariser (a micrometre "
-                 "off along a 0.78 m bat: the axis starts at the barrel end); contacts are "
-                 "found {default_contact_gap_m} per shape ahead by default and solved from "
-                 "that step's start (speculative); no hands (no set_drive)."),
-        defaults=("XPBD's iterations, relaxation and the builder's gap read back from fresh "
-                  "objects; the step from Newton's cradle example's source")),
+    cost=Cost(
+        step_cost_s=2.7e-3,
+        world_step_cost_s=2e-6,
+        start_s=0.3,
+    ),
+    look=Presentation(
+        color="crimson",
+        marker="X",
+        label="Newton",
+        notes=ReportNotes(
+            profile=("dt = {dt_s}, XPBD with `enable_restitution`, contact gap {contact_gap_m} "
+                     "per shape ({default_contact_gap_m} by default)"),
+            restitution=("each shape's restitution, combined as their mean (XPBD; both set to "
+                         "e); ignored unless the solver's `enable_restitution` is on (off by "
+                         "default)"),
+            handled=("XPBD's velocity pass uses the lever arms of the pose after the step's "
+                     "integration (first order in dt); Newton projects "
+                     "the ball onto the capsule's axis with a 1e-6 m^2 regulariser (a micrometre "
+                     "off along a 0.78 m bat: the axis starts at the barrel end); contacts are "
+                     "found {default_contact_gap_m} per shape ahead by default and solved from "
+                     "that step's start (speculative); no hands (no set_drive)."),
+            defaults=("XPBD's iterations, relaxation and the builder's gap read back from fresh "
+                      "objects; the step from Newton's cradle example's source")),
+    ),
+    studies=Studies(
+        speed_accuracy=_speed_accuracy(),
+        friction_families=(
+            KnobFamily(label="XPBD, relaxation 1", overrides=(("contact_relaxation", 1.0),)),
+            KnobFamily(label="MuJoCo Warp, impulse solref, elliptic cone, tolerance 0",
+                       overrides=(("solver", "mujoco"), ("tolerance", 0.0), ("cone", "elliptic"))),
+            KnobFamily(label="SemiImplicit, penalty w = 3000, Newton's kf",
+                       overrides=(("solver", "semi_implicit"),)),
+        ),
+    ),
 )

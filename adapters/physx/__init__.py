@@ -75,12 +75,19 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..record import (
+    Capabilities,
+    Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
+    Install,
+    Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
 )
 
 SOLVERS = ("TGS", "PGS")
@@ -152,9 +159,13 @@ class PhysxSettings(Settings):
         return 2 * (DEFAULT_CONTACT_OFFSET_M if offset is None else offset)
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.physx.chain:PhysxChain",
-    name="physx", adapter="adapters.physx.adapter:PhysxEngine", package="sapien",
-    import_name="sapien", extra="physx",
+    name="physx",
+    adapter="adapters.physx.adapter:PhysxEngine",
+    install=Install(
+        package="sapien",
+        import_name="sapien",
+        extra="physx",
+    ),
     profiles={
         # TGS, as SAPIEN chooses it: the hands' hinge keeps omega within 4.5e-5 after a 0.1 s
         # swing at 0.1 ms (PGS: 1.1e-3 short, whatever its iterations). Contacts speculative,
@@ -176,23 +187,21 @@ RECORD = EngineRecord(
         # unaligned simulation.
         "default": PhysxSettings(dt_s=0.01, contact_phase=0.5),
     },
-    color="tab:brown", marker="P",
-    speed_accuracy=(
-        KnobFamily(label="reference solver (TGS, 10 position iterations)", quick=True),
-        *(KnobFamily(label=f"TGS, {n} position iterations",
-                     overrides=(("position_iterations", n),)) for n in (1, 4, 50)),
-        KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),
+    can=Capabilities(
+        integrators=(Integrator(label="semi-implicit Euler"),),
+        chain_adapter="adapters.physx.chain:PhysxChain",
+        restitution_rule=RestitutionRule.MEAN,
+        friction_rule=FrictionRule.MEAN,
+        threshold_setting="bounce_threshold_mps",
     ),
-    precision="float32",  # PhysX computes and stores in single precision
-    restitution_rule=RestitutionRule.MEAN,
-    friction_rule=FrictionRule.MEAN,
-    friction_defect=("TGS ends an impact that slips then sticks within a step wrong (on a wall "
-                     "at mu = 1 the spin comes out -158 to -315 rad/s for -187.1, by where the "
-                     "contact falls in the step and the iteration count, not dt; a slide "
-                     "throughout is exact): its strong friction pulls the anchors back, and "
-                     "SAPIEN exposes no flag to turn it off (package docstring); PGS is right"),
-    friction_families=(KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),),
-    threshold_setting="bounce_threshold_mps",
+    errors=ErrorModel(
+        precision="float32",  # PhysX computes and stores in single precision
+        friction_defect="TGS ends an impact that slips then sticks within a step wrong (on a wall "
+                         "at mu = 1 the spin comes out -158 to -315 rad/s for -187.1, by where the "
+                         "contact falls in the step and the iteration count, not dt; a slide "
+                         "throughout is exact): its strong friction pulls the anchors back, and "
+                         "SAPIEN exposes no flag to turn it off (package docstring); PGS is right",
+    ),
     # All read back from a fresh system, body and shape (SAPIEN's process-wide defaults, which
     # PhysX copies at creation; the adapter restores them after building its own scene).
     engine_defaults={"dt_s": 0.01, "solver": "TGS", "bounce_threshold_mps": 2.0,
@@ -202,19 +211,36 @@ RECORD = EngineRecord(
                      "max_angular_velocity_radps": 100.0,
                      "max_depenetration_velocity_mps": 1e32, "sleep_threshold": 0.005,
                      "friction_every_iteration": True},
-    step_cost_s=2.3e-5,
-    label="PhysX",
-    notes=ReportNotes(
-        profile=("dt = {dt_s}, TGS, bounce threshold 0, spin cap lifted "
-                 "({default_max_angular_velocity_radps} rad/s by default), no sleeping"),
-        restitution=("mean of both bodies' restitution (both set to e); 0 below "
-                     "`bounce_threshold` ({default_bounce_threshold_mps} m/s)"),
-        handled=("restitution is dropped below the {default_bounce_threshold_mps} m/s bounce "
-                 "threshold (PhysX #351); the default spin cap of "
-                 "{default_max_angular_velocity_radps} rad/s clips a bat hit at the barrel "
-                 "after a fast swing; PGS splits an impact that falls late in a step over two "
-                 "steps, losing part of the rebound, where TGS is exact; contacts are made "
-                 "`contact_offset` ({default_contact_offset_m} per shape) ahead and solved with "
-                 "the step's starting geometry (a speculative contact, see the judge); SAPIEN's "
-                 "scene CCD flag does nothing without the per-body flag it does not expose.")),
+    cost=Cost(
+        step_cost_s=2.3e-5,
+    ),
+    look=Presentation(
+        color="tab:brown",
+        marker="P",
+        label="PhysX",
+        notes=ReportNotes(
+            profile=("dt = {dt_s}, TGS, bounce threshold 0, spin cap lifted "
+                     "({default_max_angular_velocity_radps} rad/s by default), no sleeping"),
+            restitution=("mean of both bodies' restitution (both set to e); 0 below "
+                         "`bounce_threshold` ({default_bounce_threshold_mps} m/s)"),
+            handled=("restitution is dropped below the {default_bounce_threshold_mps} m/s bounce "
+                     "threshold (PhysX #351); the default spin cap of "
+                     "{default_max_angular_velocity_radps} rad/s clips a bat hit at the barrel "
+                     "after a fast swing; PGS splits an impact that falls late in a step over two "
+                     "steps, losing part of the rebound, where TGS is exact; contacts are made "
+                     "`contact_offset` ({default_contact_offset_m} per shape) ahead and solved "
+                     "with "
+                     "the step's starting geometry (a speculative contact, see the judge); "
+                     "SAPIEN's "
+                     "scene CCD flag does nothing without the per-body flag it does not expose.")),
+    ),
+    studies=Studies(
+        speed_accuracy=(
+            KnobFamily(label="reference solver (TGS, 10 position iterations)", quick=True),
+            *(KnobFamily(label=f"TGS, {n} position iterations",
+                         overrides=(("position_iterations", n),)) for n in (1, 4, 50)),
+            KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),
+        ),
+        friction_families=(KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),),
+    ),
 )

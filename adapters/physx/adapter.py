@@ -124,7 +124,7 @@ class PhysxEngine(Engine):
         self._pair = {id(self._bat), id(self._ball)}
         self.set_body_restitution(bat=scene.e, ball=scene.e)  # PhysX averages the two
         if scene.mu > 0.0:  # frictionless: both stay at 0, as every frictionless run was built
-            bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)  # (mu + mu) / 2
+            bat_mu, ball_mu = RECORD.can.friction_rule.per_body(scene.mu)  # (mu + mu) / 2
             self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def _body(self, shape, mass: float, inertia: tuple[float, float, float]):

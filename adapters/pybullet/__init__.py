@@ -46,12 +46,18 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..record import (
+    Capabilities,
+    Cost,
     EngineRecord,
     FrictionRule,
+    Install,
+    Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
 )
 
 #: setting name -> setPhysicsEngineParameter keyword; a None value leaves the engine default.
@@ -115,9 +121,12 @@ class PybulletSettings(Settings):
 
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.pybullet.chain:PybulletChain",
-    name="pybullet", adapter="adapters.pybullet.adapter:PybulletEngine", package="pybullet",
-    import_name="pybullet",
+    name="pybullet",
+    adapter="adapters.pybullet.adapter:PybulletEngine",
+    install=Install(
+        package="pybullet",
+        import_name="pybullet",
+    ),
     profiles={
         # No position feedback into contact velocities (contactERP = 0, contactSlop = 0): the
         # sequential-impulse solver then meets Newton's law exactly for one contact; the hands'
@@ -135,31 +144,42 @@ RECORD = EngineRecord(
         # instant mid-step as in any unaligned simulation.
         "default": PybulletSettings(dt_s=1 / 240, contact_phase=0.5),
     },
-    color="tab:orange", marker="s",
-    speed_accuracy=(
-        KnobFamily(label="reference solver (ERP 0, slop 0)", quick=True),
-        *(KnobFamily(label=f"reference solver, {n} iterations",
-                     overrides=(("solver_iterations", n),)) for n in (1, 10, 200)),
+    can=Capabilities(
+        integrators=(Integrator(label="semi-implicit Euler"),),
+        chain_adapter="adapters.pybullet.chain:PybulletChain",
+        restitution_rule=RestitutionRule.PRODUCT,
+        friction_rule=FrictionRule.PRODUCT,
+        threshold_setting="restitution_velocity_threshold",
     ),
-    restitution_rule=RestitutionRule.PRODUCT,
-    friction_rule=FrictionRule.PRODUCT,
-    friction_families=(KnobFamily(label="box friction (cone off)",
-                                  overrides=(("cone_friction", False),)),),
-    threshold_setting="restitution_velocity_threshold",
     # Bullet reports neither contact value: both measured (setting them explicitly reproduces
     # the default solver's impacts bit for bit); the iteration count it reports; the cone
     # measured by read_back_defaults (an oblique slide, bit for bit the cone's, not the box's).
     engine_defaults={"contact_erp": 0.08, "contact_slop": 1e-5, "solver_iterations": 50,
                      "dt_s": 1 / 240, "cone_friction": True},
-    step_cost_s=5.8e-6,
-    label="PyBullet",
-    notes=ReportNotes(
-        profile=("dt = {dt_s}, `contactERP = erp = 0`, `contactSlop = 0`, no restitution "
-                 "threshold, no damping, `contactBreakingThreshold = 1 um`, cone friction"),
-        restitution=("product of both bodies' `restitution`; 0 below "
-                     "`restitutionVelocityThreshold`"),
-        defaults=("PyBullet's {default_solver_iterations} solver iterations and {default_dt_s} "
-                  "step, read back; its contactERP {default_contact_erp} and contactSlop "
-                  "{default_contact_slop} m, measured (set explicitly, they reproduce the "
-                  "default solver's impacts bit for bit, and another value changes them)")),
+    cost=Cost(
+        step_cost_s=5.8e-6,
+    ),
+    look=Presentation(
+        color="tab:orange",
+        marker="s",
+        label="PyBullet",
+        notes=ReportNotes(
+            profile=("dt = {dt_s}, `contactERP = erp = 0`, `contactSlop = 0`, no restitution "
+                     "threshold, no damping, `contactBreakingThreshold = 1 um`, cone friction"),
+            restitution=("product of both bodies' `restitution`; 0 below "
+                         "`restitutionVelocityThreshold`"),
+            defaults=("PyBullet's {default_solver_iterations} solver iterations and {default_dt_s} "
+                      "step, read back; its contactERP {default_contact_erp} and contactSlop "
+                      "{default_contact_slop} m, measured (set explicitly, they reproduce the "
+                      "default solver's impacts bit for bit, and another value changes them)")),
+    ),
+    studies=Studies(
+        speed_accuracy=(
+            KnobFamily(label="reference solver (ERP 0, slop 0)", quick=True),
+            *(KnobFamily(label=f"reference solver, {n} iterations",
+                         overrides=(("solver_iterations", n),)) for n in (1, 10, 200)),
+        ),
+        friction_families=(KnobFamily(label="box friction (cone off)",
+                                      overrides=(("cone_friction", False),)),),
+    ),
 )

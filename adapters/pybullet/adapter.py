@@ -84,7 +84,7 @@ class PybulletEngine(Engine):
                               physicsClientId=c, **extra)
         self.set_body_restitution(bat=1.0, ball=scene.e)  # Bullet multiplies the two
         if scene.mu > 0.0:  # frictionless: both stay at 0, as every frictionless run was built
-            bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)  # mu * 1.0 = mu
+            bat_mu, ball_mu = RECORD.can.friction_rule.per_body(scene.mu)  # mu * 1.0 = mu
             self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def mass_properties(self) -> MassProperties:

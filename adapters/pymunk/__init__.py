@@ -32,12 +32,18 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..record import (
+    Capabilities,
+    Cost,
     EngineRecord,
     FrictionRule,
+    Install,
+    Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
 )
 
 # pymunk.Space() defaults (length unit: m here), as Chipmunk computes them, in single precision:
@@ -69,9 +75,12 @@ class PymunkSettings(Settings):
 
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.pymunk.chain:PymunkChain",
-    name="pymunk", adapter="adapters.pymunk.adapter:PymunkEngine", package="pymunk",
-    import_name="pymunk",
+    name="pymunk",
+    adapter="adapters.pymunk.adapter:PymunkEngine",
+    install=Install(
+        package="pymunk",
+        import_name="pymunk",
+    ),
     profiles={
         # Chipmunk's own solver values are already exact for one frictionless contact (a single
         # constraint is solved in the first iteration); fidelity only needs a short step
@@ -83,21 +92,32 @@ RECORD = EngineRecord(
         # instant mid-step as in any unaligned simulation.
         "default": PymunkSettings(dt_s=1 / 60, contact_phase=0.5),
     },
-    color="tab:blue", marker="o",
-    speed_accuracy=(KnobFamily(label="iterations 1", overrides=(("iterations", 1),)),
-                    KnobFamily(label="iterations 10", overrides=(("iterations", 10),),
-                               quick=True),
-                    KnobFamily(label="iterations 100", overrides=(("iterations", 100),))),
-    restitution_rule=RestitutionRule.PRODUCT,
-    friction_rule=FrictionRule.PRODUCT,
-    planar=True,
+    can=Capabilities(
+        integrators=(Integrator(label="semi-implicit Euler"),),
+        chain_adapter="adapters.pymunk.chain:PymunkChain",
+        restitution_rule=RestitutionRule.PRODUCT,
+        friction_rule=FrictionRule.PRODUCT,
+        planar=True,
+    ),
     engine_defaults={"iterations": 10, "collision_slop": CHIPMUNK_SLOP,
                      "collision_bias": CHIPMUNK_BIAS, "joint_error_bias": CHIPMUNK_BIAS},
-    step_cost_s=3.2e-6,
-    label="pymunk",
-    notes=ReportNotes(
-        profile="dt = {dt_s}, Chipmunk's own solver values (exact for one contact)",
-        restitution="product of the shapes' `elasticity` (bat 1, ball e)",
-        defaults=("pymunk's slop ({default_collision_slop}) and bias ({default_collision_bias},"
-                  " not 0.9^60: Chipmunk computes them in single precision), read back")),
+    cost=Cost(
+        step_cost_s=3.2e-6,
+    ),
+    look=Presentation(
+        color="tab:blue",
+        marker="o",
+        label="pymunk",
+        notes=ReportNotes(
+            profile="dt = {dt_s}, Chipmunk's own solver values (exact for one contact)",
+            restitution="product of the shapes' `elasticity` (bat 1, ball e)",
+            defaults=("pymunk's slop ({default_collision_slop}) and bias ({default_collision_bias},"
+                      " not 0.9^60: Chipmunk computes them in single precision), read back")),
+    ),
+    studies=Studies(
+        speed_accuracy=(KnobFamily(label="iterations 1", overrides=(("iterations", 1),)),
+                        KnobFamily(label="iterations 10", overrides=(("iterations", 10),),
+                                   quick=True),
+                        KnobFamily(label="iterations 100", overrides=(("iterations", 100),))),
+    ),
 )

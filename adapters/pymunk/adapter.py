@@ -47,7 +47,7 @@ class PymunkEngine(Engine):
         self._space = space
         self._joint: pymunk.PivotJoint | None = None
         self.set_body_restitution(bat=1.0, ball=scene.e)  # arbiter e = 1.0 * e
-        bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)  # arbiter u = mu * 1.0
+        bat_mu, ball_mu = RECORD.can.friction_rule.per_body(scene.mu)  # arbiter u = mu * 1.0
         self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def mass_properties(self) -> MassProperties:

@@ -69,7 +69,7 @@ class PymunkChain(ChainEngine):
         self._ball = pymunk.Body(ball.mass_kg, ball.inertia_kgm2)
         self._ball_shape = pymunk.Circle(self._ball, ball.radius_m)
         space.add(self._ball, self._ball_shape)
-        bat_mu, ball_mu = RECORD.friction_rule.per_body(0.0)  # arbiter u = 0 * 1 = 0
+        bat_mu, ball_mu = RECORD.can.friction_rule.per_body(0.0)  # arbiter u = 0 * 1 = 0
         for shape in self._shapes:
             shape.elasticity, shape.friction = 1.0, bat_mu  # arbiter e = 1.0 * e
         self._ball_shape.elasticity, self._ball_shape.friction = scene.e, ball_mu

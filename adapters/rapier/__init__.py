@@ -77,13 +77,19 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..record import (
+    Capabilities,
+    Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
+    Install,
     Integrator,
     KnobFamily,
+    Presentation,
     ReportNotes,
     RestitutionRule,
     Settings,
+    Studies,
 )
 
 #: The hands' releasable hinge: an impulse joint, or a multibody (reduced-coordinate) joint.
@@ -173,9 +179,13 @@ class RapierSettings(Settings):
                 "impulse frictionless")
 
 RECORD = EngineRecord(
-    chain_adapter="adapters.rapier.chain:RapierChain",
-    name="rapier", adapter="adapters.rapier.adapter:RapierEngine", package="rapier3d",
-    import_name="rapier3d", extra="rapier",
+    name="rapier",
+    adapter="adapters.rapier.adapter:RapierEngine",
+    install=Install(
+        package="rapier3d",
+        import_name="rapier3d",
+        extra="rapier",
+    ),
     profiles={
         # Fidelity, each value measured on the paper's swing (41 points) and its e = 0 slide:
         # 10 us step; one substep (the semi-implicit Euler step the swing tolerances model;
@@ -196,27 +206,19 @@ RECORD = EngineRecord(
         # unaligned simulation.
         "default": RapierSettings(dt_s=1 / 60, contact_phase=0.5),
     },
-    color="tab:purple", marker="v",
-    speed_accuracy=(
-        KnobFamily(label="reference solver", quick=True),
-        KnobFamily(label="4 substeps", overrides=(("solver_iterations", 4),)),
-        KnobFamily(label="speculative 0.02 m", overrides=(("prediction_distance_m", 0.02),),
-                   quick=True),
-        KnobFamily(label="soft contact 30 Hz",
-                   overrides=(("contact_frequency_hz", 30.0), ("contact_damping_ratio", 10.0))),
-        KnobFamily(label="CCD on the ball", overrides=(("ccd_bodies", "ball"),)),
+    can=Capabilities(
+        chain_adapter="adapters.rapier.chain:RapierChain",
+        integrators=(Integrator(label="semi-implicit Euler"),),
+        restitution_rule=RestitutionRule.MEAN,
+        friction_rule=FrictionRule.MEAN,
     ),
-    integrators=(Integrator(label="semi-implicit Euler"),),
-    precision="float32",
-    restitution_rule=RestitutionRule.MEAN,
-    friction_rule=FrictionRule.MEAN,
-    friction_families=(
-        KnobFamily(label="simplified friction", overrides=(("friction_model", "simplified"),)),
-        KnobFamily(label="friction in the bias pass", overrides=(("friction_in_bias_pass", True),)),
+    errors=ErrorModel(
+        precision="float32",
+        friction_defect="the restitution impulse, applied once after the substeps, carries no "
+                         "friction: a slide gets mu P / (1 + e) of tangential impulse for "
+                         "Coulomb's "
+                         "mu P (2/3 of the spin at e = 0.5; package docstring)",
     ),
-    friction_defect=("the restitution impulse, applied once after the substeps, carries no "
-                     "friction: a slide gets mu P / (1 + e) of tangential impulse for Coulomb's "
-                     "mu P (2/3 of the spin at e = 0.5; package docstring)"),
     # Every value read back from a fresh IntegrationParameters, rigid body and joint.
     engine_defaults={"dt_s": 1 / 60, "solver_iterations": 4, "pgs_iterations": 1,
                      "stabilization_iterations": 1, "contact_frequency_hz": 30.0,
@@ -227,20 +229,42 @@ RECORD = EngineRecord(
                      "max_ccd_substeps": 1, "ccd_bodies": "none", "soft_ccd_prediction_m": 0.0,
                      "hinge_frequency_hz": 1.0e6, "hinge_damping_ratio": 1.0,
                      "friction_model": "simplified", "friction_in_bias_pass": False},
-    step_cost_s=2.7e-5,
-    label="Rapier",
-    notes=ReportNotes(
-        profile=("dt = {dt_s}, {solver_iterations} substep, prediction distance "
-                 "{prediction_distance_m}, contact recycling off, speed caps lifted, hinge a "
-                 "{hinge} joint"),
-        restitution=("mean of both colliders' restitution (the default combine rule; both "
-                     "set to e); no threshold"),
-        handled=("speculative contacts (prediction distance {default_prediction_distance_m} by "
-                 "default) solve the impact from the step start's geometry (with "
-                 "{prediction_distance_m}, the reference is {err_mps} m/s off on the swing); "
-                 "contact recycling keeps stale points; a free body turns 2 atan(omega dt/2) "
-                 "per step, not omega dt; angular speed is clamped to (pi/4)/dt unless fast "
-                 "rotation is allowed; CCD between two \"bullets\" never sweeps (rapier#984); "
-                 "the relax pass costs an impulse joint first-order spin (hence the multibody "
-                 "hinge). Restitution works in {version} (rapier#974's loss is gone).")),
+    cost=Cost(
+        step_cost_s=2.7e-5,
+    ),
+    look=Presentation(
+        color="tab:purple",
+        marker="v",
+        label="Rapier",
+        notes=ReportNotes(
+            profile=("dt = {dt_s}, {solver_iterations} substep, prediction distance "
+                     "{prediction_distance_m}, contact recycling off, speed caps lifted, hinge a "
+                     "{hinge} joint"),
+            restitution=("mean of both colliders' restitution (the default combine rule; both "
+                         "set to e); no threshold"),
+            handled=("speculative contacts (prediction distance {default_prediction_distance_m} by "
+                     "default) solve the impact from the step start's geometry (with "
+                     "{prediction_distance_m}, the reference is {err_mps} m/s off on the swing); "
+                     "contact recycling keeps stale points; a free body turns 2 atan(omega dt/2) "
+                     "per step, not omega dt; angular speed is clamped to (pi/4)/dt unless fast "
+                     "rotation is allowed; CCD between two \"bullets\" never sweeps (rapier#984); "
+                     "the relax pass costs an impulse joint first-order spin (hence the multibody "
+                     "hinge). Restitution works in {version} (rapier#974's loss is gone).")),
+    ),
+    studies=Studies(
+        speed_accuracy=(
+            KnobFamily(label="reference solver", quick=True),
+            KnobFamily(label="4 substeps", overrides=(("solver_iterations", 4),)),
+            KnobFamily(label="speculative 0.02 m", overrides=(("prediction_distance_m", 0.02),),
+                       quick=True),
+            KnobFamily(label="soft contact 30 Hz",
+                       overrides=(("contact_frequency_hz", 30.0), ("contact_damping_ratio", 10.0))),
+            KnobFamily(label="CCD on the ball", overrides=(("ccd_bodies", "ball"),)),
+        ),
+        friction_families=(
+            KnobFamily(label="simplified friction", overrides=(("friction_model", "simplified"),)),
+            KnobFamily(label="friction in the bias pass",
+                       overrides=(("friction_in_bias_pass", True),)),
+        ),
+    ),
 )

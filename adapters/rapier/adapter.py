@@ -91,7 +91,7 @@ class RapierEngine(Engine):
         self._joint = self._load = None
         self.set_body_restitution(bat=scene.e, ball=scene.e)  # the mean of e and e is e
         if scene.mu > 0.0:
-            bat_mu, ball_mu = RECORD.friction_rule.per_body(scene.mu)
+            bat_mu, ball_mu = RECORD.can.friction_rule.per_body(scene.mu)
             self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def _add_body(self, mprops, collider, ccd: bool):

@@ -141,7 +141,7 @@ def fire_chain(name: str, settings, impact: ChainImpact,
            "contacts_ref": ref.contacts, "ended_ref": ref.ended}
     rec = adapters.record(name)
     row["tol_mps"] = tolerance.mps(impact, settings, rec.eps, ref)
-    if rec.chain_adapter is None:
+    if rec.can.chain_adapter is None:
         return row | _failed(Status.UNSUPPORTED, "no segmented-bat adapter")
     t0 = time.perf_counter()
     try:

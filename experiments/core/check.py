@@ -307,9 +307,9 @@ def bad_settings_rejected(ctx: Ctx) -> str:
             _expect(piece in str(err), f"{overrides}: {err}")
             continue
         raise CheckFailed(f"{overrides} was accepted")
-    for family in ctx.record.speed_accuracy:
+    for family in ctx.record.studies.speed_accuracy:
         adapters.settings_for(ctx.name, family.profile, **dict(family.overrides))
-    for integrator in ctx.record.integrators:
+    for integrator in ctx.record.can.integrators:
         adapters.settings_for(ctx.name, **dict(integrator.overrides))
     fields = {f.name for f in dataclasses.fields(ctx.settings)}
     unknown = sorted(set(ctx.record.engine_defaults) - fields)
@@ -376,8 +376,8 @@ def applicable(name: str) -> tuple[str, ...]:
     """The checks that apply to an engine's reference contact and kind (reads its record)."""
     ctx = _context(name)
     kinds = {"all", "rigid" if ctx.rigid else "law", "batched" if ctx.record.batched else "",
-             "friction" if ctx.rigid and ctx.record.friction_rule is not None
-             and not ctx.record.friction_defect else ""}
+             "friction" if ctx.rigid and ctx.record.can.friction_rule is not None
+             and not ctx.record.errors.friction_defect else ""}
     return tuple(c for c, (_, applies) in CHECKS.items() if applies in kinds)
 
 

@@ -72,16 +72,16 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
         sample = mine[:: max(1, len(mine) // SAMPLES)][:SAMPLES]
         contact = sum(contact_s(j.case, j.settings) for j in sample) / len(sample)
         rec = adapters.record(name)
-        cost = rec.step_cost_s + STEP_OVERHEAD_S
+        cost = rec.cost.step_cost_s + STEP_OVERHEAD_S
         if not rec.drives_bat and mine[0].swing is not None:  # unsupported: nothing stepped
             out[name] = len(mine) * OVERHEAD_S
-        elif rec.world_step_cost_s is None:
+        elif rec.cost.world_step_cost_s is None:
             out[name] = sum(impact_steps(j, contact) * cost + OVERHEAD_S for j in mine)
         else:
             batches = runs(mine)
-            out[name] = rec.start_s * len({(run[0].settings, len(run)) for run in batches}) \
+            out[name] = rec.cost.start_s * len({(run[0].settings, len(run)) for run in batches}) \
                 + sum(max(impact_steps(j, contact) for j in run)
-                      * (cost + len(run) * rec.world_step_cost_s) + len(run) * OVERHEAD_S
+                      * (cost + len(run) * rec.cost.world_step_cost_s) + len(run) * OVERHEAD_S
                       for run in batches)
     return out
 
@@ -93,7 +93,7 @@ def search_s(jobs: Sequence[Job]) -> dict[str, float]:
     out: dict[str, float] = defaultdict(float)
     for job in jobs:
         rec = adapters.record(job.engine)
-        start = rec.start_s if rec.batched else 0.0
+        start = rec.cost.start_s if rec.batched else 0.0
         if job.engine not in out:
             out[job.engine] = start
         out[job.engine] += SEARCH_SIMULATIONS * (run_s([job])[job.engine] - start)

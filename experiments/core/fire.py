@@ -199,9 +199,9 @@ def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:
 def _lacking(record: adapters.EngineRecord, mu: float, spatial: bool) -> str:
     """What the engine lacks for these impacts ('' for nothing): friction, or a third
     dimension for an impact out of the swing plane."""
-    if spatial and record.planar:
+    if spatial and record.can.planar:
         return "planar engine: the impact leaves the swing plane"
-    if mu > 0.0 and record.friction_rule is None:
+    if mu > 0.0 and record.can.friction_rule is None:
         return "no friction in the adapter"
     return ""
 

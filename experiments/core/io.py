@@ -111,7 +111,7 @@ def versions() -> dict[str, str]:
     no engine imported: the engines may have run in worker processes)."""
     import adapters
 
-    engines = sorted({adapters.record(n).package for n in adapters.names()})
+    engines = sorted({adapters.record(n).install.package for n in adapters.names()})
     out = {"python": platform.python_version()}
     for name in (*PACKAGES, *engines):
         try:

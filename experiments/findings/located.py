@@ -15,7 +15,7 @@ def sweet_engines_text(engines: tuple[str, ...]) -> str:
     contacts, and compliant ones, apart."""
     located, ref = A.engine_sweet_spots(engines), adapters.ContactReference.RIGID_IMPULSE
     kind = {n: "soft" if adapters.settings_for(n).contact_reference() is not ref
-            else adapters.record(n).precision for n in engines}
+            else adapters.record(n).errors.precision for n in engines}
     worst = {k: max((abs(x) for n in engines if kind[n] == k
                      for x in located[f"{n} - analytic (mm)"]), default=math.nan)
              for k in ("float64", "float32", "soft")}

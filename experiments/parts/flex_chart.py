@@ -81,7 +81,7 @@ def engines(accuracy: pd.DataFrame, stability: pd.DataFrame) -> bytes:
         ratio = np.where(t.status.isin([Status.OK.value, Status.INACCURATE.value]),
                          t.err_mps / t.tol_mps, np.nan)
         ax.semilogy(100 * (presets.R161.length_m - t.x_m), np.maximum(ratio, FLOOR),
-                    marker=rec.marker, color=rec.color, label=name)
+                    marker=rec.look.marker, color=rec.look.color, label=name)
     ax.axhline(1.0, color="k", lw=1)
     ax.set_xlabel("impact point from the barrel end (cm)")
     ax.set_ylabel(f"|v1 engine - v1 chain| / tolerance (1: the limit; floor {FLOOR:g})")

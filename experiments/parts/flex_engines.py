@@ -40,7 +40,7 @@ MAP_BUDGET_S = 60.0
 
 def chain_engines(names) -> list[str]:
     """The engines among ``names`` that build a segmented bat."""
-    return [n for n in names if adapters.record(n).chain_adapter]
+    return [n for n in names if adapters.record(n).can.chain_adapter]
 
 
 @cache

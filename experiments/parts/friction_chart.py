@@ -62,6 +62,6 @@ def _panel(ax, df: pd.DataFrame, what: str, label: str, title: str) -> None:
     for (name, family), part in df.groupby(["engine", "family"], sort=False):
         rec = adapters.record(name)
         err = part.groupby("mu")[f"{what}_rel_err"].max()
-        ax.plot(err.index, np.maximum(err.values, FLOOR), rec.marker,
-                ls="-" if family == "reference" else ":", color=rec.color, mfc="none",
+        ax.plot(err.index, np.maximum(err.values, FLOOR), rec.look.marker,
+                ls="-" if family == "reference" else ":", color=rec.look.color, mfc="none",
                 label=name if family == "reference" else f"{name}, {family}")

@@ -87,7 +87,7 @@ def _engine(top, strip, bottom, row: int, rec, df: pd.DataFrame) -> bool:
     """One engine's points: v1 where measured, a cross on the strip's ``row`` where not, the
     errors and tolerances; whether any v1 was measured."""
     floor = 1e-16
-    name, mark, color = rec.name, rec.marker, rec.color
+    name, mark, color = rec.name, rec.look.marker, rec.look.color
     ok = df.status.isin(judge.MEASURED)
     within = int((df.status == "ok").sum())
     others = "".join(f", {v} {k}" for k, v in df.status[ok & (df.status != "ok")]

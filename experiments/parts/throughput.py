@@ -120,7 +120,7 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
             bares.append(bare_s(name, settings, cases, steps))
         wall, bare = float(np.median(walls)), float(np.median(bares))
         table = tables.table(fired[:GRID], "throughput")
-        rows.append({"engine": name, "precision": adapters.record(name).precision,
+        rows.append({"engine": name, "precision": adapters.record(name).errors.precision,
                      "batched": hosted(name, settings).batched,
                      "device": device(name, settings), "batch": size,
                      "impacts_per_s": size / wall, "wall_s": wall,
@@ -159,10 +159,11 @@ def chart(table: pd.DataFrame):
             rec = adapters.record(name)
             best = rows.loc[rows.impacts_per_s.idxmax()]
             ax.plot(rows.max_abs_err_mps.clip(lower=1e-16), rows.impacts_per_s, "-",
-                    color=rec.color, alpha=0.4)
+                    color=rec.look.color, alpha=0.4)
             ax.scatter(rows.max_abs_err_mps.clip(lower=1e-16), rows.impacts_per_s,
-                       s=12 + 10 * np.log10(rows.batch), marker=rec.marker, color=rec.color,
-                       label=f"{name} ({rec.precision}; best at batch {best.batch:,})")
+                       s=12 + 10 * np.log10(rows.batch), marker=rec.look.marker,
+                       color=rec.look.color,
+                       label=f"{name} ({rec.errors.precision}; best at batch {best.batch:,})")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("largest |v1 - rigid theory| on the 41-point grid (m/s, log)")

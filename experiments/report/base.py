@@ -180,7 +180,7 @@ def orders(big: float, small: float) -> int:
 def label(engine: str) -> str:
     """The engine's name as prose spells it (its record's ``label``)."""
     try:
-        return adapters.record(engine).label or engine
+        return adapters.record(engine).look.label or engine
     except ValueError:  # no longer registered
         return engine
 
@@ -211,7 +211,7 @@ def methods(items: Iterable[str]) -> str:
 def precision(engine: str) -> str:
     """The engine's float precision from its record ('unknown' for an unregistered one)."""
     try:
-        return adapters.record(engine).precision
+        return adapters.record(engine).errors.precision
     except (KeyError, ValueError):
         return "unknown"
 

@@ -45,7 +45,7 @@ class _Values(dict):
 def notes(engine: str, swing, field: str) -> str:
     """One of the engine's ``ReportNotes`` texts, filled (``adapters.ReportNotes``)."""
     rec = _record(engine)
-    text = getattr(rec.notes, field, "") if rec and rec.notes else ""
+    text = getattr(rec.look.notes, field, "") if rec and rec.look.notes else ""
     if not text:
         return ""
     summary = swing.summary(engine)
@@ -62,7 +62,7 @@ def section(res: Results) -> str:
     rows = []
     for e in swing.engines:
         rec = _record(e)
-        rows.append({"engine": f"{label(e)} (`{rec.package if rec else e}` "
+        rows.append({"engine": f"{label(e)} (`{rec.install.package if rec else e}` "
                                f"{swing.summary(e)['engine_version']})",
                      "precision": precision(e),
                      "reference profile": notes(e, swing, "profile") or "see the adapter",

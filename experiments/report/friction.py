@@ -24,14 +24,14 @@ def section(res: Results) -> str:
     for row in data["summary"]:
         rec = adapters.record(row["engine"])
         rows.append({"engine": label(row["engine"]),
-                     "rule": rec.friction_rule.value if rec.friction_rule else "none",
+                     "rule": rec.can.friction_rule.value if rec.can.friction_rule else "none",
                      **{v: _cell(k, row[k]) for k, v in COLUMNS.items()}})
     df = res.csv("friction.csv")
     gap = df.law_spin_rel_gap.max()
     v1_gap = df.law_v1_gap_mps.max()
-    defects = [f"**{label(n)}**: {adapters.record(n).friction_defect}."
+    defects = [f"**{label(n)}**: {adapters.record(n).errors.friction_defect}."
                for n in dict.fromkeys(r["engine"] for r in data["summary"])
-               if adapters.record(n).friction_defect]
+               if adapters.record(n).errors.friction_defect]
     costly = [f"{label(r['engine'])} ({r['family']}): {len(r['spin_cost_cells'])} of "
               f"{sum(r['statuses'].values()) // len(data['points_m'])} cells"
               for r in data["summary"] if r["spin_cost_cells"]]

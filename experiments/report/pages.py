@@ -31,8 +31,9 @@ def page_name(name: str) -> str:
 
 
 def _install(rec: adapters.EngineRecord) -> str:
-    return (f"`pip install 'batsim[{rec.extra}]'` (the `{rec.package}` package)" if rec.extra
-            else f"a core dependency (`{rec.package}`): `pip install -e .`")
+    extra, package = rec.install.extra, rec.install.package
+    return (f"`pip install 'batsim[{extra}]'` (the `{package}` package)" if extra
+            else f"a core dependency (`{package}`): `pip install -e .`")
 
 
 def _cheapest(results: Path, name: str) -> str:
@@ -48,14 +49,14 @@ def _cheapest(results: Path, name: str) -> str:
 def _defects(name: str) -> list[str]:
     """What the record declares it gets wrong whatever the settings."""
     rec, st = adapters.record(name), adapters.settings_for(name)
-    out = [f"friction: {rec.friction_defect}"] if rec.friction_defect else []
-    if rec.chain_defect:  # (its text names the segmented bat)
-        out.append(rec.chain_defect)
+    out = [f"friction: {rec.errors.friction_defect}"] if rec.errors.friction_defect else []
+    if rec.errors.chain_defect:  # (its text names the segmented bat)
+        out.append(rec.errors.chain_defect)
     slide = st.collision_slide_m(presets.R161)
     if slide > 0.0:
         out.append(f"its collision routine slides the contact point up to {slide * 1e6:.2f} um "
                    "along the R161's axis (in its tolerance)")
-    if rec.host_rounding:
+    if rec.errors.host_rounding:
         out.append("its kernels round as the host CPU's instruction set orders them: rows "
                    "differ by rounding between hosts")
     return out or ["none declared"]
@@ -84,10 +85,10 @@ def page(results: Path, name: str) -> str:
     default = json.loads((results / f"{readme.DEFAULT}.json").read_text())
     rows = ref[ref.engine == name]
     kind = ("many worlds a call" if rec.batched else "one world at a time") + (
-        ", in the swing plane only" if rec.planar else "")
-    lines = [f"# {rec.label or name} (`{name}`)", "",
+        ", in the swing plane only" if rec.can.planar else "")
+    lines = [f"# {rec.look.label or name} (`{name}`)", "",
              f"- **Install**: {_install(rec)}.",
-             f"- **Computes** in {rec.precision}, {kind}.",
+             f"- **Computes** in {rec.errors.precision}, {kind}.",
              f"- **Reference profile** (the paper's swing, R161, 41 points): "
              f"{readme.accuracy(rows, name) if len(rows) else 'not in results/ yet'}.",
              f"- **Out of the box** (its own dt): "
@@ -108,7 +109,7 @@ def index(results: Path) -> str:
              "`python -m experiments.report`); the studies are in [report.md](report.md).", ""]
     for name in sorted(set(ref.engine)):
         rec = adapters.record(name)
-        lines.append(f"- [{rec.label or name}]({page_name(name)}): {rec.precision}, "
+        lines.append(f"- [{rec.look.label or name}]({page_name(name)}): {rec.errors.precision}, "
                      f"{'batched' if rec.batched else 'single-world'}")
     return "\n".join(lines) + "\n"
 

@@ -24,7 +24,8 @@ HEADER = ("| engine | install | float | reference profile: impacts ok, max error
 
 
 def _install(rec) -> str:
-    return f"`[{rec.extra}]` ({rec.package})" if rec.extra else f"core ({rec.package})"
+    extra, package = rec.install.extra, rec.install.package
+    return f"`[{extra}]` ({package})" if extra else f"core ({package})"
 
 
 def accuracy(rows: pd.DataFrame, name: str) -> str:
@@ -67,13 +68,13 @@ def engines_table(results: Path) -> str:
     for name, rows in ref.groupby("engine", sort=True):
         rec = adapters.record(name)
         cost = costs.get(name, "not benchmarked")
-        lines.append(f"| {name} | {_install(rec)} | {rec.precision} | {accuracy(rows, name)} | "
-                     f"{out_of_the_box(default, name)} | {cost} |")
+        lines.append(f"| {name} | {_install(rec)} | {rec.errors.precision} | "
+                     f"{accuracy(rows, name)} | {out_of_the_box(default, name)} | {cost} |")
     for name in sorted(set(adapters.names()) - set(ref.engine)):
         if adapters.record(name).adapter.startswith("adapters."):  # a built-in, not measured
             rec = adapters.record(name)
-            lines.append(f"| {name} | {_install(rec)} | {rec.precision} | not in results/ yet "
-                         "| not in results/ yet | not benchmarked |")
+            lines.append(f"| {name} | {_install(rec)} | {rec.errors.precision} | not in "
+                         "results/ yet | not in results/ yet | not benchmarked |")
     return "\n".join(lines)
 
 

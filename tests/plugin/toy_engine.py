@@ -17,8 +17,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from adapters import BatchedEngine, Hands, MassProperties, Scene
-from adapters.record import EngineRecord, Integrator, KnobFamily, RestitutionRule, Settings
+from adapters import (
+    BatchedEngine,
+    Capabilities,
+    Cost,
+    Hands,
+    Install,
+    Integrator,
+    MassProperties,
+    Presentation,
+    Scene,
+    Studies,
+)
+from adapters.record import EngineRecord, KnobFamily, RestitutionRule, Settings
 
 BX, BY, BVX, BVY, BW, CX, CY, CA, CVX, CVY, CW = range(11)
 
@@ -29,12 +40,28 @@ class ToySettings(Settings):
 
 
 RECORD = EngineRecord(
-    name="toyengine", adapter="toy_engine:ToyEngine", package="numpy", import_name="numpy",
+    name="toyengine",
+    adapter="toy_engine:ToyEngine",
+    install=Install(
+        package="numpy",
+        import_name="numpy",
+    ),
     profiles={"reference": ToySettings(dt_s=1e-5),
               "default": ToySettings(dt_s=1 / 60, contact_phase=0.5)},
-    marker="*", speed_accuracy=(KnobFamily(label="impulse, positions first", quick=True),),
-    integrators=(Integrator(label="semi-implicit Euler, positions first"),),
-    restitution_rule=RestitutionRule.MAPPED, step_cost_s=2e-5)
+    can=Capabilities(
+        integrators=(Integrator(label="semi-implicit Euler, positions first"),),
+        restitution_rule=RestitutionRule.MAPPED,
+    ),
+    cost=Cost(
+        step_cost_s=2e-5,
+    ),
+    look=Presentation(
+        marker="*",
+    ),
+    studies=Studies(
+        speed_accuracy=(KnobFamily(label="impulse, positions first", quick=True),),
+    ),
+)
 
 
 class ToyEngine(BatchedEngine):

@@ -1,0 +1,185 @@
+"""The parts of an engine's record (``adapters.record.EngineRecord``), each read by one kind of
+reader: where the engine comes from (``Install``) and what it can do (``Capabilities``), what
+an adapter author declares; what it gets wrong and in which float type (``ErrorModel``), what
+the judge reads; what a step costs (``Cost``), for the estimates; how it is shown
+(``Presentation``), for charts and the report; and what the studies vary (``Studies``)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+from analytic import checks
+
+from .rules import FrictionRule, RestitutionRule
+
+
+@dataclass(frozen=True, kw_only=True)
+class KnobFamily:
+    """One family of settings in the speed-vs-accuracy study; the study crosses it with its time
+    steps. ``overrides`` are settings fields and values; ``quick`` keeps it in ``--quick``."""
+
+    label: str
+    overrides: tuple[tuple[str, Any], ...] = ()
+    profile: str = "reference"
+    quick: bool = False
+
+
+@dataclass(frozen=True, kw_only=True)
+class Integrator:
+    """One of an engine's time integrators, for the swing study: its ``label``, the settings
+    ``overrides`` that choose it, and its global ``order`` (1: the semi-implicit Euler family,
+    which leaves a constant angular acceleration's angle off by alpha t dt / 2; 4: RK4)."""
+
+    label: str
+    overrides: tuple[tuple[str, Any], ...] = ()
+    order: int = 1
+    #: How the hands' hinge error shrinks with dt: 2 for a pivot re-projected every step (a
+    #: relative (omega dt)^2), 1 for a soft joint whose drift is corrected at a fixed rate
+    #: (Box2D's 60 Hz joints).
+    hinge_order: int = 2
+
+
+@dataclass(frozen=True, kw_only=True)
+class TwinStep:
+    """One comparison of an engine with the engine whose model it implements (its record's
+    ``twin_of``), for ``experiments.twins``: the engine at its reference profile with
+    ``overrides``, the twin at its own reference profile, with every settings field the two
+    share copied over when ``shared`` (the same model, as far as the twin can express it), then
+    ``twin_overrides``. Steps go from as-configured to every known cause removed."""
+
+    label: str
+    overrides: tuple[tuple[str, Any], ...] = ()
+    twin_overrides: tuple[tuple[str, Any], ...] = ()
+    shared: bool = True
+
+
+@dataclass(frozen=True, kw_only=True)
+class ReportNotes:
+    """What the results report says of an engine, in the engine's own words. Each text is a
+    format string filled with the reference settings the baseline sweep recorded (by field
+    name), the record's ``engine_defaults`` (``default_`` + field name), ``version``, and the
+    sweep's ``err_mps`` (largest |v1 - rigid theory|) and ``law_err_mps`` (against its own
+    contact law); times, lengths and other numbers come formatted by their unit suffix.
+    ``profile``: the reference profile in words; ``restitution``: what plays the role of e;
+    ``handled``: what the adapter had to work around ('' for nothing worth a line);
+    ``defaults``: how its quoted defaults were read back or measured."""
+
+    profile: str
+    restitution: str
+    handled: str = ""
+    defaults: str = ""
+
+
+@dataclass(frozen=True, kw_only=True)
+class Install:
+    """``package``: the PyPI distribution that provides the engine, ``import_name`` the module
+    it imports (they differ, e.g. sapien vs physx), ``extra`` the batsim extra that installs it
+    (None: a core dependency); ``requires``: other modules its adapter imports, another
+    engine's among them (MJX and MuJoCo Warp load MJCF through ``mujoco``): without one, the
+    engine counts as not installed."""
+
+    package: str
+    import_name: str
+    extra: str | None = None
+    requires: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, kw_only=True)
+class Capabilities:
+    """What the engine can do. ``integrators``: for the swing study (empty: it cannot drive the
+    bat). ``planar``: a 2-D engine, which cannot fire an impact out of the swing plane.
+    ``restitution_rule``/``friction_rule``: how it combines two bodies' restitution and
+    friction (``friction_rule`` None: its adapter sets no friction, and an impact with friction
+    is ``unsupported``); ``threshold_setting``: the settings field of its restitution velocity
+    threshold, if any. ``soft_contact``: the overrides that switch it to a spring-damper
+    contact, if it has one, whose natural frequency (rad/s) is the settings field
+    ``stiffness_setting``. ``chain_adapter``: "module:Class" of its segmented-bat adapter
+    (``adapters.segmented.ChainEngine``), if any. ``twin_of``: the engine whose model it
+    implements (MJX of MuJoCo C); its settings class extends the twin's."""
+
+    integrators: tuple[Integrator, ...] = ()
+    planar: bool = False
+    restitution_rule: RestitutionRule = RestitutionRule.PRODUCT
+    friction_rule: FrictionRule | None = None
+    threshold_setting: str | None = None
+    soft_contact: Mapping[str, Any] | None = None
+    stiffness_setting: str | None = None
+    chain_adapter: str | None = None
+    twin_of: str | None = None
+
+    def __post_init__(self) -> None:
+        if (self.soft_contact is None) != (self.stiffness_setting is None):
+            raise ValueError("soft_contact and stiffness_setting go together; allowed: both "
+                             "or neither")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ErrorModel:
+    """What the judge needs beyond the settings. ``precision``: the float type it computes in
+    ("float64" or "float32"). ``host_rounding``: its kernels are compiled for the host's CPU
+    (XLA), whose instruction set orders the rounding: a committed baseline is reproduced bit
+    for bit only where it was made. ``friction_defect``/``chain_defect``: a measured failure of
+    its friction at impact, or of its segmented bat, that no setting removes ('' for none):
+    the tests then pin that the engine still misses theory there, and the report quotes it."""
+
+    precision: str = "float64"
+    host_rounding: bool = False
+    friction_defect: str = ""
+    chain_defect: str = ""
+
+    def __post_init__(self) -> None:
+        if self.precision not in ("float64", "float32"):
+            raise ValueError(f"precision={self.precision!r} is unknown; allowed: float64, float32")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Cost:
+    """For run-time estimates only. ``step_cost_s``: one reference step of one world (s,
+    ``experiments.bench_engines``' one-world step, every engine measured in the same run on one
+    2-core host like CI's: only their ratios carry over to another host); a batched engine's
+    ``world_step_cost_s`` is what each further world adds to a step (None for a single-world
+    engine: ``EngineRecord.batched`` says which), and ``start_s`` what each new batch size
+    first costs in a process (s: JAX's trace and compile, Warp's module load)."""
+
+    step_cost_s: float = 1e-5
+    world_step_cost_s: float | None = None
+    start_s: float = 0.0
+
+    def __post_init__(self) -> None:
+        checks.positive("step_cost_s", self.step_cost_s)
+        if self.world_step_cost_s is not None:
+            checks.positive("world_step_cost_s", self.world_step_cost_s)
+        checks.non_negative("start_s", self.start_s)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Presentation:
+    """How the engine is shown: ``label`` the name as prose spells it ('' for the name),
+    ``color``/``marker`` its plot style (None: one from the registry's palette), ``notes`` what
+    the report says of it (``adapters.record.ReportNotes``)."""
+
+    label: str = ""
+    color: str | None = None
+    marker: str = "o"
+    notes: ReportNotes | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
+class Studies:
+    """What the studies vary: ``speed_accuracy`` its knob families besides the two profiles
+    (the Pareto study), ``friction_families`` its friction models besides the reference's,
+    ``friction_rule_overrides`` the reference settings overridden so that the two bodies' own
+    friction values make the contact's (for the test that pins ``friction_rule``), and
+    ``twin_steps`` the comparisons with its twin that find what makes them differ."""
+
+    speed_accuracy: tuple[KnobFamily, ...] = ()
+    friction_families: tuple[KnobFamily, ...] = ()
+    friction_rule_overrides: Mapping[str, Any] = field(default_factory=dict)
+    twin_steps: tuple[TwinStep, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "friction_rule_overrides",
+                           MappingProxyType(dict(self.friction_rule_overrides)))
