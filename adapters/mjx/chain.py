@@ -2,8 +2,8 @@
 a kinematic tree of capsules, the root free, each child hinged about z at its knob end with
 the hinge's own ``stiffness`` and ``damping``, segments colliding with the ball only) at the
 port's settings (``_port_chain.host_chain``), put on JAX with ``mjx.put_model`` and stepped
-one world at a time by a jitted ``mjx.step`` (traced once per collision routine; the model is
-an argument, so a new chain of the same N compiles nothing: JAX's disk cache).
+one world at a time by a jitted ``mjx.step`` (the model is an argument, so a new chain of the
+same N compiles nothing: JAX's disk cache).
 
 Springs: MuJoCo's passive force on hinge j is -stiffness (q_j - qpos_spring_j) - damping
 qd_j (``mujoco/mjx/_src/passive.py``, as ``engine_passive.c``), in N m per rad: the MJCF's
@@ -42,9 +42,9 @@ import numpy as np
 from mujoco.mjx._src import scan
 
 from ..segmented import ChainEngine, ChainScene
-from . import COLLISIONS, RECORD, RECORD_64
+from . import RECORD, RECORD_64
 from ._port_chain import host_chain, read_through, segment_rows
-from .adapter import MjxEngine, _collision, mjx
+from .adapter import MjxEngine, mjx
 
 _BODY_TREE = scan.body_tree
 
@@ -60,14 +60,13 @@ def _barred_tree(m, f, *args, **kwargs):
     return _BODY_TREE(m, level, *args, **kwargs)
 
 
-def _traced(kind: str):
-    """The jitted one-world step, traced with the collision routine ``kind``: the new data,
-    whether a ball-segment pair overlaps (MuJoCo's ncon > 0 at margin 0) and whether qpos,
-    qvel and the solver's qacc are finite (a NaN qacc drops the contact force silently: module
-    docstring)."""
+def _traced():
+    """The jitted one-world step: the new data, whether a ball-segment pair overlaps (MuJoCo's
+    ncon > 0 at margin 0) and whether qpos, qvel and the solver's qacc are finite (a NaN qacc
+    drops the contact force silently: module docstring)."""
 
     def advance(m, d):
-        with _collision(kind), mock.patch.object(scan, "body_tree", _barred_tree):
+        with mock.patch.object(scan, "body_tree", _barred_tree):
             d = mjx.step(m, d)
         touching = jnp.any(d._impl.contact.dist < 0.0)
         finite = (jnp.all(jnp.isfinite(d.qpos)) & jnp.all(jnp.isfinite(d.qvel))
@@ -77,7 +76,7 @@ def _traced(kind: str):
     return jax.jit(advance)
 
 
-_ADVANCE = {kind: _traced(kind) for kind in COLLISIONS}
+_ADVANCE = _traced()
 
 
 def _committed(values: np.ndarray, like: jax.Array) -> jax.Array:
@@ -99,7 +98,7 @@ class MjxChain(ChainEngine):
         with self._scope():
             self.model = mjx.put_model(self._host.model, impl="jax")
             self.data = mjx.make_data(self.model, impl="jax")
-        self._advance = _ADVANCE[self.settings.collision]
+        self._advance = _ADVANCE
         self._touching, self._bad = False, False
 
     def mass_properties(self) -> np.ndarray:
