@@ -94,7 +94,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     except (OSError, KeyError, ValueError, TypeError, IndexError, AttributeError) as err:
         print(f"report: the engine pages are not written: a results file they read is missing "
               f"or damaged ({type(err).__name__}: {err})", file=sys.stderr)
-    return files, f"report.md: {text.count(chr(10))} lines; {len(files) - 1} engine pages"
+    pages_n = sum(name.startswith("engine_") for name in files)
+    return files, f"report.md: {text.count(chr(10))} lines; {pages_n} engine pages"
 
 
 COMMAND = Command(name="report", doc=__doc__, produce=produce, options=_options,
