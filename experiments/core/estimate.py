@@ -4,7 +4,8 @@ An impact takes ``approach_steps`` steps to reach the contact, the contact's own
 a rigid impulse; the rigid episode's sliding time, or a compliant law's contact time, over dt)
 and a few more until free flight proves the bodies apart; a hinged swing adds its own steps.
 The step cost is the engine record's ``step_cost_s`` (measured by ``experiments.bench_engines``);
-each step adds the harness's own ``STEP_OVERHEAD_S`` and each impact its ``OVERHEAD_S``. A
+each step adds the harness's own ``STEP_OVERHEAD_S``, each step it reads (the contact's and
+those after it) ``OBSERVED_STEP_S``, and each impact its ``OVERHEAD_S``. A
 batched engine steps each run of jobs that share a scene together, for as many steps as the
 longest of them takes, each step costing ``step_cost_s`` plus ``world_step_cost_s`` per world, and
 each new batch size its ``start_s`` (compiling). An impact the engine cannot fire (a swing on an
@@ -29,6 +30,11 @@ OVERHEAD_S = 1e-4
 #: What a step costs beyond the engine's own step (s): the adapter's Python wrapper, reading
 #: the state, watching the contact (measured: 6-30 us; the baseline sweeps' wall times).
 STEP_OVERHEAD_S = 1e-5
+#: What reading one step costs the harness (s): the state read back, the contact's geometry,
+#: the end of the episode tested (measured: about 40 us a step of one world on a 2-core host,
+#: in a profile of MuJoCo's reference sweep; a MuJoCo default-profile sweep, 147 read steps an
+#: impact, took 190 us a step in all).
+OBSERVED_STEP_S = 5e-5
 #: Steps after the contact until free flight proves the bodies apart.
 AFTER_CONTACT_STEPS = 3
 #: Impacts per engine whose episodes are integrated to estimate the contact's length.
@@ -55,10 +61,17 @@ def contact_s(case: ImpactCase, settings: adapters.Settings) -> float:
 def impact_steps(job: Job, contact_time_s: float) -> float:
     """Steps one impact takes (module docstring), with a contact lasting ``contact_time_s``."""
     st = job.settings
-    steps = st.approach_steps + max(1.0, contact_time_s / st.dt_s) + AFTER_CONTACT_STEPS
+    steps = st.approach_steps + observed_steps(job, contact_time_s)
     if job.swing is not None:
         steps += job.swing.duration_s(job.case.bat) / st.dt_s
     return min(steps, st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2)
+
+
+def observed_steps(job: Job, contact_time_s: float) -> float:
+    """The steps of an impact the harness reads: the contact's and those after it."""
+    st = job.settings
+    return min(max(1.0, contact_time_s / st.dt_s) + AFTER_CONTACT_STEPS,
+               math.ceil(st.max_contact_s / st.dt_s) + 2)
 
 
 def run_s(jobs: Sequence[Job]) -> dict[str, float]:
@@ -76,12 +89,14 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
         if not rec.drives_bat and mine[0].swing is not None:  # unsupported: nothing stepped
             out[name] = len(mine) * OVERHEAD_S
         elif rec.cost.world_step_cost_s is None:
-            out[name] = sum(impact_steps(j, contact) * cost + OVERHEAD_S for j in mine)
+            out[name] = sum(impact_steps(j, contact) * cost + OVERHEAD_S
+                            + observed_steps(j, contact) * OBSERVED_STEP_S for j in mine)
         else:
             batches = runs(mine)
             out[name] = rec.cost.start_s * len({(run[0].settings, len(run)) for run in batches}) \
                 + sum(max(impact_steps(j, contact) for j in run)
                       * (cost + len(run) * rec.cost.world_step_cost_s) + len(run) * OVERHEAD_S
+                      + max(observed_steps(j, contact) for j in run) * OBSERVED_STEP_S
                       for run in batches)
     return out
 
