@@ -123,7 +123,6 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     a ``FiredBlock`` on a batched engine, a list of one ``Fired`` on a single-world one."""
     t0 = time.perf_counter()
     st = host.settings
-    host.fired += len(jobs)
     plans: list[SwingPlan] | None = None
     cases, each = [j.case for j in jobs], [j.settings for j in jobs]
     if jobs[0].swing is not None:

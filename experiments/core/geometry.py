@@ -89,7 +89,7 @@ def _hypot(x: float, y: float) -> float:
 #: not ``** 0.5``: Python's pow and numpy's differ in the last bit).
 ARRAYS = SimpleNamespace(
     cos=np.cos, sin=np.sin, hypot=np.hypot, sqrt=np.sqrt, clip=np.clip, where=np.where,
-    maximum=np.maximum, any=np.any, not_=np.logical_not, full=np.full, put=_put,
+    maximum=np.maximum, any=np.ndarray.any, not_=np.logical_not, full=np.full, put=_put,
     where_rows=lambda mask, a, b: np.where(mask[:, None], a, b),
     cols=lambda states: states.T, row=lambda states, i: states[i],
     stack=lambda rows: np.array(rows, dtype=float), finite=_finite_rows, indices=_indices,

@@ -29,11 +29,11 @@ class SceneMismatch(RuntimeError):
 #: The most single-world engines one ``Hosted`` steps together as one batch (``EngineWorlds``),
 #: and the fewest worth it: the batch's numpy work on a step (about 0.3 ms here) must be shared
 #: by enough worlds to cost less than a world alone does in Python floats.
-POOL_MAX, POOL_MIN = 64, 16
+POOL_MAX, POOL_MIN = 256, 16
 #: What an impact costs the harness less when fired in a batch of single-world engines than
-#: alone (s): about 60 us alone against 10 us in a batch of 64 (``bench_engines`` on a 2-core
-#: host). More engines are made only once the impacts fired repay their making.
-POOLED_SAVING_S = 5e-5
+#: alone (s): about 135 us alone against 15-30 us in a batch of 64-256 (``bench_engines``' harness
+#: share on a 2-core host). More engines are made only once the impacts fired repay their making.
+POOLED_SAVING_S = 1e-4
 
 
 class Hosted:
@@ -47,17 +47,17 @@ class Hosted:
         self.make_s: float | None = None  # what one more engine costs: its first build, timed
         self.batched = isinstance(self.adapter, BatchedEngine)
         self.engines, self.scenes = [self.adapter], [None]
-        self.fired = 0  # impacts fired so far: what repays more engines
         self.scene: Scene | None = None
         self.worlds = 0
 
     def pool_size(self, impacts: int) -> int:
         """How many single-world engines to step the next ``impacts`` on: those made already,
-        or as many as the impacts fired so far and these repay (``POOLED_SAVING_S`` an impact
-        against each engine's making, its first build as timed), if at least ``POOL_MIN``."""
+        or as many as these impacts repay (``POOLED_SAVING_S`` an impact against each engine's
+        making, its first build as timed), if at least ``POOL_MIN``. A firing makes what it
+        repays itself, so the engines are made in a run's first firing, not a few each time."""
         if self.make_s is None:
             return 1
-        repaid = int((self.fired + impacts) * POOLED_SAVING_S / self.make_s)
+        repaid = int(impacts * POOLED_SAVING_S / self.make_s)
         size = min(POOL_MAX, impacts, max(len(self.engines), repaid))
         return size if size >= POOL_MIN else 1
 

@@ -5,7 +5,8 @@ impacts, fired as one call (one batch on a batched engine, B impacts in turn on 
 one): impacts per second, the largest |v1 - rigid theory| and the status counts. The harness's
 own cost is the firing's wall time less the time spent inside the engine's calls
 (ENGINE_CALLS), clocked in the same firing (two separate timings of ~60 us an impact differ by
-more than the few us sought); the same worlds stepped bare (set the starts, step as many times,
+more than the few us sought), the clock's own cost per call (about 1 us, measured on a call that
+does nothing) taken out of both; the same worlds stepped bare (set the starts, step as many times,
 nothing read) are timed beside it. Each size is fired once untimed first (compiles, caches);
 the numbers are medians of the repeats. Sizes grow while the next one's firing, priced at
 this one's cost per impact, fits in the budget.
@@ -68,7 +69,7 @@ ENGINE_CALLS = ("set_state", "step", "read", "in_contact", "failed", "set_drive"
 @contextlib.contextmanager
 def _clocked(cls: type, spent: list[float]):
     """While open, the time inside the ENGINE_CALLS of every adapter of class ``cls`` (those
-    made meanwhile too) adds up in ``spent[0]`` (s)."""
+    made meanwhile too) adds up in ``spent[0]`` (s), and the calls are counted in ``spent[1]``."""
     def clock(call):
         def timed(*args):
             t0 = time.perf_counter()
@@ -76,10 +77,11 @@ def _clocked(cls: type, spent: list[float]):
                 return call(*args)
             finally:
                 spent[0] += time.perf_counter() - t0
+                spent[1] += 1
         return timed
 
-    calls = {name: cls.__dict__.get(name) for name in ENGINE_CALLS}
-    for name in ENGINE_CALLS:
+    calls = {name: cls.__dict__.get(name) for name in ENGINE_CALLS if hasattr(cls, name)}
+    for name in calls:
         setattr(cls, name, clock(getattr(cls, name)))
     try:
         yield
@@ -91,14 +93,43 @@ def _clocked(cls: type, spent: list[float]):
                 setattr(cls, name, own)
 
 
-def _timed(name: str, settings, jobs: list[Job]):
-    """Fire ``jobs``: the outcomes, the wall time and the time inside the engine's calls (s)."""
-    spent = [0.0]
+class _Noop:
+    def step(self) -> None:
+        pass
+
+
+def clock_cost_s(calls: int = 20_000) -> tuple[float, float]:
+    """What the clock adds to one call (s): the part it counts as the engine's (its own
+    readings) and the part outside its readings, that would count as the harness's; both
+    measured on a call that does nothing, medians of 5."""
+    noop = _Noop()
+    inside, outside = [], []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        for _ in range(calls):
+            noop.step()
+        plain = time.perf_counter() - t0
+        spent = [0.0, 0]
+        with _clocked(_Noop, spent):
+            t0 = time.perf_counter()
+            for _ in range(calls):
+                noop.step()
+            wall = time.perf_counter() - t0
+        inside.append(spent[0] / calls)
+        outside.append((wall - plain - spent[0]) / calls)
+    return float(np.median(inside)), float(np.median(outside))
+
+
+def _timed(name: str, settings, jobs: list[Job], clock: tuple[float, float]):
+    """Fire ``jobs``: the outcomes, the wall time and the time inside the engine's calls (s),
+    the clock's own cost (``clock_cost_s``) taken out of both."""
+    spent = [0.0, 0]
     with _clocked(type(hosted(name, settings).adapter), spent):
         t0 = time.perf_counter()
         fired = fire_jobs(jobs)
         wall = time.perf_counter() - t0
-    return fired, wall, spent[0]
+    inside_s, outside_s = clock
+    return fired, wall - spent[1] * (inside_s + outside_s), spent[0] - spent[1] * inside_s
 
 
 def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) -> list[dict]:
@@ -106,6 +137,7 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
     bare runs, taking turns."""
     settings = adapters.settings_for(name)
     base = _firing().cases()
+    clock = clock_cost_s()
     rows = []
     for size in sizes:
         cases = [base[i % GRID] for i in range(size)]
@@ -114,7 +146,7 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
         steps = int(np.median([f.outcome.steps for f in fired[:GRID]]))
         walls, inside, bares = [], [], []
         for _ in range(repeats):
-            fired, wall, engine = _timed(name, settings, jobs)
+            fired, wall, engine = _timed(name, settings, jobs, clock)
             walls.append(wall)
             inside.append(wall - engine)
             bares.append(bare_s(name, settings, cases, steps))
