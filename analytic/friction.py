@@ -270,6 +270,12 @@ def one_step_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m:
         raise ValueError(f"relative normal velocity v_rel={vn!r} m/s: the bodies do not "
                          "approach; allowed: v_rel < 0")
     K, T = collision_matrix(a, b, r_a, r_b), _tangents(n)
+    if mu == 0.0:  # no friction: EQ 141's impulse along n, the slip left to itself
+        P = -(1.0 + e) * vn / float(n @ K @ n) * n
+        mode = "slip" if math.hypot(*(T.T @ (v0 + K @ P))) > 0.0 else "stick"
+        a1, b1 = apply_impulse(a, b, r_a, r_b, P)
+        return FrictionalImpulse(impulse_ns=P, a=a1, b=b1, compression_ns=math.nan,
+                                 phases=((mode, float(n @ P)),))
     P = np.linalg.solve(K, -(1.0 + e) * vn * n - T @ (T.T @ v0))  # sticking
     mode = "stick"
     if math.hypot(*(T.T @ P)) > mu * float(n @ P):

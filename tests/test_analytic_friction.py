@@ -253,3 +253,16 @@ def test_the_laws_without_friction_are_the_frictionless_impulse(s, undercut, e, 
         got = predict_friction(case, law=law)
         np.testing.assert_allclose(got.impulse_ns, want.impulse_ns, rtol=TOL_REL,
                                    atol=TOL_REL * np.linalg.norm(want.impulse_ns))
+
+
+def test_the_laws_without_friction_hold_a_hit_on_a_still_bats_com():
+    # mu = 0, an undercut ball on a still bat's COM (the slide search found no direction
+    # there): the impulse is EQ 141's along the tilted normal, P.n = (1 + e) m_eff |v_n|,
+    # with Routh's law (a frictionless integration) as the independent answer.
+    case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.0, v0_mps=40.0, e=0.5,
+                      undercut_m=0.01)
+    want = predict_friction(case)
+    for law in ("one_step", "relaxed"):
+        got = predict_friction(case, law=law)
+        np.testing.assert_allclose(got.impulse_ns, want.impulse_ns, rtol=TOL_REL,
+                                   atol=TOL_REL * np.linalg.norm(want.impulse_ns))

@@ -42,11 +42,17 @@ def _outcomes(fired) -> list[tuple]:
 def test_a_world_fired_in_a_batch_of_engines_ends_as_it_does_alone(name, monkeypatch):
     jobs = _jobs(name)
     monkeypatch.setattr(hosting, "POOL_MIN", 10**9)  # every impact alone
-    alone = _outcomes(fire_jobs(jobs))
+    fired_alone = fire_jobs(jobs)
+    alone = _outcomes(fired_alone)
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
     monkeypatch.setattr(hosting, "POOL_MAX", 16)  # 21 = 16 + 5: batches of unequal size
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)  # any run repays its engines
-    batched = _outcomes(fire_jobs(jobs))
+    fired_batched = fire_jobs(jobs)
+    batched = _outcomes(fired_batched)
     assert len(hosting.hosted(name, jobs[0].settings).engines) == 16
     # NaN != NaN: compare the text of each value
     assert [repr(o) for o in batched] == [repr(o) for o in alone]
+    # and so are their verdicts, the blocks' columns read as the outcomes one by one are
+    timing = ["wall_s"]
+    assert tables.table(fired_batched, "").drop(columns=timing).equals(
+        tables.table(fired_alone, "").drop(columns=timing))

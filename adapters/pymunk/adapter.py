@@ -50,6 +50,12 @@ class PymunkEngine(Engine):
         bat_mu, ball_mu = RECORD.can.friction_rule.per_body(scene.mu)  # arbiter u = mu * 1.0
         self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
+    def close(self) -> None:
+        # a space left to the interpreter's exit is freed after pymunk's C library (one
+        # "Exception ignored" traceback per space): dropped here, freed while it is loaded
+        self._space = self._bat = self._ball = self._bat_shape = self._ball_shape = None
+        self._joint = None
+
     def mass_properties(self) -> MassProperties:
         knob_x = self._bat_shape.a.x - self._bat_shape.radius
         return MassProperties(

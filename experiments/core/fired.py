@@ -12,6 +12,7 @@ import itertools
 import math
 from bisect import bisect_right
 from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -104,3 +105,59 @@ class FiredSeq(Sequence):
 
     def __radd__(self, other: Sequence[Fired]) -> FiredSeq:
         return FiredSeq([list(other), *self.parts])
+
+
+@dataclass(frozen=True, kw_only=True)
+class Gathered:
+    """Fired impacts as columns, whatever parts they came in: each impact's case, settings and
+    engine, and ``cols``: FLOAT_FIELDS, status (its value), steps, ended, wall_s and the
+    analytic release (``release_omega_analytic_radps``, ``release_angle_analytic_rad``), one
+    array each (units as in ``SimOutcome``)."""
+
+    cases: list[ImpactCase]
+    settings: list[Settings]
+    engines: list[str]
+    cols: dict[str, np.ndarray]
+
+    def outcome(self, i: int) -> SimOutcome:
+        """The outcome of impact ``i``, as fired."""
+        return outcome(self.cols, i, engine=self.engines[i], settings=self.settings[i],
+                       wall_s=float(self.cols["wall_s"][i]))
+
+
+#: The columns ``gather`` makes besides FLOAT_FIELDS.
+_OTHER = ("status", "steps", "ended", "wall_s", "release_omega_analytic_radps",
+          "release_angle_analytic_rad")
+
+
+def _block_columns(part: Sequence[Fired]) -> tuple[list, list, list, dict]:
+    """One part's cases, settings, engines and columns (``Gathered``)."""
+    if isinstance(part, FiredBlock):
+        n = len(part)
+        cols = {k: part.cols[k] for k in (*FLOAT_FIELDS, *_OTHER[:3], *_OTHER[4:])}
+        cols["wall_s"] = np.full(n, part.wall_s)
+        return part.cases, list(part.settings), [part.engine] * n, cols
+    outs = [f.outcome for f in part]
+    cols = {k: np.array([getattr(o, k) for o in outs], dtype=float) for k in FLOAT_FIELDS}
+    cols.update(status=np.array([o.status.value for o in outs]),
+                steps=np.array([o.steps for o in outs]), ended=np.array([o.ended for o in outs]),
+                wall_s=np.array([o.wall_s for o in outs], dtype=float),
+                release_omega_analytic_radps=np.array([f.release_omega_radps for f in part],
+                                                      dtype=float),
+                release_angle_analytic_rad=np.array([f.release_angle_rad for f in part],
+                                                    dtype=float))
+    return ([f.case for f in part], [o.settings for o in outs], [o.engine for o in outs],
+            cols)
+
+
+def gather(fired: Sequence[Fired]) -> Gathered:
+    """``fired`` as columns (a batch's block read as it is, without an outcome per impact)."""
+    parts = [_block_columns(p) for p in (fired.parts if isinstance(fired, FiredSeq)
+                                         else [fired]) if len(p)]
+    if not parts:
+        parts = [_block_columns([])]
+    return Gathered(cases=[c for p in parts for c in p[0]],
+                    settings=[s for p in parts for s in p[1]],
+                    engines=[e for p in parts for e in p[2]],
+                    cols={k: np.concatenate([p[3][k] for p in parts])
+                          for k in (*FLOAT_FIELDS, *_OTHER)})

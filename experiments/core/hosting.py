@@ -6,6 +6,7 @@
 from __future__ import annotations
 
 import atexit
+import gc
 import math
 import time
 from collections import OrderedDict
@@ -135,9 +136,11 @@ def hosted(name: str, settings: Settings) -> Hosted:
 
 
 def close_engines() -> None:
-    """Close every adapter this process holds."""
+    """Close every adapter this process holds, and free what they held (an engine's objects
+    in reference cycles, freed at exit after their library, would complain)."""
     while _HOSTED:
         _HOSTED.popitem()[1].close()
+    gc.collect()
 
 
 # at exit, while the engines' own modules are still there to free their worlds

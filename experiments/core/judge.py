@@ -359,19 +359,20 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
     return ref.v1_mps, LAW_SAFETY * v_c / (1 + r) * de + rounding
 
 
-def verdict(status: str, err_mps: float, tol_mps: float, law_err_mps: float,
-            law_tol_mps: float) -> str:
-    """The final status of a fired impact: a failure stays what it is; a sound impact is ``ok``
-    within the tolerance of the answer that applies (rigid theory where ``tol_mps`` is finite,
-    else the engine's own contact law where ``law_tol_mps`` is), ``inaccurate`` outside it, and
-    ``unjudged`` where neither applies."""
-    if status != Status.OK.value:
-        return status
-    if not math.isnan(tol_mps):
-        return Status.OK.value if err_mps <= tol_mps else Status.INACCURATE.value
-    if not math.isnan(law_tol_mps):
-        return Status.OK.value if law_err_mps <= law_tol_mps else Status.INACCURATE.value
-    return Status.UNJUDGED.value
+def verdict(status, err_mps, tol_mps, law_err_mps, law_tol_mps, within=True) -> np.ndarray:
+    """The final status of each fired impact (arrays, one value per impact): a failure stays
+    what it is; a sound impact is ``ok`` within the tolerance of the answer that applies (rigid
+    theory where ``tol_mps`` is finite, else the engine's own contact law where
+    ``law_tol_mps`` is) and its other judged outputs within theirs (``within``), ``inaccurate``
+    outside, and ``unjudged`` where neither answer applies."""
+    ok, bad = Status.OK.value, Status.INACCURATE.value
+    with np.errstate(invalid="ignore"):
+        judged = np.where(~np.isnan(tol_mps), np.where(err_mps <= tol_mps, ok, bad),
+                          np.where(~np.isnan(law_tol_mps),
+                                   np.where(law_err_mps <= law_tol_mps, ok, bad),
+                                   Status.UNJUDGED.value))
+    judged = np.where((judged == ok) & ~np.asarray(within), bad, judged)
+    return np.where(np.asarray(status) == ok, judged, status).astype(object)
 
 
 def phases(k: int) -> np.ndarray:

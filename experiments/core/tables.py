@@ -29,6 +29,7 @@ from analytic.dynamics import HingedSwing
 
 from . import friction_judge, judge
 from .fire import Fired, Job, fire_jobs
+from .fired import gather
 
 #: Columns of a sweep table, in order. Units are in the names.
 COLUMNS = (
@@ -114,19 +115,36 @@ def _single_impulse_v1(cases: Sequence[ImpactCase]) -> np.ndarray:
     return impulse
 
 
-def _with_friction(cases, outs, rigid, tol, law, impulse, spin_columns: bool):
+def _with_friction(g, rows, judged, rigid, spin_columns: bool):
     """With friction or out of the swing plane (or ``spin_columns``): the columns
-    ``friction_judge`` adds; where a frictional answer applies, v1 judged against the one-step
-    law as against a contact law (rigid tolerance NaN, ``law`` from the one-step law) with
-    Routh's impulse as its single impulse; and whether every added output is within its
-    tolerance ({}, and as given, where every case is plain)."""
+    ``friction_judge`` adds, for the rows ``rows`` of ``g`` (its rigid answers ``rigid``);
+    where a frictional answer applies, v1 judged against the one-step law as against a contact
+    law (rigid tolerance NaN, ``law`` from the one-step law) with Routh's impulse as its single
+    impulse; and whether every added output is within its tolerance. ``judged``: tol, law,
+    impulse, returned as given (and no columns) where every case is plain."""
+    tol, law, impulse = judged
+    cases = [g.cases[i] for i in rows]
     if all(c.frictionless_planar for c in cases) and not spin_columns:
-        return {}, tol, law, impulse, np.ones(len(cases), dtype=bool)
-    extra, v1_law, within = friction_judge.columns(cases, outs, rigid)
+        return {}, tol, law, impulse, np.ones(len(rows), dtype=bool)
+    extra, v1_law, within = friction_judge.columns(cases, [g.outcome(i) for i in rows], rigid)
     plain = np.array([c.frictionless_planar for c in cases])
     v1 = np.array([r.v1_mps for r in rigid])
     return (extra, np.where(plain, tol, math.nan), np.where(plain[:, None], law, v1_law),
             np.where(plain, impulse, v1), within)
+
+
+def _distinct(g) -> tuple[np.ndarray, np.ndarray]:
+    """The rows of ``g`` judged alike: one per distinct case, settings, engine and analytic
+    release (the judgement depends on nothing else), as (a row of each, each row's index
+    into them). Cases and settings count as one when they are the same object."""
+    nan_free = [None if w != w else w for w in g.cols["release_omega_analytic_radps"].tolist()]
+    seen: dict[tuple, int] = {}
+    inv = np.fromiter((seen.setdefault(key, len(seen)) for key in zip(
+        map(id, g.cases), map(id, g.settings), g.engines, nan_free)), dtype=np.intp,
+        count=len(g.cases))
+    rep = np.empty(len(seen), dtype=np.intp)
+    rep[inv] = np.arange(len(inv))
+    return rep, inv
 
 
 def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> pd.DataFrame:
@@ -136,57 +154,58 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
     judged against (``judge``): a sound impact outside it gets the status
     ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too; with friction
     or out of the swing plane (or ``spin_columns``: a flight needs them),
-    ``friction_judge.columns`` (every one of its outputs judged too)."""
-    cases = [f.case for f in fired]
-    outs = [f.outcome for f in fired]
-    n = len(cases)
-    impulse = _single_impulse_v1(cases)
-    rigid = [judge.rigid(c, o.settings.max_contact_s) for c, o in zip(cases, outs)]
-    ref = {k: np.array([getattr(r, k) for r in rigid])
+    ``friction_judge.columns`` (every one of its outputs judged too). The answers and
+    tolerances are worked out once per distinct impact (``_distinct``), not per row."""
+    g = gather(fired)
+    c, n = g.cols, len(g.cases)
+    rep, inv = _distinct(g)
+    cases, outs = [g.cases[i] for i in rep], [g.outcome(i) for i in rep]
+    rigid = [judge.rigid(k, o.settings.max_contact_s) for k, o in zip(cases, outs)]
+    law = np.array([judge.soft_judgement(k, o) for k, o in zip(cases, outs)]).reshape(-1, 2)
+    judged = (judge.tolerances(cases, outs, c["release_omega_analytic_radps"][rep], rigid),
+              law, _single_impulse_v1(cases))
+    extra, tol, law, impulse, within = _with_friction(g, rep, judged, rigid, spin_columns)
+    if extra:  # the friction columns are the engine's per row: judged on every row
+        judged = tuple(x[inv] for x in judged)
+        extra, tol, law, impulse, within = _with_friction(
+            g, np.arange(n), judged, [rigid[k] for k in inv], spin_columns)
+    tol, law, impulse, within = (x if len(x) == n else x[inv]
+                                 for x in (tol, law, impulse, within))
+
+    def each(values) -> np.ndarray:  # one value per distinct impact, spread over the rows
+        return np.array(values)[inv]
+
+    ref = {k: each([getattr(r, k) for r in rigid])
            for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
-    v1 = np.array([o.v1_mps for o in outs])
-    err = np.abs(v1 - ref["v1_mps"])
-    tol = judge.tolerances(cases, outs, [f.release_omega_radps for f in fired], rigid)
-    law = np.array([judge.soft_judgement(c, o) for c, o in zip(cases, outs)]).reshape(-1, 2)
-    extra, tol, law, impulse, within = _with_friction(cases, outs, rigid, tol, law, impulse,
-                                                      spin_columns)
-    law_err = np.abs(v1 - law[:, 0])
-    status = [judge.verdict(o.status.value, err[i], tol[i], law_err[i], law[i, 1])
-              for i, o in enumerate(outs)]
-    status = [judge.Status.INACCURATE.value if s == judge.Status.OK.value and not ok else s
-              for s, ok in zip(status, within)]
+    v1 = c["v1_mps"]
+    err, law_err = np.abs(v1 - ref["v1_mps"]), np.abs(v1 - law[:, 0])
+    status = judge.verdict(c["status"], err, tol, law_err, law[:, 1], within)
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
     cols = {
-        "engine": [o.engine for o in outs], "profile": [profile] * n,
-        "bat": [c.bat.name for c in cases], "s_m": [c.s_m for c in cases],
-        "v0_mps": [c.v0_mps for c in cases], "u0_mps": [c.u0_mps for c in cases],
-        "omega0_radps": [c.omega0_radps for c in cases], "e": [c.e for c in cases],
-        "theta_rad": [c.theta_rad for c in cases],
+        "engine": g.engines, "profile": [profile] * n, "bat": each([k.bat.name for k in cases]),
+        **{f: each([getattr(k, f) for k in cases])
+           for f in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad")},
         "v1_analytic_mps": ref["v1_mps"], "v1_engine_mps": v1, "v1_abs_err_mps": err,
         "v1_rel_err": rel, "v1_tol_mps": tol, "v1_impulse_mps": impulse,
-        "rigid_impacts": [r.impacts for r in rigid],
-        "rigid_sustained_s": [r.sustained_contact_s for r in rigid],
-        "rigid_end": [r.ended for r in rigid],
+        "rigid_impacts": each([r.impacts for r in rigid]),
+        "rigid_sustained_s": each([r.sustained_contact_s for r in rigid]),
+        "rigid_end": each([r.ended for r in rigid]),
         "v1_law_mps": law[:, 0], "v1_law_err_mps": law_err, "v1_law_tol_mps": law[:, 1],
-        "u1_analytic_mps": ref["u1_mps"], "u1_engine_mps": [o.u1_mps for o in outs],
-        "omega1_analytic_radps": ref["omega1_radps"],
-        "omega1_engine_radps": [o.omega1_radps for o in outs],
-        "hand_dv_analytic_mps": ref["hand_dv_mps"],
-        "hand_dv_engine_mps": [o.hand_dv_mps for o in outs],
-        "ke_before_j": [o.ke_before_j for o in outs], "ke_after_j": [o.ke_after_j for o in outs],
-        "status": status, "episode_end": [o.ended for o in outs],
-        "ball_side_end_m": [o.ball_side_m for o in outs],
-        "contact_duration_s": [o.contact_duration_s for o in outs],
-        "peak_penetration_m": [o.peak_penetration_m for o in outs],
-        "steps": [o.steps for o in outs], "wall_s": [o.wall_s for o in outs],
+        "u1_analytic_mps": ref["u1_mps"], "u1_engine_mps": c["u1_mps"],
+        "omega1_analytic_radps": ref["omega1_radps"], "omega1_engine_radps": c["omega1_radps"],
+        "hand_dv_analytic_mps": ref["hand_dv_mps"], "hand_dv_engine_mps": c["hand_dv_mps"],
+        "ke_before_j": c["ke_before_j"], "ke_after_j": c["ke_after_j"],
+        "status": status, "episode_end": c["ended"], "ball_side_end_m": c["ball_side_m"],
+        "contact_duration_s": c["contact_duration_s"],
+        "peak_penetration_m": c["peak_penetration_m"], "steps": c["steps"],
+        "wall_s": c["wall_s"],
     }
     cols.update(extra)
-    if any(math.isfinite(f.release_omega_radps) for f in fired):
-        cols["release_omega_engine_radps"] = [o.release_omega_radps for o in outs]
-        cols["release_omega_analytic_radps"] = [f.release_omega_radps for f in fired]
-        cols["release_angle_err_rad"] = [o.release_angle_rad - f.release_angle_rad
-                                         for o, f in zip(outs, fired)]
+    if np.isfinite(c["release_omega_analytic_radps"]).any():
+        cols["release_omega_engine_radps"] = c["release_omega_radps"]
+        cols["release_omega_analytic_radps"] = c["release_omega_analytic_radps"]
+        cols["release_angle_err_rad"] = c["release_angle_rad"] - c["release_angle_analytic_rad"]
     return pd.DataFrame(cols)
 
 
