@@ -146,3 +146,22 @@ def test_a_page_reads_its_numbers_from_the_files(copy):
     cheap.to_csv(copy / "pareto_cheapest.csv", index=False, lineterminator="\n")
     text = report.pages.page(copy, name)
     assert "1.5 us in a batch of 10 " in text and "a setting typed here" in text
+
+
+def test_the_batches_and_twins_numbers_come_from_their_files(copy):
+    before = report.render(copy)
+    batches = pd.read_csv(copy / "bench_batches.csv")
+    best = batches[batches.engine == "newton"].impacts_per_s.idxmax()
+    batches.loc[best, "impacts_per_s"] = 4.2e6
+    batches.to_csv(copy / "bench_batches.csv", index=False, lineterminator="\n")
+    twins = pd.read_csv(copy / "twins.csv")
+    twins.loc[0, "max_abs_diff_mps"] = 0.0777
+    twins.to_csv(copy / "twins.csv", index=False, lineterminator="\n")
+    after = report.render(copy)
+    assert "Newton 4.2e6/s" not in before and "Newton 4.2e6/s" in after
+    assert "0.078 m/s" in after.split("**Twins.**")[1].split("\n")[0]
+
+
+def test_the_report_does_not_repeat_the_summary_table(committed):
+    rows = [ln for ln in (RESULTS / "summary.md").read_text().splitlines() if ln.startswith("| ")]
+    assert len(rows) > 10 and not any(row in committed for row in rows)

@@ -51,9 +51,10 @@ def out_of_the_box(res: Results) -> str:
                  "further: a step of most of a contact).")
     none = [e for e in default.rigid if default.counts(e).get("ok", 0) == 0]
     if none:
-        who = "none is" if len(none) == len(default.rigid) else f"{engines_text(none)} catch no"
+        who = ("none catches any" if len(none) == len(default.rigid)
+               else f"{engines_text(none)} catch none")
         text += (f" With the contact mid-step, the default profiles' placement "
-                 f"(`{default.stem}`), {who} caught.")
+                 f"(`{default.stem}`), {who}.")
     return text
 
 

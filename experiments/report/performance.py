@@ -46,7 +46,39 @@ def section(res: Results) -> str:
     (swing,) = need(res, "swing")
     rigid = bench[bench.engine.isin(swing.rigid)]
     return "\n\n".join([intro, md_table(table), steps(res, bench), overhead(rigid),
-                        runners(res, meta), analytic(res, meta)])
+                        batches(res), twins(res), runners(res, meta), analytic(res, meta)])
+
+
+def batches(res: Results) -> str:
+    """Throughput at each engine's best batch (``bench_batches.csv``): judged impacts/s, the
+    harness's share of it against the engine's own, the largest error beside it."""
+    t = res.csv("bench_batches.csv")
+    best = t.loc[t.groupby("engine", sort=False).impacts_per_s.idxmax()]
+    each = [f"{label(r.engine)} {sci(r.impacts_per_s)}/s at {r.batch:,} "
+            f"(harness {num(r.harness_us_per_impact, 2)} us, bare engine "
+            f"{num(r.bare_us_per_impact, 2)} us an impact; error {num(r.max_abs_err_mps)} m/s)"
+            for r in best.sort_values("impacts_per_s", ascending=False).itertuples()]
+    return (f"{res.chart('bench_batches.png', 'impacts per second against batch size')}\n\n"
+            "**Batches.** Fired in batches of growing size (a batched engine's worlds in one "
+            "call; a single-world engine's on as many of its adapters as the run repays, stepped "
+            "in turn and judged together) and every impact judged, each engine's best "
+            f"(`results/bench_batches.csv`): {'; '.join(each)}. The harness's share is the wall "
+            "time less the time inside the engine's calls, reads included.")
+
+
+def twins(res: Results) -> str:
+    """The twins' largest differences (``twins.csv``): a port against its original, at their
+    reference profiles and over the set-ups that match them."""
+    each = []
+    for (engine, twin), g in res.csv("twins.csv").groupby(["engine", "twin"], sort=False):
+        ref = g[g.step.str.startswith("each at its reference")].max_abs_diff_mps
+        rest = g.max_abs_diff_mps.drop(ref.index)
+        each.append(f"{label(engine)} against {label(twin)} {num(ref.max())} m/s at their "
+                    f"reference profiles, {num(rest.min())}-{num(rest.max())} m/s over "
+                    f"{len(rest)} matched set-ups")
+    return ("**Twins.** The ports of one engine fired on the same grid, the largest difference "
+            f"of v1 between them (`results/twins.csv`, `python -m experiments.twins`): "
+            f"{'; '.join(each)}.")
 
 
 def steps(res: Results, bench: pd.DataFrame) -> str:

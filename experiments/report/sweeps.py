@@ -24,15 +24,16 @@ from .defaults import out_of_the_box, small_step
 
 
 def section(res: Results) -> str:
-    summary = res.text("summary.md").split("\n", 2)[2].strip()
     charts = [res.chart(f"{sw.stem}.png", f"v1 along the R161: {ROLES[role][1]}") + "\n\n"
               f"*{ROLES[role][1].capitalize()}* (`{sw.stem}.*`)."
               for role, sw in baselines(res).items()]
     points = [agreement(res), plastic(res), tuned(res), out_of_the_box(res), small_step(res)]
     return "\n\n".join([
         "Everything in `results/` is written by `python -m experiments.baselines`, which runs "
-        "the baseline sweeps and every study below into it. The baseline sweeps "
-        "(`results/summary.md`):", summary, "What they show:", bullets(points), *charts])
+        "the baseline sweeps and every study below into it. The baseline sweeps' statuses, "
+        "errors and costs, one row per baseline and engine, are in [summary.md](summary.md); "
+        "each engine's own numbers on its [page](engines.md). What they show:", bullets(points),
+        *charts])
 
 
 def agreement(res: Results) -> str:
