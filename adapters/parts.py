@@ -98,7 +98,10 @@ class Capabilities:
     contact, if it has one, whose natural frequency (rad/s) is the settings field
     ``stiffness_setting``. ``chain_adapter``: "module:Class" of its segmented-bat adapter
     (``adapters.segmented.ChainEngine``), if any. ``twin_of``: the engine whose model it
-    implements (MJX of MuJoCo C); its settings class extends the twin's."""
+    implements (MJX of MuJoCo C); its settings class extends the twin's. ``max_worlds``: the
+    most of its worlds the harness holds in one process (a hard limit of the engine, or its
+    memory), None for no limit: a long run's batch of engines (``experiments.core.hosting``)
+    stays within it."""
 
     integrators: tuple[Integrator, ...] = ()
     planar: bool = False
@@ -109,6 +112,7 @@ class Capabilities:
     stiffness_setting: str | None = None
     chain_adapter: str | None = None
     twin_of: str | None = None
+    max_worlds: int | None = None
 
     def __post_init__(self) -> None:
         if (self.soft_contact is None) != (self.stiffness_setting is None):

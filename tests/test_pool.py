@@ -56,3 +56,27 @@ def test_a_world_fired_in_a_batch_of_engines_ends_as_it_does_alone(name, monkeyp
     timing = ["wall_s"]
     assert tables.table(fired_batched, "").drop(columns=timing).equals(
         tables.table(fired_alone, "").drop(columns=timing))
+
+
+LIMITED = [n for n in SINGLE if adapters.record(n).can.max_worlds is not None]
+
+
+@pytest.mark.parametrize("name", LIMITED)
+def test_a_batch_of_engines_stays_within_what_the_engine_can_hold(name, monkeypatch):
+    # Two runs with different settings, each repaying more engines than the record's
+    # max_worlds: the process never holds more (Box2D v3 crashes at its 129th world), and
+    # holds that many (the limit is one the engine bears).
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 10**6)
+    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
+    limit = adapters.record(name).can.max_worlds
+    first = adapters.settings_for(name)
+    case = _jobs(name)[0].case
+    held = []
+    try:
+        for settings in (first, dataclasses.replace(first, overlap_m=2 * first.overlap_m)):
+            fire_jobs([Job(engine=name, settings=settings, case=case)] * (limit + 10))
+            held.append(sum(len(h.engines) for h in hosting._HOSTED.values() if h.name == name))
+    finally:
+        hosting.close_engines()
+    assert held == [limit, limit]

@@ -207,6 +207,9 @@ RECORD = EngineRecord(
         friction_rule=FrictionRule.GEOMETRIC,
         planar=True,
         threshold_setting="restitution_threshold_mps",
+        # Box2D v3 holds at most B2_MAX_WORLDS = 128 worlds a process: the 129th crashes it
+        # (measured, and pinned by tests/test_pool.py); 8 spare for worlds made elsewhere
+        max_worlds=120,
     ),
     errors=ErrorModel(
         chain_defect="segmented bat: one solver sweep per substep and the restitution impulse on "

@@ -60,7 +60,15 @@ class Hosted:
             return 1
         repaid = int(impacts * POOLED_SAVING_S / self.make_s)
         size = min(POOL_MAX, impacts, max(len(self.engines), repaid))
+        if size > len(self.engines) and self.record.can.max_worlds is not None:
+            size = min(size, _room(self))
         return size if size >= POOL_MIN else 1
+
+    def shrink(self) -> None:
+        """Close every engine but the first (a pool given back)."""
+        for engine in self.engines[1:]:
+            engine.close()
+        del self.engines[1:], self.scenes[1:]
 
     def batch(self, scene: Scene, n: int):
         """The adapter(s) holding ``scene`` in ``n`` worlds (built when either changed, and
@@ -93,6 +101,15 @@ class Hosted:
         self.scene, self.scenes = None, [None] * len(self.engines)
         for engine in self.engines:
             engine.close()
+
+
+def _room(host: Hosted) -> int:
+    """How many worlds ``host`` may hold within its engine's ``max_worlds``: the other hosts
+    of that engine give back their pools first, and keep a world each."""
+    others = [h for h in _HOSTED.values() if h is not host and h.name == host.name]
+    for other in others:
+        other.shrink()
+    return host.record.can.max_worlds - len(others)
 
 
 def check_mass_properties(name: str, got: MassProperties, scene: Scene, eps: float) -> None:
