@@ -173,7 +173,7 @@ def chart(table: pd.DataFrame):
     ax.bar(list(x), table.simulate_per_collision_us, 0.27, label="simulate() alone")
     ax.bar([i + 0.27 for i in x], table.bare_steps_us, 0.27, label="bare engine, the same steps")
     for i, r in table.iterrows():
-        ax.annotate(f"+{r.simulate_overhead_us:.0f} us", (i, r.simulate_per_collision_us),
+        ax.annotate(f"{r.simulate_overhead_us:+.0f} us", (i, r.simulate_per_collision_us),
                     ha="center", va="bottom", fontsize=8)
     ax.set_xticks(list(x), table.engine)
     ax.set_ylabel("median time per collision (us, log scale)")
