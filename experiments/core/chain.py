@@ -23,6 +23,7 @@ from adapters.segmented import ChainScene
 from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact, ChainOutcome, compliant_reference, impulse_reference
 
+from .episode import Recorder, run_episode
 from .judge import Status
 
 #: Free steps before the touch.
@@ -209,36 +210,58 @@ def _check_mass(got: np.ndarray, chain: Chain, eps: float) -> None:
         raise _Mismatch(f"segment mass properties off by {worst:.1e} relative")
 
 
-def _step(engine, chain, impact, ref, dt, before) -> dict:
-    """Step until no contact has come for a lowest-mode period past the reference's end."""
-    quiet = 2 * math.pi / float(chain.modes[0][chain.modes[0] > 0].min())
-    end = APPROACH_STEPS * dt + ref.contact_s + quiet
-    steps, touched, last_touch = 0, False, -math.inf
-    while True:
-        engine.step()
-        steps += 1
-        t = steps * dt
+class _ChainEpisode:
+    """The chain's episode as a task of ``episode.run_episode``: over when no contact has come
+    for a lowest-mode period past the reference's end; ``row`` what it measured."""
+
+    def __init__(self, chain: Chain, impact: ChainImpact, ref: ChainOutcome, dt: float,
+                 before: float) -> None:
+        self.chain, self.impact, self.dt, self.before = chain, impact, dt, before
+        self.quiet = 2 * math.pi / float(chain.modes[0][chain.modes[0] > 0].min())
+        self.end = APPROACH_STEPS * dt + ref.contact_s + self.quiet
+        self.max_steps = math.ceil(MAX_EPISODE_S / dt) + 2  # 'no_separation' comes first
+        self.touched, self.last_touch, self.row = False, -math.inf, {}
+
+    def over(self, step: int, engine) -> bool:
+        t = step * self.dt
         if engine.in_contact():
-            touched, last_touch = True, t
+            self.touched, self.last_touch = True, t
         ball, segs = engine.read()
         if engine.failed() or not (np.all(np.isfinite(ball)) and np.all(np.isfinite(segs))):
-            return _failed(Status.NON_FINITE, "non-finite state or engine failure") | \
-                {"steps": steps}
-        if t >= end and t - last_touch >= quiet:
-            break
-        if t > MAX_EPISODE_S:
-            return _failed(Status.NO_SEPARATION, "still in contact") | {"steps": steps}
-    if not touched:
-        return _failed(Status.NO_CONTACT, "no contact") | {"steps": steps}
-    vib = bending_energy_j(chain, segs)
-    with np.errstate(over="ignore", invalid="ignore"):  # a huge but finite chain: inf
-        springs = np.asarray(chain.stiffnesses_nmprad) * np.diff(segs[:, 2]) ** 2
-        after = 0.5 * impact.ball.mass_kg * float(ball[2:] @ ball[2:]) \
-            + _rigid_ke(chain, segs) + 0.5 * float(np.sum(springs))
-    status = Status.OK if after <= before * (1 + ENERGY_SLACK) else Status.ENERGY_GAINED
-    return {"status": status.value, "why": "", "v1_mps": float(ball[3]), "vibration_j": vib,
-            "err_mps": math.nan, "steps": steps, "energy_before_j": before,
-            "energy_after_j": after}
+            self.row = _failed(Status.NON_FINITE, "non-finite state or engine failure")
+        elif t >= self.end and t - self.last_touch >= self.quiet:
+            self.row = self._ended(ball, segs, step)
+        elif t > MAX_EPISODE_S:
+            self.row = _failed(Status.NO_SEPARATION, "still in contact")
+        else:
+            return False
+        self.row["steps"] = step
+        return True
+
+    def budget_spent(self, engine) -> None:
+        self.row = _failed(Status.NO_SEPARATION, "still in contact") | {
+            "steps": self.max_steps}
+
+    def _ended(self, ball: np.ndarray, segs: np.ndarray, step: int) -> dict:
+        if not self.touched:
+            return _failed(Status.NO_CONTACT, "no contact")
+        chain = self.chain
+        vib = bending_energy_j(chain, segs)
+        with np.errstate(over="ignore", invalid="ignore"):  # a huge but finite chain: inf
+            springs = np.asarray(chain.stiffnesses_nmprad) * np.diff(segs[:, 2]) ** 2
+            after = 0.5 * self.impact.ball.mass_kg * float(ball[2:] @ ball[2:]) \
+                + _rigid_ke(chain, segs) + 0.5 * float(np.sum(springs))
+        status = Status.OK if after <= self.before * (1 + ENERGY_SLACK) else Status.ENERGY_GAINED
+        return {"status": status.value, "why": "", "v1_mps": float(ball[3]), "vibration_j": vib,
+                "err_mps": math.nan, "steps": step, "energy_before_j": self.before,
+                "energy_after_j": after}
+
+
+def _step(engine, chain, impact, ref, dt, before) -> dict:
+    """Step until the chain's episode is over (``_ChainEpisode``): its row."""
+    task = _ChainEpisode(chain, impact, ref, dt, before)
+    run_episode(engine, task, task.max_steps)
+    return task.row
 
 
 def mode_states(chain: Chain, mode: int, speed_mps: float) -> np.ndarray:
@@ -266,10 +289,9 @@ def measured_period_s(engine, chain: Chain, ball_parked: np.ndarray, segs: np.nd
     engine.set_state(ball_parked, segs)
     omega = chain.modes[0]
     steps = int(periods * 2 * math.pi / float(omega[omega > 0].min()) / dt_s) + 1
-    angles = []
-    for _ in range(steps):
-        engine.step()
-        angles.append(np.diff(engine.read()[1][:, 2])[0])
+    angles: list[float] = []
+    run_episode(engine, Recorder(lambda world: angles.append(np.diff(world.read()[1][:, 2])[0])),
+                steps)
     a = np.asarray(angles)
     ups = np.flatnonzero((a[:-1] < 0.0) & (a[1:] >= 0.0))
     t = (ups + a[ups] / (a[ups] - a[ups + 1]) + 1) * dt_s

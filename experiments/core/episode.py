@@ -2,18 +2,22 @@
 then classify how it ended. One path for every engine: single-world engines are a batch of one
 (``OneWorld``, in Python floats) or of several engines stepped in turn (``EngineWorlds``).
 
-An episode ends as ``analytic.collide`` ends the rigid one: the bodies apart with no contact to
-come in free flight (``analytic.collide.free_flight``), the ball off the cylinder's span, or
-``max_contact_s`` of episode spent (the budget). How it ended (``ended``) decides the status:
-'non_finite' (NaN or inf, a failure the engine reported) and 'jumped' (a state that moved more
-than its speeds allow: a silent reset) are ``non_finite``; 'passed' (no contact seen when due,
-the ball's centre beyond the bat's axis) is ``tunnelled``; 'missed' (no contact seen when due,
-the ball still on its side, its velocity as it was) is ``no_contact``; a ball deflected between
-two readings had its contact then (``judge.DEFLECTED``); 'budget' is ``no_separation`` (or
-``tunnelled`` without a contact); after 'separated' or 'left_cylinder' the final state is
-checked: beyond the bat's axis ``tunnelled``, deeper than r_ball + r_bat at any step
-``penetration``, more kinetic energy than before ``energy_gained``, else ``ok`` (the judge may
-still find it inaccurate).
+Every episode the harness steps, of any kind of world, runs through one loop,
+``run_episode``; what it is for (when it is over, what it measures) is its task's: the
+impact's (``_Stepper``), the segmented bat's (``chain``), a swing's or a drive's (``Coast``).
+
+An impact's episode ends as ``analytic.collide`` ends the rigid one: the bodies apart with no
+contact to come in free flight (``analytic.collide.free_flight``), the ball off the cylinder's
+span, or ``max_contact_s`` of episode spent (the budget). How it ended (``ended``) decides the
+status: 'non_finite' (NaN or inf, a failure the engine reported) and 'jumped' (a state that
+moved more than its speeds allow: a silent reset) are ``non_finite``; 'passed' (no contact seen
+when due, the ball's centre beyond the bat's axis) is ``tunnelled``; 'missed' (no contact seen
+when due, the ball still on its side, its velocity as it was) is ``no_contact``; a ball
+deflected between two readings had its contact then (``judge.DEFLECTED``); 'budget' is
+``no_separation`` (or ``tunnelled`` without a contact); after 'separated' or 'left_cylinder' the
+final state is checked: beyond the bat's axis ``tunnelled``, deeper than r_ball + r_bat at any
+step ``penetration``, more kinetic energy than before ``energy_gained``, else ``ok`` (the judge
+may still find it inaccurate).
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -179,6 +184,49 @@ class Episodes:
     side_m: object
 
 
+class Task(Protocol):
+    """What an episode is for (dm_control's split: the loop steps, the task judges): after
+    each step it looks at the world as it needs and says whether the episode is over; if the
+    steps run out first, it is told so."""
+
+    def over(self, step: int, world) -> bool: ...
+
+    def budget_spent(self, world) -> None: ...
+
+
+class Coast:
+    """A task that only steps: a swing into place, a drive for a set time."""
+
+    def over(self, step: int, world) -> bool:
+        return False
+
+    def budget_spent(self, world) -> None:
+        pass
+
+
+class Recorder(Coast):
+    """A task that reads the world after every step (``record(world)``), to the end."""
+
+    def __init__(self, record) -> None:
+        self.record = record
+
+    def over(self, step: int, world) -> bool:
+        self.record(world)
+        return False
+
+
+def run_episode(world, task: Task, max_steps: int) -> int:
+    """The harness's one stepping loop, for every kind of world (one engine, a batch of them,
+    a batched engine, a segmented bat): step ``world`` until ``task`` says the episode is over
+    or ``max_steps`` have run (then ``task.budget_spent``). Returns the steps taken."""
+    for step in range(1, max_steps + 1):
+        world.step()
+        if task.over(step, world):
+            return step
+    task.budget_spent(world)
+    return max_steps
+
+
 class _Stepper:
     """Steps one batch through its episodes; what it has learnt of each world so far, in the
     batch's namespace (``geometry.ARRAYS`` or ``geometry.SCALARS``): no loop over worlds but
@@ -205,7 +253,7 @@ class _Stepper:
 
     def run(self, starts) -> Episodes:
         """Step from ``starts`` until every world's episode is over (module docstring)."""
-        batch, xp, approach, n = self.batch, self.xp, self.st.approach_steps, self.batch.n
+        batch, xp, n = self.batch, self.xp, self.batch.n
         self.out = Episodes(ended=xp.full(n, ""), steps=xp.full(n, self.max_steps), end=starts,
                             first=None, last=None, peak_m=None, side_m=xp.full(n, math.nan))
         self.prev = starts
@@ -215,21 +263,36 @@ class _Stepper:
         vx0, vy0 = cols[g.BALL_VX], cols[g.BALL_VY]
         self.ball_v0 = (vx0, vy0, DEFLECTED ** 2 * (vx0 * vx0 + vy0 * vy0))
         batch.set_state(starts)
-        for step in range(1, self.max_steps + 1):
-            batch.step()
-            # Free flight before the planned contact step cannot go wrong but by a blow-up,
-            # which the final reading still catches: the state is read from that step on.
-            if step < approach and not xp.any(self.first >= 0) and not batch.any_contact():
-                continue
-            self.observe(step, batch.in_contact(), batch.read())
-            if not xp.any(self.active):
-                break
-        if xp.any(self.active):
-            self.close()
+        run_episode(batch, self, self.max_steps)
         o = self.out
         o.ended = xp.where(batch.failed(), "non_finite", o.ended)
         o.first, o.last, o.peak_m = self.first, self.last, self.peak
         return o
+
+    def over(self, step: int, batch) -> bool:
+        """One step's look (``run_episode``): whether every world's episode is over. Free
+        flight before the planned contact step cannot go wrong but by a blow-up, which the
+        final reading still catches: the state is read from that step on."""
+        xp = self.xp
+        if (step < self.st.approach_steps and not xp.any(self.first >= 0)
+                and not batch.any_contact()):
+            return False
+        self.observe(step, batch.in_contact(), batch.read())
+        return not xp.any(self.active)
+
+    def budget_spent(self, batch) -> None:
+        """The budget ran out: the last reading ends every episode still going."""
+        xp = self.xp
+        if not xp.any(self.active):
+            return
+        S = batch.read()
+        finite = xp.finite(S)
+        self.finish(xp.not_(finite), "non_finite", self.max_steps, S)
+        if not xp.any(self.active):
+            return
+        pen, _, _, side = self.geometry(xp, self.bat, self.ball, xp.cols(S), self.came_from)
+        self.peak = xp.where(self.active, xp.maximum(self.peak, pen), self.peak)
+        self.finish(self.active, "budget", self.max_steps, S, side)
 
     def finish(self, mask, why: str, step: int, S, side=None) -> None:
         """End the episodes of the worlds in ``mask`` (still active) with this reading."""
@@ -305,18 +368,6 @@ class _Stepper:
         self.finish(search & no(ahead), "separated", step, S, side)
         self.check_at = xp.where(search & ahead,
                                  step + xp.maximum(1, xp.floor(t / dt) - 1), self.check_at)
-
-    def close(self) -> None:
-        """The budget ran out: the last reading ends every episode still going."""
-        xp = self.xp
-        S = self.batch.read()
-        finite = xp.finite(S)
-        self.finish(xp.not_(finite), "non_finite", self.max_steps, S)
-        if not xp.any(self.active):
-            return
-        pen, _, _, side = self.geometry(xp, self.bat, self.ball, xp.cols(S), self.came_from)
-        self.peak = xp.where(self.active, xp.maximum(self.peak, pen), self.peak)
-        self.finish(self.active, "budget", self.max_steps, S, side)
 
 
 def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts,

@@ -27,7 +27,7 @@ from analytic import ImpactCase
 from analytic.dynamics import HingedSwing, MotionState
 
 from . import geometry as g
-from .episode import OneWorld, SimOutcome, classify, step_episodes
+from .episode import Coast, OneWorld, SimOutcome, classify, run_episode, step_episodes
 from .fired import Fired, FiredBlock, FiredSeq, nan_release, outcome
 from .hosting import Hosted, SceneMismatch, engine_settings, hosted
 from .judge import Status, energy_allowance
@@ -214,8 +214,7 @@ def _swing_into_place(batch, plans: list[SwingPlan], starts, bat):
     xp = batch.xp
     batch.set_state(xp.stack([p.bat_start for p in plans]))
     batch.set_drive([p.hands(bat) for p in plans])
-    for _ in range(plans[0].steps):
-        batch.step()
+    run_episode(batch, Coast(), plans[0].steps)
     batch.set_drive(None)
     swung = batch.read()
     cols = xp.cols(swung)
@@ -262,8 +261,7 @@ def run_motion(name: str, settings: Settings, bat, drive, t_s: float,
     batch.set_state(batch.xp.stack([rest]))
     steps = round(t_s / settings.dt_s)
     batch.set_drive([hands_for(drive, bat)])
-    for _ in range(steps):
-        batch.step()
+    run_episode(batch, Coast(), steps)
     batch.set_drive(None)
     r = [float(v) for v in batch.xp.row(batch.read(), 0)]
     return MotionState(t_s=steps * settings.dt_s, x_m=r[g.BAT_X], y_m=r[g.BAT_Y],

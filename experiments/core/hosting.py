@@ -165,5 +165,7 @@ atexit.register(close_engines)
 
 
 def forget_engines() -> None:
-    """In a forked worker: drop the copies of the parent's adapters (they are the parent's)."""
+    """In a forked worker: drop the copies of the parent's adapters (they are the parent's),
+    and free them: an engine's limit on worlds (``Capabilities.max_worlds``) counts them."""
     _HOSTED.clear()
+    gc.collect()
