@@ -115,22 +115,23 @@ def _single_impulse_v1(cases: Sequence[ImpactCase]) -> np.ndarray:
     return impulse
 
 
-def _with_friction(g, rows, judged, rigid, spin_columns: bool):
+def _with_friction(g, judged, rigid, spin_columns: bool, plain: bool):
     """With friction or out of the swing plane (or ``spin_columns``): the columns
-    ``friction_judge`` adds, for the rows ``rows`` of ``g`` (its rigid answers ``rigid``);
-    where a frictional answer applies, v1 judged against the one-step law as against a contact
-    law (rigid tolerance NaN, ``law`` from the one-step law) with Routh's impulse as its single
+    ``friction_judge`` adds to every row of ``g`` (their rigid answers ``rigid``); where a
+    frictional answer applies, v1 judged against the one-step law as against a contact law
+    (rigid tolerance NaN, ``law`` from the one-step law) with Routh's impulse as its single
     impulse; and whether every added output is within its tolerance. ``judged``: tol, law,
-    impulse, returned as given (and no columns) where every case is plain."""
+    impulse, returned as given (and no columns) where every case is ``plain``."""
     tol, law, impulse = judged
-    cases = [g.cases[i] for i in rows]
-    if all(c.frictionless_planar for c in cases) and not spin_columns:
-        return {}, tol, law, impulse, np.ones(len(rows), dtype=bool)
-    extra, v1_law, within = friction_judge.columns(cases, [g.outcome(i) for i in rows], rigid)
-    plain = np.array([c.frictionless_planar for c in cases])
+    if plain and not spin_columns:
+        return {}, tol, law, impulse, np.ones(len(tol), dtype=bool)
+    cases = g.cases
+    extra, v1_law, within = friction_judge.columns(cases, [g.outcome(i) for i in range(len(cases))],
+                                                   rigid)
+    each = np.array([c.frictionless_planar for c in cases])
     v1 = np.array([r.v1_mps for r in rigid])
-    return (extra, np.where(plain, tol, math.nan), np.where(plain[:, None], law, v1_law),
-            np.where(plain, impulse, v1), within)
+    return (extra, np.where(each, tol, math.nan), np.where(each[:, None], law, v1_law),
+            np.where(each, impulse, v1), within)
 
 
 def _distinct(g) -> tuple[np.ndarray, np.ndarray]:
@@ -164,13 +165,11 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
     law = np.array([judge.soft_judgement(k, o) for k, o in zip(cases, outs)]).reshape(-1, 2)
     judged = (judge.tolerances(cases, outs, c["release_omega_analytic_radps"][rep], rigid),
               law, _single_impulse_v1(cases))
-    extra, tol, law, impulse, within = _with_friction(g, rep, judged, rigid, spin_columns)
-    if extra:  # the friction columns are the engine's per row: judged on every row
-        judged = tuple(x[inv] for x in judged)
-        extra, tol, law, impulse, within = _with_friction(
-            g, np.arange(n), judged, [rigid[k] for k in inv], spin_columns)
-    tol, law, impulse, within = (x if len(x) == n else x[inv]
-                                 for x in (tol, law, impulse, within))
+    # the friction columns hold the engine's values: judged on every row, where any applies
+    judged = tuple(x[inv] for x in judged)
+    extra, tol, law, impulse, within = _with_friction(
+        g, judged, [rigid[k] for k in inv], spin_columns,
+        all(k.frictionless_planar for k in cases))
 
     def each(values) -> np.ndarray:  # one value per distinct impact, spread over the rows
         return np.array(values)[inv]
