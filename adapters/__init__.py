@@ -235,6 +235,11 @@ def settings_for(name: str, profile: str = "reference", **overrides) -> Settings
     return dataclasses.replace(base, **overrides)
 
 
+def contact_reference(name: str, profile: str = "reference") -> ContactReference:
+    """The model the engine's contact converges to at ``profile`` (its error model's answer)."""
+    return record(name).errors.contact_reference(settings_for(name, profile))
+
+
 def create(name: str, settings: Settings) -> Engine | BatchedEngine:
     """An adapter of this engine with these settings (imports the engine)."""
     return engine_class(name)(settings)
@@ -250,6 +255,6 @@ __all__ = ["BatchedEngine", "Capabilities", "ContactReference", "Cost", "ENTRY_P
            "Install", "Integrator", "KnobFamily", "MassProperties", "PLANAR_FIELDS", "PROFILES",
            "PluginConflict", "Presentation", "ReportNotes", "RestitutionRule", "SPATIAL_FIELDS",
            "STATE_FIELDS", "Scene", "Settings", "State", "Studies", "TwinStep", "available",
-           "chain_class", "create", "engine_class", "import_engine", "is_batched", "load",
-           "missing", "names", "record", "register", "reload_plugins", "settings_for",
-           "unregister"]
+           "chain_class", "contact_reference", "create", "engine_class", "import_engine",
+           "is_batched", "load", "missing", "names", "record", "register", "reload_plugins",
+           "settings_for", "unregister"]

@@ -1,8 +1,9 @@
 """The parts of an engine's record (``adapters.record.EngineRecord``), each read by one kind of
 reader: where the engine comes from (``Install``) and what it can do (``Capabilities``), what
-an adapter author declares; what it gets wrong and in which float type (``ErrorModel``), what
-the judge reads; what a step costs (``Cost``), for the estimates; how it is shown
-(``Presentation``), for charts and the report; and what the studies vary (``Studies``)."""
+an adapter author declares; what it gets wrong and in which float type (``ErrorModel``, in
+``adapters.errors``), what the judge reads; what a step costs (``Cost``), for the estimates;
+how it is shown (``Presentation``), for charts and the report; and what the studies vary
+(``Studies``)."""
 
 from __future__ import annotations
 
@@ -118,25 +119,6 @@ class Capabilities:
         if (self.soft_contact is None) != (self.stiffness_setting is None):
             raise ValueError("soft_contact and stiffness_setting go together; allowed: both "
                              "or neither")
-
-
-@dataclass(frozen=True, kw_only=True)
-class ErrorModel:
-    """What the judge needs beyond the settings. ``precision``: the float type it computes in
-    ("float64" or "float32"). ``host_rounding``: its kernels are compiled for the host's CPU
-    (XLA), whose instruction set orders the rounding: a committed baseline is reproduced bit
-    for bit only where it was made. ``friction_defect``/``chain_defect``: a measured failure of
-    its friction at impact, or of its segmented bat, that no setting removes ('' for none):
-    the tests then pin that the engine still misses theory there, and the report quotes it."""
-
-    precision: str = "float64"
-    host_rounding: bool = False
-    friction_defect: str = ""
-    chain_defect: str = ""
-
-    def __post_init__(self) -> None:
-        if self.precision not in ("float64", "float32"):
-            raise ValueError(f"precision={self.precision!r} is unknown; allowed: float64, float32")
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -5,7 +5,8 @@ that imports no engine; the record names the adapter class (``adapter = "module:
 imported only when an impact is fired. Experiments and tests read engine facts only from here
 (through ``adapters.record(name)``): the install hint, the version, the profiles, the plot style,
 the knob grid of the speed-vs-accuracy study, the integrators of the swing study, the float
-precision the tolerances derive from; the settings say which contact model they converge to.
+precision the tolerances derive from and the contact model each setting converges to (its
+error model, ``adapters.errors``).
 """
 
 from __future__ import annotations
@@ -13,24 +14,20 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import importlib
-import math
 import os
 import sys
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
-from enum import Enum
 from importlib import metadata
 from types import MappingProxyType, ModuleType
 from typing import Any
 
-import numpy as np
-
 from analytic import checks
 
+from .errors import ContactReference, ErrorModel
 from .parts import (
     Capabilities,
     Cost,
-    ErrorModel,
     Install,
     Integrator,
     KnobFamily,
@@ -55,15 +52,6 @@ class EngineNotInstalled(ImportError):
     """The chosen engine's Python package is missing."""
 
 
-class ContactReference(str, Enum):
-    """The continuous model an engine's contact converges to as its time step shrinks."""
-
-    RIGID_IMPULSE = "rigid impulse"  #: Newton's restitution law, instantaneous (analytic.predict)
-    LINEAR_SPRING_DAMPER = "linear spring-damper"  #: x'' = -b x' - k x in the contact coordinate
-    #: F = k x^n (1 + d x'): a penalty force with Hunt-Crossley dissipation (analytic.compliant)
-    HUNT_CROSSLEY = "Hunt-Crossley"
-
-
 @dataclass(frozen=True, kw_only=True)
 class Settings:
     """Knobs common to every engine; each engine's settings class extends it with its own.
@@ -76,8 +64,8 @@ class Settings:
     ``no_separation`` (s); 0.1 s covers every plastic impact on the barrel of our bats but those
     where the ball rides the bat near its COM for longer (the rigid episode too then).
 
-    The methods say what contact these settings make; an engine whose contact is not a rigid
-    impulse, or is solved ahead of touching, overrides them.
+    Settings are knobs only: what contact they make, and how far from theory it may land, the
+    engine's error model says (``adapters.errors.ErrorModel``, the record's ``errors``).
     """
 
     dt_s: float
@@ -96,67 +84,6 @@ class Settings:
     def as_dict(self) -> dict:
         """Flat dict of every setting, for tables and provenance."""
         return dataclasses.asdict(self)
-
-    def contact_reference(self) -> ContactReference:
-        """The continuous model the contact converges to as the step shrinks."""
-        return ContactReference.RIGID_IMPULSE
-
-    def contact_law(self, e: float):
-        """The continuous contact law (``analytic.compliant``) the contact converges to at
-        restitution ``e``, or None for a rigid contact."""
-        return None
-
-    def law_restitution_error(self, dt_over_contact: float) -> float:
-        """The relative error of the restitution a step of ``dt_over_contact`` contact times
-        leaves in a compliant contact (its leading term; the judge allows a multiple of it).
-        Semi-implicit Euler through a spring-damper: (pi/3) dt/t_c (measured -5.0e-3 for MuJoCo
-        at w = 3000 rad/s, dt = 1e-5 s, against 5.2e-3 from the formula)."""
-        return math.pi / 3.0 * dt_over_contact
-
-    def untuned_contact_s(self) -> float | None:
-        """How long a contact lasts when the engine's contact is not tuned to any model (its
-        own soft constraint, say), for estimating a run's cost; None: as long as in the model
-        it converges to."""
-        return None
-
-    def mapping_error_rel(self) -> float:
-        """The relative error the engine's mapping of e leaves in a contact's impulse (a known
-        bias of the mapping, not a precision); 0 for an exact mapping."""
-        return 0.0
-
-    def solve_conditioning(self) -> float:
-        """How much the engine's contact solve amplifies its rounding (a condition number): a
-        stiff regulariser's solve in float32 loses that many ulps; 1 for a well-posed one."""
-        return 1.0
-
-    def collision_slide_m(self, bat) -> float:
-        """How far along the bat's axis (m) the engine's collision routine may put the contact
-        foot from the true closest point (a bias of its own, not a precision), which the judge
-        adds to the foot's slide; 0 for an exact routine."""
-        return 0.0
-
-    def speculative_margin_m(self) -> float:
-        """The gap (m) below which the engine already solves a contact (speculative contact):
-        such a contact is solved from the geometry at the start of the step that closes it, up
-        to a whole step early; 0 for engines that see a contact once the bodies overlap."""
-        return 0.0
-
-    def friction_law(self) -> str:
-        """The frictional impulse law (``analytic.friction.LAWS``) the contact converges to as
-        its step shrinks: an impulse engine's 'one_step' (Newton's restitution and Coulomb's
-        cone on the total impulse), or a convex solver's 'relaxed' one (a slide leaves faster
-        by mu times its final slip)."""
-        return "one_step"
-
-    def friction_mapping_error_rel(self) -> float:
-        """The share of a slip the engine's friction mapping leaves where Coulomb's law would
-        stop it within the step (a regularised friction row); 0 for an exact one."""
-        return 0.0
-
-    def friction_cone(self) -> str:
-        """How the engine's contact approximates Coulomb's cone with these settings, in words
-        (tables and the friction study record it); '' for an engine without friction."""
-        return ""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -200,7 +127,7 @@ class EngineRecord:
     @property
     def eps(self) -> float:
         """Unit roundoff of the engine's float type (2.2e-16 for float64, 1.2e-7 for float32)."""
-        return float(np.finfo(self.errors.precision).eps)
+        return self.errors.eps
 
     @property
     def install_hint(self) -> str:

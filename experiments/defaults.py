@@ -98,9 +98,9 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                "statuses": ", ".join(f"{k} {v}" for k, v in df.status.value_counts().items())}
         if labels["part"] == "caught":
             vc = df.v0_mps + df.u0_mps + df.omega0_radps * df.s_m
+            margin = adapters.record(name).errors.speculative_margin_m(st)
             row["theory_ok"] = int(sum(judge.caught_in_theory(
-                v, st.dt_s, labels["phase"], reach, st.overlap_m, st.speculative_margin_m())
-                for v in vc))
+                v, st.dt_s, labels["phase"], reach, st.overlap_m, margin) for v in vc))
             caught.append(row)
         else:
             knob_rows.append(row)

@@ -12,7 +12,7 @@ compares it
 (``experiments.core.friction_judge``), with Routh's impulse (theory, ``analytic.friction``)
 and with the law an impulse engine solves in one step (Newton's restitution and Coulomb's cone
 on the total impulse, ``one_step_impulse``, or its relaxation a convex solver converges to:
-``Settings.friction_law``), which its status judges: the engine's error splits
+``ErrorModel.friction_law``), which its status judges: the engine's error splits
 into the law's own gap from Routh's (``law_*``) and the engine's from its law (``*_law``),
 where a pyramid, a relaxed cone or friction solved apart from the normal show.
 Writes friction.csv (one row per impact), friction.json (per engine and family: the largest

@@ -92,7 +92,7 @@ HC_E = 0.5
 
 def hunt_crossley_law(engine: str):
     """The Hunt-Crossley law an engine's reference contact converges to at HC_E, or None."""
-    law = adapters.settings_for(engine).contact_law(HC_E)
+    law = adapters.record(engine).errors.contact_law(adapters.settings_for(engine), HC_E)
     return law if isinstance(law, compliant.HuntCrossley) else None
 
 
@@ -327,7 +327,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     table["peak_penetration_m"] = fired.peak_penetration_m.to_numpy()
     table["ke_ratio"] = (fired.ke_after_j / fired.ke_before_j).to_numpy()
     table["v1_rel_err"] = fired.v1_rel_err.to_numpy()
-    margins = [j.settings.speculative_margin_m() for j in jobs]
+    margins = [adapters.record(j.engine).errors.speculative_margin_m(j.settings) for j in jobs]
     table["theory_fraction_caught"] = [theory_fraction_caught(v, dt, k, speculative_m=m)
                                        for v, dt, m in zip(table.v0_mps, table.dt_s, margins)]
     is_soft = table.soft_omega_radps.notna()
@@ -345,8 +345,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         index=False, float_format="%.6g", lineterminator="\n").encode()
     files["stability.json"] = json_bytes({"quick": args.quick, "phases": k,
                                           "elapsed_s": elapsed, "provenance": provenance()})
-    rigid = [f"{n} reference" for n in args.engine if adapters.settings_for(n).contact_reference()
-             is adapters.ContactReference.RIGID_IMPULSE]
+    rigid = [f"{n} reference" for n in args.engine
+             if adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE]
     ref = cells[cells["map"].isin(rigid)]
     match = (ref.fraction_caught == ref.theory_fraction_caught).mean()
     return files, (f"rigid reference maps: the fraction of contacts caught equals theory in "

@@ -35,7 +35,6 @@ def test_every_engine_is_checked_against_the_answer_its_contact_converges_to():
     # rigid contacts get the closed-form checks, compliant ones their law's; both get the rest
     for name in adapters.names():
         got = set(check.applicable(name))
-        rigid = adapters.settings_for(name).contact_reference() \
-            is adapters.ContactReference.RIGID_IMPULSE
+        rigid = adapters.contact_reference(name) is adapters.ContactReference.RIGID_IMPULSE
         assert ("still_bat" in got) == rigid and ("law_conformance" in got) == (not rigid)
         assert {"mass_read_back", "stateless", "bad_settings_rejected"} <= got

@@ -136,7 +136,7 @@ def _soft_engines():
 def test_soft_contact_converges_to_its_own_law(engine, label, overrides, fine):
     # An engine's soft contact, at w = 3000 rad/s and e = 0.5 on the paper's swing (s = 0.1 m,
     # where the bat turns 35 mrad during the ~1 ms contact), against the law its adapter
-    # declares (Settings.contact_law) integrated by compliant.predict: the difference is the
+    # declares (ErrorModel.contact_law) integrated by compliant.predict: the difference is the
     # engine's discretization and falls at least first order in dt (measured for MuJoCo:
     # 10.0x per decade for Euler, implicitfast and RK4 alike, 0.28 -> 0.028 -> 0.0028 m/s
     # for Euler from dt = 1e-5 to 1e-7 s; RK4 is first order here too, its constraint
@@ -150,7 +150,7 @@ def test_soft_contact_converges_to_its_own_law(engine, label, overrides, fine):
     for dt in steps:
         settings = adapters.settings_for(engine, dt_s=dt, **rec.can.soft_contact, **overrides,
                                          **{rec.can.stiffness_setting: 3000.0})
-        law = settings.contact_law(case.e)
+        law = rec.errors.contact_law(settings, case.e)
         assert law is not None, f"{engine}: a soft contact must declare its law"
         out = fire_jobs([Job(engine=engine, settings=settings, case=case)])[0].outcome
         assert out.ok, out.status

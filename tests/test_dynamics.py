@@ -156,10 +156,11 @@ def test_swing_into_impact(name):
     st = adapters.settings_for(name, dt_s=DT)
     reach = BAT.radius_m + presets.BASEBALL.radius_m
     # a compliant contact is judged against its own law, within the judge's bound for it
-    lawful = st.contact_law(0.5) is not None
+    errors = adapters.record(name).errors
+    lawful = errors.contact_law(st, 0.5) is not None
 
     def predict_(case):
-        return compliant.predict(case, st.contact_law(case.e)) if lawful else predict(case)
+        return compliant.predict(case, errors.contact_law(st, case.e)) if lawful else predict(case)
 
     for s in (-0.3, -0.1, 0.08, 0.2):
         nominal, plan = swing_case(BAT, presets.BASEBALL, s_m=s, v0_mps=46.9, e=0.5,
@@ -185,7 +186,7 @@ def test_swing_into_impact(name):
         # and the engine's precision (rounding, a stiff solve's conditioning), which the law's
         # tolerance holds already
         speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * BAT.length_m
-        precision = judge.precision_rel(st, adapters.record(name).eps, case) * speed
+        precision = judge.precision_rel(st, errors, case) * speed
         law_tol = judge.soft_judgement(case, out)[1] if lawful else precision
         assert abs(out.v1_mps - ref.v1_mps) <= 2 * (spread + oblique + spin) + law_tol
 

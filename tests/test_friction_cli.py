@@ -21,8 +21,7 @@ from experiments.core.io import ROOT
 #: the registry (no engine named here).
 EXACT = next(n for n in adapters.names() if adapters.record(n).can.friction_rule is not None
              and not adapters.record(n).errors.friction_defect and not adapters.record(n).batched
-             and adapters.settings_for(n).contact_reference()
-             is adapters.ContactReference.RIGID_IMPULSE)
+             and adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE)
 
 
 @pytest.mark.parametrize("args,piece", [

@@ -72,8 +72,8 @@ def _on_wall(name: str, mu: float):
 
 EXACT = [n for n in FRICTION if not adapters.record(n).errors.friction_defect]
 DEFECTIVE = [n for n in FRICTION if adapters.record(n).errors.friction_defect]
-RIGID = [n for n in EXACT if adapters.settings_for(n).contact_reference()
-         is adapters.ContactReference.RIGID_IMPULSE]
+RIGID = [n for n in EXACT
+         if adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE]
 
 
 @pytest.mark.parametrize("name", EXACT)
@@ -87,8 +87,8 @@ def test_a_ball_slides_on_a_wall_by_coulombs_ratio(name):
     row = _on_wall(name, 0.05)
     vn, vt = 20.0 * math.cos(0.5), 20.0 * math.sin(0.5)
     dvn, dvt = row.v1_engine_mps + vn, row.vt1_engine_mps - vt
-    tilt = adapters.settings_for(name).collision_slide_m(WALL) / (WALL.radius_m
-                                                                   + BALL.radius_m)
+    tilt = adapters.record(name).errors.collision_slide_m(adapters.settings_for(name), WALL) \
+        / (WALL.radius_m + BALL.radius_m)
     allowed = (judge.ROUND_OPS * adapters.record(name).eps * 20.0 + WALL_REL * abs(dvt)
                + tilt * abs(dvn))
     assert dvt == pytest.approx(-0.05 * dvn, abs=allowed)
@@ -106,7 +106,7 @@ def test_a_sliding_ball_on_a_wall(name):
     assert row.status == Status.OK.value, row.episode_end
     vn, vt, mu = 20.0 * math.cos(0.5), 20.0 * math.sin(0.5), 0.05
     dvn = 1.5 * vn
-    if adapters.settings_for(name).friction_law() == "relaxed":
+    if adapters.record(name).errors.friction_law(adapters.settings_for(name)) == "relaxed":
         dvn = (1.5 * vn + mu * vt) / (1.0 + 3.5 * mu * mu)
     drop = mu * dvn
     assert row.vt1_engine_mps == pytest.approx(vt - drop, abs=row.vt1_tol_mps + WALL_REL * vt)

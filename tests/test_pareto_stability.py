@@ -50,8 +50,8 @@ def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
     # The bound is a rigid contact's, first seen at one depth and resolved in that step; a
     # compliant one takes many steps, and a coarse step may miss it between readings.
     cells = pd.read_csv(stability_out / "stability_cells.csv")
-    rigid = [n for n in adapters.names() if adapters.settings_for(n).contact_reference()
-             is adapters.ContactReference.RIGID_IMPULSE]
+    rigid = [n for n in adapters.names()
+             if adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE]
     ref = cells[cells["map"].isin([f"{n} reference" for n in rigid])]
     assert len(ref) == len(rigid) * len(stability.QUICK["steps"]) \
         * len(stability.QUICK["speeds"])

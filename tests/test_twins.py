@@ -4,7 +4,7 @@ names is removed (its last twin step), and differs as configured, where the caus
 Same model, same equations, same float type: the two must agree to rounding, ROUND_OPS eps
 times the impact's speed scale (``judge.precision_rel`` without any bias: every bias is what
 the steps remove), plus what a declared defect of the engine's collision routine moves v1 by
-(its contact foot slid ``Settings.collision_slide_m`` along the axis: |dv1/ds| times that). A
+(its contact foot slid ``ErrorModel.collision_slide_m`` along the axis: |dv1/ds| times that). A
 float32 twin of a float64 engine is held to its own eps."""
 
 from __future__ import annotations
@@ -36,11 +36,12 @@ def test_batched_twins_are_registered():
         assert adapters.record(name).studies.twin_steps, name
 
 
-def _slid(settings: adapters.Settings) -> np.ndarray:
+def _slid(name: str, settings: adapters.Settings) -> np.ndarray:
     """How far v1 moves with the contact foot slid by the collision routine's declared bias:
     |dv1/ds| of rigid theory (a central difference over 0.2 mm) times the slide, twice over
     for the soft contact's own slope."""
-    slide, h = settings.collision_slide_m(twins.firing(POINTS).bat), 1e-4
+    slide = adapters.record(name).errors.collision_slide_m(settings, twins.firing(POINTS).bat)
+    h = 1e-4
     return np.array([2.0 * slide * abs(predict(replace(c, s_m=c.s_m + h)).v1_mps
                                        - predict(replace(c, s_m=c.s_m - h)).v1_mps) / (2 * h)
                      for c in twins.firing(POINTS).cases()])
@@ -51,7 +52,7 @@ def test_twin_agrees_to_rounding_once_every_cause_is_removed(name):
     mine, theirs = twins.pair(name, adapters.record(name).studies.twin_steps[-1])
     case = twins.firing(POINTS).cases()[0]
     speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * case.bat.length_m
-    allowed = judge.ROUND_OPS * adapters.record(name).eps * speed + _slid(mine)
+    allowed = judge.ROUND_OPS * adapters.record(name).eps * speed + _slid(name, mine)
     diff = np.abs(_v1(name, mine) - _v1(adapters.record(name).can.twin_of, theirs))
     assert np.all(diff <= allowed), (diff, allowed)
 

@@ -158,12 +158,16 @@ class Box2dSettings(Settings):
         return max(self.sub_steps, math.ceil(self.dt_s / self.max_sub_step_s * (1 - 1e-12)))
 
 
-    def speculative_margin_m(self) -> float:
+class Box2dErrors(ErrorModel):
+    """Box2D v3: speculative contact and its friction's cone."""
+
+    def speculative_margin_m(self, s) -> float:
         return SPECULATIVE_M
 
-    def friction_cone(self) -> str:
+    def friction_cone(self, s) -> str:
         return ("planar, one tangent: |P_t| <= mu P_n of the sub-steps' passes; the restitution "
                 "impulse frictionless")
+
 
 
 RECORD = EngineRecord(
@@ -211,7 +215,7 @@ RECORD = EngineRecord(
         # (measured, and pinned by tests/test_pool.py); 8 spare for worlds made elsewhere
         max_worlds=120,
     ),
-    errors=ErrorModel(
+    errors=Box2dErrors(
         chain_defect="segmented bat: one solver sweep per substep and the restitution impulse on "
                       "the contact alone, so the ball bounces off the touched segment as if it "
                       "were "

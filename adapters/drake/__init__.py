@@ -180,36 +180,6 @@ class DrakeSettings(Settings):
         if self.stiction_tolerance_mps is not None:
             checks.positive("stiction_tolerance_mps", self.stiction_tolerance_mps)
 
-    def contact_reference(self) -> ContactReference:
-        return ContactReference.HUNT_CROSSLEY
-
-    def contact_law(self, e: float):
-        if self.contact_model == "hydroelastic":
-            return None  # a pressure field over a contact patch: no closed law stated here
-        k = self.stiffness_npm()
-        if self.solver == "sap":
-            return LinearSpringDamper(stiffness_npm=k, damping_nspm=k * self.relaxation_time_s(e))
-        d = dissipation_spm(e, self.restitution_speed_mps)
-        return HuntCrossley(stiffness=k, exponent=1.0, dissipation_spm=d)
-
-    def law_restitution_error(self, dt_over_contact: float) -> float:
-        # continuous: RK3's error control holds each step's error to ``accuracy`` (relative);
-        # 10x that bounds the contact's (measured at 1e-6: v1 within 9e-7 m/s of the law on the
-        # reference baselines, about 1e-8 of e). Discrete: an implicit step damps the contact's
-        # oscillation by about (w dt)^2 / 2 a step, (pi^2/2) dt/t_c over its half period
-        # (measured: lagged at 10 us, 40 m/s central, 0.34 of it).
-        if self.solver == "continuous":
-            return 10.0 * self.accuracy
-        return math.pi**2 / 2.0 * dt_over_contact
-
-    def friction_cone(self) -> str:
-        vs = self.stiction_tolerance_mps or DEFAULT_STICTION_TOLERANCE_MPS
-        if self.solver == "continuous":
-            return f"circular, Stribeck-regularised (mu_s to v_s = {vs:g} m/s, mu_d beyond 3 v_s)"
-        if self.solver == "sap":
-            return f"circular, SAP's convex regularised cone (sigma = {SAP_SIGMA:g})"
-        return f"circular, {self.solver}: friction regularised below v_s = {vs:g} m/s"
-
     def stiffness_npm(self) -> float:
         """The contact's combined point stiffness (N/m)."""
         if self.point_stiffness_npm is not None:
@@ -221,6 +191,40 @@ class DrakeSettings(Settings):
         reduced mass is ``relaxation_mass_kg`` (zeta = tau w / 2, w = sqrt(k / m))."""
         w = math.sqrt(self.stiffness_npm() / self.relaxation_mass_kg)
         return 2.0 * damping_ratio_for(max(e, E_FLOOR)) / w
+
+
+class DrakeErrors(ErrorModel):
+    """Drake's compliant contact: Hunt-Crossley (TAMSI, continuous) or SAP's linear law."""
+
+    def contact_reference(self, s) -> ContactReference:
+        return ContactReference.HUNT_CROSSLEY
+
+    def contact_law(self, s, e: float):
+        if s.contact_model == "hydroelastic":
+            return None  # a pressure field over a contact patch: no closed law stated here
+        k = s.stiffness_npm()
+        if s.solver == "sap":
+            return LinearSpringDamper(stiffness_npm=k, damping_nspm=k * s.relaxation_time_s(e))
+        d = dissipation_spm(e, s.restitution_speed_mps)
+        return HuntCrossley(stiffness=k, exponent=1.0, dissipation_spm=d)
+
+    def law_restitution_error(self, s, dt_over_contact: float) -> float:
+        # continuous: RK3's error control holds each step's error to ``accuracy`` (relative);
+        # 10x that bounds the contact's (measured at 1e-6: v1 within 9e-7 m/s of the law on the
+        # reference baselines, about 1e-8 of e). Discrete: an implicit step damps the contact's
+        # oscillation by about (w dt)^2 / 2 a step, (pi^2/2) dt/t_c over its half period
+        # (measured: lagged at 10 us, 40 m/s central, 0.34 of it).
+        if s.solver == "continuous":
+            return 10.0 * s.accuracy
+        return math.pi**2 / 2.0 * dt_over_contact
+
+    def friction_cone(self, s) -> str:
+        vs = s.stiction_tolerance_mps or DEFAULT_STICTION_TOLERANCE_MPS
+        if s.solver == "continuous":
+            return f"circular, Stribeck-regularised (mu_s to v_s = {vs:g} m/s, mu_d beyond 3 v_s)"
+        if s.solver == "sap":
+            return f"circular, SAP's convex regularised cone (sigma = {SAP_SIGMA:g})"
+        return f"circular, {s.solver}: friction regularised below v_s = {vs:g} m/s"
 
 
 DISCRETE = ("lagged", "similar", "sap", "tamsi")
@@ -278,7 +282,7 @@ RECORD = EngineRecord(
         restitution_rule=RestitutionRule.MAPPED,
         friction_rule=FrictionRule.HARMONIC,
     ),
-    errors=ErrorModel(
+    errors=DrakeErrors(
         precision="float64",
     ),
     # Every value read back from a fresh MultibodyPlantConfig / DefaultProximityProperties.

@@ -52,12 +52,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..mujoco import NATIVE_FRICTION, RegularisedSettings
+from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings
 from ..record import (
     Capabilities,
     Cost,
     EngineRecord,
-    ErrorModel,
     FrictionRule,
     Install,
     Integrator,
@@ -146,7 +145,7 @@ RECORD = EngineRecord(
         stiffness_setting="soft_omega_radps",
         twin_of="mujoco",
     ),
-    errors=ErrorModel(
+    errors=RegularisedErrors(
         precision="float32",
     ),
     engine_defaults=ENGINE_DEFAULTS,

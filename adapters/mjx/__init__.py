@@ -40,12 +40,11 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from ..mujoco import NATIVE_FRICTION, RegularisedSettings
+from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings
 from ..record import (
     Capabilities,
     Cost,
     EngineRecord,
-    ErrorModel,
     FrictionRule,
     Install,
     Integrator,
@@ -60,7 +59,7 @@ from ..record import (
 INTEGRATORS = ("Euler", "implicitfast", "RK4")  # MJX has no fully implicit integrator
 #: What MJX adds to a segment's squared length in its closest-point routine
 #: (``mujoco.mjx._src.math.closest_segment_point``, mujoco-mjx 3.17.0; m^2): a declared defect,
-#: MJX's own routine, stepped as it is (``MjxSettings.collision_slide_m`` bounds its effect).
+#: MJX's own routine, stepped as it is (``MjxErrors.collision_slide_m`` bounds its effect).
 SEGMENT_GUARD_M2 = 1e-6
 
 
@@ -75,7 +74,11 @@ class MjxSettings(RegularisedSettings):
             raise ValueError(f"integrator={self.integrator!r} is not in MJX; allowed: "
                              f"{', '.join(INTEGRATORS)}")
 
-    def collision_slide_m(self, bat) -> float:
+
+class MjxErrors(RegularisedErrors):
+    """MJX: its ports' errors and its capsule routine's guard (``SEGMENT_GUARD_M2``)."""
+
+    def collision_slide_m(self, s, bat) -> float:
         # MJX's closest point on the capsule's segment divides by |b - a|^2 + 1e-6 m^2: the
         # foot moves toward a by up to 1e-6 / |b - a| (1.3 um on the R161), the normal tilts
         # by that over r1 + r2, and the impulse's line crosses the axis that far off
@@ -133,7 +136,7 @@ RECORD = EngineRecord(
         stiffness_setting="soft_omega_radps",
         twin_of="mujoco",
     ),
-    errors=ErrorModel(
+    errors=MjxErrors(
         chain_defect="float32 Newton solve of a touch on a light hinged segment: its matrix's "
                       "condition (about 3e8) is past 1/eps, the solve returns a NaN qacc and drops "
                       "the contact (2 of 11 points at N = 8 non_finite, every point at N >= 16)",

@@ -29,6 +29,7 @@ from ..record import (
     ContactReference,
     Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
     Install,
     Integrator,
@@ -95,43 +96,48 @@ class MujocoSettings(Settings):
         if self.cone not in CONES:
             raise ValueError(f"cone={self.cone!r} is unknown; allowed: {', '.join(CONES)}")
 
-    def friction_law(self) -> str:
+
+class MujocoErrors(ErrorModel):
+    """MuJoCo's contact as its settings make it: an impulse or native contact is judged as a
+    rigid impulse, a soft one against its spring-damper; friction through the convex solver."""
+
+    def friction_law(self, s) -> str:
         # a convex solver (elliptic or pyramidal): a slide separates by mu |v_t'| (measured:
         # v1 +0.344 m/s against the one-step law, 4.7e-5 against the relaxed one; mu = 0.05,
         # theta = 0.5 rad on the paper's swing)
         return "relaxed"
 
-    def friction_mapping_error_rel(self) -> float:
+    def friction_mapping_error_rel(self, s) -> float:
         # the frictional pair's rows are regularised at d = friction_impedance: (1 - d) of the
         # slip is left (measured 0.3-0.7 (1 - d) on the paper's swing; model.pair_parameters)
-        return 0.0 if self.contact_model == "native" else 1.0 - self.friction_impedance
+        return 0.0 if s.contact_model == "native" else 1.0 - s.friction_impedance
 
-    def friction_cone(self) -> str:
+    def friction_cone(self, s) -> str:
         # a native contact's friction is the geoms' (condim 3); a tuned one is an explicit pair
         # whose solreffriction (0, -1/dt) takes the slip to rest in a step, bounded by the cone
-        if self.cone == "pyramidal":
+        if s.cone == "pyramidal":
             return "pyramidal, 4 edges (condim 3)"
         return "elliptic (Coulomb's cone, condim 3)"
 
-    def contact_reference(self) -> ContactReference:
+    def contact_reference(self, s) -> ContactReference:
         # impulse: one Euler step reverses the normal velocity as Newton's law asks; soft: a
         # spring-damper acting on the contact coordinate; native: untuned, judged as impulse
-        if self.contact_model == "soft":
+        if s.contact_model == "soft":
             return ContactReference.LINEAR_SPRING_DAMPER
         return ContactReference.RIGID_IMPULSE
 
-    def untuned_contact_s(self) -> float | None:
+    def untuned_contact_s(self, s) -> float | None:
         # native: a soft constraint of time constant solref[0] (0.02 s by default) that a
         # 47 m/s ball sinks through in 14-20 ms (R161, dt = 1e-6 s, measured)
-        if self.contact_model != "native" or self.solref[0] <= 0.0:
+        if s.contact_model != "native" or s.solref[0] <= 0.0:
             return None
-        return self.solref[0]
+        return s.solref[0]
 
-    def contact_law(self, e: float):
+    def contact_law(self, s, e: float):
         # soft: solref (-w^2, -2 zeta w) acts on J qacc, in contact space (package docstring)
-        if self.contact_model != "soft":
+        if s.contact_model != "soft":
             return None
-        return ContactSpaceSpringDamper(omega_radps=self.soft_omega_radps,
+        return ContactSpaceSpringDamper(omega_radps=s.soft_omega_radps,
                                         damping_ratio=damping_ratio_for(max(e, 1e-9)))
 
 
@@ -178,6 +184,7 @@ RECORD = EngineRecord(
         soft_contact={"contact_model": "soft"},
         stiffness_setting="soft_omega_radps",
     ),
+    errors=MujocoErrors(),
     engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
                      "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler",
                      "cone": "pyramidal"},
@@ -227,16 +234,21 @@ class RegularisedSettings(MujocoSettings):
         if self.ls_iterations is not None:
             checks.integer("ls_iterations", self.ls_iterations, 1, 10_000)
 
-    def mapping_error_rel(self) -> float:
+
+class RegularisedErrors(MujocoErrors):
+    """MuJoCo's ports (MJX, MuJoCo Warp): the regulariser's bias and stiffness (package
+    docstring of ``RegularisedSettings``)."""
+
+    def mapping_error_rel(self, s) -> float:
         # the impulse is c A / (d A + (1-d) s W), c = d + (1-d) s: for free bodies W =
         # 1/m + 1/M <= A, so it is off by at most (1 - d) s
-        if self.contact_model == "native":
+        if s.contact_model == "native":
             return 0.0
-        return (1.0 - self.impedance) * self.invweight_scale
+        return (1.0 - s.impedance) * s.invweight_scale
 
-    def solve_conditioning(self) -> float:
+    def solve_conditioning(self, s) -> float:
         # the Newton solve's Hessian adds D = 1/R to the contact's inverse mass A: A/R = d A /
         # ((1-d) s W), at least d / ((1-d) s); a native contact's d (0.9-0.95) leaves it small
-        if self.contact_model == "native":
+        if s.contact_model == "native":
             return 1.0
-        return self.impedance / ((1.0 - self.impedance) * self.invweight_scale)
+        return s.impedance / ((1.0 - s.impedance) * s.invweight_scale)

@@ -233,20 +233,6 @@ class NewtonSettings(Settings):
         if self.friction_gain_nspm is not None:
             checks.positive("friction_gain_nspm", self.friction_gain_nspm)
 
-    def friction_law(self) -> str:
-        # its MuJoCo-Warp solver is MuJoCo's convex one: a slide separates by mu |v_t'|
-        return "relaxed" if self.solver == "mujoco" else "one_step"
-
-    def friction_cone(self) -> str:
-        # package docstring: XPBD's restitution pass carries no friction
-        if self.solver == "xpbd":
-            return "positional, capped by the position pass's normal push (XPBD)"
-        if self.solver == "mujoco":
-            if (self.cone or DEFAULT_CONE) == "pyramidal":
-                return "pyramidal, 4 edges (condim 3)"
-            return "elliptic (Coulomb's cone, condim 3)"
-        return "regularised: viscous kf v_t up to mu f_n"
-
     def penalty_gains(self, e: float) -> tuple[float, float]:
         """ke (N/m) and kd (N s/m) of a penalty solver's contact at restitution e."""
         if self.soft_omega_radps is None:
@@ -254,41 +240,60 @@ class NewtonSettings(Settings):
         w, m = self.soft_omega_radps, self.penalty_mass_kg
         return w * w * m, 2.0 * penalty_damping_ratio_for(max(e, 1e-9)) * w * m
 
-    def contact_reference(self) -> ContactReference:
-        if self.solver in PENALTY_SOLVERS or (self.solver == "mujoco"
-                                              and self.contact_model == "soft"):
+
+class NewtonErrors(ErrorModel):
+    """Newton's contact by solver: XPBD's and the impulse solvers' rigid impulse, the
+    penalty solvers' and MuJoCo Warp's soft contact their spring-damper law."""
+
+    def friction_law(self, s) -> str:
+        # its MuJoCo-Warp solver is MuJoCo's convex one: a slide separates by mu |v_t'|
+        return "relaxed" if s.solver == "mujoco" else "one_step"
+
+    def friction_cone(self, s) -> str:
+        # package docstring: XPBD's restitution pass carries no friction
+        if s.solver == "xpbd":
+            return "positional, capped by the position pass's normal push (XPBD)"
+        if s.solver == "mujoco":
+            if (s.cone or DEFAULT_CONE) == "pyramidal":
+                return "pyramidal, 4 edges (condim 3)"
+            return "elliptic (Coulomb's cone, condim 3)"
+        return "regularised: viscous kf v_t up to mu f_n"
+
+    def contact_reference(self, s) -> ContactReference:
+        if s.solver in PENALTY_SOLVERS or (s.solver == "mujoco"
+                                              and s.contact_model == "soft"):
             return ContactReference.LINEAR_SPRING_DAMPER
         return ContactReference.RIGID_IMPULSE
 
-    def contact_law(self, e: float):
+    def contact_law(self, s, e: float):
         from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
-        if self.solver in PENALTY_SOLVERS:
-            k, c = self.penalty_gains(e)
+        if s.solver in PENALTY_SOLVERS:
+            k, c = s.penalty_gains(e)
             return PenaltyLaw(stiffness_npm=k, damping_nspm=c)
-        if self.solver == "mujoco" and self.contact_model == "soft":
-            return ContactSpaceSpringDamper(omega_radps=self.soft_omega_radps,
+        if s.solver == "mujoco" and s.contact_model == "soft":
+            return ContactSpaceSpringDamper(omega_radps=s.soft_omega_radps,
                                             damping_ratio=damping_ratio_for(max(e, 1e-9)))
         return None
 
-    def law_restitution_error(self, dt_over_contact: float) -> float:
+    def law_restitution_error(self, s, dt_over_contact: float) -> float:
         # the penalty is evaluated at the step's start and its damping switches off at the
         # deepest point: measured up to 2.7 times the spring-damper's (pi/3) dt/t_c (R161,
         # s = 0, 5 and 40 m/s, dt = 1e-5..1e-7 s at w = 3000 rad/s)
-        if self.solver in PENALTY_SOLVERS:
+        if s.solver in PENALTY_SOLVERS:
             return math.pi * dt_over_contact
-        return super().law_restitution_error(dt_over_contact)
+        return super().law_restitution_error(s, dt_over_contact)
 
-    def untuned_contact_s(self) -> float | None:
+    def untuned_contact_s(self, s) -> float | None:
         # MuJoCo's native solref (0.02, 1): a soft constraint of time constant 0.02 s
-        return 0.02 if self.solver == "mujoco" and self.contact_model == "native" else None
+        return 0.02 if s.solver == "mujoco" and s.contact_model == "native" else None
 
-    def speculative_margin_m(self) -> float:
+    def speculative_margin_m(self, s) -> float:
         # XPBD and the penalty solvers see a contact detected within both shapes' gaps at the
         # step's start; only XPBD solves it before the overlap (the penalty acts once x > 0)
-        if self.solver != "xpbd":
+        if s.solver != "xpbd":
             return 0.0
-        return 2 * (DEFAULT_GAP_M if self.contact_gap_m is None else self.contact_gap_m)
+        return 2 * (DEFAULT_GAP_M if s.contact_gap_m is None else s.contact_gap_m)
 
 
 def _speed_accuracy() -> tuple[KnobFamily, ...]:
@@ -349,7 +354,7 @@ RECORD = EngineRecord(
         restitution_rule=RestitutionRule.MEAN,
         friction_rule=FrictionRule.MEAN,
     ),
-    errors=ErrorModel(
+    errors=NewtonErrors(
         chain_defect="XPBD: a joint's anchor correction is relaxed by 0.7 linearly and 0.4 "
                       "angularly (no force at the anchor: the 8-segment chain's lowest mode at "
                       "0.79 of its period, angular momentum not kept), and restitution solves a "

@@ -146,17 +146,21 @@ class PhysxSettings(Settings):
                              "contact_offset_m (PhysX rejects the shape otherwise)")
 
 
-    def friction_cone(self) -> str:
-        if self.solver == "PGS":
-            late = "" if self.friction_every_iteration is not False else ", last 3 iterations"
+class PhysxErrors(ErrorModel):
+    """PhysX: speculative contact and its friction's cone."""
+
+    def friction_cone(self, s) -> str:
+        if s.solver == "PGS":
+            late = "" if s.friction_every_iteration is not False else ", last 3 iterations"
             return f"patch friction, PGS box: 2 directions each clamped to mu N{late}"
         # None: SAPIEN's choice, TGS (read_back_defaults)
         return "patch friction, TGS cone: 2 directions scaled back to mu N, anchors pulled back"
 
-    def speculative_margin_m(self) -> float:
+    def speculative_margin_m(self, s) -> float:
         # each shape makes contacts contact_offset ahead of touching: the pair, both offsets
-        offset = self.contact_offset_m
+        offset = s.contact_offset_m
         return 2 * (DEFAULT_CONTACT_OFFSET_M if offset is None else offset)
+
 
 RECORD = EngineRecord(
     name="physx",
@@ -194,7 +198,7 @@ RECORD = EngineRecord(
         friction_rule=FrictionRule.MEAN,
         threshold_setting="bounce_threshold_mps",
     ),
-    errors=ErrorModel(
+    errors=PhysxErrors(
         precision="float32",  # PhysX computes and stores in single precision
         friction_defect="TGS ends an impact that slips then sticks within a step wrong (on a wall "
                          "at mu = 1 the spin comes out -158 to -315 rad/s for -187.1, by where the "

@@ -49,6 +49,7 @@ from ..record import (
     Capabilities,
     Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
     Install,
     Integrator,
@@ -113,9 +114,13 @@ class PybulletSettings(Settings):
             raise ValueError(f"cone_friction={self.cone_friction!r} is not a bool; allowed: "
                              "True, False, None")
 
-    def friction_cone(self) -> str:
+
+class PybulletErrors(ErrorModel):
+    """PyBullet: an exact rigid impulse; its friction's cone."""
+
+    def friction_cone(self, s) -> str:
         # None: Bullet's own choice, the cone (read_back_defaults measures it)
-        if self.cone_friction is False:
+        if s.cone_friction is False:
             return "box: 2 directions fixed by the normal, each clamped to mu N"
         return "implicit cone: 2 directions fixed by the normal, scaled back to mu N"
 
@@ -156,6 +161,7 @@ RECORD = EngineRecord(
     # Bullet reports neither contact value: both measured (setting them explicitly reproduces
     # the default solver's impacts bit for bit); the iteration count it reports; the cone
     # measured by read_back_defaults (an oblique slide, bit for bit the cone's, not the box's).
+    errors=PybulletErrors(),
     engine_defaults={"contact_erp": 0.08, "contact_slop": 1e-5, "solver_iterations": 50,
                      "dt_s": 1 / 240, "cone_friction": True},
     cost=Cost(

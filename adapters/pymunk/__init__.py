@@ -35,6 +35,7 @@ from ..record import (
     Capabilities,
     Cost,
     EngineRecord,
+    ErrorModel,
     FrictionRule,
     Install,
     Integrator,
@@ -70,7 +71,11 @@ class PymunkSettings(Settings):
         checks.in_range("collision_bias", self.collision_bias, 0.0, 1.0)
         checks.in_range("joint_error_bias", self.joint_error_bias, 0.0, 1.0)
 
-    def friction_cone(self) -> str:
+
+class PymunkErrors(ErrorModel):
+    """pymunk: an exact rigid impulse; its planar friction."""
+
+    def friction_cone(self, s) -> str:
         return "planar, one tangent: |P_t| <= mu P_n on the whole impulse (exact Coulomb)"
 
 
@@ -99,6 +104,7 @@ RECORD = EngineRecord(
         friction_rule=FrictionRule.PRODUCT,
         planar=True,
     ),
+    errors=PymunkErrors(),
     engine_defaults={"iterations": 10, "collision_slop": CHIPMUNK_SLOP,
                      "collision_bias": CHIPMUNK_BIAS, "joint_error_bias": CHIPMUNK_BIAS},
     cost=Cost(

@@ -168,12 +168,16 @@ class RapierSettings(Settings):
                 raise ValueError(f"{name}={getattr(self, name)!r} is unknown; allowed: "
                                  f"{', '.join(allowed)}")
 
-    def speculative_margin_m(self) -> float:
-        return self.prediction_distance_m
 
-    def friction_cone(self) -> str:
+class RapierErrors(ErrorModel):
+    """Rapier: speculative contact and its friction's cone."""
+
+    def speculative_margin_m(self, s) -> float:
+        return s.prediction_distance_m
+
+    def friction_cone(self, s) -> str:
         # a ball on a capsule is a one-point manifold: no twist lever, both models alike
-        model = ("one per point" if self.friction_model == "coulomb"
+        model = ("one per point" if s.friction_model == "coulomb"
                  else "one per manifold + twist")
         return (f"circular, |P_t| <= mu P_n of the substeps ({model}); the restitution "
                 "impulse frictionless")
@@ -212,7 +216,7 @@ RECORD = EngineRecord(
         restitution_rule=RestitutionRule.MEAN,
         friction_rule=FrictionRule.MEAN,
     ),
-    errors=ErrorModel(
+    errors=RapierErrors(
         precision="float32",
         friction_defect="the restitution impulse, applied once after the substeps, carries no "
                          "friction: a slide gets mu P / (1 + e) of tangential impulse for "

@@ -6,7 +6,7 @@ The chain starts straight, moving rigidly, the ball ``APPROACH_STEPS`` steps sho
 touch; the engine steps until the episode is over (no contact for one period of the chain's
 lowest mode after the reference's last release) and the row compares the ball's exit speed and
 the energy left in bending with ``analytic.chain_impact``: Newton's restitution at every touch
-for a rigid-contact engine, its own compliant law for a soft one (its settings'
+for a rigid-contact engine, its own compliant law for a soft one (its error model's
 ``contact_law``). Failures are rows with a status, as everywhere.
 """
 
@@ -48,7 +48,7 @@ class ChainTolerance:
     - where the springs act while the ball can still meet the chain (a rigid contact that
       touches again), omega_max dt of the closing speed: in a step the contact point's velocity
       turns by up to that share of its amplitude, and a step is how far a re-touch may fall;
-    - for a soft contact, the step's error of its law (``Settings.law_restitution_error``),
+    - for a soft contact, the step's error of its law (``ErrorModel.law_restitution_error``),
       and the linear chain's own: a segment turned by theta moves its surface off the linear
       one's by (R + r) theta^2 / 2 along the normal, that share of the peak overlap.
 
@@ -58,7 +58,8 @@ class ChainTolerance:
     round_ops: float = 1e4
     judged_share: float = 0.25
 
-    def mps(self, impact: ChainImpact, settings, eps: float, ref: ChainOutcome) -> float:
+    def mps(self, impact: ChainImpact, settings, errors: adapters.ErrorModel,
+            ref: ChainOutcome) -> float:
         chain, dt = impact.chain, settings.dt_s
         closing = impact.v0_mps + impact.u0_mps + impact.omega0_radps * impact.s_m
         M, K, _ = chain.matrices
@@ -66,21 +67,21 @@ class ChainTolerance:
         w = 1 / m + b @ np.linalg.solve(M, b)
         w_stiff = 1 / m + b @ np.linalg.solve(M + dt * dt * K, b)
         stiffening = (1 + impact.e) * closing * abs(1 / w_stiff - 1 / w) / m
-        tol = closing * self.round_ops * eps + stiffening
-        if settings.contact_law(impact.e) is not None:
+        tol = closing * self.round_ops * errors.eps + stiffening
+        if errors.contact_law(settings, impact.e) is not None:
             reach = chain.bat.radius_m + impact.ball.radius_m
             geometric = reach * ref.peak_turn_rad**2 / 2 / max(ref.peak_overlap_m, 1e-12)
-            return tol + closing * (settings.law_restitution_error(dt / ref.contact_s)
+            return tol + closing * (errors.law_restitution_error(settings, dt / ref.contact_s)
                                     + geometric)
         if ref.contacts > 1:
             return tol + closing * float(chain.modes[0].max()) * dt
         return tol
 
 
-def reference(settings, impact: ChainImpact) -> ChainOutcome:
+def reference(errors: adapters.ErrorModel, settings, impact: ChainImpact) -> ChainOutcome:
     """The answer that applies to an engine with ``settings``: its compliant law's, or
     Newton's restitution at every touch."""
-    return reference_for_law(impact, settings.contact_law(impact.e))
+    return reference_for_law(impact, errors.contact_law(settings, impact.e))
 
 
 def reference_for_law(impact: ChainImpact, law) -> ChainOutcome:
@@ -134,14 +135,14 @@ def fire_chain(name: str, settings, impact: ChainImpact,
     """One row: the engine's exit speed and bending energy beside the chain's reference
     (``known``, when the caller has solved it already). A reference that did not end
     (ever shorter bounces, or the time limit) judges nothing: the row is 'unjudged'."""
-    ref = known or reference(settings, impact)
+    rec = adapters.record(name)
+    ref = known or reference(rec.errors, settings, impact)
     closing = impact.v0_mps + impact.u0_mps + impact.omega0_radps * impact.s_m
     row = {"engine": name, "segments": impact.chain.segments, "dt_s": settings.dt_s,
            "x_m": impact.x_m, "v0_mps": impact.v0_mps, "e": impact.e,
            "v1_ref_mps": ref.v1_mps, "vibration_ref_j": ref.vibration_j,
            "contacts_ref": ref.contacts, "ended_ref": ref.ended}
-    rec = adapters.record(name)
-    row["tol_mps"] = tolerance.mps(impact, settings, rec.eps, ref)
+    row["tol_mps"] = tolerance.mps(impact, settings, rec.errors, ref)
     if rec.can.chain_adapter is None:
         return row | _failed(Status.UNSUPPORTED, "no segmented-bat adapter")
     t0 = time.perf_counter()

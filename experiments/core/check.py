@@ -8,7 +8,7 @@
 Checks against closed form only (each engine within its bound of theory implies any two within
 twice that of each other). Each states the equation it checks; every tolerance comes from
 ``judge``. An engine whose reference contact is a rigid impulse is held to rigid theory; one
-whose contact converges to a continuous law (``Settings.contact_law``) to that law.
+whose contact converges to a continuous law (``ErrorModel.contact_law``) to that law.
 """
 
 from __future__ import annotations
@@ -90,7 +90,8 @@ class Ctx:
 
     @property
     def rigid(self) -> bool:
-        return self.settings.contact_reference() is ContactReference.RIGID_IMPULSE
+        return (self.record.errors.contact_reference(self.settings)
+                is ContactReference.RIGID_IMPULSE)
 
     def fire(self, cases, settings: adapters.Settings | None = None, swing=None):
         st = settings or self.settings
@@ -112,7 +113,7 @@ def _matches_theory(ctx: Ctx, cases, fields=("v1_mps", "u1_mps", "omega1_radps")
                                          f"{out.status.value} ({out.ended})")
         ref = predict(case)
         for field in fields:
-            allowed = judge.output_tolerance(case, ctx.settings, ctx.record.eps, field)
+            allowed = judge.output_tolerance(case, ctx.settings, ctx.record.errors, field)
             err = abs(getattr(out, field) - getattr(ref, field))
             _expect(err <= allowed, f"{field} at s = {case.s_m:.3f} m: {getattr(out, field)!r} "
                                     f"vs theory {getattr(ref, field)!r} (|diff| {err:.3g} > "
@@ -148,7 +149,7 @@ def restitution(ctx: Ctx) -> str:
     ``judge.precision_rel``."""
     cases = [ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=40.0, e=e)
              for e in (0.0, 0.3, 0.5, 1.0)]
-    tol = judge.precision_rel(ctx.settings, ctx.record.eps, cases[0])
+    tol = judge.precision_rel(ctx.settings, ctx.record.errors, cases[0])
     short = replace(ctx.settings, max_contact_s=2e-3)
     for case, out in zip(cases, ctx.fire(cases, settings=short)):
         e = (out.v1_mps - out.u1_mps) / case.v0_mps
@@ -171,8 +172,8 @@ def energy_at_e1(ctx: Ctx) -> str:
     case = ImpactCase(bat=R161, ball=BALL, s_m=0.15, e=1.0, **SWING)
     out = ctx.fire([case])[0]
     rel = abs(out.ke_after_j / out.ke_before_j - 1.0)
-    allowed = max(10 * judge.precision_rel(ctx.settings, ctx.record.eps, case),
-                  judge.energy_allowance(ctx.record.eps, ctx.settings))
+    allowed = max(10 * judge.precision_rel(ctx.settings, ctx.record.errors, case),
+                  judge.energy_allowance(ctx.record.errors, ctx.settings))
     _expect(rel <= allowed, f"KE changed by {rel:.3g} relative (allowed {allowed:.2g})")
     return f"|dKE|/KE = {rel:.2g}"
 
@@ -223,8 +224,8 @@ def oblique(ctx: Ctx) -> str:
     for case, out in zip(cases, ctx.fire(cases)):
         ref = predict(case)
         for field, mass in (("v1_t_mps", BALL.mass_kg), ("u1_t_mps", R161.mass_kg)):
-            allowed = friction_judge.tangential_tolerance(case, ctx.settings, ctx.record.eps,
-                                                 ref.impulse_ns, mass)
+            allowed = friction_judge.tangential_tolerance(case, ctx.settings, ctx.record.errors,
+                                                          ref.impulse_ns, mass)
             err = abs(getattr(out, field) - getattr(ref, field))
             _expect(err <= allowed, f"{field} at theta {case.theta_rad}: |diff| {err:.3g} > "
                                     f"{allowed:.3g}")
@@ -234,7 +235,7 @@ def oblique(ctx: Ctx) -> str:
 def cop_located(ctx: Ctx) -> str:
     """s_cop = J/(M d) is where the free bat's hand point (0.1 m from the knob) keeps its
     velocity: found from engine data by Brent's method (xtol 1e-9 m), within 1 um of theory
-    (plus the engine's collision bias, ``Settings.collision_slide_m``)."""
+    (plus the engine's collision bias, ``ErrorModel.collision_slide_m``)."""
 
     def hand(s: float) -> float:
         return ctx.fire([ImpactCase(bat=R161, ball=BALL, s_m=s, v0_mps=40.0, e=0.5,
@@ -242,7 +243,7 @@ def cop_located(ctx: Ctx) -> str:
 
     root = optimize.brentq(hand, 0.0, 0.2, xtol=1e-9)
     want = center_of_percussion(R161, 0.1)
-    allowed = 1e-6 + ctx.settings.collision_slide_m(R161)
+    allowed = 1e-6 + ctx.record.errors.collision_slide_m(ctx.settings, R161)
     _expect(abs(root - want) <= allowed, f"COP at {root:.9f} m, theory {want:.9f} m")
     return f"{(root - want) * 1e9:+.2g} nm from theory"
 
@@ -260,7 +261,7 @@ def tunnelling_bound(ctx: Ctx) -> str:
     for phase, st, f in zip(phases, each, fired):
         out = f.outcome
         want = bool(judge.caught_in_theory(100.0, 1e-3, phase, reach, st.overlap_m,
-                                           st.speculative_margin_m()))
+                                           ctx.record.errors.speculative_margin_m(st)))
         # caught: any status but a miss (whether its energy is right is energy_at_e1's)
         caught = out.status not in (Status.TUNNELLED, Status.NO_CONTACT)
         _expect(caught == want, f"phase {phase:.3f}: {out.status.value}, theory says "

@@ -29,7 +29,7 @@ from typing import Protocol
 
 import numpy as np
 
-from adapters import ContactReference, Hands, Settings, State
+from adapters import Hands, Settings, State
 from analytic import Ball, Bat, Outcome
 
 from . import geometry as g
@@ -232,8 +232,8 @@ class _Stepper:
     batch's namespace (``geometry.ARRAYS`` or ``geometry.SCALARS``): no loop over worlds but
     for the rare free-flight search."""
 
-    def __init__(self, batch, bat: Bat, ball: Ball, settings: Settings,
-                 spatial: bool = False) -> None:
+    def __init__(self, batch, bat: Bat, ball: Ball, settings: Settings, spatial: bool,
+                 rigid: bool) -> None:
         self.batch, self.xp, self.bat, self.ball, self.st = batch, batch.xp, bat, ball, settings
         # out of the swing plane: the 3D measures (geometry module docstring)
         self.spatial = spatial
@@ -244,7 +244,7 @@ class _Stepper:
                                                              / settings.dt_s) + 2
         # a rigid contact slides off the cylinder's end only in sustained contact, as in
         # collide; a soft one may be milliseconds long and slide past it within one impact
-        self.rigid = settings.contact_reference() is ContactReference.RIGID_IMPULSE
+        self.rigid = rigid
         self.limit_m = JUMP_REACHES * (bat.radius_m + ball.radius_m)
         self.first, self.last = xp.full(n, -1), xp.full(n, -1)
         self.peak, self.off_steps = xp.full(n, -math.inf), xp.full(n, 0)
@@ -371,10 +371,11 @@ class _Stepper:
 
 
 def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts,
-                  spatial: bool = False) -> Episodes:
+                  spatial: bool = False, rigid: bool = True) -> Episodes:
     """Step every world of ``batch`` (a ``OneWorld`` or ``ManyWorlds``) from its start until
-    its episode is over (module docstring); ``spatial``: measured in 3D (out of the plane)."""
-    return _Stepper(batch, bat, ball, settings, spatial).run(starts)
+    its episode is over (module docstring); ``spatial``: measured in 3D (out of the plane);
+    ``rigid``: the contact converges to a rigid impulse (``ErrorModel.contact_reference``)."""
+    return _Stepper(batch, bat, ball, settings, spatial, rigid).run(starts)
 
 
 def classify(xp, ended, first, peak_m, side_m, reach_m: float, ke0, ke1, allowance: float):

@@ -44,14 +44,15 @@ SAMPLES = 5
 SEARCH_SIMULATIONS = 25
 
 
-def contact_s(case: ImpactCase, settings: adapters.Settings) -> float:
+def contact_s(case: ImpactCase, settings: adapters.Settings,
+              errors: adapters.ErrorModel) -> float:
     """How long the contact lasts in the model the engine converges to (s): its law's contact
     time for a compliant contact, the rigid episode's for a rigid one (0 for one impulse); an
     untuned contact's own time where the engine knows it."""
-    untuned = settings.untuned_contact_s()
+    untuned = errors.untuned_contact_s(settings)
     if untuned is not None:
         return untuned
-    law = settings.contact_law(case.e)
+    law = errors.contact_law(settings, case.e)
     if law is not None:
         return judge.law_answer(case, law).contact_duration_s
     episode = judge.rigid(case, settings.max_contact_s)
@@ -83,8 +84,8 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
     out = {}
     for name, mine in by_engine.items():
         sample = mine[:: max(1, len(mine) // SAMPLES)][:SAMPLES]
-        contact = sum(contact_s(j.case, j.settings) for j in sample) / len(sample)
         rec = adapters.record(name)
+        contact = sum(contact_s(j.case, j.settings, rec.errors) for j in sample) / len(sample)
         cost = rec.cost.step_cost_s + STEP_OVERHEAD_S
         if not rec.drives_bat and mine[0].swing is not None:  # unsupported: nothing stepped
             out[name] = len(mine) * OVERHEAD_S

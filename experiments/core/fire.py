@@ -22,7 +22,7 @@ from operator import attrgetter, ne
 import numpy as np
 
 import adapters
-from adapters import Scene, Settings, State
+from adapters import ContactReference, Scene, Settings, State
 from analytic import ImpactCase
 from analytic.dynamics import HingedSwing, MotionState
 
@@ -149,7 +149,8 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     try:
         if plans is not None:
             starts, release = _swing_into_place(batch, plans, starts, bat)
-        episodes = step_episodes(batch, bat, ball, st, starts, spatial)
+        rigid = host.record.errors.contact_reference(st) is ContactReference.RIGID_IMPULSE
+        episodes = step_episodes(batch, bat, ball, st, starts, spatial, rigid)
     except NotImplementedError:  # an engine that cannot drive the bat
         return _failed(host, cases, each, plans, Status.UNSUPPORTED, "no set_drive", t0)
     except (KeyboardInterrupt, SceneMismatch):
@@ -177,7 +178,7 @@ def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:
     ke0, ke1 = energy(bat, ball, S0), energy(bat, ball, S1)
     v1, u1, w1 = S1[g.BALL_VY], S1[g.BAT_VY], S1[g.BAT_W]
     V = cc.u0n_mps + cc.omega0_radps * cc.s_m
-    allowance = energy_allowance(host.record.eps, host.settings)
+    allowance = energy_allowance(host.record.errors, host.settings)
     return {
         "v1_mps": v1, "u1_mps": u1, "omega1_radps": w1,
         "impulse_ns": ball.mass_kg * (v1 + cc.v0n_mps), "q": (v1 - V) / (cc.v0n_mps + V),

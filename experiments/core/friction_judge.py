@@ -6,7 +6,7 @@ Two rigid answers apply. Theory is Routh's: one impulse integrated through slip 
 engine resolves the impact in one step, and as its step shrinks it converges to another law:
 Newton's restitution and Coulomb's cone on the total impulse (``one_step_impulse``), or for a
 convex solver (MuJoCo's) that law's relaxation, where a slide leaves faster by mu times its
-final slip (``Settings.friction_law`` says which; the ``*_law_*`` columns). A law differs
+final slip (``ErrorModel.friction_law`` says which; the ``*_law_*`` columns). A law differs
 from theory by its own gap (where the collision matrix couples the normal and the tangent and
 the slip stops within the impact: 1e-5 to 1e-3 relative on the paper's swing; the relaxation
 adds mu |v_t'| to a slide's v1), which no setting removes; so, as a soft contact is judged
@@ -22,7 +22,7 @@ the single impulse's v1 is allowed (``judge``):
 
 - scale_X: the impact's speed scale for velocities, that over r_ball for spins; mapping: the
   share of the slip slip0 (the contact points' tangential speed before the impact) the
-  engine's friction mapping leaves (``Settings.friction_mapping_error_rel``; times 5/2 for
+  engine's friction mapping leaves (``ErrorModel.friction_mapping_error_rel``; times 5/2 for
   spins, I = 2 m r^2 / 5);
 - slide: how far the contact foot moves along the axis while the contact is seen late, as for
   v1; |dX/ds| the larger one-sided difference over CURVATURE_STEP_M (a slip that stops makes
@@ -62,15 +62,17 @@ CASE_COLUMNS = ("mu", "undercut_m", "spin0_x_radps", "spin0_y_radps", "spin0_z_r
 
 
 
-def tangential_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
-                         impulse_ns: float, mass_kg: float) -> float:
+def tangential_tolerance(case: ImpactCase, settings: adapters.Settings,
+                         errors: adapters.ErrorModel, impulse_ns: float,
+                         mass_kg: float) -> float:
     """Allowed error of a tangential velocity after a frictionless impact: rounding, and the
     normal tilted by the bat's turn omega0 delta / v_c when the contact is seen (and by a
     collision routine's own bias, its slide over r1 + r2), which leaks the impulse P/mass
     times that tilt into it."""
     tilt = (abs(case.omega0_radps) * settings.overlap_m / case.closing_speed_mps
-            + settings.collision_slide_m(case.bat) / (case.bat.radius_m + case.ball.radius_m))
-    return (judge.precision_rel(settings, eps, case) * case.v0_mps
+            + errors.collision_slide_m(settings, case.bat) / (case.bat.radius_m
+                                                               + case.ball.radius_m))
+    return (judge.precision_rel(settings, errors, case) * case.v0_mps
             + judge.GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt)
 
 
@@ -85,51 +87,53 @@ def _analytic(ep, stem: str, case: ImpactCase) -> float:
     return float(vector[index])
 
 
-def _late(case: ImpactCase, st: adapters.Settings) -> tuple[float, float]:
+def _late(case: ImpactCase, st: adapters.Settings,
+          errors: adapters.ErrorModel) -> tuple[float, float]:
     """(slide along the axis, m; tilt of the normal, rad) of a contact seen late."""
     v_n = case.closing_speed_mps * math.cos(case.tilt_rad)
     reach = case.bat.radius_m + case.ball.radius_m
-    early = min(st.speculative_margin_m(), v_n * st.dt_s)
+    early = min(errors.speculative_margin_m(st), v_n * st.dt_s)
+    bias = errors.collision_slide_m(st, case.bat)
     delta = st.overlap_m + max(st.contact_phase * v_n * st.dt_s, early)
     slide = ((reach * abs(case.omega0_radps) + judge._tangential(case)) * delta / v_n
-             + st.collision_slide_m(case.bat))
-    tilt = (abs(case.omega0_radps) * delta / v_n + st.collision_slide_m(case.bat) / reach
+             + bias)
+    tilt = (abs(case.omega0_radps) * delta / v_n + bias / reach
             + (delta / reach if case.undercut_m else 0.0))
     return slide, tilt
 
 
 @functools.lru_cache(maxsize=1 << 16)
 def law(case: ImpactCase, max_episode_s: float, which: str) -> FrictionEpisode:
-    """The episode of the one-step law ``which`` (``Settings.friction_law``) for ``case``
+    """The episode of the one-step law ``which`` (``ErrorModel.friction_law``) for ``case``
     (module docstring). Cached as ``judge.rigid``."""
     return frictional_episode(case, max_episode_s=max_episode_s, law=which)
 
 
-def _neighbours(case: ImpactCase, st: adapters.Settings) -> tuple[list, float]:
+def _neighbours(case: ImpactCase, st: adapters.Settings, which: str) -> tuple[list, float]:
     """The law's episodes at s - h, s, s + h (h = CURVATURE_STEP_M, kept on the cylinder)."""
     bat, h = case.bat, judge.CURVATURE_STEP_M
     lo, hi = max(case.s_m - h, bat.s_min_m), min(case.s_m + h, bat.s_max_m)
-    eps = [law(replace(case, s_m=s), st.max_contact_s, st.friction_law())
-           for s in (lo, case.s_m, hi)]
+    eps = [law(replace(case, s_m=s), st.max_contact_s, which) for s in (lo, case.s_m, hi)]
     return eps, min(case.s_m - lo, hi - case.s_m) or h
 
 
-def tolerances(case: ImpactCase, settings: adapters.Settings, eps: float) -> dict[str, float]:
+def tolerances(case: ImpactCase, settings: adapters.Settings,
+               errors: adapters.ErrorModel) -> dict[str, float]:
     """Allowed |engine - one-step law| of v1 and of every OUTPUTS stem (module docstring); NaN
     for each where no frictional answer applies."""
     nan = dict.fromkeys(("v1", *OUTPUTS), math.nan)
-    if settings.contact_reference() is not adapters.ContactReference.RIGID_IMPULSE:
+    if errors.contact_reference(settings) is not adapters.ContactReference.RIGID_IMPULSE:
         return nan
-    episodes, h = _neighbours(case, settings)
+    episodes, h = _neighbours(case, settings, errors.friction_law(settings))
     if any(ep.ended == "meets_again" for ep in episodes) \
             or judge.rigid(case, settings.max_contact_s).ended == "meets_again":
         return nan
     ball = case.ball
-    slide, tilt = _late(case, settings)
+    slide, tilt = _late(case, settings, errors)
     impulse = float(np.linalg.norm(episodes[1].friction.impulse_ns))
     leak = (1.0 + case.mu) * impulse * tilt / ball.mass_kg
-    rounding = judge.precision_rel(settings, eps, case) * judge._speed(case)
-    mapping = settings.friction_mapping_error_rel() * episodes[1].friction.slip0_mps
+    rounding = judge.precision_rel(settings, errors, case) * judge._speed(case)
+    mapping = errors.friction_mapping_error_rel(settings) * episodes[1].friction.slip0_mps
     lingering = judge._lingering(case, settings.dt_s, judge._tangential(case))
     out = {}
     for stem in ("v1", *OUTPUTS):
@@ -160,11 +164,11 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
         for axis, w in zip("xyz", c.spin_radps):
             cols[f"spin0_{axis}_radps"].append(w)
     plain = [c.frictionless_planar for c in cases]
-    laws = [ep if p else law(c, o.settings.max_contact_s, o.settings.friction_law())
-            for c, o, ep, p in zip(cases, outcomes, episodes, plain)]
-    tols = [dict.fromkeys(("v1", *OUTPUTS), math.nan) if p else
-            tolerances(c, o.settings, adapters.record(o.engine).eps)
-            for c, o, p in zip(cases, outcomes, plain)]
+    errors = [adapters.record(o.engine).errors for o in outcomes]
+    laws = [ep if p else law(c, o.settings.max_contact_s, err.friction_law(o.settings))
+            for c, o, err, ep, p in zip(cases, outcomes, errors, episodes, plain)]
+    tols = [dict.fromkeys(("v1", *OUTPUTS), math.nan) if p else tolerances(c, o.settings, err)
+            for c, o, err, p in zip(cases, outcomes, errors, plain)]
     within = np.ones(n, dtype=bool)
     for stem, (_, field, kind) in OUTPUTS.items():
         unit = UNITS[kind]
@@ -181,7 +185,7 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
                                if hasattr(ep, "friction") else "" for ep in episodes]
     cols["slip0_mps"] = [ep.friction.slip0_mps if hasattr(ep, "friction") else math.nan
                          for ep in episodes]
-    cols["friction_cone"] = [o.settings.friction_cone() for o in outcomes]
-    cols["friction_law"] = [o.settings.friction_law() for o in outcomes]
+    cols["friction_cone"] = [err.friction_cone(o.settings) for o, err in zip(outcomes, errors)]
+    cols["friction_law"] = [err.friction_law(o.settings) for o, err in zip(outcomes, errors)]
     v1_law = np.column_stack([[ep.v1_mps for ep in laws], [t["v1"] for t in tols]])
     return cols, v1_law, within

@@ -5,7 +5,7 @@ a swing in the engine) its integrator's angle error can move v1 by.
     allowed = (ROUND_OPS + SOLVE_SAFETY cond) eps speed + GEOM_SAFETY |dv1/ds| slide  (+ ...)
 
 - eps: the engine's unit roundoff (its record's precision); cond: its contact solve's
-  condition number (``Settings.solve_conditioning``); speed = v0 + |u0| + |omega0| L.
+  condition number (``ErrorModel.solve_conditioning``); speed = v0 + |u0| + |omega0| L.
 - The contact is first seen delta = overlap_m + contact_phase v_c dt deep, delta / v_c after the
   geometric instant; meanwhile the turning bat (and any tangential motion) slides the contact
   foot along the axis by (R |omega0| + |v_t - u_t|) delta / v_c, R = r_bat + r_ball, and v1
@@ -110,13 +110,13 @@ DEFLECTED = 0.01
 def mass_allowance(eps: float) -> float:  # relative, between mass properties set and read back
     return max(MASS_CHECK_REL, MASS_CHECK_ULPS * eps)
 
-def energy_allowance(eps: float, settings: adapters.Settings | None = None) -> float:
+def energy_allowance(errors: adapters.ErrorModel, settings: adapters.Settings) -> float:
     """Relative kinetic-energy gain allowed before ``energy_gained``: rounding, 4 times a
     mapping's stated bias (an impulse that much too large, at e = 1) and twice a stiff solve's
     velocity error (SOLVE_SAFETY cond eps; MJX float32: +0.08 to +0.37% measured, 0.95% let)."""
-    st = settings or adapters.Settings(dt_s=1.0)
-    return (max(ENERGY_GAIN_REL, ENERGY_GAIN_ULPS * eps) + 4.0 * st.mapping_error_rel()
-            + 2.0 * SOLVE_SAFETY * st.solve_conditioning() * eps)
+    eps = errors.eps
+    return (max(ENERGY_GAIN_REL, ENERGY_GAIN_ULPS * eps) + 4.0 * errors.mapping_error_rel(settings)
+            + 2.0 * SOLVE_SAFETY * errors.solve_conditioning(settings) * eps)
 
 
 def _derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -146,14 +146,16 @@ def _derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, 
     return value, slope, curvature
 
 
-def precision_rel(settings: adapters.Settings, eps: float, case: ImpactCase) -> float:
+def precision_rel(settings: adapters.Settings, errors: adapters.ErrorModel,
+                  case: ImpactCase) -> float:
     """Relative error of an impact's velocities without a geometric cause: ROUND_OPS eps, a
-    stiff solve's rounding (SOLVE_SAFETY eps ``Settings.solve_conditioning``), the bias the
-    mapping of e leaves (``Settings.mapping_error_rel``), and the approach lost along a normal
-    the collision routine tilts (``Settings.collision_slide_m`` over r1 + r2)^2."""
-    tilt = settings.collision_slide_m(case.bat) / (case.bat.radius_m + case.ball.radius_m)
-    return ((ROUND_OPS + SOLVE_SAFETY * settings.solve_conditioning()) * eps
-            + settings.mapping_error_rel() + tilt * tilt)
+    stiff solve's rounding (SOLVE_SAFETY eps ``ErrorModel.solve_conditioning``), the bias the
+    mapping of e leaves (``ErrorModel.mapping_error_rel``), and the approach lost along a
+    normal the collision routine tilts (``ErrorModel.collision_slide_m`` over r1 + r2)^2."""
+    tilt = errors.collision_slide_m(settings, case.bat) / (case.bat.radius_m
+                                                           + case.ball.radius_m)
+    return ((ROUND_OPS + SOLVE_SAFETY * errors.solve_conditioning(settings)) * errors.eps
+            + errors.mapping_error_rel(settings) + tilt * tilt)
 
 
 def _lingering(case: ImpactCase, dt_s: float, tangential_mps: float) -> float:
@@ -183,9 +185,9 @@ def rigid(case: ImpactCase, max_episode_s: float) -> CollisionEpisode:
     return collide(case, max_episode_s=max_episode_s)
 
 
-def single_impulse_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
-                             slope: float, curvature: float, scale_mps: float | None = None
-                             ) -> float:
+def single_impulse_tolerance(case: ImpactCase, settings: adapters.Settings,
+                             errors: adapters.ErrorModel, slope: float, curvature: float,
+                             scale_mps: float | None = None) -> float:
     """Allowed |engine - single impulse| of an output whose |d/ds| and |d2/ds2| are given:
     ROUND_OPS eps times ``scale_mps`` (default the impact's speed scale) for rounding, the
     slide of a contact seen late (a speculative one up to a step early), and what a lingering
@@ -196,17 +198,17 @@ def single_impulse_tolerance(case: ImpactCase, settings: adapters.Settings, eps:
     tangential = _tangential(case)
     # a speculative contact is solved from the geometry at the start of the step that closes
     # it: as far off as the gap it had then (up to the margin, or a whole step)
-    early = min(st.speculative_margin_m(), v_c * st.dt_s)
+    early = min(errors.speculative_margin_m(st), v_c * st.dt_s)
     delta = st.overlap_m + max(st.contact_phase * v_c * st.dt_s, early)
     slide = ((reach * abs(case.omega0_radps) + tangential) * delta / v_c
-             + st.collision_slide_m(case.bat))
+             + errors.collision_slide_m(st, case.bat))
     # the same delay turns the normal by omega0 delta / v_c, so the impulse, (1 + e) times the
     # approach along it, takes in that share of the tangential speed
     leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * delta / v_c
-    # (and a collision routine's own bias moves it too: ``Settings.collision_slide_m``)
+    # (and a collision routine's own bias moves it too: ``ErrorModel.collision_slide_m``)
     seen_late = GEOM_SAFETY * (slope * slide + 0.5 * curvature * slide**2 + leak)
     scale = _speed(case) if scale_mps is None else scale_mps
-    return (precision_rel(st, eps, case) * scale + seen_late
+    return (precision_rel(st, errors, case) * scale + seen_late
             + _lingering(case, st.dt_s, tangential))
 
 
@@ -216,16 +218,15 @@ def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarr
     v1, slopes, curvatures = _derivatives(cases)
     for i, (case, o, w_r, ep) in enumerate(zip(cases, outcomes, release_omega_radps,
                                                rigid_episodes)):
-        st = o.settings
-        if (st.contact_reference() is not adapters.ContactReference.RIGID_IMPULSE
+        st, errors = o.settings, adapters.record(o.engine).errors
+        if (errors.contact_reference(st) is not adapters.ContactReference.RIGID_IMPULSE
                 or not case.frictionless_planar):  # (friction: ``friction_judge``)
             continue
-        eps = adapters.record(o.engine).eps
         if ep.impacts > 1 or ep.sustained_contact_s > 0.0:
             out[i] = _episode_tolerance(case, ep, o, w_r,
-                                        _speed(case) * precision_rel(st, eps, case), v1[i])
+                                        _speed(case) * precision_rel(st, errors, case), v1[i])
             continue
-        tol = single_impulse_tolerance(case, st, eps, slopes[i], curvatures[i])
+        tol = single_impulse_tolerance(case, st, errors, slopes[i], curvatures[i])
         if math.isfinite(w_r):
             tol += _swing_terms(case, st.dt_s, w_r, v1[i], slopes[i], curvatures[i])
         out[i] = tol
@@ -249,13 +250,13 @@ def _swing_terms(case: ImpactCase, dt_s: float, w_r: float, v1: float, slope: fl
                 + (1 + q) * (abs(arm) + abs(case.s_m)) * d_omega)
 
 
-def output_tolerance(case: ImpactCase, settings: adapters.Settings, eps: float,
-                     field: str) -> float:
+def output_tolerance(case: ImpactCase, settings: adapters.Settings,
+                     errors: adapters.ErrorModel, field: str) -> float:
     """``single_impulse_tolerance`` of one output of ``analytic.predict`` (v1_mps, u1_mps or
     omega1_radps: its rounding scaled to rad/s by 1/L) for a case fired once."""
     _, slope, curvature = _derivatives([case], field)
     scale = _speed(case) / case.bat.length_m if field == "omega1_radps" else None
-    return single_impulse_tolerance(case, settings, eps, slope[0], curvature[0], scale)
+    return single_impulse_tolerance(case, settings, errors, slope[0], curvature[0], scale)
 
 
 def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
@@ -275,7 +276,8 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
 
     # the first contact seen at its phase, each later one as late as a whole step
     late = delay(st.contact_phase) + (ep.impacts - 1) * delay(1.0)
-    slide = (reach * abs(case.omega0_radps) + tangential) * late + st.collision_slide_m(bat)
+    slide = ((reach * abs(case.omega0_radps) + tangential) * late
+             + adapters.record(o.engine).errors.collision_slide_m(st, bat))
     leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * late
     moved = []
     if math.isfinite(w_r):
@@ -314,15 +316,15 @@ LAW_SAFETY = 2.0
 
 @functools.lru_cache(maxsize=1 << 12)
 def law_answer(case: ImpactCase, law) -> compliant.CompliantOutcome:
-    """The answer of the continuous contact law a soft engine declares (``Settings.contact_law``).
+    """The answer of the continuous contact law a soft engine declares (``ErrorModel.contact_law``).
     Cached: the studies fire one case and law at many steps and phases."""
     return compliant.predict(case, law)
 
 
 #: The leading-order bound below holds while the step's restitution error is small: where the
-#: engine's own estimate (``Settings.law_restitution_error``) exceeds this, the step is too coarse
-#: for it (an implicit step of 8% of a contact was 2.6 m/s off and "within" a 13 m/s bound), and
-#: the row is left unjudged.
+#: engine's own estimate (``ErrorModel.law_restitution_error``) exceeds this, the step is too
+#: coarse for it (an implicit step of 8% of a contact was 2.6 m/s off and "within" a 13 m/s
+#: bound), and the row is left unjudged.
 LAW_MAX_REL_ERROR = 0.05
 
 
@@ -331,20 +333,21 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
     contact converges to a continuous law; (NaN, NaN) for a rigid contact; (v1 law, NaN),
     unjudged, where the law's answer or the bound does not apply. The tolerance is the leading
     error of the engine's step through a contact of duration t_c: its restitution comes out off
-    by e times ``Settings.law_restitution_error`` (semi-implicit Euler: (pi/3) dt/t_c), e the
+    by e times ``ErrorModel.law_restitution_error`` (semi-implicit Euler: (pi/3) dt/t_c), e the
     law's own restitution at this impact (it moves with speed for Hunt-Crossley), which moves
     v1 by v_c / (1 + r) per unit e, r = m (1/M + s^2/J); LAW_SAFETY times that, plus rounding.
     ``analytic.compliant.predict`` follows one contact of an infinite cylinder: where the
     rigid episode at the law's e holds more (re-contacts, a sustained slide), or the ball slides
     past the cylinder's end during the contact, its answer is not the engine's, and the row is
     unjudged; so is a step whose estimated restitution error exceeds LAW_MAX_REL_ERROR."""
-    law = o.settings.contact_law(case.e)
+    errors = adapters.record(o.engine).errors
+    law = errors.contact_law(o.settings, case.e)
     if law is None or not case.frictionless_planar:  # the laws are frictionless, planar
         return math.nan, math.nan
     ref = law_answer(case, law)
     bat, ball = case.bat, case.ball
     v_c, t_c = case.closing_speed_mps, ref.contact_duration_s
-    rel_err = o.settings.law_restitution_error(o.settings.dt_s / t_c)
+    rel_err = errors.law_restitution_error(o.settings, o.settings.dt_s / t_c)
     e_law = (ref.v1_mps - ref.u1_mps - ref.omega1_radps * case.s_m) / v_c
     reach = bat.radius_m + ball.radius_m
     slide = (_tangential(case) + reach * abs(case.omega0_radps)) * t_c
@@ -355,7 +358,7 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
         return ref.v1_mps, math.nan
     r = ball.mass_kg * (1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
     de = max(case.e, e_law) * rel_err
-    rounding = precision_rel(o.settings, adapters.record(o.engine).eps, case) * _speed(case)
+    rounding = precision_rel(o.settings, errors, case) * _speed(case)
     return ref.v1_mps, LAW_SAFETY * v_c / (1 + r) * de + rounding
 
 

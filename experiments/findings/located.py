@@ -14,7 +14,7 @@ def sweet_engines_text(engines: tuple[str, ...]) -> str:
     """The sweet spot from each engine's data against the model's: float64 and float32 rigid
     contacts, and compliant ones, apart."""
     located, ref = A.engine_sweet_spots(engines), adapters.ContactReference.RIGID_IMPULSE
-    kind = {n: "soft" if adapters.settings_for(n).contact_reference() is not ref
+    kind = {n: "soft" if adapters.contact_reference(n) is not ref
             else adapters.record(n).errors.precision for n in engines}
     worst = {k: max((abs(x) for n in engines if kind[n] == k
                      for x in located[f"{n} - analytic (mm)"]), default=math.nan)

@@ -61,7 +61,7 @@ def _reference(segments: int, x_m: float, law_key: str, law):
 
 def fire(name: str, settings, segments: int, x_m: float) -> dict:
     """One row, its reference shared through the cache."""
-    law = settings.contact_law(presets.E_WOOD)
+    law = adapters.record(name).errors.contact_law(settings, presets.E_WOOD)
     ref = _reference(segments, x_m, repr(law), law)
     return core_chain.fire_chain(name, settings, impact(segments, x_m), known=ref)
 

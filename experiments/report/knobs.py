@@ -114,7 +114,7 @@ def own_law(engine: str, c: pd.DataFrame) -> str:
     at = names(f"{r.p_law:.2f} for {r.integrator}" for r in mid.itertuples())
     return (f"**Against its own law it does converge**: {label(engine)}'s soft contact is a "
             "spring-damper in contact space, m_eff (w^2 x + 2 zeta w x') with m_eff at the "
-            "current contact point (`Engine.contact_law`, "
+            "current contact point (`ErrorModel.contact_law`, "
             "`analytic.compliant.ContactSpaceSpringDamper`), and its v1 approaches that law at "
             "about first order (a test checks the order for every soft contact an engine "
             "declares: `tests/test_adapters_semantics.py::test_soft_contact_converges_to_its_own_"

@@ -52,7 +52,7 @@ def _defects(name: str) -> list[str]:
     out = [f"friction: {rec.errors.friction_defect}"] if rec.errors.friction_defect else []
     if rec.errors.chain_defect:  # (its text names the segmented bat)
         out.append(rec.errors.chain_defect)
-    slide = st.collision_slide_m(presets.R161)
+    slide = rec.errors.collision_slide_m(st, presets.R161)
     if slide > 0.0:
         out.append(f"its collision routine slides the contact point up to {slide * 1e6:.2f} um "
                    "along the R161's axis (in its tolerance)")

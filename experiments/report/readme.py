@@ -32,7 +32,8 @@ def accuracy(rows: pd.DataFrame, name: str) -> str:
     """ok count and the largest error over the ok rows: against rigid theory, or against the
     engine's own contact law where that is what it converges to."""
     ok = rows[rows.status == "ok"]
-    law = adapters.settings_for(name).contact_law(0.5) is not None
+    rec = adapters.record(name)
+    law = rec.errors.contact_law(adapters.settings_for(name), 0.5) is not None
     err = (ok.v1_law_err_mps if law else ok.v1_abs_err_mps).max()
     against = "its own contact law" if law else "rigid theory"
     return f"{len(ok)}/{len(rows)} ok, {err:.1e} m/s against {against}"
