@@ -12,7 +12,7 @@ import adapters
 from adapters import Scene
 from analytic import ImpactCase, compliant, predict, presets
 from analytic.compliant import damping_ratio_for, restitution_of_damping_ratio
-from experiments.core import Job, fire_jobs, judge
+from experiments.core import Job, fire_jobs, terms
 from experiments.core.hosting import Hosted
 from experiments.core.placement import start_state
 
@@ -38,7 +38,7 @@ def _central_es(name: str, settings, speeds, e=0.5, bat=R161) -> list[float]:
 
 def _tol(name: str) -> float:
     """Rounding of the impact's float operations at the engine's precision."""
-    return judge.ROUND_OPS * adapters.record(name).eps
+    return terms.ROUND_OPS * adapters.record(name).eps
 
 
 @pytest.mark.parametrize("name", COMBINING)

@@ -31,8 +31,8 @@ from analytic import compliant, predict, presets
 from analytic.dynamics import Drive, HingedSwing, motion, motion_integrated, state_array
 from experiments.core import Job, fire_jobs, judge
 from experiments.core.fire import run_motion
-from experiments.core.judge import HINGE_K
 from experiments.core.placement import swing_case
+from experiments.core.terms import HINGE_K
 
 BAT = presets.R161
 T, DT = 0.04, 1e-4

@@ -19,7 +19,7 @@ import pytest
 
 import adapters
 from analytic import ImpactCase, presets
-from experiments.core import Job, judge, tables
+from experiments.core import Job, judge, tables, terms
 from experiments.core.fire import fire_group
 from experiments.core.hosting import Hosted
 from experiments.core.placement import min_dt_s
@@ -126,7 +126,7 @@ def _judge_row(row, rec: Recorder, dt_s: float) -> None:
         assert end > 0.0, f"{where}: the ball passed through ({start:.3g} -> {end:.3g} m)"
         dv = math.hypot(*(rec.last[2:4] - rec.first[2:4]))
         # no_contact: the judge's own line between a ball flying past and one it deflected
-        assert dv <= judge.DEFLECTED * math.hypot(*rec.first[2:4]), \
+        assert dv <= terms.DEFLECTED * math.hypot(*rec.first[2:4]), \
             f"{where}: the ball was deflected by {dv:.3g} m/s"
 
 

@@ -11,7 +11,7 @@ import pytest
 import adapters
 from adapters import Scene
 from analytic import Bat, ImpactCase, presets
-from experiments.core import Job, Status, fire_jobs, judge, table
+from experiments.core import Job, Status, fire_jobs, table, terms
 from experiments.core.hosting import Hosted
 from experiments.core.placement import start_state
 
@@ -59,7 +59,7 @@ def test_body_frictions_combine_as_the_record_says(name):
     # measured to rounding (ROUND_OPS eps: 1.2e-3 in float32) plus the wall's finite mass.
     want = adapters.record(name).can.friction_rule.combine(0.1, 0.15)
     got = _sliding_mu(name, 0.1, 0.15)
-    assert got == pytest.approx(want, abs=judge.ROUND_OPS * adapters.record(name).eps
+    assert got == pytest.approx(want, abs=terms.ROUND_OPS * adapters.record(name).eps
                                 + WALL_REL * want)
 
 
@@ -89,7 +89,7 @@ def test_a_ball_slides_on_a_wall_by_coulombs_ratio(name):
     dvn, dvt = row.v1_engine_mps + vn, row.vt1_engine_mps - vt
     tilt = adapters.record(name).errors.collision_slide_m(adapters.settings_for(name), WALL) \
         / (WALL.radius_m + BALL.radius_m)
-    allowed = (judge.ROUND_OPS * adapters.record(name).eps * 20.0 + WALL_REL * abs(dvt)
+    allowed = (terms.ROUND_OPS * adapters.record(name).eps * 20.0 + WALL_REL * abs(dvt)
                + tilt * abs(dvn))
     assert dvt == pytest.approx(-0.05 * dvn, abs=allowed)
 

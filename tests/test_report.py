@@ -15,6 +15,7 @@ import pandas as pd
 import pytest
 
 from experiments import baselines, report
+from experiments.core import terms
 from experiments.core.runs import RESULTS
 
 
@@ -165,3 +166,10 @@ def test_the_batches_and_twins_numbers_come_from_their_files(copy):
 def test_the_report_does_not_repeat_the_summary_table(committed):
     rows = [ln for ln in (RESULTS / "summary.md").read_text().splitlines() if ln.startswith("| ")]
     assert len(rows) > 10 and not any(row in committed for row in rows)
+
+
+def test_the_judging_section_lists_every_term_with_its_value(committed):
+    # the tolerance table of the report is experiments.core.terms, term by term
+    section = committed.split("## How an impact is judged")[1].split("\n## ")[0]
+    for name, value, _ in terms.table():
+        assert f"| `{name}` | {value:g} |" in section, name

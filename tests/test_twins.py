@@ -17,7 +17,7 @@ import pytest
 import adapters
 from analytic import predict
 from experiments import twins
-from experiments.core import Job, fire_jobs, judge
+from experiments.core import Job, fire_jobs, terms
 
 TWINNED = twins.twinned(adapters.names())
 POINTS = 5
@@ -52,7 +52,7 @@ def test_twin_agrees_to_rounding_once_every_cause_is_removed(name):
     mine, theirs = twins.pair(name, adapters.record(name).studies.twin_steps[-1])
     case = twins.firing(POINTS).cases()[0]
     speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * case.bat.length_m
-    allowed = judge.ROUND_OPS * adapters.record(name).eps * speed + _slid(name, mine)
+    allowed = terms.ROUND_OPS * adapters.record(name).eps * speed + _slid(name, mine)
     diff = np.abs(_v1(name, mine) - _v1(adapters.record(name).can.twin_of, theirs))
     assert np.all(diff <= allowed), (diff, allowed)
 
@@ -64,4 +64,4 @@ def test_float64_twin_differs_as_configured(name):
     # 8e-5 m/s on the R161's barrel), far above rounding: the comparison can fail
     mine, theirs = twins.pair(name, adapters.record(name).studies.twin_steps[0])
     diff = np.abs(_v1(name, mine) - _v1(adapters.record(name).can.twin_of, theirs))
-    assert diff.max() > 1e3 * judge.ROUND_OPS * adapters.record(name).eps * 80.0
+    assert diff.max() > 1e3 * terms.ROUND_OPS * adapters.record(name).eps * 80.0

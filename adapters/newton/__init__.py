@@ -92,6 +92,7 @@ from dataclasses import dataclass
 from scipy import optimize
 
 from analytic import checks
+from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
 from ..record import (
     Capabilities,
@@ -260,18 +261,14 @@ class NewtonErrors(ErrorModel):
         return "regularised: viscous kf v_t up to mu f_n"
 
     def contact_reference(self, s) -> ContactReference:
-        if s.solver in PENALTY_SOLVERS or (s.solver == "mujoco"
-                                              and s.contact_model == "soft"):
-            return ContactReference.LINEAR_SPRING_DAMPER
-        return ContactReference.RIGID_IMPULSE
+        soft = s.solver in PENALTY_SOLVERS or (s.solver, s.contact_model) == ("mujoco", "soft")
+        return ContactReference.LINEAR_SPRING_DAMPER if soft else ContactReference.RIGID_IMPULSE
 
     def contact_law(self, s, e: float):
-        from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
-
         if s.solver in PENALTY_SOLVERS:
             k, c = s.penalty_gains(e)
             return PenaltyLaw(stiffness_npm=k, damping_nspm=c)
-        if s.solver == "mujoco" and s.contact_model == "soft":
+        if (s.solver, s.contact_model) == ("mujoco", "soft"):
             return ContactSpaceSpringDamper(omega_radps=s.soft_omega_radps,
                                             damping_ratio=damping_ratio_for(max(e, 1e-9)))
         return None
@@ -291,9 +288,8 @@ class NewtonErrors(ErrorModel):
     def speculative_margin_m(self, s) -> float:
         # XPBD and the penalty solvers see a contact detected within both shapes' gaps at the
         # step's start; only XPBD solves it before the overlap (the penalty acts once x > 0)
-        if s.solver != "xpbd":
-            return 0.0
-        return 2 * (DEFAULT_GAP_M if s.contact_gap_m is None else s.contact_gap_m)
+        gap = DEFAULT_GAP_M if s.contact_gap_m is None else s.contact_gap_m
+        return 2 * gap if s.solver == "xpbd" else 0.0
 
 
 def _speed_accuracy() -> tuple[KnobFamily, ...]:

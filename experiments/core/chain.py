@@ -23,17 +23,19 @@ from adapters.segmented import ChainScene
 from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact, ChainOutcome, compliant_reference, impulse_reference
 
+from . import judge
 from .episode import Recorder, run_episode
 from .judge import Status
+from .terms import (
+    CHAIN_ENERGY_SLACK,
+    CHAIN_JUDGED_SHARE,
+    CHAIN_MASS_ULPS,
+    CHAIN_MAX_EPISODE_S,
+    ROUND_OPS,
+)
 
 #: Free steps before the touch.
 APPROACH_STEPS = 2
-#: The mass read back may differ from the chain's by this many ulps of the engine's float
-MASS_ULPS = 1e3  # (its own conversions of mass and inertia, a few operations each).
-#: An episode that lasts longer than this is 'no_separation' (s).
-MAX_EPISODE_S = 0.05
-#: Energy after may exceed energy before by this share before the row is 'energy_gained'.
-ENERGY_SLACK = 1e-3
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -55,8 +57,8 @@ class ChainTolerance:
     A tolerance over ``judged_share`` of the closing speed judges nothing: the step resolves
     the chain too coarsely for a verdict, and the row is 'unjudged'."""
 
-    round_ops: float = 1e4
-    judged_share: float = 0.25
+    round_ops: float = ROUND_OPS
+    judged_share: float = CHAIN_JUDGED_SHARE
 
     def mps(self, impact: ChainImpact, settings, errors: adapters.ErrorModel,
             ref: ChainOutcome) -> float:
@@ -87,8 +89,8 @@ def reference(errors: adapters.ErrorModel, settings, impact: ChainImpact) -> Cha
 def reference_for_law(impact: ChainImpact, law) -> ChainOutcome:
     """The chain's answer under ``law`` (None: Newton's restitution at every touch)."""
     if law is None:
-        return impulse_reference(impact, max_s=MAX_EPISODE_S)
-    return compliant_reference(impact, law, max_s=MAX_EPISODE_S)
+        return impulse_reference(impact, max_s=CHAIN_MAX_EPISODE_S)
+    return compliant_reference(impact, law, max_s=CHAIN_MAX_EPISODE_S)
 
 
 def start_states(impact: ChainImpact, dt_s: float,
@@ -155,11 +157,11 @@ def fire_chain(name: str, settings, impact: ChainImpact,
     row |= got | {"wall_s": time.perf_counter() - t0}
     if row["status"] == Status.OK.value:
         row["err_mps"] = abs(row["v1_mps"] - ref.v1_mps)
-        if (ref.ended != "separated" or row["tol_mps"] > tolerance.judged_share * closing
-                or _patch_reaches_a_joint(impact, ref)):
-            row["status"] = Status.UNJUDGED.value
-        elif row["err_mps"] > row["tol_mps"]:
-            row["status"] = Status.INACCURATE.value
+        judged = (ref.ended == "separated" and row["tol_mps"] <= tolerance.judged_share * closing
+                  and not _patch_reaches_a_joint(impact, ref))
+        nan = [math.nan]
+        row["status"] = judge.verdict([row["status"]], [row["err_mps"]],
+                                      [row["tol_mps"] if judged else math.nan], nan, nan)[0]
     return row
 
 
@@ -206,7 +208,7 @@ def _rigid_ke(chain: Chain, segs: np.ndarray) -> float:
 
 def _check_mass(got: np.ndarray, chain: Chain, eps: float) -> None:
     want = np.column_stack([chain.masses_kg, chain.coms_m, chain.inertias_kgm2])
-    if got.shape != want.shape or not np.allclose(got, want, rtol=MASS_ULPS * eps, atol=0.0):
+    if got.shape != want.shape or not np.allclose(got, want, rtol=CHAIN_MASS_ULPS * eps, atol=0.0):
         worst = np.max(np.abs(got / want - 1.0)) if got.shape == want.shape else math.inf
         raise _Mismatch(f"segment mass properties off by {worst:.1e} relative")
 
@@ -220,7 +222,7 @@ class _ChainEpisode:
         self.chain, self.impact, self.dt, self.before = chain, impact, dt, before
         self.quiet = 2 * math.pi / float(chain.modes[0][chain.modes[0] > 0].min())
         self.end = APPROACH_STEPS * dt + ref.contact_s + self.quiet
-        self.max_steps = math.ceil(MAX_EPISODE_S / dt) + 2  # 'no_separation' comes first
+        self.max_steps = math.ceil(CHAIN_MAX_EPISODE_S / dt) + 2  # 'no_separation' comes first
         self.touched, self.last_touch, self.row = False, -math.inf, {}
 
     def over(self, step: int, engine) -> bool:
@@ -232,7 +234,7 @@ class _ChainEpisode:
             self.row = _failed(Status.NON_FINITE, "non-finite state or engine failure")
         elif t >= self.end and t - self.last_touch >= self.quiet:
             self.row = self._ended(ball, segs, step)
-        elif t > MAX_EPISODE_S:
+        elif t > CHAIN_MAX_EPISODE_S:
             self.row = _failed(Status.NO_SEPARATION, "still in contact")
         else:
             return False
@@ -252,7 +254,8 @@ class _ChainEpisode:
             springs = np.asarray(chain.stiffnesses_nmprad) * np.diff(segs[:, 2]) ** 2
             after = 0.5 * self.impact.ball.mass_kg * float(ball[2:] @ ball[2:]) \
                 + _rigid_ke(chain, segs) + 0.5 * float(np.sum(springs))
-        status = Status.OK if after <= self.before * (1 + ENERGY_SLACK) else Status.ENERGY_GAINED
+        gained = after > self.before * (1 + CHAIN_ENERGY_SLACK)
+        status = Status.ENERGY_GAINED if gained else Status.OK
         return {"status": status.value, "why": "", "v1_mps": float(ball[3]), "vibration_j": vib,
                 "err_mps": math.nan, "steps": step, "energy_before_j": self.before,
                 "energy_after_j": after}

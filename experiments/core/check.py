@@ -90,8 +90,7 @@ class Ctx:
 
     @property
     def rigid(self) -> bool:
-        return (self.record.errors.contact_reference(self.settings)
-                is ContactReference.RIGID_IMPULSE)
+        return adapters.contact_reference(self.name) is ContactReference.RIGID_IMPULSE
 
     def fire(self, cases, settings: adapters.Settings | None = None, swing=None):
         st = settings or self.settings

@@ -13,7 +13,7 @@ status: 'non_finite' (NaN or inf, a failure the engine reported) and 'jumped' (a
 moved more than its speeds allow: a silent reset) are ``non_finite``; 'passed' (no contact seen
 when due, the ball's centre beyond the bat's axis) is ``tunnelled``; 'missed' (no contact seen
 when due, the ball still on its side, its velocity as it was) is ``no_contact``; a ball
-deflected between two readings had its contact then (``judge.DEFLECTED``); 'budget' is
+deflected between two readings had its contact then (``terms.DEFLECTED``); 'budget' is
 ``no_separation`` (or ``tunnelled`` without a contact); after 'separated' or 'left_cylinder' the
 final state is checked: beyond the bat's axis ``tunnelled``, deeper than r_ball + r_bat at any
 step ``penetration``, more kinetic energy than before ``energy_gained``, else ``ok`` (the judge
@@ -33,7 +33,8 @@ from adapters import Hands, Settings, State
 from analytic import Ball, Bat, Outcome
 
 from . import geometry as g
-from .judge import DEFLECTED, JUMP_REACHES, OFF_SPAN_STEPS, Status
+from .judge import Status
+from .terms import DEFLECTED, JUMP_REACHES, OFF_SPAN_STEPS
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -45,7 +45,7 @@ import adapters
 from analytic import ImpactCase
 from analytic.frictional import FrictionEpisode, frictional_episode
 
-from . import judge
+from . import judge, terms
 
 #: Column stem -> (index into the analytic ball velocity or spin, the engine outcome's field,
 #: 'velocity' or 'spin').
@@ -73,7 +73,7 @@ def tangential_tolerance(case: ImpactCase, settings: adapters.Settings,
             + errors.collision_slide_m(settings, case.bat) / (case.bat.radius_m
                                                                + case.ball.radius_m))
     return (judge.precision_rel(settings, errors, case) * case.v0_mps
-            + judge.GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt)
+            + terms.GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt)
 
 
 def _analytic(ep, stem: str, case: ImpactCase) -> float:
@@ -111,7 +111,7 @@ def law(case: ImpactCase, max_episode_s: float, which: str) -> FrictionEpisode:
 
 def _neighbours(case: ImpactCase, st: adapters.Settings, which: str) -> tuple[list, float]:
     """The law's episodes at s - h, s, s + h (h = CURVATURE_STEP_M, kept on the cylinder)."""
-    bat, h = case.bat, judge.CURVATURE_STEP_M
+    bat, h = case.bat, terms.CURVATURE_STEP_M
     lo, hi = max(case.s_m - h, bat.s_min_m), min(case.s_m + h, bat.s_max_m)
     eps = [law(replace(case, s_m=s), st.max_contact_s, which) for s in (lo, case.s_m, hi)]
     return eps, min(case.s_m - lo, hi - case.s_m) or h
@@ -144,9 +144,9 @@ def tolerances(case: ImpactCase, settings: adapters.Settings,
         geometric = slope * slide + 0.5 * curvature * slide**2
         if spin:
             out[stem] = ((rounding + 2.5 * mapping) / ball.radius_m
-                         + judge.GEOM_SAFETY * (geometric + 2.5 * leak / ball.radius_m))
+                         + terms.GEOM_SAFETY * (geometric + 2.5 * leak / ball.radius_m))
         else:
-            out[stem] = rounding + mapping + judge.GEOM_SAFETY * (geometric + leak) + lingering
+            out[stem] = rounding + mapping + terms.GEOM_SAFETY * (geometric + leak) + lingering
     return out
 
 

@@ -32,8 +32,8 @@ a swing in the engine) its integrator's angle error can move v1 by.
 An impact the engine reports sound (status ok) is kept ok only within this tolerance of the
 rigid-body answer; otherwise its status is ``inaccurate``. Engines whose contact converges to
 another model than the rigid impulse (soft contacts) are judged against that model instead
-(``soft_judgement``). Every tolerance of the harness is a named constant here, with its reason:
-the tests import them rather than restate them.
+(``soft_judgement``). Every tolerance of the harness is a named term of ``terms``, with its
+reason: the tests import them rather than restate them.
 """
 
 from __future__ import annotations
@@ -73,38 +73,22 @@ class Status(str, Enum):
 #: matched their answer within tolerance, ``inaccurate`` did not, ``unjudged`` have none.
 MEASURED = (Status.OK.value, Status.INACCURATE.value, Status.UNJUDGED.value)
 
-ROUND_OPS = 1e4      #: float operations of an impact, each within eps
-GEOM_SAFETY = 10.0   #: covers the factors of order 1 the slide estimate neglects
-#: A linear solve's relative error is at most its condition number times eps (MJX's float32
-SOLVE_SAFETY = 4.0  # impulse, condition 1e4: 0.87 of that measured on the 41-point sweep)
-HINGE_K = 6.0        #: empirical bound on the hinges' (omega dt)^2 constant (0.05-5.5 measured)
-FD_STEP_M = 1e-6     #: finite-difference step for dv1/ds (m)
-CURVATURE_STEP_M = 1e-3  #: step for d2v1/ds2 (m): v1(s) is a smooth rational function
-LINGER_STEPS = 2  #: steps a contact may stay active after its impulse (PyBullet: 1.16, e = 0)
-#: While touching, the ball may stay past the cylinder's end for this many steps before the
-#: episode ends 'left_cylinder' (an impulse at the grid's very end is seen there for its 1-3
-#: steps; a ball sliding off the end in sustained contact is stopped after them).
-OFF_SPAN_STEPS = 3
-HITTABLE_SLACK_M = 1e-12  #: slack on the hittable range: L - r - x_cm is a few ulps off
-#: Relative tolerance of the mass read-back: engines store mass properties in float64 and some
-#: derive them through a rotation or an eigen-decomposition, which costs a few ulps.
-MASS_CHECK_REL = 1e-9
-MASS_CHECK_ULPS = 8  #: float32 ulps where that is more (0.871 kg reads back 9e-9 off)
-#: Kinetic energy may grow by this fraction before ``energy_gained``: float64 rounding over
-#: thousands of steps stays far below it, the defects we look for (+1% and more) far above.
-ENERGY_GAIN_REL = 1e-6
-#: Ulps allowed where more: float32 moves the energy 1e-6..1e-4 (e = 1; PhysX 2.5e-6, MJX 3.5e-5)
-ENERGY_GAIN_ULPS = 1000
-#: Between two readings k steps apart a body's centre moves at most k dt times its larger speed
-#: (its speed is monotone through one contact), twice that here, plus this many contact reaches
-#: (r_ball + r_bat): a position correction pushes apart by less than one reach, a reset of the
-#: state (MuJoCo puts a blown-up world back at its model's pose) moves the ball ~1 m.
-JUMP_REACHES = 2.0
-#: A ball whose velocity changed by more than this fraction of its approach speed met the bat,
-#: whether or not a contact was seen: a contact shorter than a step can begin and end between
-#: two readings (Drake's Hunt-Crossley contact, 0.65 ms, at dt = 1.5 ms). Free flight keeps the
-#: velocity to rounding; the slightest bounce changes it by tens of percent.
-DEFLECTED = 0.01
+from .terms import (  # noqa: E402 - the tolerance table (``terms``), read by name below
+    CURVATURE_STEP_M,
+    ENERGY_GAIN_REL,
+    ENERGY_GAIN_ULPS,
+    FD_STEP_M,
+    GEOM_SAFETY,
+    HINGE_K,
+    LAW_MAX_REL_ERROR,
+    LAW_SAFETY,
+    LINGER_STEPS,
+    MASS_CHECK_REL,
+    MASS_CHECK_ULPS,
+    OFF_SPAN_STEPS,
+    ROUND_OPS,
+    SOLVE_SAFETY,
+)
 
 
 def mass_allowance(eps: float) -> float:  # relative, between mass properties set and read back
@@ -308,24 +292,11 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
             + (OFF_SPAN_STEPS + 2) * ep.peak_sustained_force_n * st.dt_s / ball.mass_kg)
 
 
-#: Soft contacts: a factor 2 over the first-order term below (measured for MuJoCo at
-#: w = 3000 rad/s, paper's swing, s = 0.1 m, dt = 1e-5..1e-7: 0.86 of the term for Euler,
-#: 0.22 for RK4).
-LAW_SAFETY = 2.0
-
-
 @functools.lru_cache(maxsize=1 << 12)
 def law_answer(case: ImpactCase, law) -> compliant.CompliantOutcome:
     """The answer of the continuous contact law a soft engine declares (``ErrorModel.contact_law``).
     Cached: the studies fire one case and law at many steps and phases."""
     return compliant.predict(case, law)
-
-
-#: The leading-order bound below holds while the step's restitution error is small: where the
-#: engine's own estimate (``ErrorModel.law_restitution_error``) exceeds this, the step is too
-#: coarse for it (an implicit step of 8% of a contact was 2.6 m/s off and "within" a 13 m/s
-#: bound), and the row is left unjudged.
-LAW_MAX_REL_ERROR = 0.05
 
 
 def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:

@@ -24,7 +24,7 @@ from analytic import Ball, Bat, ImpactCase, checks
 from analytic.dynamics import Drive, HingedSwing
 
 from . import geometry as g
-from .judge import HITTABLE_SLACK_M
+from .terms import HITTABLE_SLACK_M
 
 #: Where the ball waits while the bat swings: far from anything it could touch (m).
 PARKED_BALL_Y_M = 100.0

@@ -24,13 +24,25 @@ from pathlib import Path
 from ..core import cli
 from ..core.cli import Command
 from ..core.runs import RESULTS
-from . import accuracy, dynamics, engines, failures, friction, pages, performance, questions, sweeps
+from . import (
+    accuracy,
+    dynamics,
+    engines,
+    failures,
+    friction,
+    judging,
+    pages,
+    performance,
+    questions,
+    sweeps,
+)
 from .base import Damaged, Missing, Results
 
 TITLE = "# batsim results: what the engines do with a baseball bat"
 #: (heading, section writer), in the report's order.
 SECTIONS = (
     ("Baseline sweeps and what they show", sweeps.section),
+    ("How an impact is judged", judging.section),
     ("Engines: how the scene is built and what had to be fixed", engines.section),
     ("Performance", performance.section),
     ("Speed vs accuracy", accuracy.section),

@@ -14,7 +14,7 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from ..core import judge
+from ..core import terms
 from .base import Results, bullets, dist, gnum, label, md_table, names, num, precision, span, step
 from .data import need
 
@@ -95,8 +95,8 @@ def fixes(swing) -> list[str]:
     if any(precision(e) == "float32" for e in swing.engines):
         out.append(
             "The float32 engines need the harness's tolerances in their precision: the mass "
-            f"read-back ({judge.MASS_CHECK_ULPS} ulps), the energy-gain verdict "
-            f"({judge.ENERGY_GAIN_ULPS} ulps), the integrator checks. Engines with a "
+            f"read-back ({terms.MASS_CHECK_ULPS} ulps), the energy-gain verdict "
+            f"({terms.ENERGY_GAIN_ULPS} ulps), the integrator checks. Engines with a "
             "speculative contact declare its margin (`speculative_margin_m`): the judge then "
             "allows the contact a whole step early, and the stability theory catches every "
             "phase below r_ball + r_bat + margin.")
