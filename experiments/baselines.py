@@ -36,6 +36,7 @@ from . import (
 from . import sweep as sweep_cmd
 from .core import cli, runs
 from .core.io import ROOT, atomic_write_bytes, atomic_write_many, json_bytes, provenance
+from .core.judge import Status
 from .parts import sweep_chart
 from .report import readme
 
@@ -135,11 +136,11 @@ def sweeps(args: argparse.Namespace) -> dict[str, bytes]:
         if "reference" in label:
             per_engine = {}
             for name, df in table.groupby("engine", sort=False):
-                if not (df.status == "ok").any():  # nothing measured to regress (unsupported)
+                if not (df.status == Status.OK).any():  # nothing measured to regress (unsupported)
                     continue
                 # a compliant contact regresses against its own law, a rigid one against theory
                 column = "v1_law_err_mps" if df.v1_law_mps.notna().any() else "v1_abs_err_mps"
-                worst = float(df[df.status == "ok"][column].max())
+                worst = float(df[df.status == Status.OK][column].max())
                 per_engine[name] = {"error_column": column, "baseline_max_abs_err_mps": worst,
                                     "max_abs_err_mps": max(FACTOR * worst, 1e-12)}
             thresholds["baselines"][sweep.name] = {"options": opts, "engines": per_engine}

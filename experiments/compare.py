@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from .core.judge import Status
 from .core.tables import TIMING_COLUMNS
 
 KEYS = ["engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad"]
@@ -101,7 +102,7 @@ def compare_tables(old_path: Path, new_path: Path, out=sys.stdout) -> int:
                 print(f"{engine} {col}: {int(moved.sum())} rows changed, first at "
                       f"s={r.s_m:.4f} ({r[f'{col}_old']!r} -> {r[f'{col}_new']!r})", file=out)
         for which in ("old", "new"):
-            ok = df[df[f"status_{which}"] == "ok"]
+            ok = df[df[f"status_{which}"] == Status.OK]
             if len(ok):
                 worst = ok[f"v1_abs_err_mps_{which}"].max()
                 print(f"{engine} max |v1 err| {which}: {worst:.3e} m/s", file=out)

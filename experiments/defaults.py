@@ -93,7 +93,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         df = table.iloc[i * n:(i + 1) * n]
         ok = df[df.status.isin(judge.MEASURED)]
         row = {"engine": name, **labels, "dt_s": st.dt_s, "impacts": n, "ok": len(ok),
-               "within_tolerance": int((df.status == "ok").sum()),
+               "within_tolerance": int((df.status == judge.Status.OK).sum()),
                "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
                "statuses": ", ".join(f"{k} {v}" for k, v in df.status.value_counts().items())}
         if labels["part"] == "caught":

@@ -26,6 +26,7 @@ import pandas as pd
 from .core import runs
 from .core.cli import Command
 from .core.io import json_bytes, provenance
+from .core.judge import Status
 from .parts import flex_beam as B
 from .parts import flex_chart
 from .parts import flex_engines as E
@@ -75,7 +76,7 @@ def summary(spots, zones, accuracy) -> dict:
     t = pd.DataFrame(accuracy)
     per_engine = {}
     for name, df in t.groupby("engine", sort=False) if len(t) else ():
-        judged = df[df.status.isin(["ok", "inaccurate"])]
+        judged = df[df.status.isin([Status.OK, Status.INACCURATE])]
         per_engine[name] = {
             "statuses": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
             "max_err_mps": float(judged.err_mps.max()) if len(judged) else None,

@@ -34,6 +34,7 @@ from .core import cli, judge, runs, tables
 from .core.cli import Command
 from .core.fire import Job
 from .core.io import figure_png, json_bytes, provenance
+from .core.judge import Status
 
 BAT, BALL = presets.R161, presets.BASEBALL
 REACH_M = BAT.radius_m + BALL.radius_m
@@ -51,10 +52,10 @@ QUICK = dict(steps=tuple(np.geomspace(1e-5, 1 / 60, 5)), speeds=(10.0, 40.0, 100
 #: would make every held ball in the map 5x dearer.
 BUDGET_S = 0.02
 #: Sound impacts: ok, or unjudged (a soft contact, not judged against rigid theory)
-SOUND = ("ok", "unjudged")
-LETTERS = {"tunnelled": "T", "non_finite": "N", "energy_gained": "E", "penetration": "P",
-           "inaccurate": "I", "no_separation": "S", "no_contact": "C", "unsupported": "U",
-           "error": "X"}
+SOUND = (Status.OK, Status.UNJUDGED)
+LETTERS = {Status.TUNNELLED: "T", Status.NON_FINITE: "N", Status.ENERGY_GAINED: "E",
+           Status.PENETRATION: "P", Status.INACCURATE: "I", Status.NO_SEPARATION: "S",
+           Status.NO_CONTACT: "C", Status.UNSUPPORTED: "U", Status.ERROR: "X"}
 
 
 def theory_fraction_caught(v_mps: float, dt_s: float, k: int, overlap_m: float = 1e-9,

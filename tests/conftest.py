@@ -25,6 +25,7 @@ from hypothesis import strategies as st
 
 import adapters
 from analytic import Ball, Bat, ImpactCase
+from experiments.core import Status
 
 os.environ["BATSIM_QUIET"] = "1"  # no progress lines in test output (subprocesses too)
 
@@ -97,9 +98,9 @@ def sound(table: pd.DataFrame) -> pd.Series:
     """The rows a reference profile may end with: ok; or still touching at the budget where
     the rigid bodies are too (e = 0 near the COM: 'time_limit'); or, for a compliant contact,
     unjudged beyond its law's single contact (``experiments.core.judge.soft_judgement``)."""
-    still_on = (table.status == "no_separation") & (table.rigid_end == "time_limit")
-    beyond_law = (table.status == "unjudged") & table.v1_law_mps.notna()
-    return (table.status == "ok") | still_on | beyond_law
+    still_on = (table.status == Status.NO_SEPARATION) & (table.rigid_end == "time_limit")
+    beyond_law = (table.status == Status.UNJUDGED) & table.v1_law_mps.notna()
+    return (table.status == Status.OK) | still_on | beyond_law
 
 
 # -- running commands as a user does --------------------------------------------------------

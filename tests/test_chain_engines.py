@@ -22,6 +22,7 @@ from analytic import beam, presets
 from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact
 from experiments.core.chain import fire_chain, measured_period_s, mode_states
+from experiments.core.judge import Status
 
 pytestmark = pytest.mark.full
 ENGINES = [n for n in adapters.available() if adapters.record(n).can.chain_adapter]
@@ -74,9 +75,9 @@ def test_chain_impacts_match_the_linear_chain(name, r161_chain):
     # segment (the reference has one contact point); at least 2 of the 11 are judged ok
     statuses = [r["status"] for r in rows]
     if adapters.record(name).errors.chain_defect:  # the record's measured defect: still there
-        assert {"inaccurate", "non_finite"} & set(statuses)
+        assert {Status.INACCURATE, Status.NON_FINITE} & set(statuses)
         return
     bad = [(r["x_m"], r["status"], r.get("why"), r["err_mps"], r["tol_mps"]) for r in rows
-           if r["status"] not in ("ok", "unjudged")]
+           if r["status"] not in (Status.OK, Status.UNJUDGED)]
     assert not bad
-    assert statuses.count("ok") >= 2
+    assert statuses.count(Status.OK) >= 2

@@ -19,7 +19,7 @@ import pytest
 
 import adapters
 from analytic import ImpactCase, presets
-from experiments.core import Job, judge, tables, terms
+from experiments.core import Job, Status, judge, tables, terms
 from experiments.core.fire import fire_group
 from experiments.core.hosting import Hosted
 from experiments.core.placement import min_dt_s
@@ -77,7 +77,8 @@ def _continuous(before: np.ndarray, after: np.ndarray, dt_s: float) -> bool:
 WORKING_S = (1e-6, 1e-3)
 #: What a contact first seen deeper than REACH_M can end as (the ball's centre is past the bat's
 #: axis: nothing sound can push it back out the way it came).
-PAST_THE_AXIS = {"tunnelled", "no_contact", "penetration", "non_finite", "energy_gained"}
+PAST_THE_AXIS = {Status.TUNNELLED, Status.NO_CONTACT, Status.PENETRATION, Status.NON_FINITE,
+                 Status.ENERGY_GAINED}
 
 
 @pytest.mark.parametrize("profile", adapters.PROFILES)
@@ -104,7 +105,7 @@ def test_no_false_tunnelled_or_ok_from_1e12_to_1_s(name, profile):
                 if st.overlap_m + st.contact_phase * case.closing_speed_mps * dt > REACH_M:
                     assert row.status in PAST_THE_AXIS, (name, dt, row.status)
                 elif profile == "reference" and WORKING_S[0] <= dt <= WORKING_S[1]:
-                    assert row.status == "ok", (name, dt, case.s_m, row.status)
+                    assert row.status == Status.OK, (name, dt, case.s_m, row.status)
         finally:
             host.close()
     assert STEPS_S[0] <= max(min_dt_s(c, st) for c in CASES)  # 1e-12 s cannot be placed
@@ -113,16 +114,16 @@ def test_no_false_tunnelled_or_ok_from_1e12_to_1_s(name, profile):
 def _judge_row(row, rec: Recorder, dt_s: float) -> None:
     start, end = rec.side_m()
     where = f"{row.engine} dt={dt_s:g} s={row.s_m}: {row.status} ({row.episode_end})"
-    if row.status == "tunnelled":
+    if row.status == Status.TUNNELLED:
         assert rec.continuous, f"{where}: the state jumped"
         assert end < 0.0, f"{where}: the ball did not pass through ({start:.3g} -> {end:.3g} m)"
-    if row.status == "ok":
+    if row.status == Status.OK:
         assert rec.continuous, f"{where}: the state jumped"
         assert end > 0.0, f"{where}: the ball ended beyond the bat"
         err, tol = (row.v1_abs_err_mps, row.v1_tol_mps) if math.isfinite(row.v1_tol_mps) \
             else (row.v1_law_err_mps, row.v1_law_tol_mps)
         assert err <= tol, f"{where}: v1 off by {err:.3g} > {tol:.3g}"
-    if row.status == "no_contact":
+    if row.status == Status.NO_CONTACT:
         assert end > 0.0, f"{where}: the ball passed through ({start:.3g} -> {end:.3g} m)"
         dv = math.hypot(*(rec.last[2:4] - rec.first[2:4]))
         # no_contact: the judge's own line between a ball flying past and one it deflected
@@ -148,6 +149,6 @@ def test_a_contact_between_two_readings_is_judged_not_missed(name):
                 # seen at most phase v dt + overlap_m = 37 mm deep, inside the 66.6 mm reach:
                 # caught, and judged ok within its tolerance (_judge_row)
                 assert phase * case.v0_mps * dt + st.overlap_m < REACH_M
-                assert row.status == "ok", (name, dt, phase, row.status, row.episode_end)
+                assert row.status == Status.OK, (name, dt, phase, row.status, row.episode_end)
             finally:
                 host.close()

@@ -17,7 +17,7 @@ import pytest
 import adapters
 from analytic import SwingModel, batted_ball_speed, presets
 from experiments import findings
-from experiments.core import Runner
+from experiments.core import Runner, Status
 from experiments.findings import answers as A
 from experiments.findings import ball as FB
 from experiments.findings import metal as M
@@ -156,5 +156,5 @@ def test_every_engine_confirms_the_headline_impacts():
     with Runner() as runner:
         checks = A.engine_checks(runner, adapters.names())
     assert set(checks.engine) == set(adapters.names())
-    assert (checks.status == "ok").all(), checks[checks.status != "ok"][
+    assert (checks.status == Status.OK).all(), checks[checks.status != Status.OK][
         ["engine", "bat", "swing model", "v1_abs_err_mps", "v1_tol_mps", "status"]]

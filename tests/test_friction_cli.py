@@ -14,7 +14,7 @@ import pytest
 import adapters
 from analytic import flight
 from experiments import friction, sweep
-from experiments.core import runs
+from experiments.core import Status, runs
 from experiments.core.io import ROOT
 
 #: A single-world engine whose rigid contact has friction and no declared defect, taken from
@@ -51,7 +51,7 @@ def test_friction_and_flight_columns(tmp_path):
     for col in ("vt1_analytic_mps", "vt1_law_mps", "vt1_tol_mps", "spin1_engine_radps",
                 "backspin1_abs_err_radps", "carry_engine_m", "hang_analytic_s", "friction_law"):
         assert col in t.columns
-    assert (t.status == "ok").all(), list(t.episode_end)
+    assert (t.status == Status.OK).all(), list(t.episode_end)
     out = t[t.v1_analytic_mps > 0]
     assert (out.hang_analytic_s > 0).all()
     for r in out.itertuples():

@@ -1,7 +1,8 @@
 """The house rules a reader relies on, read from the source itself: no module over 400 lines,
 no function over 60, and imports in one direction only: theory (``analytic``) <- engines
 (``adapters``) <- harness core (``experiments.core``) <- the commands' parts
-(``experiments.parts``: no command among them) <- commands (``experiments.*``)."""
+(``experiments.parts``: no command among them) <- commands (``experiments.*``); and a row's
+status is named through ``experiments.core.judge.Status`` outside the judge, not spelled."""
 
 from __future__ import annotations
 
@@ -9,6 +10,8 @@ import ast
 from pathlib import Path
 
 import pytest
+
+from experiments.core.judge import Status
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("analytic", "adapters", "experiments")
@@ -22,6 +25,13 @@ ALLOWED = {
     "adapters": ("analytic", "adapters"),
     "experiments.core": ("analytic", "adapters", "experiments.core"),
     "experiments.parts": ("analytic", "adapters", "experiments.core", "experiments.parts"),
+}
+
+#: The modules outside the judge that may still spell a status, each with why (at most 2).
+STATUS_WORDS_KEPT = {
+    "experiments/core/episode.py": "'non_finite' there is an episode's ending (the loop's word "
+    "for how stepping stopped, beside 'jumped', 'budget', 'passed'; a row's episode_end), "
+    "not a status: classify maps it onto Status.NON_FINITE",
 }
 
 
@@ -69,6 +79,39 @@ def test_imports_point_one_way(path):
     wrong = sorted(m for m in _project_imports(path)
                    if not any(m == a or m.startswith(a + ".") for a in allowed))
     assert not wrong, f"{_name(path)} imports {wrong}: allowed {allowed}"
+
+
+def _status_words(path: Path) -> list[tuple[int, str]]:
+    """Each string constant equal to a status and used as one: compared, a ``.get`` key, or in
+    a dict's keys or a tuple, list or set whose strings are all statuses (a row of columns
+    such as ``{"engine": ..., "ok": ...}`` names a column, not a status)."""
+    words = {s.value for s in Status}
+    found = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Compare):
+            used = [node.left, *node.comparators]
+        elif isinstance(node, ast.Dict | ast.Tuple | ast.List | ast.Set):
+            strings = [n for n in (node.keys if isinstance(node, ast.Dict) else node.elts)
+                       if isinstance(n, ast.Constant) and isinstance(n.value, str)]
+            used = strings if all(n.value in words for n in strings) else []
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                and node.func.attr == "get" and node.args:
+            used = node.args[:1]
+        else:
+            continue
+        found += [(n.lineno, n.value) for n in used
+                  if isinstance(n, ast.Constant) and n.value in words]
+    return found
+
+
+def test_statuses_only_through_the_enum():
+    judge = ROOT / "experiments" / "core" / "judge.py"
+    found = {str(p.relative_to(ROOT)): words for p in SOURCES
+             if p.relative_to(ROOT).parts[0] in PACKAGES and p != judge
+             and (words := _status_words(p))}
+    assert len(STATUS_WORDS_KEPT) <= 2
+    assert set(found) == set(STATUS_WORDS_KEPT), \
+        {m: w for m, w in found.items() if m not in STATUS_WORDS_KEPT}
 
 
 def test_nothing_points_outside_the_project():

@@ -73,7 +73,7 @@ def test_hunt_crossley_map_is_judged_against_its_law(stability_out):
         if stability.hunt_crossley_law(name) is None:
             continue
         fine = rows[(rows["map"] == stability.hc_label(name)) & (rows.dt_s <= 1e-4)]
-        assert len(fine) and (fine.status == "ok").all(), fine.status.value_counts()
+        assert len(fine) and (fine.status == Status.OK).all(), fine.status.value_counts()
 
 
 @pytest.mark.full
@@ -83,7 +83,7 @@ def test_soft_contact_sinks_through_below_v_over_r(stability_out):
     rows = pd.read_csv(stability_out / "stability.csv")
     soft = rows[rows.soft_omega_radps.notna()]
     weak = soft[soft.soft_omega_radps < stability.SOFT_SPEED_MPS / stability.REACH_M / 1.5]
-    assert len(weak) and (weak.status == "tunnelled").all()
+    assert len(weak) and (weak.status == Status.TUNNELLED).all()
 
 
 @pytest.mark.full

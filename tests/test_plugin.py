@@ -14,7 +14,7 @@ import pytest
 import adapters
 from experiments import bench_engines, defaults, pareto, stability, sweep, swing
 from experiments import check_engine as check_engine_cmd
-from experiments.core import check, check_engine
+from experiments.core import Status, check, check_engine
 
 
 @pytest.fixture(scope="module")
@@ -84,7 +84,7 @@ def test_an_engine_that_raises_gives_error_rows_not_a_crash(toyengine, tmp_path)
     finally:
         adapters.unregister(toy_engine.BROKEN.name)
     rows = pd.read_csv(next(tmp_path.rglob("sweep.csv")))
-    assert set(rows.status) == {"error"}
+    assert set(rows.status) == {Status.ERROR}
     assert rows.episode_end.str.contains("solver diverged").all()
 
 
@@ -93,12 +93,12 @@ def test_every_experiment_runs_it(toyengine, tmp_path, findings_run):
     out = ["--out", str(tmp_path)]
     assert sweep.main(["--engine", toyengine, "--points", "5", *out, "--name", "s"]) == 0
     rows = pd.read_csv(tmp_path / "s" / "sweep.csv")
-    assert (rows.engine == toyengine).all() and (rows.status == "ok").all()
+    assert (rows.engine == toyengine).all() and (rows.status == Status.OK).all()
     meta = json.loads((tmp_path / "s" / "sweep.json").read_text())
     assert set(meta["engines"]) == {toyengine}
     assert sweep.main(["--engine", toyengine, "--points", "3", "--swing", "--dt", "1e-4",
                        "--no-locate", *out, "--name", "h"]) == 0
-    assert (pd.read_csv(tmp_path / "h" / "sweep.csv").status == "ok").all()
+    assert (pd.read_csv(tmp_path / "h" / "sweep.csv").status == Status.OK).all()
     for study in (pareto, stability, swing, bench_engines):
         assert study.main(["--quick", "--engine", toyengine, *out]) == 0, study.__name__
     assert defaults.main(["--phases", "2", "--engine", toyengine, *out]) == 0

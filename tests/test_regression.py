@@ -16,7 +16,7 @@ import pytest
 
 import adapters
 from experiments import sweep
-from experiments.core import Runner, tables
+from experiments.core import Runner, Status, tables
 from experiments.core.fire import fire_jobs
 from experiments.core.io import ROOT
 
@@ -57,7 +57,7 @@ def test_agreement_does_not_regress_and_the_baseline_is_what_the_code_produces(b
         rtol, atol = 1e-11, 1e-12
     np.testing.assert_allclose(rows.v1_engine_mps, committed.v1_engine_mps, rtol=rtol, atol=atol)
     assert sound(rows).all(), rows.status.value_counts().to_dict()
-    rows = rows[rows.status == "ok"]
+    rows = rows[rows.status == Status.OK]
     allowed = spec["engines"][engine]["max_abs_err_mps"]
     worst = rows[spec["engines"][engine].get("error_column", "v1_abs_err_mps")].max()
     assert worst <= allowed, f"{engine}: max |dv1| {worst:.3e} m/s > allowed {allowed:.3e} m/s"

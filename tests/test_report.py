@@ -16,6 +16,7 @@ import pytest
 
 from experiments import baselines, report
 from experiments.core import terms
+from experiments.core.judge import Status
 from experiments.core.runs import RESULTS
 
 
@@ -136,7 +137,7 @@ def test_a_page_reads_its_numbers_from_the_files(copy):
     name = sorted(set(ref.engine))[0]
     rows = ref[ref.engine == name]
     text = report.pages.page(copy, name)
-    assert f"{(rows.status == 'ok').sum()}/{len(rows)} ok" in text
+    assert f"{(rows.status == Status.OK).sum()}/{len(rows)} ok" in text
     bench = pd.read_csv(copy / "bench_batches.csv")
     bench.loc[bench.engine == name, "us_per_impact"] += 1000.0
     bench.loc[(bench.engine == name) & (bench.batch == 10), "us_per_impact"] = 1.5

@@ -41,7 +41,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import replace
-from enum import Enum
+from enum import StrEnum
 
 import numpy as np
 
@@ -50,8 +50,10 @@ from analytic import CollisionEpisode, ImpactCase, collide, compliant, predict_a
 from analytic.frictional import frictional_episode
 
 
-class Status(str, Enum):
-    """How a fired impact ended. Only ``ok`` rows matched the answer that applies."""
+class Status(StrEnum):
+    """How a fired impact ended. Only ``ok`` rows matched the answer that applies. A member is
+    its value as a string (``str(Status.OK) == "ok"``, in f-strings and CSV alike): modules
+    outside the judge name statuses only through it, never by their words."""
     OK = "ok"
     TUNNELLED = "tunnelled"    #: the ball's centre ended beyond the bat's axis: it passed
     NO_CONTACT = "no_contact"  #: no contact seen when due, and the ball did not pass either

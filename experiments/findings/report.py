@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import pandas as pd
 
+from ..core.judge import Status
 from . import answers as A
 from .refs import REFS
 
@@ -227,7 +228,7 @@ def _engine_summary(checks: pd.DataFrame, engines: tuple[str, ...]) -> pd.DataFr
         err = (d.v1_law_err_mps if law else d.v1_abs_err_mps).abs()
         rows.append({"engine": name,
                      "judged against": "its own contact law" if law else "rigid theory",
-                     "ok": f"{int((d.status == 'ok').sum())}/{len(d)}",
+                     "ok": f"{int((d.status == Status.OK).sum())}/{len(d)}",
                      "worst abs(v1 - reference) (m/s)": float(err.max()),
                      "v1 - rigid theory, worst (m/s)": float(d.v1_abs_err_mps.abs().max())})
     return pd.DataFrame(rows)

@@ -14,6 +14,7 @@ from analytic import batted_ball_speed, presets
 
 from ..core import judge
 from ..core.io import figure_png
+from ..core.judge import Status
 
 
 def render(table: pd.DataFrame, sweep, marks: dict) -> bytes:
@@ -89,14 +90,14 @@ def _engine(top, strip, bottom, row: int, rec, df: pd.DataFrame) -> bool:
     floor = 1e-16
     name, mark, color = rec.name, rec.look.marker, rec.look.color
     ok = df.status.isin(judge.MEASURED)
-    within = int((df.status == "ok").sum())
-    others = "".join(f", {v} {k}" for k, v in df.status[ok & (df.status != "ok")]
+    within = int((df.status == Status.OK).sum())
+    others = "".join(f", {v} {k}" for k, v in df.status[ok & (df.status != Status.OK)]
                      .value_counts().items())
     top.plot(df.s_m[ok], df.v1_engine_mps[ok], mark, ms=5, mfc="none",
              color=color, label=f"{name} ({within}/{len(df)} ok{others})")
     if (~ok).any():  # no trustworthy v1: kept off the v1 axis
         statuses = ", ".join(f"{k} {v}" for k, v in df.status[~ok].value_counts().items())
-        as_rigid = int(((df.status == "no_separation") & (df.rigid_end == "time_limit")).sum())
+        as_rigid = int(((df.status == Status.NO_SEPARATION) & (df.rigid_end == "time_limit")).sum())
         if as_rigid:
             statuses += f" ({as_rigid} still in contact in rigid theory too)"
         strip.plot(df.s_m[~ok], np.full((~ok).sum(), row), "x", ms=6, color=color,
@@ -150,7 +151,7 @@ def print_summary(meta: dict, table: pd.DataFrame | None = None) -> None:
     print(f"{'engine':9} {'ok':>7} {'max |dv1| m/s':>14} {'median':>10} {'max rel':>9} "
           f"{'sweet spot mm':>18} {'COP mm':>18} {'us/impact':>9}")
     for name, s in meta["engines"].items():
-        ok = s["status_counts"].get("ok", 0)
+        ok = s["status_counts"].get(Status.OK, 0)
 
         def mm(x, ref):
             return "n/a" if not math.isfinite(x) else f"{x * 1e3:.4f} ({(x - ref) * 1e3:+.1e})"
@@ -166,5 +167,5 @@ def print_summary(meta: dict, table: pd.DataFrame | None = None) -> None:
     print(f"analytic: sweet spot {marks['sweet_spot_m'] * 1e3:.4f} mm{off}, "
           f"COP {marks['cop_m'] * 1e3:.4f} mm from the COM")
     if table is not None:
-        for (name, status), rows in table[table.status != "ok"].groupby(["engine", "status"]):
+        for (name, status), rows in table[table.status != Status.OK].groupby(["engine", "status"]):
             print(f"{name}: {len(rows)} {status} ({rows.episode_end.iloc[0]})")

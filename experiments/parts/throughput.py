@@ -29,6 +29,7 @@ from analytic import presets
 from ..core import tables
 from ..core.fire import Job, fire_jobs
 from ..core.hosting import hosted
+from ..core.judge import Status
 from ..core.placement import start_state
 
 GRID = 41
@@ -161,7 +162,7 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
                      "harness_us_per_impact": float(np.median(inside)) / size * 1e6,
                      "steps_median": steps, "repeats": repeats,
                      "max_abs_err_mps": float(table.v1_abs_err_mps.max()),
-                     "ok": int((table.status == "ok").sum()), "judged": len(table)})
+                     "ok": int((table.status == Status.OK).sum()), "judged": len(table)})
         later = [n for n in sizes if n > size]
         if later and wall / size * min(later) > budget_s:
             break

@@ -10,6 +10,7 @@ import pandas as pd
 import adapters
 from analytic import presets
 
+from ..core.judge import Status
 from .base import Results, dist, engines_text, label, names, num, pct, span, step
 from .data import need
 
@@ -49,7 +50,7 @@ def out_of_the_box(res: Results) -> str:
                  f"{pct(1 - r.fraction_ok)} (its contact lasts longer than a step), but is "
                  f"{pct(r.max_rel_err_caught)} from rigid theory there (its law, judged no "
                  "further: a step of most of a contact).")
-    none = [e for e in default.rigid if default.counts(e).get("ok", 0) == 0]
+    none = [e for e in default.rigid if default.counts(e).get(Status.OK, 0) == 0]
     if none:
         who = ("none catches any" if len(none) == len(default.rigid)
                else f"{engines_text(none)} catch none")
@@ -99,7 +100,7 @@ def small_step(res: Results) -> str:
     dt = sw.setting(sw.rigid[0], "dt_s")
     conv = res.csv("convergence.csv")
     pareto = res.csv("pareto.csv")
-    good = [e for e in sw.rigid if sw.counts(e).get("ok", 0) == len(sw.model)]
+    good = [e for e in sw.rigid if sw.counts(e).get(Status.OK, 0) == len(sw.model)]
     each = names(f"{label(e)} {num(sw.err(e))}" for e in sorted(good, key=sw.err))
     text = (f"**With a small step but default solver values** (dt = {step(dt)}, contact "
             f"mid-step: `{sw.stem}`), the largest errors on the swing are {each} m/s (the "
@@ -116,14 +117,14 @@ def small_step(res: Results) -> str:
 def _failing_default(e: str, sw, knobs: dict, conv: pd.DataFrame, pareto: pd.DataFrame) -> str:
     base, ref = knobs["base"].iloc[0], knobs["ref"].iloc[0]
     rows = sw.rows(e)
-    if sw.counts(e).get("inaccurate", 0) == len(rows):
+    if sw.counts(e).get(Status.INACCURATE, 0) == len(rows):
         rel = (rows.v1_engine_mps - rows.v1_analytic_mps) / rows.v1_analytic_mps.abs()
         way = "high" if (rel > 0).all() else "off"
         text = (f"{label(e)}'s v1 is {pct(rel.abs().median())} too {way} there (median over "
                 f"the points)")
     else:
         counts = sw.counts(e)
-        text = (f"{label(e)} lets {counts.get('tunnelled', 0)} of {len(rows)} through there "
+        text = (f"{label(e)} lets {counts.get(Status.TUNNELLED, 0)} of {len(rows)} through there "
                 f"({', '.join(f'{k} {v}' for k, v in counts.items())})")
     fix = [k for k, _ in knobs["restores"]]
     brk = [k for k, _ in knobs["breaks"]]

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pandas as pd
 
+from ..core.judge import Status
 from .base import Results, bullets, label, method, methods, names, num, precision, span, step
 from .data import need
 from .impact import into_impact, models
@@ -142,7 +143,7 @@ def end_point(res: Results) -> str:
     groups = []
     for sw, who in ((hinged, hinged.of_precision("float64")),
                     (small, [e for e in small.of_precision("float64")
-                             if small.counts(e).get("ok", 0) == len(small.model)])):
+                             if small.counts(e).get(Status.OK, 0) == len(small.model)])):
         pairs = [(e, sw.rows(e).v1_abs_err_mps.to_numpy()[-2:]) for e in who]
         pairs = [(e, near, end) for e, (near, end) in pairs if end * 100 < near]
         if pairs:

@@ -14,7 +14,7 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from ..core import terms
+from ..core import judge, terms
 from .base import Results, bullets, dist, gnum, label, md_table, names, num, precision, span, step
 from .data import need
 
@@ -122,7 +122,7 @@ def soft(res: Results) -> str:
         w = float((c.w_dt / c.dt_s).median())
         order = np.polyfit(np.log10(by_dt.index), np.log10(by_dt.abs().to_numpy()), 1)[0]
         spread = c.groupby(["dt_s", "e_target"]).residual.agg(lambda r: r.max() - r.min()).max()
-        gained = c[c.status == "energy_gained"]
+        gained = c[c.status == judge.Status.ENERGY_GAINED]
         softs = conv[(conv.engine == e) & conv.family.str.startswith("soft")]
         parts.append(
             f"{label(e)} `soft` mode (`solref = (-w^2, -2 zeta w)`, zeta from the closed-form "

@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 
 from .. import stability as study
+from ..core.judge import Status
 from .base import Results, bullets, count, dist, label, num, pct, secs, span, step
 from .data import need
 
@@ -58,7 +59,7 @@ def inaccurate(table: pd.DataFrame) -> list[str]:
     out = []
     ref = table[table.profile == "reference"]
     for m, g in ref.groupby("map", sort=False):
-        bad = g[g.status == "inaccurate"]
+        bad = g[g.status == Status.INACCURATE]
         if bad.empty or not m.endswith(" reference"):
             continue
         e = g.engine.iloc[0]
@@ -102,7 +103,7 @@ def defaults(table: pd.DataFrame, cells: pd.DataFrame) -> list[str]:
     for m, g in table[table.profile == "default"].groupby("map", sort=False):
         e, n = g.engine.iloc[0], len(g)
         counts = g.status.value_counts()
-        gained = g[g.status == "energy_gained"]
+        gained = g[g.status == Status.ENERGY_GAINED]
         if len(gained) > n / 10:
             letters = cells[cells["map"] == m].failure
             rise = gained.ke_ratio - 1
@@ -112,11 +113,11 @@ def defaults(table: pd.DataFrame, cells: pd.DataFrame) -> list[str]:
                 f"{len(letters)} cells; {pct(rise.min())} to {pct(rise.max())}, median "
                 f"{pct(rise.median())}): its contact error reduction turns the overlap at "
                 "first contact into velocity.")
-        elif counts.get("ok", 0) == 0:
+        elif counts.get(Status.OK, 0) == 0:
             out.append(
                 f"**{label(e)}'s default contact** lets the ball through at every step and "
-                f"speed ({counts.get('tunnelled', 0)} impacts) or holds it past "
-                f"{secs(study.BUDGET_S)} ({counts.get('no_separation', 0)}; reported "
+                f"speed ({counts.get(Status.TUNNELLED, 0)} impacts) or holds it past "
+                f"{secs(study.BUDGET_S)} ({counts.get(Status.NO_SEPARATION, 0)}; reported "
                 "`no_separation`).")
     return out
 
@@ -125,7 +126,7 @@ def soft(table: pd.DataFrame) -> list[str]:
     out = []
     for _, g in table[table["map"].str.endswith(" soft")].groupby("map", sort=False):
         e = g.engine.iloc[0]
-        ok = g[g.status == "ok"]
+        ok = g[g.status == Status.OK]
         wdt = ok.soft_omega_radps * ok.dt_s
         sink = study.SOFT_SPEED_MPS / study.REACH_M
         inside = bool((ok.soft_omega_radps > sink).all() and (wdt < 2).all())

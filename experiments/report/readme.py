@@ -14,6 +14,8 @@ import pandas as pd
 
 import adapters
 
+from ..core.judge import Status
+
 BEGIN = "<!-- engines table: written by python -m experiments.baselines from results/ -->"
 END = "<!-- end of the engines table -->"
 REFERENCE = "sweep_all_reference_r161_swing"
@@ -31,7 +33,7 @@ def _install(rec) -> str:
 def accuracy(rows: pd.DataFrame, name: str) -> str:
     """ok count and the largest error over the ok rows: against rigid theory, or against the
     engine's own contact law where that is what it converges to."""
-    ok = rows[rows.status == "ok"]
+    ok = rows[rows.status == Status.OK]
     rec = adapters.record(name)
     law = rec.errors.contact_law(adapters.settings_for(name), 0.5) is not None
     err = (ok.v1_law_err_mps if law else ok.v1_abs_err_mps).max()

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..core.judge import Status
 from .base import (
     Results,
     bullets,
@@ -94,8 +95,8 @@ def plastic(res: Results) -> str:
         text += f"; at s = {names(f'{s:g}' for s in again)} m the bat catches it a second time"
     text += (f"), and the rigid episode's v1 differs from the single impulse by up to "
              f"{num(jump)} m/s. ")
-    ok = {e: sw.counts(e).get("ok", 0) for e in sw.rigid}
-    ratio = {e: float((r.v1_abs_err_mps / r.v1_tol_mps)[r.status == "ok"].max())
+    ok = {e: sw.counts(e).get(Status.OK, 0) for e in sw.rigid}
+    ratio = {e: float((r.v1_abs_err_mps / r.v1_tol_mps)[r.status == Status.OK].max())
              for e in sw.rigid for r in [sw.rows(e)]}
     by_err: dict[str, list[str]] = {}
     for e in sorted(sw.rigid, key=sw.err):
@@ -107,7 +108,7 @@ def plastic(res: Results) -> str:
     text += (f"All {count(len(sw.rigid))} rigid-contact engines follow the episode: {okays} (worst "
              f"{worst[0]}, {num(best_ratio)} of its tolerance; {'; '.join(worst[1:])}; "
              f"each within its own, at most {num(max(ratio.values()))} of it)")
-    stuck = sw.table[(sw.table.engine.isin(sw.rigid)) & (sw.table.status == "no_separation")]
+    stuck = sw.table[(sw.table.engine.isin(sw.rigid)) & (sw.table.status == Status.NO_SEPARATION)]
     if len(stuck):
         s = np.unique(stuck.s_m)
         also = (stuck.rigid_end == "time_limit").all()
@@ -118,11 +119,11 @@ def plastic(res: Results) -> str:
     text += ". "
     for e in sw.compliant:
         rows = sw.rows(e)
-        unjudged = rows[rows.status == "unjudged"].s_m
+        unjudged = rows[rows.status == Status.UNJUDGED].s_m
         at_ends = set(unjudged) <= {m.s_m.min(), m.s_m.max()}
         text += (f"{label(e)} floors e (a Hunt-Crossley contact cannot be plastic: `E_FLOOR` in "
                  f"`adapters/{e}`) and is judged against its law where one contact is the whole "
-                 f"episode ({sw.counts(e).get('ok', 0)} of {n}, within "
+                 f"episode ({sw.counts(e).get(Status.OK, 0)} of {n}, within "
                  f"{num(sw.law_err(e))} m/s; the {len(unjudged)} "
                  + ("at the cylinder's ends, where the ball slides onto a cap during the "
                     "contact, " if at_ends and len(unjudged) else "others ")
