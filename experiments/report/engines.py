@@ -113,32 +113,33 @@ def pinned(swing) -> str:
 
 
 def soft(res: Results) -> str:
+    """The soft contacts' calibration: what is measured, said once, and a row per engine."""
     cal = res.csv("soft_calibration.csv")
     conv = res.csv("convergence.csv")
-    parts = []
+    rows = []
     for e, c in cal.groupby("engine"):
         half = c[np.isclose(c.e_target, 0.5)]
         by_dt = half.groupby("dt_s").residual.mean().sort_index(ascending=False)
-        w = float((c.w_dt / c.dt_s).median())
         order = np.polyfit(np.log10(by_dt.index), np.log10(by_dt.abs().to_numpy()), 1)[0]
         spread = c.groupby(["dt_s", "e_target"]).residual.agg(lambda r: r.max() - r.min()).max()
-        gained = c[c.status == judge.Status.ENERGY_GAINED]
+        gained = int((c.status == judge.Status.ENERGY_GAINED).sum())
         softs = conv[(conv.engine == e) & conv.family.str.startswith("soft")]
-        parts.append(
-            f"{label(e)} `soft` mode (`solref = (-w^2, -2 zeta w)`, zeta from the closed-form "
-            "restitution of a spring-damper released at zero force): "
-            "`python -m experiments.calibrate_soft` measures the residual e_measured - e at "
-            f"w = {w:g} rad/s as {names(num(r) for r in by_dt)} for e = 0.5 at dt = "
-            f"{names(gnum(dt) for dt in by_dt.index)} s (order {order:.2f} in w dt), "
-            f"independent of impact speed ({span(c.v0_mps.min(), c.v0_mps.max(), gnum)} m/s) and "
-            f"bat mass ({span(c.bat_mass_kg.min(), c.bat_mass_kg.max(), gnum)} kg) to "
-            f"{num(spread)} (`results/soft_calibration.csv`; the command covers every engine "
-            "whose record declares a soft contact). The contact lasts about "
-            f"{c.contact_duration_s.median() * 1e3:.1f} ms; on an off-centre impact the bat turns "
-            "meanwhile, which leaves relative errors of "
-            f"{span(softs.err_at_dt_min.min(), softs.err_at_dt_min.max())} at the smallest step "
-            "(`convergence.csv`: see Speed vs accuracy)"
-            + (f" and, at e = 1, a small energy gain ({len(gained)} of its "
-               f"{int(np.isclose(c.e_target, 1).sum())} e = 1 calibration impacts are "
-               "`energy_gained`)" if len(gained) else "") + ".")
-    return "\n\n".join(parts)
+        rows.append(
+            f"| {label(e)} | {float((c.w_dt / c.dt_s).median()):g} | "
+            f"{' / '.join(num(r) for r in by_dt)} at {' / '.join(gnum(d) for d in by_dt.index)} "
+            f"| {order:.2f} | {num(spread)} | {c.contact_duration_s.median() * 1e3:.1f} | "
+            f"{span(softs.err_at_dt_min.min(), softs.err_at_dt_min.max())} | {gained} of "
+            f"{int(np.isclose(c.e_target, 1).sum())} |")
+    return (
+        "A declared soft contact (the `soft` mode: `solref = (-w^2, -2 zeta w)`, zeta from the "
+        "closed-form restitution of a spring-damper released at zero force) is calibrated by "
+        "`python -m experiments.calibrate_soft` (`results/soft_calibration.csv`): the residual "
+        "e_measured - e for e = 0.5 at each step, its order in w dt, its spread over impact "
+        f"speeds ({span(cal.v0_mps.min(), cal.v0_mps.max(), gnum)} m/s) and bat masses "
+        f"({span(cal.bat_mass_kg.min(), cal.bat_mass_kg.max(), gnum)} kg); the contact's "
+        "length; the relative error an off-centre impact keeps at the smallest step, the bat "
+        "turning during the contact (`convergence.csv`: see Speed vs accuracy); and the e = 1 "
+        "calibration impacts that gained energy.\n\n"
+        "| engine | w (rad/s) | residual at dt (s) | order | spread | contact (ms) | "
+        "error at the smallest step | e = 1 `energy_gained` |\n|---|---|---|---|---|---|---|---|\n"
+        + "\n".join(rows))

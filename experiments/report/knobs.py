@@ -70,6 +70,7 @@ def _soft(conv: pd.DataFrame, engine: str) -> pd.DataFrame:
 
 
 def soft(res: Results, table: pd.DataFrame, conv: pd.DataFrame) -> list[str]:
+    """What every soft contact does (said once, ``SOFT_LEAD``), then each engine's numbers."""
     (swing,) = need(res, "swing")
     out = []
     for e in swing.rigid:
@@ -82,16 +83,28 @@ def soft(res: Results, table: pd.DataFrame, conv: pd.DataFrame) -> list[str]:
         wall["w"] = wall.family.str.extract(r"w=(\d+)")[0]
         piv = wall.pivot_table(index=["dt_s", "w"], columns="integrator", dropna=False,
                                values=["wall_per_collision_s", "max_rel_err"])
-        text = (f"**{label(e)}'s soft contact does not converge to the impulse model**: its finite "
-                "contact time while the bat turns leaves "
+        text = (f"**{label(e)}'s soft contact**: against rigid theory it leaves "
                 f"{span(c.err_at_dt_min.min(), c.err_at_dt_min.max())} at the smallest step "
                 f"(fitted p {span(c.p.min(), c.p.max(), lambda v: f'{v:.2f}', ' to ')}; "
                 + (names(f"{r.family} fits a power law well, r^2 = {r.r2:.2f}, and it too levels "
                          f"off near {sci(r.err_at_dt_min, 1)}" for r in fit.itertuples())
                    if len(fit) else "none fits a power law well") + "). "
                 + _integrators(piv["wall_per_collision_s"], piv["max_rel_err"]))
-        out.append(text.rstrip() + " " + own_law(e, c))
-    return out
+        out.append(text.rstrip() + " " + own_law(c))
+    return [SOFT_LEAD, *out] if out else out
+
+
+#: What every soft contact of the MuJoCo family does, said once before each engine's numbers.
+SOFT_LEAD = (
+    "**A soft contact does not converge to the impulse model, but to its own law**: a "
+    "spring-damper in contact space, m_eff (w^2 x + 2 zeta w x') with m_eff at the current "
+    "contact point (`ErrorModel.contact_law`, `analytic.compliant.ContactSpaceSpringDamper`); "
+    "its finite contact time while the bat turns is a model error no step removes, and its v1 "
+    "approaches its law at about first order (a test checks the order for every soft contact "
+    "an engine declares: `tests/test_adapters_semantics.py::test_soft_contact_converges_to_its"
+    "_own_law`). The chart draws each soft setting twice: a dot against rigid theory, a hollow "
+    "diamond against its own law (`max_law_rel_err` in `results/pareto.csv`; fitted orders "
+    "`p_law` in `results/convergence.csv`).")
 
 
 def _integrators(t: pd.DataFrame, err: pd.DataFrame) -> str:
@@ -108,25 +121,17 @@ def _integrators(t: pd.DataFrame, err: pd.DataFrame) -> str:
             f"numbers at {times(implicit, 1)} its cost.")
 
 
-def own_law(engine: str, c: pd.DataFrame) -> str:
+def own_law(c: pd.DataFrame) -> str:
+    """The fitted orders against its own law (``p_law``): at the middle stiffness, then the
+    others."""
     mid = c[c.w == c.w.median()]
     rest = c[c.w != c.w.median()]
     at = names(f"{r.p_law:.2f} for {r.integrator}" for r in mid.itertuples())
-    return (f"**Against its own law it does converge**: {label(engine)}'s soft contact is a "
-            "spring-damper in contact space, m_eff (w^2 x + 2 zeta w x') with m_eff at the "
-            "current contact point (`ErrorModel.contact_law`, "
-            "`analytic.compliant.ContactSpaceSpringDamper`), and its v1 approaches that law at "
-            "about first order (a test checks the order for every soft contact an engine "
-            "declares: `tests/test_adapters_semantics.py::test_soft_contact_converges_to_its_own_"
-            "law`). What the step cannot remove is the law's own difference from impulse "
-            "theory: the model error of a millisecond contact. The chart draws each soft "
-            "setting twice: a dot against rigid theory, a hollow diamond against its own law "
-            "(`max_law_rel_err` in `results/pareto.csv`; fitted orders `p_law` in "
-            f"`results/convergence.csv`: {at} at w = {mid.w.iloc[0]:g} rad/s"
+    return (f"Against its own law: order {at} at w = {mid.w.iloc[0]:g} rad/s"
             + (f"; {span(rest.p_law.min(), rest.p_law.max(), lambda v: f'{v:.2f}')} at w = "
                f"{names(f'{w:g}' for w in sorted(rest.w.unique()))} rad/s, where the grid's "
                "deepest contacts approach the sinking limit w = v/R or the step w dt = 0.1"
-               if len(rest) else "") + ").")
+               if len(rest) else "") + ".")
 
 
 def integrator_fails(table: pd.DataFrame) -> str:
