@@ -111,6 +111,20 @@ def test_impact_point_off_the_cylinder_is_a_value_error():
                        case=case)])
 
 
+def test_settings_carry_knobs_and_the_error_model_the_judges_questions():
+    # what contact the settings make (its law, a mapping's bias, a speculative margin...) is
+    # asked of the record's error model (adapters/errors.py), never of the settings
+    fields = {f.name for f in dataclasses.fields(adapters.ErrorModel)}
+    hooks = {n for n in vars(adapters.ErrorModel) if not n.startswith("_")} - fields - {"eps"}
+    assert "contact_law" in hooks and len(hooks) == 11
+    for name in adapters.names():
+        rec = adapters.record(name)
+        settings_class = type(rec.profiles["reference"])
+        defined = {n for cls in settings_class.__mro__ for n in vars(cls)}
+        assert not defined & hooks, f"{name}'s settings define {sorted(defined & hooks)}"
+        assert isinstance(rec.errors, adapters.ErrorModel)
+
+
 # -- plug-ins that reuse a built-in's record ------------------------------------------------
 
 PLUGIN_MODULE = """
