@@ -156,8 +156,9 @@ def gather(fired: Sequence[Fired]) -> Gathered:
                                          else [fired]) if len(p)]
     if not parts:
         parts = [_block_columns([])]
-    return Gathered(cases=[c for p in parts for c in p[0]],
-                    settings=[s for p in parts for s in p[1]],
-                    engines=[e for p in parts for e in p[2]],
+    def joined(i: int) -> list:
+        return list(itertools.chain.from_iterable(p[i] for p in parts))
+
+    return Gathered(cases=joined(0), settings=joined(1), engines=joined(2),
                     cols={k: np.concatenate([p[3][k] for p in parts])
                           for k in (*FLOAT_FIELDS, *_OTHER)})

@@ -69,7 +69,25 @@ def case_columns(xp, cases: Sequence[ImpactCase]) -> SimpleNamespace:
     """The cases' CASE_FIELDS and normal speeds (v0n, u0n, closing) in the namespace ``xp``
     of ``geometry`` (arrays over a batch; one case's own floats for one world), and
     ``turned``: None, or where a case has an undercut or a spinning ball, their columns
-    (``undercut_m``, ``cos_tilt``, ``spin_x``/``_y``/``_z`` rad/s)."""
+    (``undercut_m``, ``cos_tilt``, ``spin_x``/``_y``/``_z`` rad/s). A batch that repeats
+    case objects (a grid tiled over many worlds) reads each distinct one once."""
+    if xp is not g.SCALARS and len(cases) > 1:
+        ids = np.fromiter(map(id, cases), dtype=np.int64, count=len(cases))
+        _, first, inv = np.unique(ids, return_index=True, return_inverse=True)
+        if len(first) < len(cases):
+            return _spread(_columns(xp, [cases[i] for i in first]), inv.reshape(-1))
+    return _columns(xp, cases)
+
+
+def _spread(cols: SimpleNamespace, rows: np.ndarray) -> SimpleNamespace:
+    """``cols`` (arrays over distinct cases, and ``turned``'s) taken at ``rows``."""
+    return SimpleNamespace(**{k: v[rows] if isinstance(v, np.ndarray) else
+                              _spread(v, rows) if isinstance(v, SimpleNamespace) else v
+                              for k, v in vars(cols).items()})
+
+
+def _columns(xp, cases: Sequence[ImpactCase]) -> SimpleNamespace:
+    """``case_columns`` of every case, one by one."""
     turned = None
     if any(c.undercut_m != 0.0 or c.spin_radps != (0.0, 0.0, 0.0) for c in cases):
         pick = (lambda f: f(cases[0])) if xp is g.SCALARS else \

@@ -137,15 +137,27 @@ def _with_friction(g, judged, rigid, spin_columns: bool, plain: bool):
 def _distinct(g) -> tuple[np.ndarray, np.ndarray]:
     """The rows of ``g`` judged alike: one per distinct case, settings, engine and analytic
     release (the judgement depends on nothing else), as (a row of each, each row's index
-    into them). Cases and settings count as one when they are the same object."""
-    nan_free = [None if w != w else w for w in g.cols["release_omega_analytic_radps"].tolist()]
-    seen: dict[tuple, int] = {}
-    inv = np.fromiter((seen.setdefault(key, len(seen)) for key in zip(
-        map(id, g.cases), map(id, g.settings), g.engines, nan_free)), dtype=np.intp,
-        count=len(g.cases))
-    rep = np.empty(len(seen), dtype=np.intp)
-    rep[inv] = np.arange(len(inv))
-    return rep, inv
+    into them). Cases count as one when they are the same object, settings when equal. Each key
+    column is coded by ``np.unique`` and the codes combined column by column (compacted
+    again after each, so that they stay below the row count): no Python loop over rows."""
+    n = len(g.cases)
+    if n == 0:
+        return np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp)
+    release = g.cols["release_omega_analytic_radps"]
+    columns = [np.fromiter(map(id, g.cases), dtype=np.int64, count=n)]
+    if g.settings.count(g.settings[0]) < n:  # (equal settings judge alike; C speed)
+        columns.append(np.fromiter(map(id, g.settings), dtype=np.int64, count=n))
+    if g.engines.count(g.engines[0]) < n:
+        columns.append(np.asarray(g.engines))
+    if not np.isnan(release).all():
+        columns.append(release)
+    key = columns[0]
+    for column in columns[1:]:
+        key = np.unique(key, return_inverse=True)[1].reshape(-1)
+        codes = np.unique(column, return_inverse=True)[1].reshape(-1)
+        key = key * (int(codes.max()) + 1) + codes
+    _, rep, inv = np.unique(key, return_index=True, return_inverse=True)
+    return rep.astype(np.intp), inv.reshape(-1).astype(np.intp)
 
 
 def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> pd.DataFrame:
@@ -167,9 +179,10 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
               law, _single_impulse_v1(cases))
     # the friction columns hold the engine's values: judged on every row, where any applies
     judged = tuple(x[inv] for x in judged)
+    plain = all(k.frictionless_planar for k in cases)
     extra, tol, law, impulse, within = _with_friction(
-        g, judged, [rigid[k] for k in inv], spin_columns,
-        all(k.frictionless_planar for k in cases))
+        g, judged, [] if plain and not spin_columns else [rigid[k] for k in inv],
+        spin_columns, plain)
 
     def each(values) -> np.ndarray:  # one value per distinct impact, spread over the rows
         return np.array(values)[inv]
