@@ -53,6 +53,7 @@ from .record import (
     Install,
     Integrator,
     KnobFamily,
+    MissingFeature,
     Presentation,
     ReportNotes,
     RestitutionRule,
@@ -252,7 +253,8 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
 
 __all__ = ["BatchedEngine", "Capabilities", "ContactReference", "Cost", "ENTRY_POINT_GROUP",
            "Engine", "EngineNotInstalled", "EngineRecord", "ErrorModel", "FrictionRule", "Hands",
-           "Install", "Integrator", "KnobFamily", "MassProperties", "PLANAR_FIELDS", "PROFILES",
+           "Install", "Integrator", "KnobFamily", "MassProperties", "MissingFeature",
+           "PLANAR_FIELDS", "PROFILES",
            "PluginConflict", "Presentation", "ReportNotes", "RestitutionRule", "SPATIAL_FIELDS",
            "STATE_FIELDS", "Scene", "Settings", "State", "Studies", "TwinStep", "available",
            "chain_class", "contact_reference", "create", "engine_class", "import_engine",

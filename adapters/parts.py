@@ -80,12 +80,16 @@ class Install:
     it imports (they differ, e.g. sapien vs physx), ``extra`` the batsim extra that installs it
     (None: a core dependency); ``requires``: other modules its adapter imports, another
     engine's among them (MJX and MuJoCo Warp load MJCF through ``mujoco``): without one, the
-    engine counts as not installed."""
+    engine counts as not installed. ``oldest``: the oldest release its adapter drives (older
+    ones have other APIs); ``history``: the releases ``experiments.history`` fires by default,
+    oldest first, each with a wheel for Python 3.11 to 3.13."""
 
     package: str
     import_name: str
     extra: str | None = None
     requires: tuple[str, ...] = ()
+    oldest: str = ""
+    history: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, kw_only=True)

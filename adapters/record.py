@@ -41,8 +41,8 @@ from .rules import FrictionRule, RestitutionRule
 #: The record's vocabulary, for the engines' record modules: this module and ``parts``.
 __all__ = ["PROFILES", "Capabilities", "ContactReference", "Cost", "EngineNotInstalled",
            "EngineRecord", "ErrorModel", "FrictionRule", "Install", "Integrator", "KnobFamily",
-           "Presentation", "ReportNotes", "RestitutionRule", "Settings", "Studies", "TwinStep",
-           "import_engine"]
+           "MissingFeature", "Presentation", "ReportNotes", "RestitutionRule", "Settings",
+           "Studies", "TwinStep", "feature", "import_engine"]
 
 #: Profiles every engine must offer: tuned for fidelity, and the engine's own defaults.
 PROFILES = ("reference", "default")
@@ -50,6 +50,21 @@ PROFILES = ("reference", "default")
 
 class EngineNotInstalled(ImportError):
     """The chosen engine's Python package is missing."""
+
+
+class MissingFeature(NotImplementedError):
+    """The installed release of the engine lacks what these settings ask of it (an older
+    release, met by ``experiments.history``): its impacts are ``unsupported``, and say why."""
+
+
+def feature(owner: object, attribute: str, setting: str) -> Any:
+    """``owner.attribute`` of the engine's module, or MissingFeature naming the setting that
+    needs it: adapters span releases by what a release has, not by its version string."""
+    try:
+        return getattr(owner, attribute)
+    except AttributeError:
+        raise MissingFeature(f"{getattr(owner, '__name__', owner)} has no {attribute} in this "
+                             f"release ({setting} needs it)") from None
 
 
 @dataclass(frozen=True, kw_only=True)

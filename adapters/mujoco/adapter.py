@@ -10,7 +10,7 @@ import numpy as np
 
 from ..frames import angle_and_tilt, bat_quaternion, in_the_plane, rotate
 from ..interface import Engine, Hands, MassProperties, Scene, State
-from ..record import import_engine
+from ..record import feature, import_engine
 from . import INTEGRATORS, RECORD
 from .model import contact_parameters, mjcf, pair_parameters
 
@@ -44,9 +44,10 @@ def apply_options(m, st, cone: bool = True) -> None:
     m.opt.iterations = st.iterations
     m.opt.tolerance = st.tolerance
     if st.diagexact:
-        m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_DIAGEXACT
+        m.opt.enableflags |= feature(mujoco.mjtEnableBit, "mjENBL_DIAGEXACT", "diagexact=True")
     if st.speculative:
-        m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_SPECULATIVE
+        m.opt.enableflags |= feature(mujoco.mjtEnableBit, "mjENBL_SPECULATIVE",
+                                     "speculative=True")
 
 class MujocoEngine(Engine):
     """MuJoCo behind the single-world interface."""

@@ -307,7 +307,8 @@ def _on_sigint(signum, frame) -> None:
 class Command:
     """A study run from the command line: ``python -m experiments.<name>``.
 
-    ``produce(args)`` returns the run's files (name -> bytes) and the text to print;
+    ``produce(args)`` returns the run's files (name -> bytes) and the text to print, and may
+    add the exit code (a verdict: 1 when a check the command makes failed; the files are kept);
     ``options(parser)`` adds the study's own options; ``check(parser, args)`` refuses option
     combinations before any work (``parser.error``); ``estimate(args)``, the run's expected
     wall time (s), is said before the work when it is long. The shared options come with
@@ -317,7 +318,7 @@ class Command:
 
     name: str
     doc: str
-    produce: Callable[[argparse.Namespace], tuple[dict[str, bytes], str]]
+    produce: Callable[[argparse.Namespace], tuple]
     options: Callable[[argparse.ArgumentParser], None] | None = None
     check: Callable[[argparse.ArgumentParser, argparse.Namespace], None] | None = None
     estimate: Callable[[argparse.Namespace], float] | None = None
@@ -356,12 +357,12 @@ class Command:
 
         def body() -> int:
             t0 = time.perf_counter()
-            files, text = self.produce(args)
+            files, text, *code = self.produce(args)  # a verdict's exit code may follow
             publish(target, files)
             if text:
                 print(text)
             print(f"{self.name}: {time.perf_counter() - t0:.1f} s -> {shown(target)}/")
-            return 0
+            return code[0] if code else 0
 
         return main_guard(body)
 

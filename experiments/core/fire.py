@@ -140,7 +140,10 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     lacking = _lacking(host.record, cases[0].mu, spatial)
     if lacking:
         return _failed(host, cases, each, plans, Status.UNSUPPORTED, lacking, t0)
-    batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e, mu=cases[0].mu), len(cases))
+    try:
+        batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e, mu=cases[0].mu), len(cases))
+    except adapters.MissingFeature as err:  # an older release of the engine (history)
+        return _failed(host, cases, each, plans, Status.UNSUPPORTED, str(err)[:200], t0)
     cc.contact_phase = (each[0].contact_phase if each.count(each[0]) == len(each)
                         else np.array([k.contact_phase for k in each]))
     check_placements(xp, cases, cc, each)

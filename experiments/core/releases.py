@@ -1,0 +1,155 @@
+"""One isolated Python environment per engine release, made by uv and cached.
+
+An environment holds the harness's own dependencies at the versions ``constraints.txt`` pins and
+one release of one engine (``package==version``, or a local wheel), resolved by uv together:
+another release of that engine's family is not pinned. It is made once, under
+``<cache>/py<X.Y>/<package>-<version>``, and reused: a ``ready.json`` written last (what uv
+installed) marks it complete, so an install that was interrupted is made again, and a lock file
+keeps two processes (two Dask workers) from making the same one at once. The harness's code is
+not installed there: it runs from this checkout (``PYTHONPATH``), so that every release is judged
+by the same code.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from filelock import FileLock
+
+import adapters
+
+from .io import ROOT, atomic_write_bytes
+
+#: Where environments live unless --cache says otherwise.
+DEFAULT_CACHE = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "batsim"
+#: uv's resolve and install of one release, downloads included (a cold cache: about 60 MB).
+INSTALL_TIMEOUT_S = 900
+READY = "ready.json"
+
+
+class NotInstallable(RuntimeError):
+    """uv could not install the release: it does not exist, or has no wheel for this Python."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class Release:
+    """One engine release to judge: ``version`` as the package index spells it, or the path of
+    a local wheel (a candidate before it is published)."""
+
+    engine: str
+    version: str
+
+    @property
+    def package(self) -> str:
+        return adapters.record(self.engine).install.package
+
+    @property
+    def wheel(self) -> Path | None:
+        return Path(self.version) if self.version.endswith(".whl") else None
+
+    @property
+    def requirement(self) -> str:
+        return str(self.wheel.resolve()) if self.wheel else f"{self.package}=={self.version}"
+
+    @property
+    def key(self) -> str:
+        """The environment's folder name: the release, or the wheel's name and content hash."""
+        if self.wheel is None:
+            return f"{self.package}-{self.version}"
+        digest = hashlib.sha256(self.wheel.read_bytes()).hexdigest()[:12]
+        return f"{self.wheel.stem}-{digest}"
+
+
+def python_tag() -> str:
+    return f"py{sys.version_info.major}.{sys.version_info.minor}"
+
+
+def _name(requirement: str) -> str:
+    """A requirement's distribution name, normalised (PEP 503)."""
+    bare = re.split(r"[<>=!~\[; ]", requirement.strip(), maxsplit=1)[0]
+    return re.sub(r"[-_.]+", "-", bare).lower()
+
+
+def harness_requirements() -> list[str]:
+    """The project's own dependencies without the engines (each environment brings one)."""
+    engines = {_name(adapters.record(n).install.package) for n in adapters.names()}
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    return [r for r in project["dependencies"] if _name(r) not in engines]
+
+
+def constraints(release: Release) -> str:
+    """constraints.txt without the pins of the release's family (its package and every
+    distribution named like it: mujoco-core beside mujoco) or of what its adapter requires."""
+    family = {_name(release.package),
+              *(_name(r) for r in adapters.record(release.engine).install.requires)}
+    lines = (ROOT / "constraints.txt").read_text().splitlines()
+    kept = [ln for ln in lines if ln.strip() and not ln.startswith("#")
+            and not any(_name(ln) == f or _name(ln).startswith(f + "-") for f in family)]
+    return "\n".join(kept) + "\n"
+
+
+def uv() -> str:
+    """The uv executable that the project's dependencies installed."""
+    from uv import find_uv_bin
+
+    return find_uv_bin()
+
+
+def _uv(args: list[str]) -> None:
+    done = subprocess.run([uv(), *args], capture_output=True, text=True,
+                          timeout=INSTALL_TIMEOUT_S)
+    if done.returncode:
+        raise NotInstallable(_why(done.stderr))
+
+
+def _why(stderr: str) -> str:
+    """uv's reason, in a line: the lines that say what was not found, or its last line."""
+    lines = [re.sub(r"^(cause|hint|error):\s*", "", ln.strip(" ×╰─▶|"))
+             for ln in stderr.splitlines() if ln.strip()]
+    said = [ln for ln in lines if re.search(r"no version|not found|no wheels|unsatisf|cannot "
+                                            r"be used|not exist|No such file", ln, re.I)]
+    return " ".join(said or lines[-1:])[:300] or "uv failed"
+
+
+def install(release: Release, target: Path) -> dict:
+    """Make the environment at ``target``; return what uv installed (distribution -> version)."""
+    _uv(["venv", "--quiet", "--python", sys.executable, str(target)])
+    pins = target / "constraints.txt"
+    pins.write_text(constraints(release))
+    python = str(target / "bin" / "python")
+    _uv(["pip", "install", "--quiet", "--no-build", "--python", python, "-c", str(pins),
+         *harness_requirements(), release.requirement])
+    frozen = subprocess.run([uv(), "pip", "freeze", "--python", python], capture_output=True,
+                            text=True, check=True).stdout
+    return dict(ln.split("==", 1) for ln in frozen.splitlines() if "==" in ln)
+
+
+def environment(release: Release, cache: Path = DEFAULT_CACHE, installer=install) -> Path:
+    """The Python of the release's environment, made now if the cache has none complete;
+    NotInstallable (uv's reason) if the release cannot be installed for this Python."""
+    folder = cache / python_tag() / release.key
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    with FileLock(str(folder) + ".lock"):
+        if not (folder / READY).exists():
+            shutil.rmtree(folder, ignore_errors=True)
+            try:
+                installed = installer(release, folder)
+            except BaseException:
+                shutil.rmtree(folder, ignore_errors=True)
+                raise
+            atomic_write_bytes(folder / READY, json.dumps(installed, indent=1).encode())
+    return folder / "bin" / "python"
+
+
+def installed(python: Path) -> dict:
+    """What the environment of ``python`` holds (its ready.json)."""
+    return json.loads((python.parent.parent / READY).read_text())

@@ -1,0 +1,144 @@
+"""Each engine's agreement with theory, release by release.
+
+    python -m experiments.history [--engine NAME[,NAME...]] [--versions V[,V...]|WHEEL]
+                                  [--against V] [--cache DIR]
+
+Every release (by default the spread its record lists, ``Install.history``) is installed by uv
+in its own cached environment (``experiments.core.releases``) and judged there by this
+checkout's code (``experiments.parts.history_probe``): the still, swing and hinged grids at the
+reference profile, the swing at the engine's defaults, the conformance suite (the friction wall
+among its checks), the defaults read back. A release that does not exist or has no wheel for
+this Python is a row that says so; one whose API the adapter does not drive says why.
+
+Between each release and the one before it, whatever moved is listed: a verdict lost or won, an
+error that moved by more than its tolerance, a check that changed, a default that changed.
+With --versions the last version named (a release, or a wheel's path: a candidate) is checked
+against the one named before it, or, named alone, against the newest release of the spread:
+exit 1 if it lost a verdict or a check, or an error grew past its tolerance.
+
+Writes history.csv (a row per release and grid), history_rows.csv (every impact),
+history_checks.csv, history.md, history.json and a chart per engine (history_<engine>.png).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import adapters
+
+from .core import cli, releases, runs
+from .core.cli import Command
+from .core.io import ROOT
+from .parts import history_report
+
+#: One release's probe: its grids (a few seconds each) and the conformance suite.
+PROBE_TIMEOUT_S = 900
+VERSION = re.compile(r"^[0-9][0-9A-Za-z.+!-]*$")
+
+
+def versions_arg(value: str) -> tuple[str, ...]:
+    picked = tuple(v.strip() for v in value.split(",") if v.strip())
+    for v in picked:
+        if v.endswith(".whl"):
+            if not Path(v).is_file():
+                raise argparse.ArgumentTypeError(f"--versions {v!r}: no such wheel file")
+        elif not VERSION.match(v):
+            raise argparse.ArgumentTypeError(
+                f"--versions {v!r} is not a version; allowed: versions like 3.2.7 or 4.1.0rc1, "
+                "or the path of a .whl file, comma-separated")
+    if not picked:
+        raise argparse.ArgumentTypeError("--versions names no version")
+    return picked
+
+
+def _options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--versions", type=versions_arg, default=None, metavar="V[,V...]|WHEEL",
+                   help="these releases (or a local wheel) instead of each record's spread; the "
+                        "last is checked against the one before (exit 1 on a regression)")
+    p.add_argument("--against", type=versions_arg, default=None, metavar="V",
+                   help="with --versions: the release the candidate is checked against (default: "
+                        "the version named before it, or the newest of the engine's spread)")
+    p.add_argument("--cache", type=Path, default=releases.DEFAULT_CACHE, metavar="DIR",
+                   help=f"where the environments are kept (default {releases.DEFAULT_CACHE})")
+
+
+def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    if args.versions and len(args.engine) != 1:
+        p.error(f"--versions names releases of one engine; --engine named {len(args.engine)}: "
+                f"{', '.join(args.engine)}")
+    if args.against and not args.versions:
+        p.error("--against checks the candidate --versions names; allowed: add --versions")
+    if not args.versions:
+        bare = [n for n in args.engine if not adapters.record(n).install.history]
+        args.engine = tuple(n for n in args.engine if n not in bare)
+        if not args.engine:
+            p.error(f"no release is listed for {', '.join(bare)} (Install.history); allowed: "
+                    "--versions")
+
+
+def plan(args: argparse.Namespace) -> tuple[list[tuple[str, str]], tuple[str, str] | None]:
+    """The (engine, release) pairs to fire, and the (reference, candidate) to check, if any."""
+    if not args.versions:
+        return [(n, v) for n in args.engine for v in adapters.record(n).install.history], None
+    name, listed = args.engine[0], list(args.versions)
+    candidate = listed[-1]
+    reference = (args.against[0] if args.against else listed[-2] if len(listed) > 1
+                 else adapters.record(name).install.history[-1])
+    if reference not in listed:
+        listed.insert(0, reference)
+    return [(name, v) for v in listed], (reference, candidate)
+
+
+def fire_release(engine: str, version: str, cache: Path) -> dict:
+    """One release judged in its environment (made now if the cache has none): the probe's
+    result, or a row that says why there is none."""
+    head = {"engine": engine, "release": version}
+    try:
+        python = releases.environment(releases.Release(engine=engine, version=version), cache)
+    except releases.NotInstallable as err:
+        return {**head, "state": "not_installable", "reason": str(err)}
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "probe.json"
+        env = {**os.environ, "PYTHONPATH": str(ROOT), "BATSIM_QUIET": "1"}
+        done = subprocess.run([str(python), "-m", "experiments.parts.history_probe", "--engine",
+                               engine, "--out", str(out)], cwd=tmp, env=env, text=True,
+                              capture_output=True, timeout=PROBE_TIMEOUT_S)
+        if done.returncode or not out.exists():
+            tail = (done.stderr or done.stdout).strip().splitlines()[-1:] or ["no output"]
+            return {**head, "state": "probe_failed",
+                    "reason": f"exit {done.returncode}: {tail[0][:300]}"}
+        result = json.loads(out.read_text())
+    state = "unsupported" if "unsupported" in result else "judged"
+    return {**head, **result, "state": state, "reason": result.get("unsupported", "")}
+
+
+def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str, int]:
+    pairs, candidate = plan(args)
+    calls = [(fire_release, (n, v, args.cache)) for n, v in pairs]
+    with (runs.Progress(len(calls), "history", unit="releases") as bar,
+          cli.runner(args, bar) as runner):
+        results = runner.call_all(calls)
+    report = history_report.Report(results)
+    code, verdict = 0, ""
+    if candidate:
+        lost = report.regressions(args.engine[0], *candidate)
+        code = 1 if lost else 0
+        verdict = (f"\n{args.engine[0]} {candidate[1]} against {candidate[0]}: "
+                   + (f"{len(lost)} regressions\n" + "\n".join(f"  {c}" for c in lost)
+                      if lost else "no regression"))
+    return report.files(), report.text() + verdict, code
+
+
+COMMAND = Command(name="history", doc=__doc__, produce=produce, options=_options, check=_check)
+main = COMMAND.main
+
+
+if __name__ == "__main__":
+    sys.exit(main())

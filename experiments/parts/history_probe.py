@@ -1,0 +1,109 @@
+"""What ``experiments.history`` measures of one engine release, run inside that release's own
+environment (``experiments.core.releases``):
+
+    python -m experiments.parts.history_probe --engine NAME --out FILE.json
+
+- the grids (GRIDS: R161, POINTS points, the paper's pitch): every impact's status, v1 error
+  against the answer that applies (a compliant contact's own law, else rigid theory), its
+  tolerance and its wall time; each at the reference profile, and the swing also at the engine's
+  own defaults (which need no feature a release may lack);
+- the conformance suite (``check_engine``: the friction wall among its checks) at the
+  reference profile: each check's pass and what it saw;
+- the engine's defaults read back, and the versions the environment holds.
+Writes FILE.json whatever happens to the engine (an engine that cannot be imported or raises is
+said in it); exits 0 once written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import sys
+import traceback
+from importlib import metadata
+
+import numpy as np
+
+import adapters
+
+#: name -> sweep options: the still, swing and hinged reference grids, and the swing at defaults.
+GRIDS = {"still": ["--u0", "0", "--omega0", "0"], "swing": [], "hinged": ["--swing"],
+         "swing, default": ["--profile", "default"]}
+POINTS = 11
+#: The row columns kept per impact (``history_rows.csv``).
+COLUMNS = ("s_m", "status", "err_mps", "tol_mps", "wall_s")
+
+
+def grid_rows(name: str, grid: str) -> list[dict]:
+    """Each impact of one grid: status, the judged error and its tolerance (m/s), wall time."""
+    from experiments import sweep as sweep_cmd
+    from experiments.core.runner import Runner
+
+    args = sweep_cmd.build_parser().parse_args(
+        ["--engine", name, "--points", str(POINTS), "--no-locate", *GRIDS[grid]])
+    with Runner() as runner:
+        table, _ = sweep_cmd.run(sweep_cmd.sweep_from_args(args), runner, locate=False)
+    law = table.v1_law_tol_mps.notna()
+    err = np.where(law, table.v1_law_err_mps, table.v1_abs_err_mps)
+    tol = np.where(law, table.v1_law_tol_mps, table.v1_tol_mps)
+    return [{"grid": grid, "s_m": float(s), "status": str(st), "err_mps": float(e),
+             "tol_mps": float(t), "wall_s": float(w)}
+            for s, st, e, t, w in zip(table.s_m, table.status, err, tol, table.wall_s)]
+
+
+def checks(name: str) -> list[dict]:
+    from experiments.core import check
+
+    report = check.check_engine(name)
+    return [{"check": r.name, "passed": r.passed, "detail": r.detail[:300]}
+            for r in report.results]
+
+
+def defaults(name: str) -> dict:
+    """The engine's defaults as this release reads them back (str: JSON keeps them as said)."""
+    read = adapters.engine_class(name).read_back_defaults()
+    return {k: str(v) for k, v in read.items()}
+
+
+def _guarded(out: dict, key: str, fn, *args) -> None:
+    try:
+        out[key] = fn(*args)
+    except Exception:  # the release broke the adapter here: said in the file, not a crash
+        out.setdefault("errors", {})[key] = traceback.format_exc(limit=3)[-600:]
+
+
+def probe(name: str) -> dict:
+    rec = adapters.record(name)
+    out = {"engine": name, "python": platform.python_version(),
+           "version": metadata.version(rec.install.package),
+           "numpy": metadata.version("numpy")}
+    try:
+        adapters.engine_class(name)
+    except Exception as err:  # an import that fails: the release is not one the adapter drives
+        out["unsupported"] = f"{type(err).__name__}: {err}"[:300]
+        return out
+    out["rows"] = []
+    for grid in GRIDS:
+        try:
+            out["rows"] += grid_rows(name, grid)
+        except Exception:
+            out.setdefault("errors", {})[grid] = traceback.format_exc(limit=3)[-600:]
+    _guarded(out, "checks", checks, name)
+    _guarded(out, "defaults", defaults, name)
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m experiments.parts.history_probe")
+    p.add_argument("--engine", required=True, choices=adapters.names())
+    p.add_argument("--out", required=True)
+    args = p.parse_args(argv)
+    result = probe(args.engine)
+    with open(args.out, "w") as f:
+        json.dump(result, f)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

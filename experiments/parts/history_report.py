@@ -1,0 +1,251 @@
+"""The tables, the changes between releases, the page and the charts of ``experiments.history``."""
+
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass
+
+import pandas as pd
+
+from ..core.io import json_bytes, provenance
+from ..core.judge import MEASURED, Status
+from ..parts.history_probe import GRIDS
+
+#: A check that could not run because the release lacks a feature its settings need.
+LACKING = "in this release"
+
+
+@dataclass(frozen=True, kw_only=True)
+class Change:
+    """What moved between two releases of an engine: ``regression`` when the later one lost
+    a verdict or a check, or its error grew past the tolerance."""
+
+    engine: str
+    release: str
+    text: str
+    regression: bool = False
+
+
+def _frame(records: list[dict], columns: list[str]) -> pd.DataFrame:
+    return pd.DataFrame(records, columns=columns)
+
+
+class Report:
+    """The probes' results of every (engine, release) fired, in the order fired."""
+
+    def __init__(self, results: list[dict]) -> None:
+        self.results = results
+        self.order: dict[str, list[str]] = {}
+        for r in results:
+            self.order.setdefault(r["engine"], []).append(r["release"])
+        head = ["engine", "release"]
+        self.rows = _frame([{"engine": r["engine"], "release": r["release"], **row}
+                            for r in results for row in r.get("rows", [])],
+                           head + ["grid", "s_m", "status", "err_mps", "tol_mps", "wall_s"])
+        self.checks = _frame([{"engine": r["engine"], "release": r["release"],
+                               "check": c["check"], "outcome": _outcome(c),
+                               "detail": c["detail"]} for r in results
+                              for c in r.get("checks", [])],
+                             head + ["check", "outcome", "detail"])
+
+    def _result(self, engine: str, release: str) -> dict:
+        return next(r for r in self.results if (r["engine"], r["release"]) == (engine, release))
+
+    def summary(self) -> pd.DataFrame:
+        """A row per release and grid (one row, with the reason, for a release not judged)."""
+        out = []
+        for r in self.results:
+            head = {"engine": r["engine"], "release": r["release"], "state": r["state"],
+                    "version": r.get("version", ""), "numpy": r.get("numpy", ""),
+                    "python": r.get("python", "")}
+            checks = self.checks[(self.checks.engine == r["engine"])
+                                 & (self.checks.release == r["release"])]
+            head |= {"checks_passed": int((checks.outcome == "passed").sum()),
+                     "checks_failed": int((checks.outcome == "failed").sum()),
+                     "checks_unsupported": int((checks.outcome == "unsupported").sum())}
+            rows = self.rows[(self.rows.engine == r["engine"])
+                             & (self.rows.release == r["release"])]
+            if rows.empty:
+                out.append({**head, "grid": "", "reason": r.get("reason", "")})
+                continue
+            for grid, g in rows.groupby("grid", sort=False):
+                measured = g[g.status.isin(MEASURED)]
+                out.append({**head, "grid": grid, "impacts": len(g),
+                            "ok": int((g.status == Status.OK).sum()),
+                            "statuses": ", ".join(f"{k} {v}" for k, v in
+                                                  g.status.value_counts().items()),
+                            "max_err_mps": measured.err_mps.max() if len(measured) else math.nan,
+                            "cost_us_per_impact": g.wall_s.median() * 1e6,
+                            "reason": _reason(r, g)})
+        return pd.DataFrame(out)
+
+    def changes(self, engine: str, before: str, after: str) -> list[Change]:
+        """Everything that moved from ``before`` to ``after`` (a row each)."""
+        def say(text: str, regression: bool = False) -> Change:
+            return Change(engine=engine, release=after, text=text, regression=regression)
+
+        a, b = self._result(engine, before), self._result(engine, after)
+        out = []
+        if a["state"] != b["state"]:
+            out.append(say(f"{a['state']} -> {b['state']}: {b.get('reason', '')}"[:200],
+                           regression=a["state"] == "judged"))
+        out += [say(t, lost) for t, lost in self._row_changes(engine, before, after)]
+        ca = self.checks[(self.checks.engine == engine) & (self.checks.release == before)]
+        cb = self.checks[(self.checks.engine == engine) & (self.checks.release == after)]
+        was = dict(zip(ca.check, ca.outcome))
+        for check, outcome, detail in zip(cb.check, cb.outcome, cb.detail):
+            if check in was and was[check] != outcome:
+                out.append(say(f"check {check}: {was[check]} -> {outcome} ({detail[:120]})",
+                               regression=was[check] == "passed"))
+        da, db = a.get("defaults", {}), b.get("defaults", {})
+        out += [say(f"default {k}: {da[k]} -> {db[k]}") for k in db if k in da and da[k] != db[k]]
+        return out
+
+    def _row_changes(self, engine: str, before: str, after: str) -> list[tuple[str, bool]]:
+        key = ["grid", "s_m"]
+        ra = self.rows[(self.rows.engine == engine) & (self.rows.release == before)]
+        rb = self.rows[(self.rows.engine == engine) & (self.rows.release == after)]
+        both = ra.merge(rb, on=key, how="left", suffixes=("_a", "_b"))
+        out = []
+        for r in both.itertuples():
+            where = f"{r.grid}, s = {r.s_m:+.3f} m"
+            if r.status_a != r.status_b:
+                lost = r.status_a == Status.OK
+                out.append((f"{where}: {r.status_a} -> {r.status_b} (error {r.err_mps_a:.2e} -> "
+                            f"{r.err_mps_b:.2e} m/s, tolerance {r.tol_mps_b:.2e})", lost))
+            elif r.status_a == Status.OK and abs(r.err_mps_b - r.err_mps_a) > max(r.tol_mps_a,
+                                                                                  r.tol_mps_b):
+                grew = r.err_mps_b > r.err_mps_a
+                out.append((f"{where}: error {r.err_mps_a:.2e} -> {r.err_mps_b:.2e} m/s, moved "
+                            f"more than its tolerance {r.tol_mps_b:.2e}", grew))
+        return out
+
+    def regressions(self, engine: str, reference: str, candidate: str) -> list[str]:
+        return [c.text for c in self.changes(engine, reference, candidate) if c.regression]
+
+    def all_changes(self) -> list[Change]:
+        return [c for engine, listed in self.order.items()
+                for a, b in zip(listed, listed[1:]) for c in self.changes(engine, a, b)]
+
+    def files(self) -> dict[str, bytes]:
+        summary, changes = self.summary(), self.all_changes()
+        files = {"history.csv": _csv(summary), "history_rows.csv": _csv(self.rows),
+                 "history_checks.csv": _csv(self.checks),
+                 "history.json": json_bytes({
+                     "grids": GRIDS, "changes": [c.__dict__ for c in changes],
+                     "defaults": {f"{r['engine']} {r['release']}": r.get("defaults", {})
+                                  for r in self.results},
+                     "errors": {f"{r['engine']} {r['release']}": r["errors"]
+                                for r in self.results if r.get("errors")},
+                     "provenance": provenance()}),
+                 "history.md": page(summary, changes).encode()}
+        for engine in self.order:
+            files[f"history_{engine}.png"] = chart(summary[summary.engine == engine], changes)
+        return files
+
+    def text(self) -> str:
+        s = self.summary()
+        cols = [c for c in ("engine", "release", "state", "grid", "ok", "impacts", "max_err_mps",
+                            "cost_us_per_impact", "checks_passed", "checks_failed") if c in s]
+        return s[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}")
+
+
+def _outcome(check: dict) -> str:
+    if check["passed"]:
+        return "passed"
+    return "unsupported" if LACKING in check["detail"] else "failed"
+
+
+def _reason(result: dict, rows: pd.DataFrame) -> str:
+    errors = result.get("errors", {})
+    return errors.get(rows.grid.iloc[0], "")[-200:] if errors else ""
+
+
+def _csv(df: pd.DataFrame) -> bytes:
+    return df.to_csv(index=False, float_format="%.6g", lineterminator="\n").encode()
+
+
+def page(summary: pd.DataFrame, changes: list[Change]) -> str:
+    """history.md: per engine, a table of its releases and what moved at each."""
+    lines = ["# Each engine's agreement with theory, release by release", "",
+             "Made by `python -m experiments.history` (its docstring says what is fired). A row "
+             "per release: for each grid the impacts `ok` (within the judge's tolerance of the "
+             "answer that applies) and the largest error of the sound ones; the conformance "
+             "checks passed / failed / unsupported (the release lacks a feature the reference "
+             "profile needs); the cost of an impact on the swing grid. **Marked** releases "
+             "moved (listed below the table); a verdict or check lost is a regression.", ""]
+    grids = list(GRIDS)
+    for engine, df in summary.groupby("engine", sort=False):
+        marked = {c.release for c in changes if c.engine == engine}
+        lines += [f"## {engine}", "", f"![{engine} across releases](history_{engine}.png)", "",
+                  "| release | " + " | ".join(f"{g}: ok, max error (m/s)" for g in grids)
+                  + " | checks passed / failed / unsupported | us per impact (swing) |",
+                  "|" + "---|" * (len(grids) + 3)]
+        for release, r in df.groupby("release", sort=False):
+            first = r.iloc[0]
+            name = f"**{release}**" if release in marked else release
+            if first.state != "judged" and r.grid.eq("").all():
+                lines.append(f"| {name} | {first.state}: {first.reason[:150]} |"
+                             + " |" * (len(grids) + 1))
+                continue
+            cells = []
+            for g in grids:
+                row = r[r.grid == g]
+                cells.append("" if row.empty else f"{row.ok.iloc[0]}/{row.impacts.iloc[0]}, "
+                             f"{_num(row.max_err_mps.iloc[0])}")
+            swing = r[r.grid == "swing"]
+            cost = f"{swing.cost_us_per_impact.iloc[0]:.0f}" if len(swing) else ""
+            lines.append(f"| {name} | " + " | ".join(cells) + f" | {first.checks_passed} / "
+                         f"{first.checks_failed} / {first.checks_unsupported} | {cost} |")
+        lines.append("")
+        for c in (c for c in changes if c.engine == engine):
+            lines.append(f"- {c.release}{' (regression)' if c.regression else ''}: {c.text}")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def _num(v: float) -> str:
+    return "" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.1e}"
+
+
+def chart(summary: pd.DataFrame, changes: list[Change]) -> bytes:
+    """One engine: ok impacts, the largest error and the cost per impact against release."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    releases = list(dict.fromkeys(summary.release))
+    x = {r: i for i, r in enumerate(releases)}
+    fig, axes = plt.subplots(3, 1, figsize=(max(6.0, 0.7 * len(releases) + 3), 7.5),
+                             sharex=True, layout="constrained")
+    for grid, marker in zip(GRIDS, "osD^"):
+        g = summary[summary.grid == grid]
+        xs = [x[r] for r in g.release]
+        axes[0].plot(xs, g.ok, marker=marker, label=grid)
+        axes[1].plot(xs, g.max_err_mps.clip(lower=1e-16), marker=marker, label=grid)
+    swing = summary[summary.grid == "swing"]
+    axes[2].plot([x[r] for r in swing.release], swing.cost_us_per_impact, "o-", color="k")
+    for c in changes:
+        if c.engine == summary.engine.iloc[0] and c.release in x:
+            for ax in axes:
+                ax.axvspan(x[c.release] - 0.4, x[c.release] + 0.4, alpha=0.08,
+                           color="tab:red" if c.regression else "tab:blue", lw=0)
+    axes[0].set_ylabel("impacts ok (of each grid)")
+    axes[1].set_ylabel("largest |error| of sound\nimpacts (m/s, log)")
+    axes[1].set_yscale("log")
+    axes[2].set_ylabel("cost per impact,\nswing grid (us)")
+    axes[2].set_xticks(range(len(releases)), releases, rotation=45, ha="right")
+    axes[2].set_xlabel("release (shaded: something moved; red: a regression)")
+    axes[0].legend(fontsize=8, ncol=4)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.suptitle(f"{summary.engine.iloc[0]} across its releases (R161, paper's swing)")
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
+    plt.close(fig)
+    return buf.getvalue()
+
+
+__all__ = ["Change", "Report", "chart", "page"]
