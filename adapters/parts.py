@@ -82,7 +82,8 @@ class Install:
     engine's among them (MJX and MuJoCo Warp load MJCF through ``mujoco``): without one, the
     engine counts as not installed. ``oldest``: the oldest release its adapter drives (older
     ones have other APIs); ``history``: the releases ``experiments.history`` fires by default,
-    oldest first, each with a wheel for Python 3.11 to 3.13."""
+    oldest first; ``release_notes``: release -> what its notes say of a change the history
+    marks there, with their source."""
 
     package: str
     import_name: str
@@ -90,6 +91,7 @@ class Install:
     requires: tuple[str, ...] = ()
     oldest: str = ""
     history: tuple[str, ...] = ()
+    release_notes: Mapping[str, str] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -6,7 +6,7 @@
   thresholds.json (what the regression test allows) and summary.md;
 - the studies, each into its usual file names: pareto, stability, swing, defaults,
   calibrate_soft, twins, friction, flex, findings, bench_analytic, bench_engines (run the benchmarks
-  on a quiet machine);
+  on a quiet machine), history (each engine's releases, installed: needs the package index);
 - report: results/report.md and the engine pages (engines.md, engine_<name>.md), written from
   the files above as they are in results/ (so it runs last, whatever order --only names the
   parts in), and the README's engines table from them.
@@ -27,6 +27,7 @@ from . import (
     findings,
     flex,
     friction,
+    history,
     pareto,
     report,
     stability,
@@ -53,7 +54,7 @@ STUDIES = {"pareto": pareto, "stability": stability, "swing": swing, "defaults":
            "calibrate_soft": calibrate_soft, "twins": twins, "friction": friction,
            "flex": flex, "findings": findings,
            "bench_analytic": bench_analytic, "bench_engines": bench_engines,
-           "report": report}  # the report reads the others' files: last
+           "history": history, "report": report}  # the report reads the others' files: last
 PARTS = ("sweeps", *STUDIES)
 #: The regression test may see errors up to FACTOR times the baseline's (see thresholds.json).
 FACTOR = 10.0
@@ -182,7 +183,7 @@ def main(argv: list[str] | None = None) -> int:
             if part == "sweeps":
                 files = sweeps(args)
             else:
-                files, text = STUDIES[part].produce(study_args(STUDIES[part], args))
+                files, text, *_ = STUDIES[part].produce(study_args(STUDIES[part], args))
                 print(f"== {part}\n{text}")
             atomic_write_many({runs.RESULTS / name: data for name, data in files.items()})
             if part == "report":

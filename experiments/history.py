@@ -73,6 +73,10 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     if args.versions and len(args.engine) != 1:
         p.error(f"--versions names releases of one engine; --engine named {len(args.engine)}: "
                 f"{', '.join(args.engine)}")
+    if (args.versions and len(args.versions) == 1 and not args.against
+            and not adapters.record(args.engine[0]).install.history):
+        p.error(f"--versions {args.versions[0]}: {args.engine[0]} lists no release to check it "
+                "against (Install.history); allowed: add --against V, or name two versions")
     if args.against and not args.versions:
         p.error("--against checks the candidate --versions names; allowed: add --versions")
     if not args.versions:
@@ -96,12 +100,32 @@ def plan(args: argparse.Namespace) -> tuple[list[tuple[str, str]], tuple[str, st
     return [(name, v) for v in listed], (reference, candidate)
 
 
+#: What a release says on import when its environment lacks something it did not declare, and
+#: what it is given then: a build against NumPy 1 (under NumPy 2), one that imports
+#: pkg_resources (setuptools 81 removed it).
+UNDECLARED = ((re.compile(r"numpy.core.multiarray failed to import|compiled using NumPy 1"),
+               "numpy<2"),
+              (re.compile(r"No module named 'pkg_resources'"), "setuptools<81"))
+
+
 def fire_release(engine: str, version: str, cache: Path) -> dict:
     """One release judged in its environment (made now if the cache has none): the probe's
-    result, or a row that says why there is none."""
-    head = {"engine": engine, "release": version}
+    result, or a row that says why there is none. A release that fails to import for want of
+    something it did not declare (UNDECLARED) is judged again with it, and the row says so."""
+    release = releases.Release(engine=engine, version=version)
+    result = _fire(release, cache)
+    for said, extra in UNDECLARED:
+        if result["state"] == "not_driven" and said.search(result["reason"]):
+            release = releases.Release(engine=engine, version=version,
+                                       extras=(*release.extras, extra))
+            result = {**_fire(release, cache), "extras": ", ".join(release.extras)}
+    return result
+
+
+def _fire(release: releases.Release, cache: Path) -> dict:
+    engine, head = release.engine, {"engine": release.engine, "release": release.version}
     try:
-        python = releases.environment(releases.Release(engine=engine, version=version), cache)
+        python = releases.environment(release, cache)
     except releases.NotInstallable as err:
         return {**head, "state": "not_installable", "reason": str(err)}
     with tempfile.TemporaryDirectory() as tmp:
@@ -115,8 +139,8 @@ def fire_release(engine: str, version: str, cache: Path) -> dict:
             return {**head, "state": "probe_failed",
                     "reason": f"exit {done.returncode}: {tail[0][:300]}"}
         result = json.loads(out.read_text())
-    state = "unsupported" if "unsupported" in result else "judged"
-    return {**head, **result, "state": state, "reason": result.get("unsupported", "")}
+    state = "not_driven" if "not_driven" in result else "judged"
+    return {**head, **result, "state": state, "reason": result.get("not_driven", "")}
 
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str, int]:

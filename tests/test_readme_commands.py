@@ -39,7 +39,9 @@ def test_the_readme_shows_command_lines():
     assert len(LINES) >= 3, LINES
 
 
-@pytest.mark.parametrize("argv", [a for a in LINES if "myengine" not in a],
+@pytest.mark.parametrize("argv", [a for a in LINES if "myengine" not in a
+                                  # installs releases: run on a cold cache by test_history.py
+                                  and a[2] != "experiments.history"],
                          ids=lambda a: " ".join(a[2:]))
 def test_a_readme_command_line_runs(argv, tmp_path):
     run_command(_small(argv, str(tmp_path)))

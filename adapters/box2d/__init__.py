@@ -177,6 +177,8 @@ RECORD = EngineRecord(
         package="pyb2d3",
         import_name="pyb2d3",
         extra="box2d",
+        oldest="0.8.0",
+        history=("0.8.0", "0.9.0", "0.10.0", "0.11.1"),
     ),
     profiles={
         # Fidelity: a 1 us step, because the speculative contact resolves an impact with the

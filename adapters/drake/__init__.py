@@ -251,6 +251,8 @@ RECORD = EngineRecord(
         package="drake",
         import_name="pydrake",
         extra="drake",
+        oldest="1.45.0",
+        history=("1.45.0", "1.49.0", "1.51.1"),
     ),
     profiles={
         # Fidelity to Drake's own contact law (Hunt-Crossley point contact, k = 1e6 N/m, d

@@ -163,6 +163,12 @@ RECORD = EngineRecord(
     install=Install(
         package="mujoco",
         import_name="mujoco",
+        oldest="2.3.7",
+        history=("2.3.7", "3.0.1", "3.1.6", "3.2.7", "3.3.7", "3.5.0", "3.8.1", "3.9.0",
+                 "3.11.0", "3.14.0", "3.17.0", "4.0.0"),
+        release_notes={"3.9.0": "added the diagexact enable flag (the exact diagonal of the "
+                                "constraint-space inertia; the reference profile needs it): "
+                                "MuJoCo 3.9.0 changelog, General 2 (commit 71d1014e)"},
     ),
     profiles={
         # Fidelity to the impulse model: a 10 us step (contact tilt while the bat turns stays

@@ -169,6 +169,8 @@ RECORD = EngineRecord(
         package="sapien",
         import_name="sapien",
         extra="physx",
+        oldest="3.0.0",
+        history=("3.0.0", "3.0.1", "3.0.2", "3.0.3"),
     ),
     profiles={
         # TGS, as SAPIEN chooses it: the hands' hinge keeps omega within 4.5e-5 after a 0.1 s

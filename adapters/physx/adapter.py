@@ -9,7 +9,7 @@ from collections.abc import Iterator
 
 from ..frames import angle_and_tilt, bat_quaternion, in_the_plane
 from ..interface import Engine, Hands, MassProperties, Scene, State
-from ..record import import_engine
+from ..record import feature, import_engine
 from . import RECORD, PhysxSettings
 
 with warnings.catch_warnings():  # SAPIEN warns that it uses its own Vulkan: we never render
@@ -65,7 +65,8 @@ def setup_body(body, shape, mass: float, inertia: tuple[float, float, float], st
     body.cmass_local_pose = sapien.Pose()
     body.linear_damping = body.angular_damping = 0.0
     body.disable_gravity = True
-    if st.max_angular_velocity_radps is not None:
+    if st.max_angular_velocity_radps is not None:  # a property from SAPIEN 3.0.2
+        feature(type(body), "max_angular_velocity", "max_angular_velocity_radps")
         body.max_angular_velocity = st.max_angular_velocity_radps
     if st.max_depenetration_velocity_mps is not None:
         body.max_depenetration_velocity = st.max_depenetration_velocity_mps
@@ -88,7 +89,7 @@ class PhysxEngine(Engine):
                 "contact_offset_m": shape.contact_offset, "rest_offset_m": shape.rest_offset,
                 "position_iterations": body.solver_position_iterations,
                 "velocity_iterations": body.solver_velocity_iterations,
-                "max_angular_velocity_radps": body.max_angular_velocity,
+                "max_angular_velocity_radps": getattr(body, "max_angular_velocity", None),
                 "max_depenetration_velocity_mps": body.max_depenetration_velocity,
                 "sleep_threshold": body.sleep_threshold}
 

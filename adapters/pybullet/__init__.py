@@ -131,6 +131,8 @@ RECORD = EngineRecord(
     install=Install(
         package="pybullet",
         import_name="pybullet",
+        oldest="3.2.6",
+        history=("3.2.5", "3.2.6", "3.2.7"),
     ),
     profiles={
         # No position feedback into contact velocities (contactERP = 0, contactSlop = 0): the

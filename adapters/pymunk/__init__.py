@@ -85,6 +85,8 @@ RECORD = EngineRecord(
     install=Install(
         package="pymunk",
         import_name="pymunk",
+        oldest="6.5.2",
+        history=("6.5.2", "6.8.1", "6.11.1", "7.0.0", "7.3.1"),
     ),
     profiles={
         # Chipmunk's own solver values are already exact for one frictionless contact (a single

@@ -189,6 +189,8 @@ RECORD = EngineRecord(
         package="rapier3d",
         import_name="rapier3d",
         extra="rapier",
+        oldest="0.36.0",
+        history=("0.36.0", "0.36.1"),
     ),
     profiles={
         # Fidelity, each value measured on the paper's swing (41 points) and its e = 0 slide:

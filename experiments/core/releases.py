@@ -47,6 +47,9 @@ class Release:
 
     engine: str
     version: str
+    #: requirements the release needs beyond its own (``numpy<2`` for a build against NumPy 1,
+    #: ``setuptools`` for one that imports pkg_resources without saying so)
+    extras: tuple[str, ...] = ()
 
     @property
     def package(self) -> str:
@@ -63,10 +66,11 @@ class Release:
     @property
     def key(self) -> str:
         """The environment's folder name: the release, or the wheel's name and content hash."""
+        extras = "".join(f"+{re.sub(r'[^A-Za-z0-9.]', '', e)}" for e in self.extras)
         if self.wheel is None:
-            return f"{self.package}-{self.version}"
+            return f"{self.package}-{self.version}{extras}"
         digest = hashlib.sha256(self.wheel.read_bytes()).hexdigest()[:12]
-        return f"{self.wheel.stem}-{digest}"
+        return f"{self.wheel.stem}-{digest}{extras}"
 
 
 def python_tag() -> str:
@@ -80,20 +84,27 @@ def _name(requirement: str) -> str:
 
 
 def harness_requirements() -> list[str]:
-    """The project's own dependencies without the engines (each environment brings one)."""
-    engines = {_name(adapters.record(n).install.package) for n in adapters.names()}
+    """The project's own dependencies without the engines (each environment brings one) and
+    uv (the environments are made from outside)."""
+    engines = {_name(adapters.record(n).install.package) for n in adapters.names()} | {"uv"}
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
     return [r for r in project["dependencies"] if _name(r) not in engines]
 
 
 def constraints(release: Release) -> str:
     """constraints.txt without the pins of the release's family (its package and every
-    distribution named like it: mujoco-core beside mujoco) or of what its adapter requires."""
+    distribution whose name starts like it: mujoco-core beside mujoco, jaxlib beside jax), of
+    what its adapter requires, and
+    of what it needs beyond its own (``extras``). A build against NumPy 1 gets no pins at all:
+    the harness's libraries resolve afresh within pyproject's ranges (today's need NumPy 2)."""
+    if "numpy" in {_name(r) for r in release.extras}:
+        return "\n"
     family = {_name(release.package),
-              *(_name(r) for r in adapters.record(release.engine).install.requires)}
+              *(_name(r) for r in adapters.record(release.engine).install.requires),
+              *(_name(r) for r in release.extras)}
     lines = (ROOT / "constraints.txt").read_text().splitlines()
     kept = [ln for ln in lines if ln.strip() and not ln.startswith("#")
-            and not any(_name(ln) == f or _name(ln).startswith(f + "-") for f in family)]
+            and not any(_name(ln).startswith(f) for f in family)]
     return "\n".join(kept) + "\n"
 
 
@@ -127,7 +138,7 @@ def install(release: Release, target: Path) -> dict:
     pins.write_text(constraints(release))
     python = str(target / "bin" / "python")
     _uv(["pip", "install", "--quiet", "--no-build", "--python", python, "-c", str(pins),
-         *harness_requirements(), release.requirement])
+         *harness_requirements(), *release.extras, release.requirement])
     frozen = subprocess.run([uv(), "pip", "freeze", "--python", python], capture_output=True,
                             text=True, check=True).stdout
     return dict(ln.split("==", 1) for ln in frozen.splitlines() if "==" in ln)

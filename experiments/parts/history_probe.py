@@ -26,6 +26,9 @@ from importlib import metadata
 import numpy as np
 
 import adapters
+from analytic import presets
+
+from ..core import tables
 
 #: name -> sweep options: the still, swing and hinged reference grids, and the swing at defaults.
 GRIDS = {"still": ["--u0", "0", "--omega0", "0"], "swing": [], "hinged": ["--swing"],
@@ -35,15 +38,31 @@ POINTS = 11
 COLUMNS = ("s_m", "status", "err_mps", "tol_mps", "wall_s")
 
 
+def firing(grid: str) -> tuple[tables.Firing, str]:
+    """The grid's impacts, with the sweep's defaults for what its options leave out, and the
+    profile it is fired at."""
+    from analytic.dynamics import HingedSwing
+
+    from . import sweep_options
+
+    a = sweep_options.build_parser().parse_args(["--points", str(POINTS), *GRIDS[grid]])
+    bat = presets.R161
+    swing = (HingedSwing.for_omega(bat, a.omega0, hands_from_knob_m=a.hands,
+                                   angle_rad=a.swing_angle) if a.swing else None)
+    u0 = a.omega0 * swing.arm_m(bat) if swing else a.u0
+    return tables.Firing(bat=bat, s_m=tables.grid(bat, POINTS), v0_mps=a.v0, u0_mps=u0,
+                         omega0_radps=a.omega0, e=a.e, hands_from_knob_m=a.hands,
+                         swing=swing), a.profile
+
+
 def grid_rows(name: str, grid: str) -> list[dict]:
     """Each impact of one grid: status, the judged error and its tolerance (m/s), wall time."""
-    from experiments import sweep as sweep_cmd
-    from experiments.core.runner import Runner
+    from ..core.runner import Runner
 
-    args = sweep_cmd.build_parser().parse_args(
-        ["--engine", name, "--points", str(POINTS), "--no-locate", *GRIDS[grid]])
+    f, profile = firing(grid)
     with Runner() as runner:
-        table, _ = sweep_cmd.run(sweep_cmd.sweep_from_args(args), runner, locate=False)
+        table = tables.table(runner.fire(f.jobs(name, adapters.settings_for(name, profile))),
+                             profile)
     law = table.v1_law_tol_mps.notna()
     err = np.where(law, table.v1_law_err_mps, table.v1_abs_err_mps)
     tol = np.where(law, table.v1_law_tol_mps, table.v1_tol_mps)
@@ -53,8 +72,17 @@ def grid_rows(name: str, grid: str) -> list[dict]:
 
 
 def checks(name: str) -> list[dict]:
-    from experiments.core import check
+    """The conformance suite at the reference profile; every check not run, with the reason,
+    where the release cannot build the reference profile's scene."""
+    from ..core import check
+    from ..core.hosting import hosted
 
+    scene = adapters.Scene(bat=presets.R161, ball=presets.BASEBALL, e=presets.E_WOOD)
+    try:
+        hosted(name, adapters.settings_for(name)).batch(scene, 1)
+    except adapters.MissingFeature as err:
+        return [{"check": c, "passed": False, "detail": f"not run: {err}"}
+                for c in check.applicable(name)]
     report = check.check_engine(name)
     return [{"check": r.name, "passed": r.passed, "detail": r.detail[:300]}
             for r in report.results]
@@ -81,7 +109,7 @@ def probe(name: str) -> dict:
     try:
         adapters.engine_class(name)
     except Exception as err:  # an import that fails: the release is not one the adapter drives
-        out["unsupported"] = f"{type(err).__name__}: {err}"[:300]
+        out["not_driven"] = f"{type(err).__name__}: {err}"[:300]
         return out
     out["rows"] = []
     for grid in GRIDS:

@@ -4,16 +4,20 @@ from __future__ import annotations
 
 import io
 import math
+import re
 from dataclasses import dataclass
 
 import pandas as pd
+
+import adapters
 
 from ..core.io import json_bytes, provenance
 from ..core.judge import MEASURED, Status
 from ..parts.history_probe import GRIDS
 
-#: A check that could not run because the release lacks a feature its settings need.
-LACKING = "in this release"
+#: A check that did not run: the release lacks a feature the reference profile needs (its
+#: impacts said so), or the check was not run for that reason.
+LACKING = rf"in this release|\b{Status.UNSUPPORTED}\b|^not run"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -58,12 +62,13 @@ class Report:
         for r in self.results:
             head = {"engine": r["engine"], "release": r["release"], "state": r["state"],
                     "version": r.get("version", ""), "numpy": r.get("numpy", ""),
+                    "extras": r.get("extras", ""),
                     "python": r.get("python", "")}
             checks = self.checks[(self.checks.engine == r["engine"])
                                  & (self.checks.release == r["release"])]
             head |= {"checks_passed": int((checks.outcome == "passed").sum()),
                      "checks_failed": int((checks.outcome == "failed").sum()),
-                     "checks_unsupported": int((checks.outcome == "unsupported").sum())}
+                     "checks_not_run": int((checks.outcome == "not run").sum())}
             rows = self.rows[(self.rows.engine == r["engine"])
                              & (self.rows.release == r["release"])]
             if rows.empty:
@@ -93,32 +98,38 @@ class Report:
         out += [say(t, lost) for t, lost in self._row_changes(engine, before, after)]
         ca = self.checks[(self.checks.engine == engine) & (self.checks.release == before)]
         cb = self.checks[(self.checks.engine == engine) & (self.checks.release == after)]
-        was = dict(zip(ca.check, ca.outcome))
-        for check, outcome, detail in zip(cb.check, cb.outcome, cb.detail):
-            if check in was and was[check] != outcome:
-                out.append(say(f"check {check}: {was[check]} -> {outcome} ({detail[:120]})",
-                               regression=was[check] == "passed"))
+        moved = cb.assign(was=cb.check.map(dict(zip(ca.check, ca.outcome))))
+        moved = moved[moved.was.notna() & (moved.was != moved.outcome)]
+        for (was, now), g in moved.groupby(["was", "outcome"], sort=False):
+            said = g.check.iloc[0] + f" ({g.detail.iloc[0][:120]})" if len(g) == 1 else \
+                f"{len(g)}: " + ", ".join(g.check)
+            out.append(say(f"checks {was} -> {now}: {said}", regression=was == "passed"))
         da, db = a.get("defaults", {}), b.get("defaults", {})
         out += [say(f"default {k}: {da[k]} -> {db[k]}") for k in db if k in da and da[k] != db[k]]
         return out
 
     def _row_changes(self, engine: str, before: str, after: str) -> list[tuple[str, bool]]:
-        key = ["grid", "s_m"]
+        """The impacts that moved, a line per grid and kind of move: a status that changed
+        (a regression if it was ok), an ok impact whose error moved past its tolerance (a
+        regression if it grew)."""
         ra = self.rows[(self.rows.engine == engine) & (self.rows.release == before)]
         rb = self.rows[(self.rows.engine == engine) & (self.rows.release == after)]
-        both = ra.merge(rb, on=key, how="left", suffixes=("_a", "_b"))
+        if rb.empty:  # nothing fired: the change of state says why
+            return []
+        both = ra.merge(rb, on=["grid", "s_m"], how="left", suffixes=("_a", "_b"))
+        both["status_b"] = both.status_b.fillna("not fired")
+        both["moved"] = (abs(both.err_mps_b - both.err_mps_a)
+                         > both[["tol_mps_a", "tol_mps_b"]].max(axis=1))
         out = []
-        for r in both.itertuples():
-            where = f"{r.grid}, s = {r.s_m:+.3f} m"
-            if r.status_a != r.status_b:
-                lost = r.status_a == Status.OK
-                out.append((f"{where}: {r.status_a} -> {r.status_b} (error {r.err_mps_a:.2e} -> "
-                            f"{r.err_mps_b:.2e} m/s, tolerance {r.tol_mps_b:.2e})", lost))
-            elif r.status_a == Status.OK and abs(r.err_mps_b - r.err_mps_a) > max(r.tol_mps_a,
-                                                                                  r.tol_mps_b):
-                grew = r.err_mps_b > r.err_mps_a
-                out.append((f"{where}: error {r.err_mps_a:.2e} -> {r.err_mps_b:.2e} m/s, moved "
-                            f"more than its tolerance {r.tol_mps_b:.2e}", grew))
+        for (grid, a, b), g in both.groupby(["grid", "status_a", "status_b"], sort=False,
+                                            dropna=False):
+            if a != b:
+                out.append((f"{grid}: {_impacts(g)} {a} -> {b}{_worst(g)}", a == Status.OK))
+                continue
+            moved = g[g.moved & (g.status_a == Status.OK)]
+            for grew, m in moved.groupby(moved.err_mps_b > moved.err_mps_a):
+                out.append((f"{grid}: {_impacts(m)} ok, error {'grew' if grew else 'shrank'} "
+                            f"past its tolerance{_worst(m)}", bool(grew)))
         return out
 
     def regressions(self, engine: str, reference: str, candidate: str) -> list[str]:
@@ -152,9 +163,25 @@ class Report:
 
 
 def _outcome(check: dict) -> str:
+    """passed, failed, or not run: the release lacks what the reference profile needs."""
     if check["passed"]:
         return "passed"
-    return "unsupported" if LACKING in check["detail"] else "failed"
+    return "not run" if re.search(LACKING, check["detail"]) else "failed"
+
+
+def _impacts(g: pd.DataFrame) -> str:
+    s = g.s_m
+    where = f"s = {s.iloc[0]:+.3f} m" if len(g) == 1 else f"s {s.min():+.3f} to {s.max():+.3f} m"
+    return f"{len(g)} impact{'s' if len(g) > 1 else ''} ({where})"
+
+
+def _worst(g: pd.DataFrame) -> str:
+    """The largest error after, beside its tolerance and the error before (m/s)."""
+    i = g.err_mps_b.fillna(-1.0).idxmax()
+    if math.isnan(g.err_mps_b[i]) and math.isnan(g.err_mps_a[i]):
+        return ""
+    return (f"; worst error {g.err_mps_a[i]:.2e} -> {g.err_mps_b[i]:.2e} m/s, tolerance "
+            f"{g.tol_mps_b[i]:.2e}")
 
 
 def _reason(result: dict, rows: pd.DataFrame) -> str:
@@ -172,7 +199,7 @@ def page(summary: pd.DataFrame, changes: list[Change]) -> str:
              "Made by `python -m experiments.history` (its docstring says what is fired). A row "
              "per release: for each grid the impacts `ok` (within the judge's tolerance of the "
              "answer that applies) and the largest error of the sound ones; the conformance "
-             "checks passed / failed / unsupported (the release lacks a feature the reference "
+             "checks passed / failed / not run (the release lacks a feature the reference "
              "profile needs); the cost of an impact on the swing grid. **Marked** releases "
              "moved (listed below the table); a verdict or check lost is a regression.", ""]
     grids = list(GRIDS)
@@ -180,7 +207,7 @@ def page(summary: pd.DataFrame, changes: list[Change]) -> str:
         marked = {c.release for c in changes if c.engine == engine}
         lines += [f"## {engine}", "", f"![{engine} across releases](history_{engine}.png)", "",
                   "| release | " + " | ".join(f"{g}: ok, max error (m/s)" for g in grids)
-                  + " | checks passed / failed / unsupported | us per impact (swing) |",
+                  + " | checks passed / failed / not run | us per impact (swing) |",
                   "|" + "---|" * (len(grids) + 3)]
         for release, r in df.groupby("release", sort=False):
             first = r.iloc[0]
@@ -197,11 +224,17 @@ def page(summary: pd.DataFrame, changes: list[Change]) -> str:
             swing = r[r.grid == "swing"]
             cost = f"{swing.cost_us_per_impact.iloc[0]:.0f}" if len(swing) else ""
             lines.append(f"| {name} | " + " | ".join(cells) + f" | {first.checks_passed} / "
-                         f"{first.checks_failed} / {first.checks_unsupported} | {cost} |")
+                         f"{first.checks_failed} / {first.checks_not_run} | {cost} |")
         lines.append("")
         for c in (c for c in changes if c.engine == engine):
             lines.append(f"- {c.release}{' (regression)' if c.regression else ''}: {c.text}")
-        lines.append("")
+        install = adapters.record(engine).install
+        lines += [f"- {r}, its release notes: {note}" for r, note in install.release_notes.items()
+                  if r in marked]
+        given = df[df.extras.fillna("") != ""].drop_duplicates("release")
+        lines += [f"- {r.release} was judged with {r.extras} added (the release needs it but "
+                  "does not require it)" for r in given.itertuples()]
+        lines += ["", f"The adapter drives {engine} from release {install.oldest or '?'} on.", ""]
     return "\n".join(lines)
 
 

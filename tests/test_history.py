@@ -1,0 +1,119 @@
+"""``experiments.history``: release environments made once and reused (an interrupted one made
+again), the engine's own pins freed, a candidate that loses a verdict or lets an error grow past
+its tolerance exits 1 (all without installing); then, in the full tier, the README's lines as a
+user runs them: two releases installed on a cold cache and judged, and a version that does not
+exist is a row that says so."""
+
+from __future__ import annotations
+
+import re
+import shlex
+import time
+
+import pandas as pd
+import pytest
+
+import adapters
+from experiments import history
+from experiments.core import releases
+
+from .conftest import ROOT, cheapest, run_command
+
+README = (ROOT / "README.md").read_text()
+#: The README's history lines: the spread of two releases, and a candidate checked.
+LINES = [shlex.split(m.group(0)) for lang, text in re.findall(r"```(\w+)\n(.*?)```", README, re.S)
+         if lang == "sh" for m in re.finditer(r"python -m experiments\.history[^\n#]*", text)]
+#: The most the README's two-release line may take on a cold cache (the issue's bar: 10 min).
+COLD_LIMIT_S = 600.0
+
+
+def _release(version: str = "1.0") -> releases.Release:
+    return releases.Release(engine=cheapest(batched=False), version=version)
+
+
+def test_an_environment_is_made_once_then_reused(tmp_path):
+    made = []
+
+    def installer(release, target):
+        made.append(release.version)
+        (target / "bin").mkdir(parents=True)
+        return {"made": release.version}
+
+    first = releases.environment(_release(), tmp_path, installer)
+    again = releases.environment(_release(), tmp_path, installer)
+    assert first == again and made == ["1.0"]
+    assert releases.installed(first) == {"made": "1.0"}
+
+
+def test_an_interrupted_install_is_made_again(tmp_path):
+    def interrupted(release, target):
+        (target / "bin").mkdir(parents=True)
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        releases.environment(_release(), tmp_path, interrupted)
+    assert not (tmp_path / releases.python_tag() / _release().key).exists(), "a partial one left"
+    made = []
+    releases.environment(_release(), tmp_path, lambda r, t: made.append(t) or {})
+    assert len(made) == 1
+
+
+def test_the_engines_own_pins_are_freed_and_the_harness_pins_kept():
+    pinned = {releases._name(ln) for ln in (ROOT / "constraints.txt").read_text().split()}
+    name = next(n for n in adapters.names()
+                if releases._name(adapters.record(n).install.package) in pinned)
+    package = releases._name(adapters.record(name).install.package)
+    kept = {releases._name(ln) for ln in releases.constraints(
+        releases.Release(engine=name, version="0")).split()}
+    assert package not in kept and "numpy" in kept
+    assert not any(p.startswith(package + "-") for p in kept)  # its family: mujoco-core ...
+
+
+def _result(version: str, err_mps: float, status: str = "ok") -> dict:
+    rows = [{"grid": "swing", "s_m": s, "status": status, "err_mps": err_mps, "tol_mps": 1e-6,
+             "wall_s": 1e-4} for s in (-0.1, 0.1)]
+    return {"engine": "e", "release": version, "state": "judged", "version": version,
+            "rows": rows, "checks": [{"check": "still_bat", "passed": True, "detail": "ok"}],
+            "defaults": {"dt_s": "0.01"}}
+
+
+@pytest.mark.parametrize("candidate, code", [
+    (_result("2", 1e-9), 0),                       # within 1e-6 m/s of the reference's error
+    (_result("2", 5e-6), 1),                       # grew past its tolerance
+    (_result("2", 1e-9, status="inaccurate"), 1),  # a verdict lost
+], ids=["unchanged", "error grew", "verdict lost"])
+def test_a_candidate_exits_1_on_a_regression(monkeypatch, tmp_path, candidate, code):
+    # |err candidate - err reference| > tol is a moved error; a grown one regresses
+    results = {"1": _result("1", 1e-9), "2": candidate}
+    monkeypatch.setattr(history, "fire_release", lambda e, v, cache: {**results[v], "engine": e})
+    name = cheapest(batched=False)
+    out = tmp_path / "out"
+    assert history.main(["--engine", name, "--versions", "1,2", "--cache", str(tmp_path),
+                         "--out", str(out), "--name", "h"]) == code
+    page = (out / "h" / "history.md").read_text()
+    assert ("(regression)" in page) == bool(code)
+    assert len(pd.read_csv(out / "h" / "history.csv")) == 2
+
+
+def test_the_readme_shows_the_history_lines():
+    assert len(LINES) == 2 and all("--versions" in line for line in LINES), LINES
+
+
+@pytest.mark.full
+def test_the_readme_history_lines_on_a_cold_cache(tmp_path):
+    # two releases judged (2 release rows, each judged); a version that does not exist: a row
+    spread, candidate = LINES
+    t0 = time.perf_counter()
+    run_command([*spread[1:], "--cache", str(tmp_path / "cache"), "--out", str(tmp_path)])
+    assert time.perf_counter() - t0 < COLD_LIMIT_S
+    (table,) = tmp_path.rglob("history.csv")
+    judged = pd.read_csv(table).query("state == 'judged'")
+    assert judged.release.nunique() == 2 and (judged.ok > 0).any()
+    run_command([*candidate[1:], "--cache", str(tmp_path / "cache"), "--out", str(tmp_path)])
+    bad = spread[spread.index("--versions") + 1].split(",")[0] + ".999"
+    run_command([*spread[1:3], "--engine", spread[spread.index("--engine") + 1], "--versions",
+                 bad, "--cache", str(tmp_path / "cache"), "--out", str(tmp_path / "bad")],
+                code=1)
+    (table,) = (tmp_path / "bad").rglob("history.csv")
+    rows = pd.read_csv(table).set_index("release")
+    assert rows.loc[bad, "state"] == "not_installable" and "no version" in rows.loc[bad, "reason"]
