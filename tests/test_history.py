@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import re
 import shlex
+import subprocess
+import sys
 import time
 
 import pandas as pd
@@ -99,21 +101,43 @@ def test_the_readme_shows_the_history_lines():
     assert len(LINES) == 2 and all("--versions" in line for line in LINES), LINES
 
 
+def _history(argv: list[str], out, code: int = 0) -> pd.DataFrame:
+    """``python -m experiments.history ARGV`` with a scratch cache and ``out``: its rows."""
+    run_command([*argv, "--cache", str(out.parent / "cache"), "--out", str(out)], code=code)
+    (table,) = out.rglob("history_rows.csv")
+    return pd.read_csv(table).drop(columns="wall_s")
+
+
 @pytest.mark.full
 def test_the_readme_history_lines_on_a_cold_cache(tmp_path):
-    # two releases judged (2 release rows, each judged); a version that does not exist: a row
+    # two releases judged, the same on two workers; the candidate line; the candidate's own
+    # wheel judged as its release is; a version that does not exist: a row that says so, and
+    # every verdict lost against the release before it (exit 1)
     spread, candidate = LINES
     t0 = time.perf_counter()
-    run_command([*spread[1:], "--cache", str(tmp_path / "cache"), "--out", str(tmp_path)])
+    rows = _history(spread[1:], tmp_path / "serial")
     assert time.perf_counter() - t0 < COLD_LIMIT_S
-    (table,) = tmp_path.rglob("history.csv")
+    (table,) = (tmp_path / "serial").rglob("history.csv")
     judged = pd.read_csv(table).query("state == 'judged'")
     assert judged.release.nunique() == 2 and (judged.ok > 0).any()
-    run_command([*candidate[1:], "--cache", str(tmp_path / "cache"), "--out", str(tmp_path)])
-    bad = spread[spread.index("--versions") + 1].split(",")[0] + ".999"
-    run_command([*spread[1:3], "--engine", spread[spread.index("--engine") + 1], "--versions",
-                 bad, "--cache", str(tmp_path / "cache"), "--out", str(tmp_path / "bad")],
-                code=1)
+    pd.testing.assert_frame_equal(rows, _history([*spread[1:], "--workers", "2"],
+                                                 tmp_path / "two"))
+    _history(candidate[1:], tmp_path / "candidate")
+    engine = spread[spread.index("--engine") + 1]
+    released = candidate[candidate.index("--versions") + 1]
+    wheels = tmp_path / "wheels"
+    subprocess.run([sys.executable, "-m", "pip", "download", "--quiet", "--no-deps",
+                    "--only-binary", ":all:", "-d", str(wheels),
+                    f"{adapters.record(engine).install.package}=={released}"],
+                   check=True, timeout=COLD_LIMIT_S)
+    (wheel,) = wheels.glob("*.whl")
+    both = _history([*spread[1:3], "--engine", engine, "--versions", str(wheel), "--against",
+                     released], tmp_path / "wheel")
+    as_released, as_wheel = (g.drop(columns="release").reset_index(drop=True)
+                             for _, g in both.groupby("release", sort=False))
+    pd.testing.assert_frame_equal(as_released, as_wheel)
+    bad = released + ".999"
+    _history([*spread[1:3], "--engine", engine, "--versions", bad], tmp_path / "bad", code=1)
     (table,) = (tmp_path / "bad").rglob("history.csv")
     rows = pd.read_csv(table).set_index("release")
     assert rows.loc[bad, "state"] == "not_installable" and "no version" in rows.loc[bad, "reason"]
