@@ -83,7 +83,8 @@ class Install:
     engine counts as not installed. ``oldest``: the oldest release its adapter drives (older
     ones have other APIs); ``history``: the releases ``experiments.history`` fires by default,
     oldest first; ``release_notes``: release -> what its notes say of a change the history
-    marks there, with their source."""
+    marks there, with their source; ``released_with``: distributions released in step with the
+    engine, installed at the same version (MJX and MuJoCo Warp beside MuJoCo)."""
 
     package: str
     import_name: str
@@ -92,6 +93,7 @@ class Install:
     oldest: str = ""
     history: tuple[str, ...] = ()
     release_notes: Mapping[str, str] = field(default_factory=dict)
+    released_with: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, kw_only=True)

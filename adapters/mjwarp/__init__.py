@@ -118,6 +118,9 @@ RECORD = EngineRecord(
         import_name="mujoco_warp",
         extra="mujoco-warp",
         requires=("mujoco", "warp"),
+        released_with=("mujoco",),
+        oldest="3.8.1",
+        history=("3.8.1", "3.11.0", "4.0.0"),
     ),
     profiles={
         # Fidelity: MuJoCo C's reference (10 us, Euler, impulse contact) with MuJoCo Warp's

@@ -111,6 +111,9 @@ RECORD = EngineRecord(
         import_name="mujoco.mjx",
         extra="mjx",
         requires=("mujoco", "jax"),
+        released_with=("mujoco",),
+        oldest="3.8.1",
+        history=("3.8.1", "3.11.0", "3.17.0"),
     ),
     profiles={
         # Fidelity: MuJoCo C's reference (10 us, Euler, impulse contact) at d = 0.9999 with

@@ -327,6 +327,8 @@ RECORD = EngineRecord(
         import_name="newton",
         extra="newton",
         requires=("warp",),
+        oldest="1.6.1",
+        history=("1.6.1", "1.7.0", "1.8.0"),
     ),
     profiles={
         # XPBD with restitution: a rigid impulse. A 10 us step: the velocity pass takes the

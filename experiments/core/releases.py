@@ -60,8 +60,13 @@ class Release:
         return Path(self.version) if self.version.endswith(".whl") else None
 
     @property
-    def requirement(self) -> str:
-        return str(self.wheel.resolve()) if self.wheel else f"{self.package}=={self.version}"
+    def requirements(self) -> list[str]:
+        """The release, what is released in step with it (``Install.released_with``), and its
+        extras."""
+        if self.wheel:
+            return [str(self.wheel.resolve()), *self.extras]
+        beside = adapters.record(self.engine).install.released_with
+        return [f"{p}=={self.version}" for p in (self.package, *beside)] + list(self.extras)
 
     @property
     def key(self) -> str:
@@ -92,16 +97,18 @@ def harness_requirements() -> list[str]:
 
 
 def constraints(release: Release) -> str:
-    """constraints.txt without the pins of the release's family (its package and every
-    distribution whose name starts like it: mujoco-core beside mujoco, jaxlib beside jax), of
-    what its adapter requires, and
-    of what it needs beyond its own (``extras``). A build against NumPy 1 gets no pins at all:
-    the harness's libraries resolve afresh within pyproject's ranges (today's need NumPy 2)."""
+    """constraints.txt without the pins of any engine's family (its package, what its adapter
+    requires, what is released with it, and every distribution whose name starts like one of
+    them: mujoco-core beside mujoco, jaxlib beside jax), so that the release brings what it
+    asks for, nor of what the release needs beyond its own (``extras``). A build against
+    NumPy 1 gets no pins at all: the harness's libraries resolve afresh within pyproject's
+    ranges (today's need NumPy 2)."""
     if "numpy" in {_name(r) for r in release.extras}:
         return "\n"
-    family = {_name(release.package),
-              *(_name(r) for r in adapters.record(release.engine).install.requires),
-              *(_name(r) for r in release.extras)}
+    family = {_name(r) for r in release.extras}
+    for name in adapters.names():
+        install = adapters.record(name).install
+        family |= {_name(p) for p in (install.package, *install.requires, *install.released_with)}
     lines = (ROOT / "constraints.txt").read_text().splitlines()
     kept = [ln for ln in lines if ln.strip() and not ln.startswith("#")
             and not any(_name(ln).startswith(f) for f in family)]
@@ -138,7 +145,7 @@ def install(release: Release, target: Path) -> dict:
     pins.write_text(constraints(release))
     python = str(target / "bin" / "python")
     _uv(["pip", "install", "--quiet", "--no-build", "--python", python, "-c", str(pins),
-         *harness_requirements(), *release.extras, release.requirement])
+         *harness_requirements(), *release.requirements])
     frozen = subprocess.run([uv(), "pip", "freeze", "--python", python], capture_output=True,
                             text=True, check=True).stdout
     return dict(ln.split("==", 1) for ln in frozen.splitlines() if "==" in ln)

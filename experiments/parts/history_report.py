@@ -15,6 +15,8 @@ from ..core.io import json_bytes, provenance
 from ..core.judge import MEASURED, Status
 from ..parts.history_probe import GRIDS
 
+#: Statuses of impacts the engine stepped (not refused before a step): their wall time is a cost.
+STEPPED = tuple(str(s) for s in Status if s not in (Status.UNSUPPORTED, Status.ERROR))
 #: A check that did not run: the release lacks a feature the reference profile needs (its
 #: impacts said so), or the check was not run for that reason.
 LACKING = rf"in this release|\b{Status.UNSUPPORTED}\b|^not run"
@@ -81,7 +83,7 @@ class Report:
                             "statuses": ", ".join(f"{k} {v}" for k, v in
                                                   g.status.value_counts().items()),
                             "max_err_mps": measured.err_mps.max() if len(measured) else math.nan,
-                            "cost_us_per_impact": g.wall_s.median() * 1e6,
+                            "cost_us_per_impact": g[g.status.isin(STEPPED)].wall_s.median() * 1e6,
                             "reason": _reason(r, g)})
         return pd.DataFrame(out)
 
@@ -93,7 +95,8 @@ class Report:
         a, b = self._result(engine, before), self._result(engine, after)
         out = []
         if a["state"] != b["state"]:
-            out.append(say(f"{a['state']} -> {b['state']}: {b.get('reason', '')}"[:200],
+            why = f": {b['reason']}" if b.get("reason") else ""
+            out.append(say(f"{a['state']} -> {b['state']}{why}"[:200],
                            regression=a["state"] == "judged"))
         out += [say(t, lost) for t, lost in self._row_changes(engine, before, after)]
         ca = self.checks[(self.checks.engine == engine) & (self.checks.release == before)]
@@ -219,10 +222,9 @@ def page(summary: pd.DataFrame, changes: list[Change]) -> str:
             cells = []
             for g in grids:
                 row = r[r.grid == g]
-                cells.append("" if row.empty else f"{row.ok.iloc[0]}/{row.impacts.iloc[0]}, "
-                             f"{_num(row.max_err_mps.iloc[0])}")
-            swing = r[r.grid == "swing"]
-            cost = f"{swing.cost_us_per_impact.iloc[0]:.0f}" if len(swing) else ""
+                cells.append("" if row.empty else _cell(row.iloc[0]))
+            swing = r[r.grid == "swing"].cost_us_per_impact.dropna()
+            cost = f"{swing.iloc[0]:.0f}" if len(swing) else ""
             lines.append(f"| {name} | " + " | ".join(cells) + f" | {first.checks_passed} / "
                          f"{first.checks_failed} / {first.checks_not_run} | {cost} |")
         lines.append("")
@@ -236,6 +238,13 @@ def page(summary: pd.DataFrame, changes: list[Change]) -> str:
                   "does not require it)" for r in given.itertuples()]
         lines += ["", f"The adapter drives {engine} from release {install.oldest or '?'} on.", ""]
     return "\n".join(lines)
+
+
+def _cell(row) -> str:
+    """A grid's impacts ok, and its largest error, or its statuses where none was sound."""
+    head = f"{row.ok:.0f}/{row.impacts:.0f}"
+    err = _num(row.max_err_mps)
+    return f"{head}, {err}" if err else f"{head} ({row.statuses})"
 
 
 def _num(v: float) -> str:
@@ -253,28 +262,34 @@ def chart(summary: pd.DataFrame, changes: list[Change]) -> bytes:
     x = {r: i for i, r in enumerate(releases)}
     fig, axes = plt.subplots(3, 1, figsize=(max(6.0, 0.7 * len(releases) + 3), 7.5),
                              sharex=True, layout="constrained")
-    for grid, marker in zip(GRIDS, "osD^"):
+    for i, (grid, marker) in enumerate(zip(GRIDS, "osD^")):
         g = summary[summary.grid == grid]
         xs = [x[r] for r in g.release]
-        axes[0].plot(xs, g.ok, marker=marker, label=grid)
+        # a tenth of an impact apart, so that grids with equal counts stay visible
+        axes[0].plot(xs, g.ok + 0.1 * (i - 1.5), marker=marker, label=grid)
         axes[1].plot(xs, g.max_err_mps.clip(lower=1e-16), marker=marker, label=grid)
-    swing = summary[summary.grid == "swing"]
-    axes[2].plot([x[r] for r in swing.release], swing.cost_us_per_impact, "o-", color="k")
+        if grid.startswith("swing"):
+            axes[2].plot(xs, g.cost_us_per_impact, marker=marker, color=f"C{i}", label=grid)
+    engine = summary.engine.iloc[0]
+    regressed: dict[str, bool] = {}
     for c in changes:
-        if c.engine == summary.engine.iloc[0] and c.release in x:
-            for ax in axes:
-                ax.axvspan(x[c.release] - 0.4, x[c.release] + 0.4, alpha=0.08,
-                           color="tab:red" if c.regression else "tab:blue", lw=0)
-    axes[0].set_ylabel("impacts ok (of each grid)")
+        if c.engine == engine and c.release in x:
+            regressed[c.release] = regressed.get(c.release, False) or c.regression
+    for release, regression in regressed.items():
+        for ax in axes:
+            ax.axvspan(x[release] - 0.4, x[release] + 0.4, alpha=0.12, lw=0,
+                       color="tab:red" if regression else "tab:blue")
+    axes[0].set_ylabel(f"impacts ok (of {summary.impacts.max():.0f} a grid)")
     axes[1].set_ylabel("largest |error| of sound\nimpacts (m/s, log)")
     axes[1].set_yscale("log")
-    axes[2].set_ylabel("cost per impact,\nswing grid (us)")
+    axes[2].set_ylabel("cost per impact\nstepped (us)")
+    axes[2].legend(fontsize=8)
     axes[2].set_xticks(range(len(releases)), releases, rotation=45, ha="right")
     axes[2].set_xlabel("release (shaded: something moved; red: a regression)")
-    axes[0].legend(fontsize=8, ncol=4)
+    axes[0].legend(fontsize=8, ncol=2, loc="center right")
     for ax in axes:
         ax.grid(alpha=0.3)
-    fig.suptitle(f"{summary.engine.iloc[0]} across its releases (R161, paper's swing)")
+    fig.suptitle(f"{engine} across its releases (R161, the paper's pitch)")
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110)
     plt.close(fig)

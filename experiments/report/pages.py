@@ -3,8 +3,9 @@
 Each page says, from the files in results/ and the engine's record: how to install it, what it
 computes in, how close its reference profile comes to theory, what its out-of-the-box settings
 do, the cheapest setting within PAGE_TARGET of rigid theory (``pareto_cheapest.csv``), the
-defects its record declares (measured failures no setting removes), and what an impact costs
-through the harness, alone and in its best batch, on each device ``bench_batches.csv`` has.
+defects its record declares (measured failures no setting removes), what an impact costs
+through the harness, alone and in its best batch, on each device ``bench_batches.csv`` has, and
+the releases ``history.csv`` judged.
 The long report (``report.md``) keeps the studies; a page repeats none of its tables.
 """
 
@@ -78,6 +79,20 @@ def _costs(results: Path, name: str) -> list[str]:
     return out
 
 
+def _releases(results: Path, name: str) -> str:
+    """The releases ``experiments.history`` judged, and the first whose reference swing is ok."""
+    path = results / "history.csv"
+    table = pd.read_csv(path) if path.exists() else pd.DataFrame(columns=["engine"])
+    rows = table[table.engine == name]
+    if not len(rows):
+        return "not judged (`python -m experiments.history`)"
+    listed = list(dict.fromkeys(rows.release.astype(str)))
+    ok = rows[(rows.grid == "swing") & (rows.ok == rows.impacts)].release.astype(str)
+    since = f"; its reference swing all ok from {ok.iloc[0]}" if len(ok) else ""
+    return (f"{len(listed)} releases, {listed[0]} to {listed[-1]}, in [history.md]"
+            f"(history.md#{name}){since}")
+
+
 def page(results: Path, name: str) -> str:
     """The engine's page (module docstring)."""
     rec = adapters.record(name)
@@ -97,7 +112,8 @@ def page(results: Path, name: str) -> str:
              f"{_cheapest(results, name)}.",
              "- **Declared defects**: " + "; ".join(_defects(name)) + ".",
              "- **Cost per impact** through the harness (`bench_batches.csv`): "
-             + "; ".join(_costs(results, name)) + ".", ""]
+             + "; ".join(_costs(results, name)) + ".",
+             f"- **Releases**: {_releases(results, name)}.", ""]
     return "\n".join(lines)
 
 
@@ -106,7 +122,8 @@ def index(results: Path) -> str:
     ref = pd.read_csv(results / f"{readme.REFERENCE}.csv")
     lines = ["# Engines", "",
              "One page per engine, from the files in `results/` (written by "
-             "`python -m experiments.report`); the studies are in [report.md](report.md).", ""]
+             "`python -m experiments.report`); the studies are in [report.md](report.md), "
+             "each engine's releases side by side in [history.md](history.md).", ""]
     for name in sorted(set(ref.engine)):
         rec = adapters.record(name)
         lines.append(f"- [{rec.look.label or name}]({page_name(name)}): {rec.errors.precision}, "
