@@ -119,7 +119,7 @@ RECORD = EngineRecord(
         extra="mujoco-warp",
         requires=("mujoco", "warp"),
         released_with=("mujoco",),
-        oldest="3.8.1",
+        oldest="4.0.0",  # the overflow bits it reads (OverflowType) are 4.0's
         history=("3.8.1", "3.11.0", "4.0.0"),
     ),
     profiles={
