@@ -8,7 +8,8 @@ in its own cached environment (``experiments.core.releases``) and judged there b
 checkout's code (``experiments.parts.history_probe``): the still, swing and hinged grids at the
 reference profile, the swing at the engine's defaults, the conformance suite (the friction wall
 among its checks), the defaults read back. A release that does not exist or has no wheel for
-this Python is a row that says so; one whose API the adapter does not drive says why.
+this Python is a row that says so (``not_installable``); one whose API the adapter does not drive
+is ``unsupported``, with the reason.
 
 Between each release and the one before it, whatever moved is listed: a verdict lost or won, an
 error that moved by more than its tolerance, a check that changed, a default that changed.
@@ -36,6 +37,7 @@ import adapters
 from .core import cli, releases, runs
 from .core.cli import Command
 from .core.io import ROOT
+from .core.judge import Status
 from .parts import history_report
 
 #: One release's probe: its grids (a few seconds each) and the conformance suite.
@@ -115,7 +117,7 @@ def fire_release(engine: str, version: str, cache: Path) -> dict:
     release = releases.Release(engine=engine, version=version)
     result = _fire(release, cache)
     for said, extra in UNDECLARED:
-        if result["state"] == "not_driven" and said.search(result["reason"]):
+        if result["state"] == Status.UNSUPPORTED and said.search(result["reason"]):
             release = releases.Release(engine=engine, version=version,
                                        extras=(*release.extras, extra))
             result = {**_fire(release, cache), "extras": ", ".join(release.extras)}
@@ -139,7 +141,8 @@ def _fire(release: releases.Release, cache: Path) -> dict:
             return {**head, "state": "probe_failed",
                     "reason": f"exit {done.returncode}: {tail[0][:300]}"}
         result = json.loads(out.read_text())
-    state = "not_driven" if "not_driven" in result else "judged"
+    # a release whose API the adapter does not drive is unsupported, as an impact it cannot fire
+    state = Status.UNSUPPORTED.value if "not_driven" in result else "judged"
     return {**head, **result, "state": state, "reason": result.get("not_driven", "")}
 
 

@@ -141,3 +141,17 @@ def test_the_readme_history_lines_on_a_cold_cache(tmp_path):
     (table,) = (tmp_path / "bad").rglob("history.csv")
     rows = pd.read_csv(table).set_index("release")
     assert rows.loc[bad, "state"] == "not_installable" and "no version" in rows.loc[bad, "reason"]
+
+
+def test_each_records_oldest_release_is_the_first_the_history_judged():
+    # results/history.csv (python -m experiments.baselines --only history): every release a
+    # record lists was fired, and the oldest release it says its adapter drives is the first
+    # one there that was judged (older ones: not installable, or not driven, with the reason)
+    table = pd.read_csv(ROOT / "results" / "history.csv", dtype={"release": str})
+    for name in adapters.names():
+        install = adapters.record(name).install
+        rows = table[table.engine == name]
+        assert list(dict.fromkeys(rows.release)) == list(install.history), name
+        if install.history:
+            judged = rows[rows.state == "judged"].release
+            assert judged.iloc[0] == install.oldest, (name, install.oldest)
