@@ -110,7 +110,7 @@ def _history(argv: list[str], out, code: int = 0) -> pd.DataFrame:
 
 @pytest.mark.full
 def test_the_readme_history_lines_on_a_cold_cache(tmp_path):
-    # two releases judged, the same on two workers; the candidate line; the candidate's own
+    # two releases judged, the same on a Dask cluster; the candidate line; the candidate's own
     # wheel judged as its release is; a version that does not exist: a row that says so, and
     # every verdict lost against the release before it (exit 1)
     spread, candidate = LINES
@@ -120,8 +120,8 @@ def test_the_readme_history_lines_on_a_cold_cache(tmp_path):
     (table,) = (tmp_path / "serial").rglob("history.csv")
     judged = pd.read_csv(table).query("state == 'judged'")
     assert judged.release.nunique() == 2 and (judged.ok > 0).any()
-    pd.testing.assert_frame_equal(rows, _history([*spread[1:], "--workers", "2"],
-                                                 tmp_path / "two"))
+    pd.testing.assert_frame_equal(rows, _history([*spread[1:], "--workers", "2", "--scheduler",
+                                                  "local"], tmp_path / "dask"))
     _history(candidate[1:], tmp_path / "candidate")
     engine = spread[spread.index("--engine") + 1]
     released = candidate[candidate.index("--versions") + 1]
