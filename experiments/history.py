@@ -84,6 +84,8 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     if not args.versions:
         bare = [n for n in args.engine if not adapters.record(n).install.history]
         args.engine = tuple(n for n in args.engine if n not in bare)
+        for name in bare if args.engine else ():
+            print(f"skipped: {name} lists no release (Install.history)", file=sys.stderr)
         if not args.engine:
             p.error(f"no release is listed for {', '.join(bare)} (Install.history); allowed: "
                     "--versions")
@@ -133,9 +135,13 @@ def _fire(release: releases.Release, cache: Path) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "probe.json"
         env = {**os.environ, "PYTHONPATH": str(ROOT), "BATSIM_QUIET": "1"}
-        done = subprocess.run([str(python), "-m", "experiments.parts.history_probe", "--engine",
-                               engine, "--out", str(out)], cwd=tmp, env=env, text=True,
-                              capture_output=True, timeout=PROBE_TIMEOUT_S)
+        try:
+            done = subprocess.run([str(python), "-m", "experiments.parts.history_probe",
+                                   "--engine", engine, "--out", str(out)], cwd=tmp, env=env,
+                                  text=True, capture_output=True, timeout=PROBE_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            return {**head, "state": "probe_failed",
+                    "reason": f"the probe ran past {PROBE_TIMEOUT_S} s"}
         if done.returncode or not out.exists():
             tail = (done.stderr or done.stdout).strip().splitlines()[-1:] or ["no output"]
             return {**head, "state": "probe_failed",
