@@ -2,12 +2,12 @@
 
 An environment holds the harness's own dependencies at the versions ``constraints.txt`` pins and
 one release of one engine (``package==version``, or a local wheel), resolved by uv together:
-another release of that engine's family is not pinned. It is made once, under
-``<cache>/py<X.Y>/<package>-<version>``, and reused: a ``ready.json`` written last (what uv
-installed) marks it complete, so an install that was interrupted is made again, and a lock file
-keeps two processes (two Dask workers) from making the same one at once. The harness's code is
-not installed there: it runs from this checkout (``PYTHONPATH``), so that every release is judged
-by the same code.
+whatever else the release asks for is not pinned. It is made once, under
+``<cache>/py<X.Y>/<package>-<version>-<hash of the pins>``, and reused: a ``ready.json``
+written last (what uv installed) marks it complete, so an install that was interrupted is made
+again, and a lock file keeps two processes (two Dask workers) from making the same one at once.
+The harness's code is not installed there: it runs from this checkout (``PYTHONPATH``), so that
+every release is judged by the same code.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ import subprocess
 import sys
 import tomllib
 from dataclasses import dataclass
+from importlib import metadata
 from pathlib import Path
 
 from filelock import FileLock
@@ -96,22 +97,39 @@ def harness_requirements() -> list[str]:
     return [r for r in project["dependencies"] if _name(r) not in engines]
 
 
+def harness_closure() -> set[str]:
+    """The distributions the harness's own dependencies pull in, as installed here (an extra
+    they ask for included: dask[distributed])."""
+    todo = [(_name(r), set(re.findall(r"\[(.*?)\]", r)[0].split(",")) if "[" in r else set())
+            for r in harness_requirements()]
+    seen: set[str] = set()
+    while todo:
+        name, extras = todo.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        try:
+            requires = metadata.requires(name) or []
+        except metadata.PackageNotFoundError:
+            continue
+        for r in requires:
+            wanted = re.search(r"extra\s*==\s*['\"]([^'\"]+)", r)
+            if wanted is None or wanted.group(1) in extras:
+                todo.append((_name(r), set()))
+    return seen
+
+
 def constraints(release: Release) -> str:
-    """constraints.txt without the pins of any engine's family (its package, what its adapter
-    requires, what is released with it, and every distribution whose name starts like one of
-    them: mujoco-core beside mujoco, jaxlib beside jax), so that the release brings what it
-    asks for, nor of what the release needs beyond its own (``extras``). A build against
+    """The pins of constraints.txt for the harness's own libraries (``harness_closure``): an
+    engine's release brings whatever else it asks for (its own dependencies, at the versions
+    it needs), and what it needs beyond them (``extras``) is not pinned either. A build against
     NumPy 1 gets no pins at all: the harness's libraries resolve afresh within pyproject's
     ranges (today's need NumPy 2)."""
     if "numpy" in {_name(r) for r in release.extras}:
         return "\n"
-    family = {_name(r) for r in release.extras}
-    for name in adapters.names():
-        install = adapters.record(name).install
-        family |= {_name(p) for p in (install.package, *install.requires, *install.released_with)}
+    keep = harness_closure() - {_name(r) for r in release.extras}
     lines = (ROOT / "constraints.txt").read_text().splitlines()
-    kept = [ln for ln in lines if ln.strip() and not ln.startswith("#")
-            and not any(_name(ln).startswith(f) for f in family)]
+    kept = [ln for ln in lines if ln.strip() and not ln.startswith("#") and _name(ln) in keep]
     return "\n".join(kept) + "\n"
 
 
@@ -154,7 +172,8 @@ def install(release: Release, target: Path) -> dict:
 def environment(release: Release, cache: Path = DEFAULT_CACHE, installer=install) -> Path:
     """The Python of the release's environment, made now if the cache has none complete;
     NotInstallable (uv's reason) if the release cannot be installed for this Python."""
-    folder = cache / python_tag() / release.key
+    pins = hashlib.sha256("\n".join([*harness_requirements(), constraints(release)]).encode())
+    folder = cache / python_tag() / f"{release.key}-{pins.hexdigest()[:8]}"
     folder.parent.mkdir(parents=True, exist_ok=True)
     with FileLock(str(folder) + ".lock"):
         if not (folder / READY).exists():

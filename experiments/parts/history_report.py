@@ -12,7 +12,7 @@ import pandas as pd
 import adapters
 
 from ..core.io import json_bytes, provenance
-from ..core.judge import MEASURED, Status
+from ..core.judge import Status
 from ..parts.history_probe import GRIDS
 
 #: Statuses of impacts the engine stepped (not refused before a step): their wall time is a cost.
@@ -77,7 +77,7 @@ class Report:
                 out.append({**head, "grid": "", "reason": r.get("reason", "")})
                 continue
             for grid, g in rows.groupby("grid", sort=False):
-                measured = g[g.status.isin(MEASURED)]
+                measured = g[g.status == Status.OK]  # as summary.md: errors over ok impacts
                 out.append({**head, "grid": grid, "impacts": len(g),
                             "ok": int((g.status == Status.OK).sum()),
                             "statuses": ", ".join(f"{k} {v}" for k, v in
@@ -201,7 +201,7 @@ def page(summary: pd.DataFrame, changes: list[Change]) -> str:
     lines = ["# Each engine's agreement with theory, release by release", "",
              "Made by `python -m experiments.history` (its docstring says what is fired). A row "
              "per release: for each grid the impacts `ok` (within the judge's tolerance of the "
-             "answer that applies) and the largest error of the sound ones; the conformance "
+             "answer that applies) and the largest error among them; the conformance "
              "checks passed / failed / not run (the release lacks a feature the reference "
              "profile needs); the cost of an impact on the swing grid. **Marked** releases "
              "moved (listed below the table); a verdict or check lost is a regression.", ""]
@@ -241,7 +241,7 @@ def page(summary: pd.DataFrame, changes: list[Change]) -> str:
 
 
 def _cell(row) -> str:
-    """A grid's impacts ok, and its largest error, or its statuses where none was sound."""
+    """A grid's impacts ok, and its largest error, or its statuses where none was ok."""
     head = f"{row.ok:.0f}/{row.impacts:.0f}"
     err = _num(row.max_err_mps)
     return f"{head}, {err}" if err else f"{head} ({row.statuses})"
@@ -280,7 +280,7 @@ def chart(summary: pd.DataFrame, changes: list[Change]) -> bytes:
             ax.axvspan(x[release] - 0.4, x[release] + 0.4, alpha=0.12, lw=0,
                        color="tab:red" if regression else "tab:blue")
     axes[0].set_ylabel(f"impacts ok (of {summary.impacts.max():.0f} a grid)")
-    axes[1].set_ylabel("largest |error| of sound\nimpacts (m/s, log)")
+    axes[1].set_ylabel("largest |error| of ok\nimpacts (m/s, log)")
     axes[1].set_yscale("log")
     axes[2].set_ylabel("cost per impact\nstepped (us)")
     axes[2].legend(fontsize=8)
