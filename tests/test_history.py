@@ -18,6 +18,7 @@ import pytest
 import adapters
 from experiments import history
 from experiments.core import releases
+from experiments.core.judge import Status
 
 from .conftest import ROOT, cheapest, run_command
 
@@ -96,6 +97,23 @@ def test_a_candidate_exits_1_on_a_regression(monkeypatch, tmp_path, candidate, c
     page = (out / "h" / "history.md").read_text()
     assert ("(regression)" in page) == bool(code)
     assert len(pd.read_csv(out / "h" / "history.csv")) == 2
+
+
+def test_a_release_that_imports_what_it_does_not_declare_is_judged_with_it(monkeypatch):
+    # a build against NumPy 1 fails to import under NumPy 2: judged again with numpy<2 added
+    made = []
+
+    def fire(release, cache):
+        made.append(release.extras)
+        if not release.extras:
+            return {"state": Status.UNSUPPORTED.value,
+                    "reason": "ImportError: numpy.core.multiarray failed to import"}
+        return {"state": "judged", "reason": ""}
+
+    monkeypatch.setattr(history, "_fire", fire)
+    result = history.fire_release(cheapest(batched=False), "1.0", ROOT)
+    assert made == [(), ("numpy<2",)] and result["extras"] == "numpy<2"
+    assert result["state"] == "judged"
 
 
 def test_the_readme_shows_the_history_lines():
