@@ -183,8 +183,8 @@ def _worst(g: pd.DataFrame) -> str:
     i = g.err_mps_b.fillna(-1.0).idxmax()
     if math.isnan(g.err_mps_b[i]) and math.isnan(g.err_mps_a[i]):
         return ""
-    return (f"; worst error {g.err_mps_a[i]:.2e} -> {g.err_mps_b[i]:.2e} m/s, tolerance "
-            f"{g.tol_mps_b[i]:.2e}")
+    before = "" if math.isnan(g.err_mps_a[i]) else f"{g.err_mps_a[i]:.2e} -> "
+    return f"; worst error {before}{g.err_mps_b[i]:.2e} m/s, tolerance {g.tol_mps_b[i]:.2e}"
 
 
 def _reason(result: dict, rows: pd.DataFrame) -> str:
