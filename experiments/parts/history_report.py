@@ -271,6 +271,10 @@ def chart(summary: pd.DataFrame, changes: list[Change]) -> bytes:
         if grid.startswith("swing"):
             axes[2].plot(xs, g.cost_us_per_impact, marker=marker, color=f"C{i}", label=grid)
     engine = summary.engine.iloc[0]
+    for r in summary[summary.grid == ""].itertuples():  # no impact fired: say why there
+        for ax in axes:
+            ax.text(x[r.release], 0.5, r.state.replace("_", " "), rotation=90, ha="center",
+                    va="center", fontsize=8, color="0.4", transform=ax.get_xaxis_transform())
     regressed: dict[str, bool] = {}
     for c in changes:
         if c.engine == engine and c.release in x:
@@ -285,6 +289,7 @@ def chart(summary: pd.DataFrame, changes: list[Change]) -> bytes:
     axes[2].set_ylabel("cost per impact\nstepped (us)")
     axes[2].legend(fontsize=8)
     axes[2].set_xticks(range(len(releases)), releases, rotation=45, ha="right")
+    axes[2].set_xlim(-0.6, len(releases) - 0.4)  # every release in view, fired or not
     axes[2].set_xlabel("release (shaded: something moved; red: a regression)")
     axes[0].legend(fontsize=8, ncol=2, loc="center right")
     for ax in axes:
