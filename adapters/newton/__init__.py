@@ -323,12 +323,8 @@ RECORD = EngineRecord(
     name="newton",
     adapter="adapters.newton.adapter:NewtonEngine",
     install=Install(
-        package="newton",
-        import_name="newton",
-        extra="newton",
-        requires=("warp",),
-        oldest="1.6.1",
-        history=("1.6.1", "1.7.0", "1.8.0"),
+        package="newton", import_name="newton", extra="newton", requires=("warp",),
+        oldest="1.6.1", history=("1.6.1", "1.7.0", "1.8.0"),
     ),
     profiles={
         # XPBD with restitution: a rigid impulse. A 10 us step: the velocity pass takes the
