@@ -6,7 +6,7 @@
     predict(case).v1_mps
 """
 
-from . import flight, presets
+from . import flight, gradients, presets
 from .ball import COR_DATA, REALISTIC_BALL, CorLaw, CorPoint, RealisticBall, fit_cor_law
 from .collide import CollisionEpisode, collide
 from .cork import Hole, corked_bat, corked_bat_paper
@@ -36,7 +36,7 @@ __all__ = [
     "MEASURED_EXPONENT", "Outcome", "PaperOblique", "RealisticBall", "RigidBody3D",
     "SweetRegion", "Swing", "SwingModel", "batted_ball_speed", "center_of_percussion", "collide",
     "collision_efficiency", "corked_bat", "corked_bat_paper", "episode_sweet_spot", "fit_cor_law",
-    "frictional_impulse",
+    "frictional_impulse", "gradients",
     "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays", "predict_friction",
     "flight", "predict_oblique_paper", "presets", "sweet_region", "sweet_spot", "sweet_zone",
     "swing_for",
