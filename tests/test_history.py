@@ -71,7 +71,7 @@ def test_the_engines_own_pins_are_freed_and_the_harness_pins_kept():
     kept = {releases._name(ln) for ln in releases.constraints(
         releases.Release(engine=name, version="0")).split()}
     assert package not in kept and "numpy" in kept
-    assert not any(p.startswith(package + "-") for p in kept)  # its family: mujoco-core ...
+    assert not any(p.startswith(package + "-") for p in kept)  # nor its family (package-core)
 
 
 def _result(version: str, err_mps: float, status: str = "ok") -> dict:
