@@ -6,7 +6,6 @@ exist is a row that says so."""
 
 from __future__ import annotations
 
-import json
 import re
 import shlex
 import subprocess
@@ -176,13 +175,3 @@ def test_each_records_oldest_release_is_the_first_the_history_judged():
             judged = rows[rows.state == "judged"].release
             assert judged.iloc[0] == install.oldest, (name, install.oldest)
 
-
-def test_the_readme_counts_the_committed_history():
-    # "Of N releases of M engines none lost a verdict or check on the next": history.csv's
-    # (engine, release) pairs and engines, and no change in history.json is a regression
-    said = re.search(r"Of (\d+)\s+releases of (\d+) engines none lost", README)
-    table = pd.read_csv(ROOT / "results" / "history.csv", dtype={"release": str})
-    pairs = table.drop_duplicates(["engine", "release"])
-    assert (int(said[1]), int(said[2])) == (len(pairs), pairs.engine.nunique())
-    changes = json.loads((ROOT / "results" / "history.json").read_text())["changes"]
-    assert changes and not [c for c in changes if c["regression"]]

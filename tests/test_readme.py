@@ -14,7 +14,7 @@ from experiments.core.io import ROOT
 from experiments.report import readme
 
 README = (ROOT / "README.md").read_text()
-MAX_LINES = 265  # 250, then the releases' section (history)
+MAX_LINES = 250
 
 
 def _table(heading: str) -> list[list[str]]:
