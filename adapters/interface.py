@@ -22,7 +22,8 @@ without it the engine sits out the swing studies), ``failed``, ``set_body_restit
 ``close`` and ``read_back_defaults``.
 
 **Batched form** (``BatchedEngine``): the same members over ``n`` independent worlds at once,
-arrays in and arrays out, one row per world in ``STATE_FIELDS`` order.
+arrays in and arrays out, one row per world in ``STATE_FIELDS`` order; optional
+``derivative``, the engine's own automatic differentiation through an impact.
 
 Frame and units: the world frame is the contact frame at the contact instant: x along the bat
 (knob to barrel), y from the bat toward the ball, z = x cross y. A frictionless impact in the
@@ -246,6 +247,15 @@ class BatchedEngine(abc.ABC):
     def failed(self) -> np.ndarray | None:
         """Per world, a numerical failure since the last ``set_state`` (bool (n,)), or None."""
         return None
+
+    def derivative(self, states: np.ndarray, tangents: np.ndarray, steps: int,
+                   inertia_tangent_kgm2: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """The engine's own automatic differentiation through ``steps`` steps from ``states``:
+        the end states (n, 11: the ``PLANAR_FIELDS``) and their derivatives along
+        ``tangents`` (n, 20: a direction in each start state) with the bat's moment of
+        inertia about its COM moving at ``inertia_tangent_kgm2`` along it. Optional: an
+        engine without it is judged by finite differences alone (the error says why)."""
+        raise NotImplementedError(f"{type(self).__name__} has no automatic differentiation")
 
     def set_body_friction(self, *, bat: float, ball: float) -> None:
         """As ``Engine.set_body_friction``, in every world. Optional."""

@@ -110,7 +110,8 @@ class Capabilities:
     implements (MJX of MuJoCo C); its settings class extends the twin's. ``max_worlds``: the
     most of its worlds the harness holds in one process (a hard limit of the engine, or its
     memory), None for no limit: a long run's batch of engines (``experiments.core.hosting``)
-    stays within it."""
+    stays within it. ``autodiff``: how its adapter's ``derivative`` differentiates an impact
+    ("" for none: the harness takes finite differences)."""
 
     integrators: tuple[Integrator, ...] = ()
     planar: bool = False
@@ -122,6 +123,7 @@ class Capabilities:
     chain_adapter: str | None = None
     twin_of: str | None = None
     max_worlds: int | None = None
+    autodiff: str = ""
 
     def __post_init__(self) -> None:
         if (self.soft_contact is None) != (self.stiffness_setting is None):

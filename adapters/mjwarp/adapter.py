@@ -85,6 +85,9 @@ class MjwarpEngine(BatchedEngine):
     def device(self) -> str:
         return _device(self.settings)
 
+    def derivative(self, states, tangents, steps: int, inertia_tangent_kgm2: float = 0.0):
+        raise NotImplementedError(no_adjoints())
+
     def build(self, scene: Scene, worlds: int) -> None:
         st = self.settings
         m = port_model(mujoco, scene, st)
@@ -199,3 +202,18 @@ class MjwarpEngine(BatchedEngine):
 
     def close(self) -> None:
         self.model = self.data = None
+
+
+#: The modules of ``mjw.step`` (forward dynamics, collision, constraints, solver).
+STEP_MODULES = ("forward", "smooth", "collision_primitive", "constraint", "solver")
+
+
+def no_adjoints() -> str:
+    """Why Warp's tape cannot differentiate ``mjw.step``: the modules of the step that
+    MuJoCo Warp compiles without adjoints, as Warp reports their options."""
+    off = [n for n in STEP_MODULES
+           if not wp.get_module(f"mujoco_warp._src.{n}").options.get("enable_backward", True)]
+    if not off:
+        return "MuJoCo Warp compiles its step with adjoints; this adapter records no wp.Tape"
+    return (f"MuJoCo Warp compiles {', '.join(off)} without adjoints (Warp's enable_backward "
+            "False): wp.Tape cannot differentiate mjw.step")

@@ -138,6 +138,7 @@ RECORD = EngineRecord(
         soft_contact={"contact_model": "soft"},
         stiffness_setting="soft_omega_radps",
         twin_of="mujoco",
+        autodiff="JAX's forward mode (jax.jvp) through mjx.step",
     ),
     errors=MjxErrors(
         chain_defect="float32 Newton solve of a touch on a light hinged segment: its matrix's "

@@ -247,6 +247,11 @@ class MjxEngine(BatchedEngine):
         self._row[:, [5, 6]] -= shift
         self._shift = self._shift + shift
 
+    def derivative(self, states, tangents, steps: int, inertia_tangent_kgm2: float = 0.0):
+        from .gradients import derivative  # JAX's jvp through mjx.step (its docstring)
+
+        return derivative(self, states, tangents, steps, inertia_tangent_kgm2)
+
     def device(self) -> str:
         d = jax.devices()[0]
         return f"{d.platform}: {d.device_kind}"

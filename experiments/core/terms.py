@@ -26,6 +26,9 @@ CHAIN_MASS_ULPS = 1e3
 CHAIN_ENERGY_SLACK = 1e-3
 CHAIN_MAX_EPISODE_S = 0.05
 CHAIN_JUDGED_SHARE = 0.25
+GRAD_ZERO_SHARE = 1e-3
+GRAD_EXPLODE = 10.0
+PLACEMENT_STEP = 1e-6
 
 WHY = {
     "ROUND_OPS": "float operations of an impact, each within eps",
@@ -79,6 +82,15 @@ WHY = {
     "CHAIN_JUDGED_SHARE": "a segmented bat's tolerance over this share of the closing speed "
                           "judges nothing: the step resolves the chain too coarsely, and the "
                           "row is 'unjudged'",
+    "GRAD_ZERO_SHARE": "a gradient below this share of the closed form's (and outside its "
+                       "tolerance) is 'zero': the vanishing gradient of a hard contact, whose "
+                       "impulse the step sets whatever the input",
+    "GRAD_EXPLODE": "a gradient more than this many times the closed form's (plus its "
+                    "tolerance) is 'exploding': stiff contact's gradients grow with the "
+                    "stiffness (Suh et al., ICML 2022), a bias stays within a few times",
+    "PLACEMENT_STEP": "relative step of the central difference that differentiates the "
+                      "harness's placement (float64 geometry, smooth: truncation and rounding "
+                      "both below 1e-9 of the tangent)",
 }
 
 

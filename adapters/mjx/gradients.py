@@ -1,0 +1,99 @@
+"""MJX's own derivative of an impact: forward-mode automatic differentiation (``jax.jvp``)
+through ``mjx.step``, every world at once (``jax.vmap``).
+
+Forward mode, because MJX's constraint solver stops on a tolerance inside
+``jax.lax.while_loop``, which JAX differentiates forward but not in reverse. A tangent is a
+direction in the start state (the 11 planar fields: the harness's placement turns an impact
+point or a pitch speed into one) and in the bat's moment of inertia about its COM, which
+MJX holds in ``body_inertia`` and turns into the mass matrix at every step. What the model
+derives once as it is put on the device (``body_invweight0``, the regulariser's scale) does
+not follow the inertia's tangent: it is scaled down to near nothing at the reference profile
+(``invweight_scale``), and the rows say so where it is not.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from . import adapter as mjx_adapter
+
+jax, jnp, mjx = mjx_adapter.jax, mjx_adapter.jnp, mjx_adapter.mjx
+
+#: Steps are padded up to a multiple of this (free flight after the contact leaves the
+#: velocities as they are): one compile serves episodes of nearby lengths.
+STEP_BUCKET = 8
+
+
+def _coordinates(row, dtype):
+    """qpos and qvel of one world from its planar state row (``frames.mujoco_coordinates``
+    for a row in the swing plane, in jnp so that JAX can differentiate it)."""
+    bx, by, bvx, bvy, bw, cx, cy, a, cvx, cvy, cw = (row[i] for i in range(11))
+    zero, one = jnp.zeros((), dtype), jnp.ones((), dtype)
+    qpos = jnp.stack([cx, cy, zero, jnp.cos(a / 2), zero, zero, jnp.sin(a / 2), bx, by, zero,
+                      one, zero, zero, zero])
+    qvel = jnp.stack([cvx, cvy, zero, zero, zero, cw, bvx, bvy, zero, zero, zero, bw])
+    return qpos.astype(dtype), qvel.astype(dtype)
+
+
+def _row(d):
+    """The planar state row of one world's data (``adapter._advance``'s)."""
+    q, v = d.qpos, d.qvel
+    return jnp.stack([q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * jnp.arctan2(q[6], q[3]),
+                      v[0], v[1], v[5]])
+
+
+@functools.lru_cache(maxsize=16)
+def _traced(model_def, steps: int, bat: int, perpendicular: tuple[int, ...]):
+    """The jitted, vmapped jvp of ``steps`` steps for a model structure: (end rows, their
+    tangents) from start rows, their tangents, and the inertia's tangent (kg m^2)."""
+
+    def run(m_leaves, data, rows, d_rows, d_inertia):
+        model = jax.tree_util.tree_unflatten(model_def, m_leaves)
+        inertia = model.body_inertia
+
+        def episode(row, inertia):
+            m = model.replace(body_inertia=inertia)
+            qpos, qvel = _coordinates(row, data.qpos.dtype)
+            d = data.replace(qpos=qpos, qvel=qvel)
+            d = jax.lax.fori_loop(0, steps, lambda _, d: mjx.step(m, d), d)
+            return _row(d)
+
+        d_J = jnp.zeros_like(inertia)
+        for axis in perpendicular:
+            d_J = d_J.at[bat, axis].set(d_inertia)
+        return jax.vmap(lambda r, dr: jax.jvp(episode, (r, inertia), (dr, d_J)))(rows, d_rows)
+
+    return jax.jit(run)
+
+
+def derivative(engine, states: np.ndarray, tangents: np.ndarray, steps: int,
+               inertia_tangent_kgm2: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """``BatchedEngine.derivative`` for an MJX engine built with its scene (module docstring)."""
+    states, tangents = np.asarray(states, float), np.asarray(tangents, float)
+    if np.any(states[:, 11:] != 0.0) or np.any(tangents[:, 11:] != 0.0):
+        raise NotImplementedError("MJX's derivative here takes impacts in the swing plane only")
+    steps = STEP_BUCKET * -(-steps // STEP_BUCKET)
+    bat = engine._ids["body"]
+    with engine._scope():
+        model = engine.model
+        dtype = model.body_inertia.dtype
+        m_leaves, model_def = jax.tree_util.tree_flatten(model)
+        run = _traced(model_def, steps, bat, _perpendicular(model, bat))
+        data = mjx.make_data(model, impl="jax")
+        ends, d_ends = run(m_leaves, data, jnp.asarray(states[:, :11], dtype),
+                           jnp.asarray(tangents[:, :11], dtype), jnp.asarray(
+                               inertia_tangent_kgm2, dtype))
+        return np.asarray(ends, float), np.asarray(d_ends, float)
+
+
+def _perpendicular(model, bat: int) -> tuple[int, ...]:
+    """The bat's principal axes across its length (``body_inertia``'s entries that are I_cm:
+    its long axis is x, and ``body_iquat`` may order the axes otherwise)."""
+    import mujoco
+
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, np.asarray(model.body_iquat[bat], dtype=float))
+    along_x = np.abs(rot.reshape(3, 3)[0])
+    return tuple(int(k) for k in np.flatnonzero(along_x < 0.5))

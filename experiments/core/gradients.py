@@ -1,0 +1,226 @@
+"""Gradients through the impact, judged against the closed form as velocities are.
+
+An engine's dv1/dx, x one of INPUTS (the impact point s, the pitch speed v0, e, the bat's J):
+- **finite differences through the harness** (every engine, what users of most engines do):
+  v1 fired at x - h, x and x + h, (v1(x+h) - v1(x-h)) / 2h. The step h is the engine's own:
+  its velocity tolerance at the impact (``judge.output_tolerance``: rounding in its precision,
+  the contact seen late) divided by h, plus the closed form's own truncation error at h, is
+  smallest there (``fd_step``); that sum is the row's tolerance.
+- **the engine's automatic differentiation** (``BatchedEngine.derivative``): the start
+  state's tangent (the placement, differentiated in float64 by a central difference of
+  PLACEMENT_STEP of x's scale), through as many steps as the impact's episode took. Its
+  tolerance is the judge's for an output (``autodiff_tolerance``), dv1/dx as the output: the
+  derivative passes through the same operations as the velocity, in the same precision.
+
+Statuses (``GradStatus``): ``ok`` within the tolerance; ``zero``, the vanishing gradient of
+a hard contact (GRAD_ZERO_SHARE); ``exploding`` (GRAD_EXPLODE); ``non_finite``; ``biased``,
+any other miss; ``unsupported``, no automatic differentiation (the row says why).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Sequence
+from enum import StrEnum
+
+import numpy as np
+
+import adapters
+from adapters import Scene
+from analytic.gradients import derivatives, normal_fields
+from analytic.model import ImpactCase
+
+from .fire import Job, fire_jobs
+from .hosting import hosted
+from .judge import Status, output_tolerance, single_impulse_tolerance
+from .placement import start_state
+from .terms import CURVATURE_STEP_M, GRAD_EXPLODE, GRAD_ZERO_SHARE, PLACEMENT_STEP
+
+#: The inputs differentiated (finite differences), and those the engines' own
+#: ``derivative`` reaches (through the start state, and J).
+INPUTS = ("s_m", "v0_mps", "e", "bat_inertia_kgm2")
+AUTODIFF_INPUTS = ("s_m", "v0_mps", "bat_inertia_kgm2")
+
+
+class GradStatus(StrEnum):
+    OK = "ok"
+    BIASED = "biased"
+    ZERO = "zero"
+    EXPLODING = "exploding"
+    NON_FINITE = "non_finite"
+    UNSUPPORTED = "unsupported"
+
+
+def value_of(case: ImpactCase, name: str) -> float:
+    return case.bat.inertia_cm_kgm2 if name == "bat_inertia_kgm2" else getattr(case, name)
+
+
+def moved(case: ImpactCase, name: str, x: float) -> ImpactCase:
+    """``case`` with input ``name`` at ``x`` (J: a bat with that moment of inertia)."""
+    if name == "bat_inertia_kgm2":
+        return dataclasses.replace(case, bat=dataclasses.replace(case.bat, inertia_cm_kgm2=x))
+    return dataclasses.replace(case, **{name: x})
+
+
+def scale_of(case: ImpactCase, name: str) -> float:
+    """The size a step in ``name`` is measured against (m, m/s, 1, kg m^2)."""
+    return {"s_m": case.bat.length_m, "e": 1.0}.get(name, abs(value_of(case, name)))
+
+
+def rigid_v1(case: ImpactCase) -> float:
+    """The single impulse's v1 (``analytic.gradients.normal_fields``)."""
+    b = case.bat
+    return float(normal_fields(case.ball.mass_kg, b.mass_kg, b.inertia_cm_kgm2, case.s_m,
+                               case.v0n_mps, case.u0n_mps, case.omega0_radps, case.e)["v1_mps"])
+
+
+def analytic(case: ImpactCase, name: str) -> float:
+    """The closed form dv1/d``name`` (``analytic.gradients.derivatives``)."""
+    return float(derivatives(case.bat, case.ball, s_m=case.s_m, v0_mps=case.v0_mps,
+                             u0_mps=case.u0_mps, omega0_radps=case.omega0_radps, e=case.e,
+                             theta_rad=case.theta_rad, phi_rad=case.phi_rad)["v1_mps"][name])
+
+
+def _room(case: ImpactCase, name: str) -> float:
+    """How far ``name`` may move either way and stay an impact the harness fires."""
+    x = value_of(case, name)
+    if name == "s_m":
+        return min(x - case.bat.s_min_m, case.bat.s_max_m - x)
+    if name == "e":
+        return min(x, 1.0 - x) if 0.0 < x < 1.0 else 0.0
+    return 0.5 * abs(x)
+
+
+def fd_step(case: ImpactCase, settings: adapters.Settings, errors: adapters.ErrorModel,
+            name: str) -> tuple[float, float]:
+    """(h, tolerance): the central-difference step for d v1 / d ``name`` from the engine's
+    error model (module docstring), and the slope error it allows ((m/s) per unit of x)."""
+    tol_v = output_tolerance(case, settings, errors, "v1_mps")
+    x, d = value_of(case, name), analytic(case, name)
+    hs = scale_of(case, name) * np.logspace(-7, -1, 49)
+    hs = hs[hs <= _room(case, name)]
+    if not len(hs):
+        return math.nan, math.nan
+    trunc = np.array([abs((rigid_v1(moved(case, name, x + h))
+                           - rigid_v1(moved(case, name, x - h))) / (2 * h) - d) for h in hs])
+    total = tol_v / hs + trunc
+    k = int(np.argmin(total))
+    return float(hs[k]), float(total[k])
+
+
+def autodiff_tolerance(case: ImpactCase, settings: adapters.Settings,
+                       errors: adapters.ErrorModel, name: str) -> float:
+    """The judge's tolerance of an output (``judge.single_impulse_tolerance``) with dv1/d``name``
+    as that output: its rounding on the largest |dv1/d``name``| along the bat, and the contact
+    seen late moving it by its own slope and curvature in s."""
+    bat, s, k = case.bat, case.s_m, CURVATURE_STEP_M
+
+    def g(x: float) -> float:
+        return analytic(moved(case, "s_m", min(max(x, bat.s_min_m), bat.s_max_m)), name)
+
+    slope = abs(g(s + k) - g(s - k)) / (2 * k)
+    curvature = abs(g(s + k) - 2 * g(s) + g(s - k)) / k**2
+    along = np.linspace(bat.s_min_m, bat.s_max_m, 41)
+    scale = max(abs(g(x)) for x in along)
+    return single_impulse_tolerance(case, settings, errors, slope, curvature, scale)
+
+
+def judge_gradient(value: float, truth: float, tol: float) -> GradStatus:
+    """A gradient's status against the closed form (module docstring)."""
+    if not math.isfinite(value):
+        return GradStatus.NON_FINITE
+    if abs(value - truth) <= tol:
+        return GradStatus.OK
+    if abs(value) <= GRAD_ZERO_SHARE * abs(truth):
+        return GradStatus.ZERO
+    if abs(value) > GRAD_EXPLODE * (abs(truth) + tol):
+        return GradStatus.EXPLODING
+    return GradStatus.BIASED
+
+
+def _row(name, settings, method, case, wrt, value, tol, h, v1_status, why, cost_s) -> dict:
+    truth = analytic(case, wrt)
+    status = (GradStatus.UNSUPPORTED if why.startswith("unsupported")
+              else judge_gradient(value, truth, tol))
+    return {"engine": name, "precision": adapters.record(name).errors.precision,
+            "method": method, "input": wrt, "s_m": case.s_m, "v0_mps": case.v0_mps,
+            "e": case.e, "dt_s": settings.dt_s, "value": value, "analytic": truth,
+            "abs_err": abs(value - truth), "tolerance": tol, "step": h,
+            "v1_status": v1_status, "status": status.value, "why": why, "cost_s": cost_s}
+
+
+def finite_differences(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase],
+                       wrt: str) -> list[dict]:
+    """One row per case: dv1/d``wrt`` by central differences through the harness, and the
+    episode steps the middle impact took (for the autodiff rows), in ``row['steps']``."""
+    errors = adapters.record(name).errors
+    steps = [fd_step(c, settings, errors, wrt) for c in cases]
+    jobs = []
+    for c, (h, _) in zip(cases, steps):
+        x = value_of(c, wrt)
+        jobs += [Job(engine=name, settings=settings, case=moved(c, wrt, x + k * h))
+                 for k in (-1, 0, 1)]
+    t0 = time.perf_counter()
+    fired = fire_jobs(jobs)
+    cost = (time.perf_counter() - t0) / len(cases)
+    rows = []
+    for i, (c, (h, tol)) in enumerate(zip(cases, steps)):
+        lo, mid, hi = (fired[3 * i + k].outcome for k in range(3))
+        value = (hi.v1_mps - lo.v1_mps) / (2 * h)
+        statuses = {o.status for o in (lo, mid, hi)}
+        why = "" if statuses == {Status.OK.value} else "impacts: " + ", ".join(sorted(statuses))
+        row = _row(name, settings, "finite_difference", c, wrt, value, tol, h, mid.status, why,
+                   cost)
+        rows.append(row | {"steps": int(max(lo.steps, mid.steps, hi.steps))})
+    return rows
+
+
+def tangents(cases: Sequence[ImpactCase], settings: adapters.Settings, wrt: str) -> np.ndarray:
+    """d(start state)/d``wrt`` of each case (the harness's placement, float64 differences)."""
+    out = []
+    for c in cases:
+        if wrt == "bat_inertia_kgm2":  # the placement does not read J
+            out.append(np.zeros(20))
+            continue
+        x, d = value_of(c, wrt), PLACEMENT_STEP * scale_of(c, wrt)
+        hi, lo = (np.array(start_state(moved(c, wrt, x + k * d), settings)[0]) for k in (1, -1))
+        out.append((hi - lo) / (2 * d))
+    return np.array(out)
+
+
+def autodiff(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase], wrt: str,
+             steps: int) -> tuple[np.ndarray, np.ndarray, str]:
+    """(v1, dv1/d``wrt``, why not) by the engine's own ``derivative`` over ``steps`` steps, for
+    cases that share bat, ball and e; NaN and the reason where it has none."""
+    host = hosted(name, settings)
+    nan = np.full(len(cases), math.nan)
+    if not host.batched:
+        return nan, nan, f"unsupported: {name} is a single-world engine with no automatic " \
+                          "differentiation"
+    c = cases[0]
+    host.batch(Scene(bat=c.bat, ball=c.ball, e=c.e), len(cases))
+    starts = np.array([start_state(k, settings)[0] for k in cases], dtype=float)
+    try:
+        ends, d_ends = host.adapter.derivative(starts, tangents(cases, settings, wrt),
+                                               steps, float(wrt == "bat_inertia_kgm2"))
+    except NotImplementedError as why:
+        return nan, nan, f"unsupported: {why}"
+    return ends[:, 3], d_ends[:, 3], ""
+
+
+def gradient_rows(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase],
+                  wrt: str) -> list[dict]:
+    """Finite-difference rows, then autodiff rows, for cases sharing bat, ball and e."""
+    fd = finite_differences(name, settings, cases, wrt)
+    if wrt not in AUTODIFF_INPUTS:
+        return fd
+    t0 = time.perf_counter()
+    _, values, why = autodiff(name, settings, cases, wrt, max(r["steps"] for r in fd))
+    cost = (time.perf_counter() - t0) / len(cases)
+    errors = adapters.record(name).errors
+    ad = [_row(name, settings, "autodiff", c, wrt, float(v),
+               autodiff_tolerance(c, settings, errors, wrt), math.nan, r["v1_status"], why,
+               cost) for c, v, r in zip(cases, values, fd)]
+    return fd + (ad[:1] if why else ad)  # an engine without: one row says why
