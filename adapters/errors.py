@@ -31,15 +31,17 @@ class ErrorModel:
     """``precision``: the float type the engine computes in ("float64" or "float32").
     ``host_rounding``: its kernels are compiled for the host's CPU (XLA), whose instruction set
     orders the rounding: a committed baseline is reproduced bit for bit only where it was made.
-    ``friction_defect``/``chain_defect``: a measured failure of its friction at impact, or of
-    its segmented bat, that no setting removes ('' for none): the tests then pin that the
-    engine still misses theory there, and the report quotes it. The methods: what its contact
+    ``friction_defect``/``chain_defect``/``gradient_defect``: a measured failure of its
+    friction at impact, of its segmented bat, or of its own derivative through an impact, that
+    no setting removes ('' for none): the tests then pin that the engine still misses theory
+    there, and the report quotes it. The methods: what its contact
     does with settings ``s``."""
 
     precision: str = "float64"
     host_rounding: bool = False
     friction_defect: str = ""
     chain_defect: str = ""
+    gradient_defect: str = ""
 
     def __post_init__(self) -> None:
         if self.precision not in ("float64", "float32"):

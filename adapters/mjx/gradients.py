@@ -24,6 +24,9 @@ jax, jnp, mjx = mjx_adapter.jax, mjx_adapter.jnp, mjx_adapter.mjx
 #: Steps are padded up to a multiple of this (free flight after the contact leaves the
 #: velocities as they are): one compile serves episodes of nearby lengths.
 STEP_BUCKET = 8
+#: Worlds are padded up to the adapter's bucket, and at least this many: one compile serves
+#: the study's calls of one world (a root search) and of a few dozen (a fit).
+MIN_ROWS = 32
 
 
 def _coordinates(row, dtype):
@@ -75,6 +78,10 @@ def derivative(engine, states: np.ndarray, tangents: np.ndarray, steps: int,
     if np.any(states[:, 11:] != 0.0) or np.any(tangents[:, 11:] != 0.0):
         raise NotImplementedError("MJX's derivative here takes impacts in the swing plane only")
     steps = STEP_BUCKET * -(-steps // STEP_BUCKET)
+    n = len(states)
+    rows = max(MIN_ROWS, mjx_adapter.bucket(n))  # padded with copies of the first world
+    states = np.concatenate([states, np.repeat(states[:1], rows - n, axis=0)])
+    tangents = np.concatenate([tangents, np.repeat(tangents[:1], rows - n, axis=0)])
     bat = engine._ids["body"]
     with engine._scope():
         model = engine.model
@@ -85,7 +92,7 @@ def derivative(engine, states: np.ndarray, tangents: np.ndarray, steps: int,
         ends, d_ends = run(m_leaves, data, jnp.asarray(states[:, :11], dtype),
                            jnp.asarray(tangents[:, :11], dtype), jnp.asarray(
                                inertia_tangent_kgm2, dtype))
-        return np.asarray(ends, float), np.asarray(d_ends, float)
+        return np.asarray(ends, float)[:n], np.asarray(d_ends, float)[:n]
 
 
 def _perpendicular(model, bat: int) -> tuple[int, ...]:

@@ -337,9 +337,8 @@ RECORD = EngineRecord(
         # iterations or relaxation 1 change the swing's v1 by < 1e-5 m/s). No spin damping
         # (XPBD's 0; the penalty solvers' 0.05).
         "reference": NewtonSettings(dt_s=1e-5, contact_gap_m=1e-6, angular_damping=0.0),
-        # Out of the box: XPBD's defaults (2 iterations, relaxation 0.8, gap 0.1 m per shape)
-        # at the cradle example's 1/600 s, restitution enabled (without it XPBD ignores e:
-        # e = 0.037 whatever the target), the contact instant mid-step.
+        # Out of the box: XPBD's defaults (2 iterations, relaxation 0.8, gap 0.1 m per shape) at
+        # the cradle example's 1/600 s, restitution on (else e = 0.037 whatever the target).
         "default": NewtonSettings(dt_s=1 / 600, contact_phase=0.5),
     },
     can=Capabilities(
@@ -347,25 +346,25 @@ RECORD = EngineRecord(
         integrators=(),  # no set_drive: the engine sits out the swing studies
         restitution_rule=RestitutionRule.MEAN,
         friction_rule=FrictionRule.MEAN,
+        autodiff="Warp's reverse mode (wp.Tape) through SolverXPBD, contacts frozen as found",
     ),
     errors=NewtonErrors(
+        precision="float32",
         chain_defect="XPBD: a joint's anchor correction is relaxed by 0.7 linearly and 0.4 "
                       "angularly (no force at the anchor: the 8-segment chain's lowest mode at "
                       "0.79 of its period, angular momentum not kept), and restitution solves a "
                       "contact with the struck segment's own mass (first touch at x = 0.66 m: "
                       "-7.49 m/s against -2.20 through the joints)",
-        precision="float32",
         friction_defect="XPBD's friction is positional, capped by its position pass's normal "
                          "correction: the restitution pass carries none, so a slide gets mu P / "
                          "(1 + e) of tangential impulse for Coulomb's mu P (2/3 at e = 0.5; "
                          "package docstring)",
+        gradient_defect="wp.Tape through XPBD, contacts frozen as found: paper's swing, dv1/ds "
+                        "0.38 for 14.0 (m/s)/m at s = 0.05 m, 0.014 for -67.0 at 0.24; dv1/dv0 "
+                        "-0.25 for +0.28; dv1/dJ 0.373 of the closed form everywhere",
     ),
     engine_defaults=ENGINE_DEFAULTS,
-    cost=Cost(
-        step_cost_s=2.7e-3,
-        world_step_cost_s=2e-6,
-        start_s=0.3,
-    ),
+    cost=Cost(step_cost_s=2.7e-3, world_step_cost_s=2e-6, start_s=0.3),
     look=Presentation(
         color="crimson",
         marker="X",
@@ -377,8 +376,8 @@ RECORD = EngineRecord(
                          "e); ignored unless the solver's `enable_restitution` is on (off by "
                          "default)"),
             handled=("XPBD's velocity pass uses the lever arms of the pose after the step's "
-                     "integration (first order in dt); Newton projects "
-                     "the ball onto the capsule's axis with a 1e-6 m^2 regulariser (a micrometre "
+                     "integration (first order in dt); Newton projects the ball onto the "
+                     "capsule's axis with a 1e-6 m^2 regulariser (a micrometre "
                      "off along a 0.78 m bat: the axis starts at the barrel end); contacts are "
                      "found {default_contact_gap_m} per shape ahead by default and solved from "
                      "that step's start (speculative); no hands (no set_drive)."),

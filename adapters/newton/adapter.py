@@ -144,6 +144,11 @@ class NewtonEngine(BatchedEngine):
     def in_contact(self) -> np.ndarray:
         return self.touching.copy()
 
+    def derivative(self, states, tangents, steps: int, inertia_tangent_kgm2: float = 0.0):
+        from .gradients import derivative  # wp.Tape through XPBD (its docstring)
+
+        return derivative(self, states, tangents, steps, inertia_tangent_kgm2)
+
     def failed(self) -> np.ndarray:
         s = self.states[0]
         bad = ~(np.isfinite(s.body_q.numpy()).all(axis=1) & np.isfinite(s.body_qd.numpy()).all(

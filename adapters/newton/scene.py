@@ -67,13 +67,14 @@ def world_builder(scene: Scene, st: NewtonSettings):
     return b
 
 
-def model(scene: Scene, worlds: int, st: NewtonSettings):
-    """``worlds`` copies of the world, each its own Newton world (no contact across them)."""
+def model(scene: Scene, worlds: int, st: NewtonSettings, requires_grad: bool = False):
+    """``worlds`` copies of the world, each its own Newton world (no contact across them);
+    ``requires_grad``: its arrays keep gradients (for a ``wp.Tape``)."""
     top = newton.ModelBuilder(gravity=(0.0, 0.0, 0.0))
     if st.solver == "mujoco":
         newton.solvers.SolverMuJoCo.register_custom_attributes(top)
     top.replicate(world_builder(scene, st), worlds)
-    m = top.finalize(device=DEVICE)
+    m = top.finalize(device=DEVICE, requires_grad=requires_grad)
     if st.solver == "mujoco":
         _mujoco_contact(m, scene, st)
     return m

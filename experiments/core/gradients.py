@@ -24,6 +24,7 @@ import math
 import time
 from collections.abc import Sequence
 from enum import StrEnum
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -34,7 +35,13 @@ from analytic.model import ImpactCase
 
 from .fire import Job, fire_jobs
 from .hosting import hosted
-from .judge import Status, output_tolerance, single_impulse_tolerance
+from .judge import (
+    Status,
+    law_answer,
+    output_tolerance,
+    single_impulse_tolerance,
+    soft_judgement,
+)
 from .placement import start_state
 from .terms import CURVATURE_STEP_M, GRAD_EXPLODE, GRAD_ZERO_SHARE, PLACEMENT_STEP
 
@@ -51,6 +58,7 @@ class GradStatus(StrEnum):
     EXPLODING = "exploding"
     NON_FINITE = "non_finite"
     UNSUPPORTED = "unsupported"
+    UNJUDGED = "unjudged"  # no answer applies (a soft law's bound does not hold there)
 
 
 def value_of(case: ImpactCase, name: str) -> float:
@@ -93,18 +101,33 @@ def _room(case: ImpactCase, name: str) -> float:
     return 0.5 * abs(x)
 
 
-def fd_step(case: ImpactCase, settings: adapters.Settings, errors: adapters.ErrorModel,
-            name: str) -> tuple[float, float]:
-    """(h, tolerance): the central-difference step for d v1 / d ``name`` from the engine's
-    error model (module docstring), and the slope error it allows ((m/s) per unit of x)."""
-    tol_v = output_tolerance(case, settings, errors, "v1_mps")
-    x, d = value_of(case, name), analytic(case, name)
-    hs = scale_of(case, name) * np.logspace(-7, -1, 49)
-    hs = hs[hs <= _room(case, name)]
-    if not len(hs):
-        return math.nan, math.nan
-    trunc = np.array([abs((rigid_v1(moved(case, name, x + h))
-                           - rigid_v1(moved(case, name, x - h))) / (2 * h) - d) for h in hs])
+def contact_law(name: str, settings: adapters.Settings, case: ImpactCase):
+    """The continuous law an engine's soft contact converges to at this case's e (its
+    velocities are judged against it, and so its gradients), or None: the rigid impulse."""
+    return adapters.record(name).errors.contact_law(settings, case.e)
+
+
+def law_v1(name: str, settings: adapters.Settings, case: ImpactCase) -> float:
+    return float(law_answer(case, contact_law(name, settings, case)).v1_mps)
+
+
+def fd_step(case: ImpactCase, settings: adapters.Settings, name: str,
+            wrt: str) -> tuple[float, float]:
+    """(h, tolerance): the central-difference step for dv1/d``wrt`` from engine ``name``'s
+    error model (module docstring), and the slope error it allows ((m/s) per unit of x). A
+    soft contact's velocity tolerance is its law's (``judge.soft_judgement``); the closed
+    form's truncation stands for its law's (the same shape of v1 against each input)."""
+    if contact_law(name, settings, case) is None:
+        tol_v = output_tolerance(case, settings, adapters.record(name).errors, "v1_mps")
+    else:
+        tol_v = soft_judgement(case, SimpleNamespace(engine=name, settings=settings))[1]
+    x, d = value_of(case, wrt), analytic(case, wrt)
+    hs = scale_of(case, wrt) * np.logspace(-7, -1, 49)
+    hs = hs[hs <= _room(case, wrt)]
+    if not len(hs) or not math.isfinite(tol_v):
+        return (float(hs[-1]) if len(hs) else math.nan), math.nan
+    trunc = np.array([abs((rigid_v1(moved(case, wrt, x + h))
+                           - rigid_v1(moved(case, wrt, x - h))) / (2 * h) - d) for h in hs])
     total = tol_v / hs + trunc
     k = int(np.argmin(total))
     return float(hs[k]), float(total[k])
@@ -122,9 +145,20 @@ def autodiff_tolerance(case: ImpactCase, settings: adapters.Settings,
 
     slope = abs(g(s + k) - g(s - k)) / (2 * k)
     curvature = abs(g(s + k) - 2 * g(s) + g(s - k)) / k**2
-    along = np.linspace(bat.s_min_m, bat.s_max_m, 41)
-    scale = max(abs(g(x)) for x in along)
-    return single_impulse_tolerance(case, settings, errors, slope, curvature, scale)
+    return single_impulse_tolerance(case, settings, errors, slope, curvature,
+                                    _terms_scale(case, name))
+
+
+def _terms_scale(case: ImpactCase, name: str) -> float:
+    """The size of dv1/d``name``'s two terms, the impulse's (dP/dx / m) and the pitch's own
+    (-d v0n/dx), added as magnitudes and maxed along the bat: rounding and a biased impulse
+    scale with them, not with their sum (dv1/dv0 = -1 + 1.2 = 0.2 on the sweet spot)."""
+    s = np.linspace(case.bat.s_min_m, case.bat.s_max_m, 41)
+    d = derivatives(case.bat, case.ball, s_m=s, v0_mps=case.v0_mps, u0_mps=case.u0_mps,
+                    omega0_radps=case.omega0_radps, e=case.e, theta_rad=case.theta_rad,
+                    phi_rad=case.phi_rad)
+    impulse = d["impulse_ns"][name] / case.ball.mass_kg
+    return float(np.max(np.abs(impulse) + np.abs(d["v1_mps"][name] - impulse)))
 
 
 def judge_gradient(value: float, truth: float, tol: float) -> GradStatus:
@@ -140,23 +174,29 @@ def judge_gradient(value: float, truth: float, tol: float) -> GradStatus:
     return GradStatus.BIASED
 
 
-def _row(name, settings, method, case, wrt, value, tol, h, v1_status, why, cost_s) -> dict:
-    truth = analytic(case, wrt)
-    status = (GradStatus.UNSUPPORTED if why.startswith("unsupported")
-              else judge_gradient(value, truth, tol))
+def _row(name, settings, method, case, wrt, value, truth, tol, h, v1_status, why,
+         cost_s) -> dict:
+    law = contact_law(name, settings, case)
+    if why.startswith("unsupported"):
+        status = GradStatus.UNSUPPORTED
+    elif not math.isfinite(tol):
+        status = GradStatus.UNJUDGED
+    else:
+        status = judge_gradient(value, truth, tol)
     return {"engine": name, "precision": adapters.record(name).errors.precision,
             "method": method, "input": wrt, "s_m": case.s_m, "v0_mps": case.v0_mps,
             "e": case.e, "dt_s": settings.dt_s, "value": value, "analytic": truth,
+            "reference": "rigid impulse" if law is None else type(law).__name__,
             "abs_err": abs(value - truth), "tolerance": tol, "step": h,
             "v1_status": v1_status, "status": status.value, "why": why, "cost_s": cost_s}
 
 
 def finite_differences(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase],
                        wrt: str) -> list[dict]:
-    """One row per case: dv1/d``wrt`` by central differences through the harness, and the
-    episode steps the middle impact took (for the autodiff rows), in ``row['steps']``."""
-    errors = adapters.record(name).errors
-    steps = [fd_step(c, settings, errors, wrt) for c in cases]
+    """One row per case: dv1/d``wrt`` by central differences through the harness, against the
+    closed form (a soft contact: its law's v1 differenced over the same step), and the episode
+    steps the middle impact took (for the autodiff rows), in ``row['steps']``."""
+    steps = [fd_step(c, settings, name, wrt) for c in cases]
     jobs = []
     for c, (h, _) in zip(cases, steps):
         x = value_of(c, wrt)
@@ -167,13 +207,15 @@ def finite_differences(name: str, settings: adapters.Settings, cases: Sequence[I
     cost = (time.perf_counter() - t0) / len(cases)
     rows = []
     for i, (c, (h, tol)) in enumerate(zip(cases, steps)):
-        lo, mid, hi = (fired[3 * i + k].outcome for k in range(3))
-        value = (hi.v1_mps - lo.v1_mps) / (2 * h)
-        statuses = {o.status for o in (lo, mid, hi)}
+        lo, mid, hi = (fired[3 * i + k] for k in range(3))
+        value = (hi.outcome.v1_mps - lo.outcome.v1_mps) / (2 * h)
+        truth = analytic(c, wrt) if contact_law(name, settings, c) is None else (
+            law_v1(name, settings, hi.case) - law_v1(name, settings, lo.case)) / (2 * h)
+        statuses = {f.outcome.status for f in (lo, mid, hi)}
         why = "" if statuses == {Status.OK.value} else "impacts: " + ", ".join(sorted(statuses))
-        row = _row(name, settings, "finite_difference", c, wrt, value, tol, h, mid.status, why,
-                   cost)
-        rows.append(row | {"steps": int(max(lo.steps, mid.steps, hi.steps))})
+        row = _row(name, settings, "finite_difference", c, wrt, value, truth, tol, h,
+                   mid.outcome.status, why, cost)
+        rows.append(row | {"steps": int(max(f.outcome.steps for f in (lo, mid, hi)))})
     return rows
 
 
@@ -220,7 +262,7 @@ def gradient_rows(name: str, settings: adapters.Settings, cases: Sequence[Impact
     _, values, why = autodiff(name, settings, cases, wrt, max(r["steps"] for r in fd))
     cost = (time.perf_counter() - t0) / len(cases)
     errors = adapters.record(name).errors
-    ad = [_row(name, settings, "autodiff", c, wrt, float(v),
+    ad = [_row(name, settings, "autodiff", c, wrt, float(v), analytic(c, wrt),
                autodiff_tolerance(c, settings, errors, wrt), math.nan, r["v1_status"], why,
                cost) for c, v, r in zip(cases, values, fd)]
     return fd + (ad[:1] if why else ad)  # an engine without: one row says why

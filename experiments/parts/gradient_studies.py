@@ -21,8 +21,10 @@ from ..core.gradients import (
     analytic,
     autodiff,
     autodiff_tolerance,
+    contact_law,
     fd_step,
     finite_differences,
+    law_v1,
     moved,
     rigid_v1,
 )
@@ -50,6 +52,8 @@ def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method:
     bat = base.bat
     want = float(impact.sweet_spot(bat, base.ball, base.v0_mps, base.u0_mps,
                                    base.omega0_radps))
+    if contact_law(name, settings, base) is not None:  # its law's own sweet spot
+        want = _law_sweet_spot(name, settings, base, want)
     calls = [0]
 
     def slope(s: float) -> float:
@@ -61,7 +65,7 @@ def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method:
 
     at, errors = moved(base, "s_m", want), adapters.record(name).errors
     tol = (autodiff_tolerance(at, settings, errors, "s_m") if method == "autodiff"
-           else fd_step(at, settings, errors, "s_m")[1])
+           else fd_step(at, settings, name, "s_m")[1])
     k = 1e-4
     curvature = abs(analytic(moved(at, "s_m", want + k), "s_m")
                     - analytic(moved(at, "s_m", want - k), "s_m")) / (2 * k)
@@ -82,6 +86,20 @@ def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method:
     return row | {"found_m": found, "evaluations": calls[0],
                   "cost_s": time.perf_counter() - t0,
                   "status": (GradStatus.OK if ok else GradStatus.BIASED).value}
+
+
+def _law_sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase,
+                    near_m: float) -> float:
+    """The root of a soft contact law's dv1/ds (central differences of its v1 over the
+    engine's step) near the rigid sweet spot."""
+    def slope(s: float) -> float:
+        c = moved(base, "s_m", s)
+        h = fd_step(c, settings, name, "s_m")[0]
+        return (law_v1(name, settings, moved(c, "s_m", s + h))
+                - law_v1(name, settings, moved(c, "s_m", s - h))) / (2 * h)
+
+    return float(optimize.brentq(slope, near_m - SEARCH_M / 2, near_m + SEARCH_M / 2,
+                                 xtol=1e-7))
 
 
 def soft_bias(name: str, base: ImpactCase, steps_for, quick: bool = False) -> list[dict]:
