@@ -5,8 +5,9 @@
 - sweeps: the sweeps listed in BASELINES (R161, 41 points), each as <stem>.csv/.json/.png, then
   thresholds.json (what the regression test allows) and summary.md;
 - the studies, each into its usual file names: pareto, stability, swing, defaults,
-  calibrate_soft, twins, friction, flex, findings, bench_analytic, bench_engines (run the benchmarks
-  on a quiet machine), history (each engine's releases, installed: needs the package index);
+  calibrate_soft, twins, friction, flex, findings, gradients, bench_analytic, bench_engines
+  (run the benchmarks on a quiet machine), history (each engine's releases, installed: needs
+  the package index);
 - report: results/report.md and the engine pages (engines.md, engine_<name>.md), written from
   the files above as they are in results/ (so it runs last, whatever order --only names the
   parts in), and the README's engines table from them.
@@ -27,6 +28,7 @@ from . import (
     findings,
     flex,
     friction,
+    gradients,
     history,
     pareto,
     report,
@@ -52,7 +54,7 @@ BASELINES = {
 }
 STUDIES = {"pareto": pareto, "stability": stability, "swing": swing, "defaults": defaults,
            "calibrate_soft": calibrate_soft, "twins": twins, "friction": friction,
-           "flex": flex, "findings": findings,
+           "flex": flex, "findings": findings, "gradients": gradients,
            "bench_analytic": bench_analytic, "bench_engines": bench_engines,
            "history": history, "report": report}  # the report reads the others' files: last
 PARTS = ("sweeps", *STUDIES)

@@ -14,7 +14,7 @@ against ``analytic.impact.sweet_spot``; for engines with their own derivative an
 contact, dv1/ds's bias against stiffness and omega dt; and the R161's J recovered from 20
 noisy exit speeds by gradient descent through each differentiable engine, against the
 closed-form least-squares fit (``experiments.parts.gradient_studies``). Writes gradients.csv,
-gradients_sweet.csv, gradients_bias.csv, gradients.json, gradients.png and
+gradients_sweet.csv, gradients_bias.csv, gradients.json, gradients.md, gradients.png and
 gradients_bias.png.
 """
 
@@ -136,6 +136,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                  "provenance": provenance()})}
     if len(bias_t):
         files["gradients_bias.png"] = figure_png(gradients_chart.bias(bias_t))
+    files["gradients.md"] = gradients_chart.page(sums, sweet_t, bias_t, fit,
+                                                 len(cases)).encode()
     text = "\n\n".join([sums.to_string(index=False, float_format=lambda v: f"{v:.3g}"),
                         sweet_t.drop(columns=["why"]).to_string(
                             index=False, float_format=lambda v: f"{v:.6g}"),

@@ -45,6 +45,7 @@ SMALL = {
     "check_engine": ["--engine", SINGLE],
     "report": [],
     "twins": ["--points", "2", "--engine", TWIN, *WORKERS],
+    "gradients": ["--quick", "--engine", SINGLE],
 }
 WRITES_NOTHING = {"compare", "check_engine"}
 

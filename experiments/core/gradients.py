@@ -178,7 +178,7 @@ def _row(name, settings, method, case, wrt, value, truth, tol, h, v1_status, why
          cost_s) -> dict:
     law = contact_law(name, settings, case)
     if why.startswith("unsupported"):
-        status = GradStatus.UNSUPPORTED
+        status, tol = GradStatus.UNSUPPORTED, math.nan
     elif not math.isfinite(tol):
         status = GradStatus.UNJUDGED
     else:

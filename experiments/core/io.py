@@ -14,9 +14,12 @@ import platform
 import subprocess
 import sys
 import tempfile
+from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]  #: the project root
 
@@ -90,6 +93,18 @@ def figure_png(fig, dpi: int = 120) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
     return buf.getvalue()
+
+
+def md_table(df, fmt: Callable[[float], str]) -> str:
+    """A pandas frame as a GitHub markdown table, floats through ``fmt``."""
+    def cell(v: object) -> str:
+        if isinstance(v, float | np.floating):
+            return fmt(float(v))
+        return str(v).replace("|", "\\|")
+
+    lines = ["| " + " | ".join(map(str, df.columns)) + " |", "|" + "---|" * len(df.columns)]
+    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in df.itertuples(index=False)]
+    return "\n".join(lines)
 
 
 def json_bytes(obj: Any) -> bytes:

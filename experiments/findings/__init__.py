@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import argparse
 
+import adapters
+
 from ..core import cli, estimate, runs
 from ..core.cli import Command
 from ..core.io import figure_png, provenance
@@ -25,6 +27,7 @@ from . import referee
 from .ball import ball_section
 from .carry_text import carry_section
 from .flex_text import flex_section
+from .gradient_text import fit_section
 from .metal_text import metal_section
 from .questions import cork_section, sweet_spot_section
 from .report import (
@@ -42,6 +45,8 @@ __all__ = ["COMMAND", "REFS", "main", "produce"]
 #: The sections that fire no engine, as measured on 2 cores (s): the carry's frictional impacts
 #: and flights, the flexible bat's beam, the ball's fit, the rest.
 MODEL_S = {"cork, metal": 1.0, "carry": 31.0, "flex": 8.0, "ball": 3.0}
+#: The J fit's descent through one differentiable engine, its compile included (s).
+FIT_S = 20.0
 
 
 def _shares_s(engines: tuple[str, ...]) -> dict[str, float]:
@@ -49,7 +54,8 @@ def _shares_s(engines: tuple[str, ...]) -> dict[str, float]:
     sweet-spot searches, then the model sections."""
     impacts = estimate.run_s(A.check_jobs(engines)[0])
     searches = estimate.search_s(A.sweet_spot_jobs(engines))
-    return {"engines": sum(impacts.values()) + sum(searches.values()), **MODEL_S}
+    fits = FIT_S * sum(1 for n in engines if adapters.record(n).can.autodiff)
+    return {"engines": sum(impacts.values()) + sum(searches.values()) + fits, **MODEL_S}
 
 
 def estimate_s(args: argparse.Namespace) -> float:
@@ -86,7 +92,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     head = head_section(provenance()["commit"], engines, referee.short_answers_text(claims))
     body = head + "\n".join([sweet_text, cork_text, metal_text, carry_text, flex_text,
                              ball_text, audit_section(sweet, cork),
-                             engine_section(checks, engines), referee.referee_section(claims),
+                             engine_section(checks, engines), fit_section(engines),
+                             referee.referee_section(claims),
                              references_section()])
     figs = {**sweet_figs, **cork_figs, **metal_figs, **carry_figs, **ball_figs}
     files = {name: figure_png(fig) for name, fig in figs.items()}

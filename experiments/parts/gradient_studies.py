@@ -52,7 +52,8 @@ def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method:
     bat = base.bat
     want = float(impact.sweet_spot(bat, base.ball, base.v0_mps, base.u0_mps,
                                    base.omega0_radps))
-    if contact_law(name, settings, base) is not None:  # its law's own sweet spot
+    law = contact_law(name, settings, base)
+    if law is not None:  # its law's own sweet spot
         want = _law_sweet_spot(name, settings, base, want)
     calls = [0]
 
@@ -69,7 +70,8 @@ def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method:
     k = 1e-4
     curvature = abs(analytic(moved(at, "s_m", want + k), "s_m")
                     - analytic(moved(at, "s_m", want - k), "s_m")) / (2 * k)
-    row = {"engine": name, "method": method, "analytic_m": want,
+    row = {"engine": name, "method": method, "reference_m": want,
+           "reference": "rigid impulse" if law is None else type(law).__name__,
            "tolerance_m": tol / curvature, "found_m": math.nan, "evaluations": 0,
            "status": GradStatus.UNSUPPORTED.value, "why": ""}
     lo, hi = max(want - SEARCH_M, bat.s_min_m + 1e-3), min(want + SEARCH_M, bat.s_max_m - 1e-3)

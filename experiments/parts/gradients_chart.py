@@ -10,6 +10,9 @@ import pandas as pd
 import adapters
 from analytic.gradients import derivatives
 
+from ..core.gradients import GradStatus
+from ..core.io import md_table
+
 #: Errors below this are drawn on it (log axes: float64 finite differences reach 1e-9).
 FLOOR = 1e-10
 METHODS = {"finite_difference": ("-", "finite differences"), "autodiff": ("--", "autodiff")}
@@ -34,7 +37,7 @@ def along_the_bat(table: pd.DataFrame, cases) -> object:
     exact = derivatives(c0.bat, c0.ball, s_m=s, v0_mps=c0.v0_mps, u0_mps=c0.u0_mps,
                         omega0_radps=c0.omega0_radps, e=c0.e)["v1_mps"]["s_m"]
     a.plot(s, exact, "k-", lw=2.5, label="closed form", zorder=1)
-    rows = table[(table.input == "s_m") & (table.status != "unsupported")]
+    rows = table[(table.input == "s_m") & (table.status != GradStatus.UNSUPPORTED)]
     for (name, method), df in rows.groupby(["engine", "method"], sort=False):
         look = adapters.record(name).look
         ls, label = METHODS[method]
@@ -96,3 +99,27 @@ def fit_text(fit: dict) -> str:
                      f"{d['iterations']} iterations ({d['cost_s']:.2f} s), "
                      f"{d['j_kgm2'] - ls['j_kgm2']:+.2e} from the least-squares fit")
     return "\n".join(lines)
+
+
+def page(summary: pd.DataFrame, sweet: pd.DataFrame, bias_rows: pd.DataFrame, fit: dict,
+         points: int) -> str:
+    """gradients.md: the statuses, the sweet spots, the soft contact's bias and the J fit."""
+    sweet = sweet.assign(off_mm=1e3 * (sweet.found_m - sweet.reference_m),
+                         tolerance_mm=1e3 * sweet.tolerance_m)
+    cols = ["engine", "method", "reference", "reference_m", "found_m", "off_mm",
+            "tolerance_mm", "status"]
+    parts = [
+        "# Gradients through the impact\n",
+        "Written by `python -m experiments.gradients` (the command's docstring says how each "
+        f"gradient is taken and judged): the paper's swing on the R161, {points} impact points, "
+        "each engine at its reference profile. Statuses per engine, method and input, and the "
+        "largest error beside the largest tolerance ((m/s) per unit of the input):\n",
+        md_table(summary, lambda v: f"{v:.3g}"),
+        "\n## The sweet spot as the root of each engine's dv1/ds\n",
+        md_table(sweet[cols], lambda v: f"{v:.6g}"),
+        "\n## The J fit\n", "```\n" + fit_text(fit) + "\n```"]
+    if len(bias_rows):
+        cols = ["engine", "stiffness_radps", "omega_dt", "value", "analytic", "bias"]
+        parts += ["\n## A soft contact's gradient ([chart](gradients_bias.png))\n",
+                  md_table(bias_rows[cols], lambda v: f"{v:.4g}")]
+    return "\n".join(parts) + "\n"

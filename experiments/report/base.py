@@ -12,10 +12,11 @@ from collections.abc import Callable, Iterable
 from functools import cache
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 import adapters
+
+from ..core.io import md_table as plain_md_table
 
 
 class Damaged(Exception):
@@ -220,16 +221,7 @@ def precision(engine: str) -> str:
 
 def md_table(df: pd.DataFrame, fmt: Callable[[object], str] | None = None) -> str:
     """A frame as a GitHub markdown table; floats through ``fmt`` (default ``num``)."""
-    fmt = fmt or num
-
-    def cell(v: object) -> str:
-        if isinstance(v, float | np.floating):
-            return fmt(float(v))
-        return str(v).replace("|", "\\|")
-
-    lines = ["| " + " | ".join(map(str, df.columns)) + " |", "|" + "---|" * len(df.columns)]
-    lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in df.itertuples(index=False)]
-    return "\n".join(lines)
+    return plain_md_table(df, fmt or num)
 
 
 def bullets(items: Iterable[str]) -> str:
