@@ -11,7 +11,8 @@ The impulse's partial derivatives, each input alone varied:
 and the outputs' follow by the chain rule, with the explicit terms (P/m^2 in dv1/dm, ...).
 The balance point: the impact fixed on the bat (its distance from the knob), the COM moved
 toward the barrel by dx, so s = x_impact - x_com falls by dx (J about the COM held):
-d/dx_com = -d/ds. At the sweet spot (``impact.sweet_spot``) dv1/ds = 0.
+d/dx_com = -d/ds. At the sweet spot (``impact.sweet_spot``) dv1/ds = 0. With friction (the
+tangential speed and spin, and mu): ``friction_gradients``.
 """
 
 from __future__ import annotations
