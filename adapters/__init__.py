@@ -217,6 +217,18 @@ def chain_class(name: str):
     return _load_target(name, rec.can.chain_adapter)
 
 
+def pool_class(name: str):
+    """The class holding many of a single-world engine's worlds in one engine instance (its
+    record's ``pool_adapter``, an ``adapters.BatchedEngine``), importing its engine now; None
+    if it has none."""
+    rec = record(name)
+    if rec.can.pool_adapter is None:
+        return None
+    if not _installed(rec):
+        raise EngineNotInstalled(rec.install_hint)
+    return _load_target(name, rec.can.pool_adapter)
+
+
 def is_batched(name: str) -> bool:
     """Whether the engine's adapter steps many worlds in one call (imports the engine)."""
     return issubclass(engine_class(name), BatchedEngine)

@@ -49,7 +49,7 @@ def test_a_world_fired_in_a_batch_of_engines_ends_as_it_does_alone(name, monkeyp
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)  # any run repays its engines
     fired_batched = fire_jobs(jobs)
     batched = _outcomes(fired_batched)
-    assert len(hosting.hosted(name, jobs[0].settings).engines) == 16
+    assert hosting.hosted(name, jobs[0].settings).held() == 16
     # NaN != NaN: compare the text of each value
     assert [repr(o) for o in batched] == [repr(o) for o in alone]
     # and so are their verdicts, the blocks' columns read as the outcomes one by one are
@@ -76,7 +76,7 @@ def test_a_batch_of_engines_stays_within_what_the_engine_can_hold(name, monkeypa
     try:
         for settings in (first, dataclasses.replace(first, overlap_m=2 * first.overlap_m)):
             fire_jobs([Job(engine=name, settings=settings, case=case)] * (limit + 10))
-            held.append(sum(len(h.engines) for h in hosting._HOSTED.values() if h.name == name))
+            held.append(sum(h.held() for h in hosting._HOSTED.values() if h.name == name))
     finally:
         hosting.close_engines()
     assert held == [limit, limit]

@@ -157,8 +157,10 @@ RECORD = EngineRecord(
         restitution_rule=RestitutionRule.PRODUCT,
         friction_rule=FrictionRule.PRODUCT,
         threshold_setting="restitution_velocity_threshold",
-        # each physics client takes 27 MB (measured: 50 clients, peak RSS): 64 are 1.7 GB
-        max_worlds=64,
+        # each physics client takes 27 MB (measured: 50 clients, peak RSS); a long run's pool
+        # holds 16 worlds a client (``worlds.PAIRS_PER_CLIENT``): 64 clients are 1.7 GB
+        max_worlds=1024,
+        pool_adapter="adapters.pybullet.worlds:PybulletWorlds",
     ),
     # Bullet reports neither contact value: both measured (setting them explicitly reproduces
     # the default solver's impacts bit for bit); the iteration count it reports; the cone

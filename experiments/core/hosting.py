@@ -1,6 +1,7 @@
 """The engines a process holds: one ``Hosted`` per engine and settings, made once and reused
 (adapters hold no state between impacts), oldest closed first; a single-world engine's
-``Hosted`` makes more of its adapters for a long run, stepped together as one batch.
+``Hosted`` makes more of its adapters for a long run, stepped together as one batch, or, where
+its record names one (``Capabilities.pool_adapter``), one adapter holding the run's worlds.
 """
 
 from __future__ import annotations
@@ -50,6 +51,14 @@ class Hosted:
         self.engines, self.scenes = [self.adapter], [None]
         self.scene: Scene | None = None
         self.worlds = 0
+        # a single-world engine's pool adapter (``Capabilities.pool_adapter``), once made: its
+        # scene and world count as built, and the most worlds it was built with (it keeps
+        # what holds them)
+        self.pool, self.pool_scene, self.pool_n, self.pool_worlds = None, None, 0, 0
+
+    def held(self) -> int:
+        """How many worlds this host holds: its single-world adapters', or its pool's."""
+        return max(len(self.engines), self.pool_worlds)
 
     def pool_size(self, impacts: int) -> int:
         """How many single-world engines to step the next ``impacts`` on: those made already,
@@ -59,8 +68,8 @@ class Hosted:
         if self.make_s is None:
             return 1
         repaid = int(impacts * POOLED_SAVING_S / self.make_s)
-        size = min(POOL_MAX, impacts, max(len(self.engines), repaid))
-        if size > len(self.engines) and self.record.can.max_worlds is not None:
+        size = min(POOL_MAX, impacts, max(self.held(), repaid))
+        if size > self.held() and self.record.can.max_worlds is not None:
             size = min(size, _room(self))
         return size if size >= POOL_MIN else 1
 
@@ -69,6 +78,9 @@ class Hosted:
         for engine in self.engines[1:]:
             engine.close()
         del self.engines[1:], self.scenes[1:]
+        if self.pool is not None:
+            self.pool.close()
+            self.pool, self.pool_scene, self.pool_n, self.pool_worlds = None, None, 0, 0
 
     def batch(self, scene: Scene, n: int):
         """The adapter(s) holding ``scene`` in ``n`` worlds (built when either changed, and
@@ -80,6 +92,8 @@ class Hosted:
                 self._check(self.adapter, scene)
                 self.scene, self.worlds = scene, n
             return ManyWorlds(self.adapter, n)
+        if n > 1 and self.record.can.pool_adapter is not None:
+            return self._pooled(scene, n)
         while len(self.engines) < n:
             self.engines.append(adapters.create(self.name, self.settings))
             self.scenes.append(None)
@@ -94,6 +108,19 @@ class Hosted:
                 self.scenes[i] = self.scene = scene
         return OneWorld(self.adapter) if n == 1 else EngineWorlds(self.engines[:n])
 
+    def _pooled(self, scene: Scene, n: int) -> ManyWorlds:
+        """The engine's pool adapter holding ``scene`` in ``n`` worlds (built when either
+        changed, its mass properties checked)."""
+        if self.pool is None:
+            self.pool = adapters.pool_class(self.name)(self.settings)
+        if scene != self.pool_scene or n != self.pool_n:
+            self.pool_scene = None
+            self.pool.build(scene, n)
+            self._check(self.pool, scene)
+            self.pool_scene, self.pool_n = scene, n
+            self.pool_worlds = max(self.pool_worlds, n)
+        return ManyWorlds(self.pool, n)
+
     def _check(self, adapter, scene: Scene) -> None:
         check_mass_properties(self.name, adapter.mass_properties(), scene, self.record.eps)
 
@@ -101,6 +128,9 @@ class Hosted:
         self.scene, self.scenes = None, [None] * len(self.engines)
         for engine in self.engines:
             engine.close()
+        if self.pool is not None:
+            self.pool.close()
+            self.pool, self.pool_scene, self.pool_n, self.pool_worlds = None, None, 0, 0
 
 
 def _room(host: Hosted) -> int:
