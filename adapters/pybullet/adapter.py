@@ -34,6 +34,7 @@ class PybulletEngine(Engine):
         super().__init__(settings)
         # connected now: a build then costs what one more world does (the harness times it)
         self._client: int | None = pb.connect(pb.DIRECT)
+        self._fresh = True  # nothing built in the client yet: no reset needed
         self._load: tuple[float, float, float] | None = None
         self._joint: int | None = None
 
@@ -50,9 +51,11 @@ class PybulletEngine(Engine):
 
     def build(self, scene: Scene) -> None:
         if self._client is None:
-            self._client = pb.connect(pb.DIRECT)
+            self._client, self._fresh = pb.connect(pb.DIRECT), True
         c = self._client
-        pb.resetSimulation(physicsClientId=c)
+        if not self._fresh:
+            pb.resetSimulation(physicsClientId=c)
+        self._fresh = False
         self._joint = self._load = None
         configure(c, self.settings)
         self._bat, self._ball = add_pair(c, scene, self.settings)

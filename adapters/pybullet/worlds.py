@@ -47,13 +47,23 @@ class PybulletWorlds(BatchedEngine):
     def __init__(self, settings) -> None:
         super().__init__(settings)
         self._clients: list[int] = []
-        self._pairs: list[tuple[int, int, int]] = []  # (client, bat, ball) per world
+        self._built: list[tuple[int, int, int]] = []  # (client, bat, ball) per world built
+        self._pairs: list[tuple[int, int, int]] = []  # the first n: the worlds in use
+        self._scene: Scene | None = None
 
     def build(self, scene: Scene, worlds: int) -> None:
+        """``worlds`` pairs holding ``scene``: those built already if the scene is theirs and
+        there are enough (a run's last, smaller batch takes the first ones; the others, idle,
+        touch nothing of theirs), else every pair built anew."""
+        if scene != self._scene or worlds > len(self._built):
+            self._build(scene, worlds)
+        self._use(worlds)
+
+    def _build(self, scene: Scene, worlds: int) -> None:
         need = math.ceil(worlds / PAIRS_PER_CLIENT)
         while len(self._clients) < need:
             self._clients.append(pb.connect(pb.DIRECT))
-        self._pairs = []
+        self._built, self._scene = [], None
         for k, c in enumerate(self._clients[:need]):
             pb.resetSimulation(physicsClientId=c)
             configure(c, self.settings)
@@ -63,10 +73,17 @@ class PybulletWorlds(BatchedEngine):
                 for body in (bat, ball):
                     pb.setCollisionFilterGroupMask(body, -1, 1 << bit, 1 << bit,
                                                    physicsClientId=c)
-                self._pairs.append((c, bat, ball))
-        self._body_world = {(c, body): i for i, (c, bat, ball) in enumerate(self._pairs)
+                self._built.append((c, bat, ball))
+        self._body_world = {(c, body): i for i, (c, bat, ball) in enumerate(self._built)
                             for body in (bat, ball)}
+        self._scene = scene
         self._joints: list[int | None] = [None] * worlds
+
+    def _use(self, worlds: int) -> None:
+        if any(j is not None for j in self._joints):
+            self.set_drive(None)
+        self._pairs = self._built[:worlds]
+        self._joints = [None] * worlds
         self._loads: list = [None] * worlds
         self._planar = np.ones(worlds, dtype=bool)
 
@@ -99,22 +116,24 @@ class PybulletWorlds(BatchedEngine):
                         dtype=float).reshape(-1, len(STATE_FIELDS))
 
     def in_contact(self) -> np.ndarray:
-        out = np.zeros(len(self._pairs), dtype=bool)
+        out = np.zeros(len(self._built), dtype=bool)
         for c in self._clients[:math.ceil(len(self._pairs) / PAIRS_PER_CLIENT)]:
             for pt in pb.getContactPoints(physicsClientId=c):
                 if acting(pt):
                     out[self._body_world[c, pt[1]]] = True
-        return out
+        return out[:len(self._pairs)]
 
     def set_body_restitution(self, *, bat: float, ball: float) -> None:
-        for c, bat_id, ball_id in self._pairs:
+        self._scene = None  # the pairs no longer hold the scene as built
+        for c, bat_id, ball_id in self._built:
             set_restitution(c, (bat_id, ball_id), bat=bat, ball=ball)
 
     def set_body_friction(self, *, bat: float, ball: float) -> None:
-        for c, bat_id, ball_id in self._pairs:
+        self._scene = None
+        for c, bat_id, ball_id in self._built:
             set_friction(c, (bat_id, ball_id), bat=bat, ball=ball)
 
     def close(self) -> None:
         for c in self._clients:
             pb.disconnect(physicsClientId=c)
-        self._clients, self._pairs = [], []
+        self._clients, self._built, self._pairs, self._scene = [], [], [], None

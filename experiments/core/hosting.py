@@ -46,7 +46,7 @@ class Hosted:
         self.name, self.settings = name, settings
         self.record = adapters.record(name)
         self.adapter = adapters.create(name, settings)
-        self.make_s: float | None = None  # what one more engine costs: its first build, timed
+        self.make_s: float | None = None  # what one more world costs (``pool_size``)
         self.batched = isinstance(self.adapter, BatchedEngine)
         self.engines, self.scenes = [self.adapter], [None]
         self.scene: Scene | None = None
@@ -63,7 +63,8 @@ class Hosted:
     def pool_size(self, impacts: int) -> int:
         """How many single-world engines to step the next ``impacts`` on: those made already,
         or as many as these impacts repay (``POOLED_SAVING_S`` an impact against each engine's
-        making, its first build as timed), if at least ``POOL_MIN``. A firing makes what it
+        making: its first build as timed, then, with a pool adapter, a world's share of the
+        pool's build), if at least ``POOL_MIN``. A firing makes what it
         repays itself, so the engines are made in a run's first firing, not a few each time."""
         if self.make_s is None:
             return 1
@@ -115,7 +116,10 @@ class Hosted:
             self.pool = adapters.pool_class(self.name)(self.settings)
         if scene != self.pool_scene or n != self.pool_n:
             self.pool_scene = None
+            t0 = time.perf_counter()
             self.pool.build(scene, n)
+            if n > self.pool_worlds:  # what a world costs in the pool, as built
+                self.make_s = (time.perf_counter() - t0) / n
             self._check(self.pool, scene)
             self.pool_scene, self.pool_n = scene, n
             self.pool_worlds = max(self.pool_worlds, n)

@@ -126,7 +126,9 @@ def _timed(name: str, settings, jobs: list[Job], clock: tuple[float, float]):
     """Fire ``jobs`` and judge every impact: the table, the wall time and the time inside the
     engine's calls (s), the clock's own cost (``clock_cost_s``) taken out of both."""
     spent = [0.0, 0]
-    with _clocked(type(hosted(name, settings).adapter), spent):
+    pool = adapters.pool_class(name)  # a single-world engine's long runs step on it
+    with _clocked(type(hosted(name, settings).adapter), spent), \
+            (_clocked(pool, spent) if pool is not None else contextlib.nullcontext()):
         t0 = time.perf_counter()
         table = tables.table(fire_jobs(jobs), "throughput")
         wall = time.perf_counter() - t0
