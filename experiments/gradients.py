@@ -146,7 +146,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
 
 
 COMMAND = Command(name="gradients", doc=__doc__, produce=produce, options=_options,
-                  quick="5 impact points, 2 stiffnesses at 2 resolutions", runner=False)
+                  quick="5 impact points, one soft stiffness at one resolution", runner=False)
 main = COMMAND.main
 
 

@@ -110,8 +110,8 @@ def soft_bias(name: str, base: ImpactCase, steps_for, quick: bool = False) -> li
     ``steps_for(settings)``: the episode's steps at those settings."""
     rec = adapters.record(name)
     rows = []
-    for w in STIFFNESSES_RADPS[1::2] if quick else STIFFNESSES_RADPS:
-        for k in RESOLUTIONS[:2] if quick else RESOLUTIONS:
+    for w in STIFFNESSES_RADPS[2:3] if quick else STIFFNESSES_RADPS:
+        for k in RESOLUTIONS[1:2] if quick else RESOLUTIONS:
             st = adapters.settings_for(name, **dict(rec.can.soft_contact),
                                        **{rec.can.stiffness_setting: w, "dt_s": k / w})
             v1, g, why = autodiff(name, st, [base], "s_m", steps_for(st))
