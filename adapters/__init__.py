@@ -209,24 +209,25 @@ def engine_class(name: str) -> type[Engine] | type[BatchedEngine]:
 def chain_class(name: str):
     """The segmented-bat adapter class for ``name`` (its record's ``chain_adapter``, an
     ``adapters.segmented.ChainEngine``), importing its engine now; None if it has none."""
-    rec = record(name)
-    if rec.can.chain_adapter is None:
-        return None
-    if not _installed(rec):
-        raise EngineNotInstalled(rec.install_hint)
-    return _load_target(name, rec.can.chain_adapter)
+    return _capability_class(name, "chain_adapter")
 
 
 def pool_class(name: str):
     """The class holding many of a single-world engine's worlds in one engine instance (its
     record's ``pool_adapter``, an ``adapters.BatchedEngine``), importing its engine now; None
     if it has none."""
+    return _capability_class(name, "pool_adapter")
+
+
+def _capability_class(name: str, field: str):
+    """The class a record's capability ``field`` names ("module:Class"), or None."""
     rec = record(name)
-    if rec.can.pool_adapter is None:
+    target = getattr(rec.can, field)
+    if target is None:
         return None
     if not _installed(rec):
         raise EngineNotInstalled(rec.install_hint)
-    return _load_target(name, rec.can.pool_adapter)
+    return _load_target(name, target)
 
 
 def is_batched(name: str) -> bool:
