@@ -39,11 +39,23 @@ def test_the_readme_shows_command_lines():
     assert len(LINES) >= 3, LINES
 
 
+#: Lines run in the full tier: their JAX traces take 40 s (the fast tier runs the command on a
+#: single-world engine in test_commands, and an engine's own derivative in test_gradients).
+SLOW = ("experiments.gradients",)
+
+
 @pytest.mark.parametrize("argv", [a for a in LINES if "myengine" not in a
                                   # installs releases: run on a cold cache by test_history.py
-                                  and a[2] != "experiments.history"],
+                                  and a[2] != "experiments.history" and a[2] not in SLOW],
                          ids=lambda a: " ".join(a[2:]))
 def test_a_readme_command_line_runs(argv, tmp_path):
+    run_command(_small(argv, str(tmp_path)))
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("argv", [a for a in LINES if a[2] in SLOW],
+                         ids=lambda a: " ".join(a[2:]))
+def test_a_slow_readme_command_line_runs(argv, tmp_path):
     run_command(_small(argv, str(tmp_path)))
 
 
