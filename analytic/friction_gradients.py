@@ -1,6 +1,7 @@
 """Derivatives of the frictional impact (``friction.predict_friction``, Routh's method): the
 ball's normal speed v1, its speed along the bat vt1 and its spin about z, with respect to the
-impact point, the speeds, the angles, e and mu.
+impact point, the speeds, the angles, e, mu, both masses, J and the balance point (the impact
+held where it is on the bat, as in ``gradients``).
 
 In the swing plane, while the contact points slip one way throughout (Stronge, Impact
 Mechanics, sec. 4.2-4.3), the impact has a closed form. With the impact frame's t along the bat
@@ -31,7 +32,12 @@ from .friction import predict_friction
 from .model import ImpactCase
 
 OUTPUTS = ("v1_mps", "vt1_mps", "spin1_radps")
-INPUTS = ("s_m", "v0_mps", "theta_rad", "u0_mps", "phi_rad", "omega0_radps", "e", "mu")
+INPUTS = ("s_m", "v0_mps", "theta_rad", "u0_mps", "phi_rad", "omega0_radps", "e", "mu",
+          "ball_mass_kg", "bat_mass_kg", "bat_inertia_kgm2", "com_from_knob_m")
+#: The inputs that are the bodies' (the rest are the case's own fields).
+BODY_INPUTS = {"ball_mass_kg": ("ball", "mass_kg"), "bat_mass_kg": ("bat", "mass_kg"),
+               "bat_inertia_kgm2": ("bat", "inertia_cm_kgm2"),
+               "com_from_knob_m": ("bat", "com_from_knob_m")}
 #: The complex step (of each input's scale): no subtraction, so any small step is exact.
 COMPLEX_STEP = 1e-30
 #: The central differences' step (of each input's scale) in the numerical regime: the
@@ -48,13 +54,38 @@ class FrictionDerivatives:
     closed_form: bool
 
 
+def _value(case: ImpactCase, name: str) -> float:
+    if name in BODY_INPUTS:
+        body, field = BODY_INPUTS[name]
+        return getattr(getattr(case, body), field)
+    return getattr(case, name)
+
+
 def _scale(case: ImpactCase, name: str) -> float:
-    return {"s_m": case.bat.length_m, "theta_rad": 1.0, "phi_rad": 1.0, "e": 1.0,
-            "mu": 1.0}.get(name) or max(abs(getattr(case, name)), 1.0)
+    """The size an input's step is measured against."""
+    fixed = {"s_m": case.bat.length_m, "com_from_knob_m": case.bat.length_m, "theta_rad": 1.0,
+             "phi_rad": 1.0, "e": 1.0, "mu": 1.0}
+    if name in fixed:
+        return fixed[name]
+    value = abs(_value(case, name))
+    return value if name in BODY_INPUTS else max(value, 1.0)
 
 
 def _inputs(case: ImpactCase) -> dict:
-    return {k: getattr(case, k) for k in INPUTS}
+    return {k: _value(case, k) for k in INPUTS}
+
+
+def moved(case: ImpactCase, name: str, x: float) -> ImpactCase:
+    """``case`` with input ``name`` at ``x``; the balance point moved with the impact held
+    where it is on the bat (s, from the COM, falls as much as the COM moves)."""
+    if name not in BODY_INPUTS:
+        return dataclasses.replace(case, **{name: x})
+    body, field = BODY_INPUTS[name]
+    out = dataclasses.replace(case, **{body: dataclasses.replace(getattr(case, body),
+                                                                 **{field: x})})
+    if name == "com_from_knob_m":
+        out = dataclasses.replace(out, s_m=case.s_m - (x - case.bat.com_from_knob_m))
+    return out
 
 
 def sliding_fields(case: ImpactCase, **x) -> dict:
@@ -62,8 +93,10 @@ def sliding_fields(case: ImpactCase, **x) -> dict:
     (any of INPUTS; complex allowed), and ``slides``: whether it slides throughout."""
     v = _inputs(case) | x
     bat, ball = case.bat, case.ball
-    m, M, J, inertia = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2, ball.inertia_kgm2
-    R, r, s = ball.radius_m, bat.radius_m, v["s_m"]
+    m, M, J = v["ball_mass_kg"], v["bat_mass_kg"], v["bat_inertia_kgm2"]
+    R, r = ball.radius_m, bat.radius_m
+    inertia = 0.4 * m * R * R  # a uniform sphere's (``model.Ball``)
+    s = v["s_m"] - (v["com_from_knob_m"] - bat.com_from_knob_m)
     w_ball = case.spin_radps[2]
     k_tt = 1 / m + 1 / M + R * R / inertia + r * r / J
     k_nn, k_tn = 1 / m + 1 / M + s * s / J, -s * r / J
@@ -83,7 +116,7 @@ def sliding_fields(case: ImpactCase, **x) -> dict:
 
 
 def _routh(case: ImpactCase, name: str, x: float) -> np.ndarray:
-    out = predict_friction(dataclasses.replace(case, **{name: x}))
+    out = predict_friction(moved(case, name, x))
     return np.array([out.ball_velocity_mps[1], out.ball_velocity_mps[0],
                      out.ball_spin_radps[2]])
 
@@ -91,7 +124,7 @@ def _routh(case: ImpactCase, name: str, x: float) -> np.ndarray:
 def richardson(case: ImpactCase, name: str) -> np.ndarray:
     """The outputs' derivative along ``name`` by Richardson's fourth-order central difference of
     Routh's integration: (4 D(h/2) - D(h)) / 3, h = DIFFERENCE_STEP of the input's scale."""
-    x, h = getattr(case, name), DIFFERENCE_STEP * _scale(case, name)
+    x, h = _value(case, name), DIFFERENCE_STEP * _scale(case, name)
 
     def central(k: float) -> np.ndarray:
         return (_routh(case, name, x + k) - _routh(case, name, x - k)) / (2 * k)
@@ -104,7 +137,7 @@ def friction_derivatives(case: ImpactCase) -> FrictionDerivatives:
     values: dict = {o: {} for o in OUTPUTS}
     closed = sliding_fields(case)["slides"]
     for name in INPUTS:
-        x, h = getattr(case, name), _scale(case, name)
+        x, h = _value(case, name), _scale(case, name)
         if closed:
             got = sliding_fields(case, **{name: x + 1j * COMPLEX_STEP * h})
             d = {o: float(np.imag(got[o])) / (COMPLEX_STEP * h) for o in OUTPUTS}

@@ -55,12 +55,14 @@ def test_closed_form_derivatives_meet_routh_differences_to_1e9(kw):
 
 def test_without_friction_the_closed_form_derivatives_are_the_planar_ones():
     # mu = 0, oblique: dv1/dx of the sliding closed form is analytic.gradients' for x in
-    # s, v0, u0, omega0, e (two independent closed forms of the same impulse)
+    # s, v0, u0, omega0, e, both masses, J and the balance point (two independent closed
+    # forms of the same impulse)
     kw = dict(theta_rad=0.3, mu=0.0, v0_mps=40.0, u0_mps=10.0, omega0_radps=20.0)
     d = fg.friction_derivatives(_case(**kw)).values["v1_mps"]
     planar = gradients.derivatives(BAT, BALL, s_m=0.1, v0_mps=40.0, u0_mps=10.0,
                                    omega0_radps=20.0, e=0.5, theta_rad=0.3)["v1_mps"]
-    for name in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e"):
+    for name in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "ball_mass_kg", "bat_mass_kg",
+                 "bat_inertia_kgm2", "com_from_knob_m"):
         assert d[name] == pytest.approx(float(planar[name]), rel=1e-12), name
 
 
