@@ -156,3 +156,19 @@ def test_the_least_squares_j_is_within_three_standard_errors_of_the_truth():
     ls = studies.least_squares_j(base, *studies.fit_data(base))
     assert abs(ls["j_kgm2"] - presets.R161.inertia_cm_kgm2) <= 3 * ls["sigma_kgm2"], ls
     assert 0.0 < ls["sigma_kgm2"] < 0.05 * presets.R161.inertia_cm_kgm2, ls
+
+
+@pytest.mark.parametrize("name", [FAST_AD])
+def test_an_engine_whose_derivative_raises_gives_an_error_row(name, monkeypatch):
+    # a failure inside the engine's own differentiation is a row with status 'error' and the
+    # exception's text, not a crash; the finite-difference rows beside it are untouched
+    cls = type(grad.hosted(name, adapters.settings_for(name)).adapter)
+
+    def broken(self, *args, **kwargs):
+        raise FloatingPointError("the solver diverged")
+
+    monkeypatch.setattr(cls, "derivative", broken)
+    rows = grad.gradient_rows(name, adapters.settings_for(name), _cases()[:1], "s_m")
+    fd, ad = rows
+    assert fd["status"] == GradStatus.OK, fd
+    assert ad["status"] == GradStatus.ERROR and "diverged" in ad["why"], ad

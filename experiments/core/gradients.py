@@ -14,7 +14,8 @@ An engine's dv1/dx, x one of INPUTS (the impact point s, the pitch speed v0, e, 
 
 Statuses (``GradStatus``): ``ok`` within the tolerance; ``zero``, the vanishing gradient of
 a hard contact (GRAD_ZERO_SHARE); ``exploding`` (GRAD_EXPLODE); ``non_finite``; ``biased``,
-any other miss; ``unsupported``, no automatic differentiation (the row says why).
+any other miss; ``unsupported``, no automatic differentiation, and ``error``, the engine's
+derivative raised (the row says why).
 """
 
 from __future__ import annotations
@@ -59,6 +60,7 @@ class GradStatus(StrEnum):
     NON_FINITE = "non_finite"
     UNSUPPORTED = "unsupported"
     UNJUDGED = "unjudged"  # no answer applies (a soft law's bound does not hold there)
+    ERROR = "error"  # the engine's derivative raised
 
 
 def value_of(case: ImpactCase, name: str) -> float:
@@ -177,8 +179,9 @@ def judge_gradient(value: float, truth: float, tol: float) -> GradStatus:
 def _row(name, settings, method, case, wrt, value, truth, tol, h, v1_status, why,
          cost_s) -> dict:
     law = contact_law(name, settings, case)
-    if why.startswith("unsupported"):
-        status, tol = GradStatus.UNSUPPORTED, math.nan
+    if why.startswith(("unsupported", "error")):
+        status = GradStatus.UNSUPPORTED if why.startswith("unsupported") else GradStatus.ERROR
+        tol = math.nan
     elif not math.isfinite(tol):
         status = GradStatus.UNJUDGED
     else:
@@ -249,6 +252,8 @@ def autodiff(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase]
                                                steps, float(wrt == "bat_inertia_kgm2"))
     except NotImplementedError as why:
         return nan, nan, f"unsupported: {why}"
+    except Exception as err:  # the engine failed: a row that says so, not a crash
+        return nan, nan, f"error: {err!r}"[:200]
     return ends[:, 3], d_ends[:, 3], ""
 
 

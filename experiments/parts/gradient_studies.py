@@ -83,7 +83,10 @@ def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method:
     if g_lo * g_hi > 0:
         return row | {"status": GradStatus.BIASED.value,
                       "why": f"dv1/ds keeps its sign over [{lo:.3f}, {hi:.3f}] m"}
-    found = optimize.brentq(slope, lo, hi, xtol=1e-7)
+    try:
+        found = optimize.brentq(slope, lo, hi, xtol=1e-7)
+    except (ValueError, RuntimeError) as err:  # a NaN met on the way, or no convergence
+        return row | {"status": GradStatus.NON_FINITE.value, "why": f"root search: {err}"}
     ok = abs(found - want) <= row["tolerance_m"]
     return row | {"found_m": found, "evaluations": calls[0],
                   "cost_s": time.perf_counter() - t0,
