@@ -164,7 +164,7 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
         for axis, w in zip("xyz", c.spin_radps):
             cols[f"spin0_{axis}_radps"].append(w)
     plain = [c.frictionless_planar for c in cases]
-    errors = [adapters.record(o.engine).errors for o in outcomes]
+    errors = [judge.errors_of(o) for o in outcomes]
     laws = [ep if p else law(c, o.settings.max_contact_s, err.friction_law(o.settings))
             for c, o, err, ep, p in zip(cases, outcomes, errors, episodes, plain)]
     tols = [dict.fromkeys(("v1", *OUTPUTS), math.nan) if p else tolerances(c, o.settings, err)

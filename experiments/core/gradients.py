@@ -177,11 +177,10 @@ def judge_gradient(value: float, truth: float, tol: float) -> GradStatus:
 
 
 def _row(name, settings, method, case, wrt, value, truth, tol, h, v1_status, why,
-         cost_s) -> dict:
+         cost_s, failed: GradStatus | None = None) -> dict:
     law = contact_law(name, settings, case)
-    if why.startswith(("unsupported", "error")):
-        status = GradStatus.UNSUPPORTED if why.startswith("unsupported") else GradStatus.ERROR
-        tol = math.nan
+    if failed is not None:  # no gradient to judge: why the engine gave none
+        status, tol = failed, math.nan
     elif not math.isfinite(tol):
         status = GradStatus.UNJUDGED
     else:
@@ -236,14 +235,15 @@ def tangents(cases: Sequence[ImpactCase], settings: adapters.Settings, wrt: str)
 
 
 def autodiff(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase], wrt: str,
-             steps: int) -> tuple[np.ndarray, np.ndarray, str]:
-    """(v1, dv1/d``wrt``, why not) by the engine's own ``derivative`` over ``steps`` steps, for
-    cases that share bat, ball and e; NaN and the reason where it has none."""
+             steps: int) -> tuple[np.ndarray, np.ndarray, GradStatus | None, str]:
+    """(v1, dv1/d``wrt``, failed, why) by the engine's own ``derivative`` over ``steps``
+    steps, for cases that share bat, ball and e; where it has none (``failed`` UNSUPPORTED)
+    or it raised (ERROR), NaN and the reason."""
     host = hosted(name, settings)
     nan = np.full(len(cases), math.nan)
     if not host.batched:
-        return nan, nan, f"unsupported: {name} is a single-world engine with no automatic " \
-                          "differentiation"
+        return nan, nan, GradStatus.UNSUPPORTED, \
+            f"{name} is a single-world engine with no automatic differentiation"
     c = cases[0]
     host.batch(Scene(bat=c.bat, ball=c.ball, e=c.e), len(cases))
     starts = np.array([start_state(k, settings)[0] for k in cases], dtype=float)
@@ -251,10 +251,10 @@ def autodiff(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase]
         ends, d_ends = host.adapter.derivative(starts, tangents(cases, settings, wrt),
                                                steps, float(wrt == "bat_inertia_kgm2"))
     except NotImplementedError as why:
-        return nan, nan, f"unsupported: {why}"
+        return nan, nan, GradStatus.UNSUPPORTED, str(why)
     except Exception as err:  # the engine failed: a row that says so, not a crash
-        return nan, nan, f"error: {err!r}"[:200]
-    return ends[:, 3], d_ends[:, 3], ""
+        return nan, nan, GradStatus.ERROR, repr(err)[:200]
+    return ends[:, 3], d_ends[:, 3], None, ""
 
 
 def gradient_rows(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase],
@@ -264,10 +264,11 @@ def gradient_rows(name: str, settings: adapters.Settings, cases: Sequence[Impact
     if wrt not in AUTODIFF_INPUTS:
         return fd
     t0 = time.perf_counter()
-    _, values, why = autodiff(name, settings, cases, wrt, max(r["steps"] for r in fd))
+    _, values, failed, why = autodiff(name, settings, cases, wrt,
+                                      max(r["steps"] for r in fd))
     cost = (time.perf_counter() - t0) / len(cases)
     errors = adapters.record(name).errors
     ad = [_row(name, settings, "autodiff", c, wrt, float(v), analytic(c, wrt),
                autodiff_tolerance(c, settings, errors, wrt), math.nan, r["v1_status"], why,
-               cost) for c, v, r in zip(cases, values, fd)]
+               cost, failed) for c, v, r in zip(cases, values, fd)]
     return fd + (ad[:1] if why else ad)  # an engine without: one row says why

@@ -38,6 +38,7 @@ reason: the tests import them rather than restate them.
 
 from __future__ import annotations
 
+import contextvars
 import functools
 import math
 from dataclasses import replace
@@ -91,6 +92,17 @@ from .terms import (  # noqa: E402 - the tolerance table (``terms``), read by na
     ROUND_OPS,
     SOLVE_SAFETY,
 )
+
+#: Error models that stand in for an engine's record's while a ``verdicts.judge`` call lasts.
+ERROR_MODELS: contextvars.ContextVar[dict | None] = contextvars.ContextVar("error_models",
+                                                                          default=None)
+
+
+def errors_of(o) -> adapters.ErrorModel:
+    """The error model an outcome is judged with: the one ``verdicts.judge`` was given, else
+    its engine's record's."""
+    given = ERROR_MODELS.get()
+    return (given or {}).get(o.engine) or adapters.record(o.engine).errors
 
 
 def mass_allowance(eps: float) -> float:  # relative, between mass properties set and read back
@@ -204,7 +216,7 @@ def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarr
     v1, slopes, curvatures = _derivatives(cases)
     for i, (case, o, w_r, ep) in enumerate(zip(cases, outcomes, release_omega_radps,
                                                rigid_episodes)):
-        st, errors = o.settings, adapters.record(o.engine).errors
+        st, errors = o.settings, errors_of(o)
         if (errors.contact_reference(st) is not adapters.ContactReference.RIGID_IMPULSE
                 or not case.frictionless_planar):  # (friction: ``friction_judge``)
             continue
@@ -263,7 +275,7 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
     # the first contact seen at its phase, each later one as late as a whole step
     late = delay(st.contact_phase) + (ep.impacts - 1) * delay(1.0)
     slide = ((reach * abs(case.omega0_radps) + tangential) * late
-             + adapters.record(o.engine).errors.collision_slide_m(st, bat))
+             + errors_of(o).collision_slide_m(st, bat))
     leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * late
     moved = []
     if math.isfinite(w_r):
@@ -313,7 +325,7 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
     rigid episode at the law's e holds more (re-contacts, a sustained slide), or the ball slides
     past the cylinder's end during the contact, its answer is not the engine's, and the row is
     unjudged; so is a step whose estimated restitution error exceeds LAW_MAX_REL_ERROR."""
-    errors = adapters.record(o.engine).errors
+    errors = errors_of(o)
     law = errors.contact_law(o.settings, case.e)
     if law is None or not case.frictionless_planar:  # the laws are frictionless, planar
         return math.nan, math.nan

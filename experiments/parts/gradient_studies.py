@@ -117,7 +117,7 @@ def soft_bias(name: str, base: ImpactCase, steps_for, quick: bool = False) -> li
         for k in RESOLUTIONS[1:2] if quick else RESOLUTIONS:
             st = adapters.settings_for(name, **dict(rec.can.soft_contact),
                                        **{rec.can.stiffness_setting: w, "dt_s": k / w})
-            v1, g, why = autodiff(name, st, [base], "s_m", steps_for(st))
+            v1, g, _, why = autodiff(name, st, [base], "s_m", steps_for(st))
             truth = analytic(base, "s_m")
             rows.append({"engine": name, "stiffness_radps": w, "omega_dt": k, "dt_s": k / w,
                          "v1_mps": float(v1[0]), "v1_rigid_mps": rigid_v1(base),
@@ -161,7 +161,7 @@ def descend_j(name: str, settings: adapters.Settings, base: ImpactCase, s: np.nd
     t0 = time.perf_counter()
     for _ in range(FIT_MAX_ITERATIONS):
         cases = [moved(moved(base, "s_m", x), "bat_inertia_kgm2", j) for x in s]
-        got, g, why = autodiff(name, settings, cases, "bat_inertia_kgm2", steps)
+        got, g, _, why = autodiff(name, settings, cases, "bat_inertia_kgm2", steps)
         if why:
             return {"engine": name, "why": why}
         r = got - v1

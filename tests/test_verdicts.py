@@ -1,0 +1,66 @@
+"""One impact's verdict (``experiments.core.verdicts.judge``): the table's judgement for one
+impact, with any error model. The velocity tolerance of a single impulse is (``judge``)
+
+    tol = [(ROUND_OPS + SOLVE_SAFETY cond) eps + mapping + tilt^2] (v0 + |u0| + |omega0| L)
+          + (the contact seen late) + (a lingering contact),
+
+so an error model that changes only the precision moves it by (ROUND_OPS + SOLVE_SAFETY
+cond) (eps' - eps) (v0 + |u0| + |omega0| L), and nothing else."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import adapters
+from analytic import presets
+from experiments.core import Job, fire_jobs, tables
+from experiments.core.judge import Status
+from experiments.core.terms import ROUND_OPS, SOLVE_SAFETY
+from experiments.core.verdicts import judge
+
+#: The cheapest float64 single-world engine (records only: the tests name no engine).
+ENGINE = min((n for n in adapters.available() if not adapters.record(n).batched
+              and adapters.record(n).errors.precision == "float64"),
+             key=lambda n: adapters.record(n).cost.step_cost_s)
+
+
+@pytest.fixture(scope="module")
+def fired():
+    """The paper's swing at s = 0.1 m, fired once."""
+    case = tables.Firing(bat=presets.R161, s_m=(0.1,), v0_mps=presets.PAPER_PITCH_MPS,
+                         u0_mps=presets.PAPER_SWING.u0_mps,
+                         omega0_radps=presets.PAPER_SWING.omega0_radps,
+                         e=presets.E_WOOD).cases()[0]
+    (f,) = fire_jobs([Job(engine=ENGINE, settings=adapters.settings_for(ENGINE), case=case)])
+    return f
+
+
+def test_one_impact_is_judged_as_its_table_row(fired):
+    row = tables.table([fired], "").iloc[0]
+    got = judge(fired.case, fired.outcome)
+    assert got.status == Status.OK == row.status and got.reference == "rigid theory"
+    assert got.v1_tol_mps == row.v1_tol_mps and got.v1_err_mps == row.v1_abs_err_mps
+
+
+def test_another_precision_moves_the_tolerance_by_its_rounding_term_alone(fired):
+    case, settings = fired.case, fired.outcome.settings
+    errors = adapters.record(ENGINE).errors
+    single = dataclasses.replace(errors, precision="float32")
+    base, loose = judge(case, fired.outcome), judge(case, fired.outcome, single)
+    speed = case.v0_mps + abs(case.u0_mps) + abs(case.omega0_radps) * case.bat.length_m
+    eps64, eps32 = np.finfo(np.float64).eps, np.finfo(np.float32).eps
+    want = (ROUND_OPS + SOLVE_SAFETY * errors.solve_conditioning(settings)) * (eps32 - eps64)
+    assert loose.v1_tol_mps - base.v1_tol_mps == pytest.approx(want * speed, rel=1e-9)
+    # and the engine's record is what judges it again once the call is over
+    assert judge(case, fired.outcome) == base
+
+
+@pytest.mark.parametrize("share,status", [(0.5, Status.OK), (2.0, Status.INACCURATE)])
+def test_an_outcome_off_by_a_share_of_its_tolerance(fired, share, status):
+    # v1 moved by half its tolerance is still ok; by twice it, inaccurate
+    tol = judge(fired.case, fired.outcome).v1_tol_mps
+    off = dataclasses.replace(fired.outcome, v1_mps=fired.outcome.v1_mps + share * tol)
+    assert judge(fired.case, off).status == status
