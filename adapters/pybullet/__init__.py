@@ -158,8 +158,8 @@ RECORD = EngineRecord(
         friction_rule=FrictionRule.PRODUCT,
         threshold_setting="restitution_velocity_threshold",
         # each physics client takes 27 MB (measured: 50 clients, peak RSS); a long run's pool
-        # holds 16 worlds a client (``worlds.PAIRS_PER_CLIENT``): 64 clients are 1.7 GB
-        max_worlds=1024,
+        # holds 16 worlds a client (``worlds.PAIRS_PER_CLIENT``): 256 worlds, 16 clients, 0.4 GB
+        max_worlds=256,
         pool_adapter="adapters.pybullet.worlds:PybulletWorlds",
     ),
     # Bullet reports neither contact value: both measured (setting them explicitly reproduces
