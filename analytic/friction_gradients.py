@@ -54,7 +54,8 @@ class FrictionDerivatives:
     closed_form: bool
 
 
-def _value(case: ImpactCase, name: str) -> float:
+def value_of(case: ImpactCase, name: str) -> float:
+    """Input ``name`` of ``case`` (a field of the case, or of its bat or ball)."""
     if name in BODY_INPUTS:
         body, field = BODY_INPUTS[name]
         return getattr(getattr(case, body), field)
@@ -67,12 +68,12 @@ def _scale(case: ImpactCase, name: str) -> float:
              "phi_rad": 1.0, "e": 1.0, "mu": 1.0}
     if name in fixed:
         return fixed[name]
-    value = abs(_value(case, name))
+    value = abs(value_of(case, name))
     return value if name in BODY_INPUTS else max(value, 1.0)
 
 
 def _inputs(case: ImpactCase) -> dict:
-    return {k: _value(case, k) for k in INPUTS}
+    return {k: value_of(case, k) for k in INPUTS}
 
 
 def moved(case: ImpactCase, name: str, x: float) -> ImpactCase:
@@ -124,7 +125,7 @@ def _routh(case: ImpactCase, name: str, x: float) -> np.ndarray:
 def richardson(case: ImpactCase, name: str) -> np.ndarray:
     """The outputs' derivative along ``name`` by Richardson's fourth-order central difference of
     Routh's integration: (4 D(h/2) - D(h)) / 3, h = DIFFERENCE_STEP of the input's scale."""
-    x, h = _value(case, name), DIFFERENCE_STEP * _scale(case, name)
+    x, h = value_of(case, name), DIFFERENCE_STEP * _scale(case, name)
 
     def central(k: float) -> np.ndarray:
         return (_routh(case, name, x + k) - _routh(case, name, x - k)) / (2 * k)
@@ -137,7 +138,7 @@ def friction_derivatives(case: ImpactCase) -> FrictionDerivatives:
     values: dict = {o: {} for o in OUTPUTS}
     closed = sliding_fields(case)["slides"]
     for name in INPUTS:
-        x, h = _value(case, name), _scale(case, name)
+        x, h = value_of(case, name), _scale(case, name)
         if closed:
             got = sliding_fields(case, **{name: x + 1j * COMPLEX_STEP * h})
             d = {o: float(np.imag(got[o])) / (COMPLEX_STEP * h) for o in OUTPUTS}

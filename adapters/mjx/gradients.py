@@ -98,9 +98,7 @@ def derivative(engine, states: np.ndarray, tangents: np.ndarray, steps: int,
 def _perpendicular(model, bat: int) -> tuple[int, ...]:
     """The bat's principal axes across its length (``body_inertia``'s entries that are I_cm:
     its long axis is x, and ``body_iquat`` may order the axes otherwise)."""
-    import mujoco
-
     rot = np.zeros(9)
-    mujoco.mju_quat2Mat(rot, np.asarray(model.body_iquat[bat], dtype=float))
+    mjx_adapter.mujoco.mju_quat2Mat(rot, np.asarray(model.body_iquat[bat], dtype=float))
     along_x = np.abs(rot.reshape(3, 3)[0])
     return tuple(int(k) for k in np.flatnonzero(along_x < 0.5))

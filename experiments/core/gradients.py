@@ -20,7 +20,6 @@ derivative raised (the row says why).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -31,6 +30,7 @@ import numpy as np
 
 import adapters
 from adapters import Scene
+from analytic.friction_gradients import moved, value_of
 from analytic.gradients import derivatives, normal_fields
 from analytic.model import ImpactCase
 
@@ -61,17 +61,6 @@ class GradStatus(StrEnum):
     UNSUPPORTED = "unsupported"
     UNJUDGED = "unjudged"  # no answer applies (a soft law's bound does not hold there)
     ERROR = "error"  # the engine's derivative raised
-
-
-def value_of(case: ImpactCase, name: str) -> float:
-    return case.bat.inertia_cm_kgm2 if name == "bat_inertia_kgm2" else getattr(case, name)
-
-
-def moved(case: ImpactCase, name: str, x: float) -> ImpactCase:
-    """``case`` with input ``name`` at ``x`` (J: a bat with that moment of inertia)."""
-    if name == "bat_inertia_kgm2":
-        return dataclasses.replace(case, bat=dataclasses.replace(case.bat, inertia_cm_kgm2=x))
-    return dataclasses.replace(case, **{name: x})
 
 
 def scale_of(case: ImpactCase, name: str) -> float:
@@ -245,7 +234,9 @@ def autodiff(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase]
         return nan, nan, GradStatus.UNSUPPORTED, \
             f"{name} is a single-world engine with no automatic differentiation"
     c = cases[0]
-    host.batch(Scene(bat=c.bat, ball=c.ball, e=c.e), len(cases))
+    scene = Scene(bat=c.bat, ball=c.ball, e=c.e)
+    # the scene built (its world count kept: the derivative takes its own), not rebuilt
+    host.batch(scene, host.worlds if host.scene == scene else len(cases))
     starts = np.array([start_state(k, settings)[0] for k in cases], dtype=float)
     try:
         ends, d_ends = host.adapter.derivative(starts, tangents(cases, settings, wrt),
