@@ -65,30 +65,36 @@ def test_a_ranking_in_a_sentence_is_computed(copy, committed):
     assert "Per bare step the rigid-contact engines rank Rapier (0.050 us), pymunk" in new
 
 
+def _caught(text: str, engine: str) -> str:
+    """The engine's line of the out-of-the-box catches (`defaults_caught.csv`)."""
+    return next(ln for ln in text.splitlines()
+                if ln.lstrip().startswith(f"- {engine} ") and " ok at " in ln)
+
+
 def test_a_verdict_follows_the_numbers(copy, committed):
     # PyBullet catches exactly the share the tunnelling bound allows; one fewer and the
     # report must stop saying so.
-    line = next(ln for ln in committed.splitlines() if "PyBullet 24.8%" in ln)
-    assert "exactly the bound" in line
+    line = _caught(committed, "PyBullet")
+    assert "PyBullet 24.8%" in line and "exactly the bound" in line
     caught = pd.read_csv(copy / "defaults_caught.csv")
     row = caught.engine == "pybullet"
     caught.loc[row, "ok"] -= 1
     caught.loc[row, "fraction_ok"] = caught.loc[row, "ok"] / caught.loc[row, "impacts"]
     caught.to_csv(copy / "defaults_caught.csv", index=False, lineterminator="\n")
-    new = next(ln for ln in report.render(copy).splitlines() if "(`results/defaults_c" in ln)
-    clause = new.split("PyBullet ")[1].split(");")[0]  # PyBullet's part of the sentence
-    assert clause.startswith("24.7%") and "exactly the bound" not in clause
+    new = _caught(report.render(copy), "PyBullet")
+    assert "PyBullet 24.7%" in new and "exactly the bound" not in new
 
 
 def test_a_sweep_summary_number_reaches_the_narrative(copy, committed):
+    # MJX's error is the float32 engines' largest: the range the narrative gives ends there
     meta = copy / "sweep_all_reference_r161_swing.json"
     text = meta.read_text()
-    old = '"v1_abs_err_max_mps": 0.0024807719567547792'
+    old = '"v1_abs_err_max_mps": 0.09495650794980293'
     assert old in text
-    meta.write_text(text.replace(old, '"v1_abs_err_max_mps": 0.0031'))
+    meta.write_text(text.replace(old, '"v1_abs_err_max_mps": 0.12'))
     new = report.render(copy)
-    assert "PhysX 2.5e-3 m/s" in committed and "PhysX 2.5e-3 m/s" not in new
-    assert "PhysX 3.1e-3 m/s" in new
+    assert "1.0e-5-9.5e-2 m/s" in committed and "1.0e-5-9.5e-2 m/s" not in new
+    assert "1.0e-5-1.2e-1 m/s" in new
 
 
 def test_every_link_resolves(committed):
@@ -161,7 +167,22 @@ def test_the_batches_and_twins_numbers_come_from_their_files(copy):
     twins.to_csv(copy / "twins.csv", index=False, lineterminator="\n")
     after = report.render(copy)
     assert "Newton 4.2e6/s" not in before and "Newton 4.2e6/s" in after
-    assert "0.078 m/s" in after.split("**Twins.**")[1].split("\n")[0]
+    assert "0.078 m/s" in after.split("**Twins.**")[1].split("\n\n")[0]
+
+
+def test_no_line_of_the_report_is_over_500_characters(committed):
+    # Readability (the issue: one fact per line): a long bullet is a lead and its sub-bullets.
+    long = [ln[:60] for ln in committed.splitlines() if len(ln) > 500]
+    assert not long, long
+
+
+def test_a_record_text_is_listed_a_clause_a_line():
+    # never cut inside brackets or code; a claim's reason after its colon is a fact of its own
+    text = "a (x; y) b: c; d `e; f`. The g (h: i)."
+    assert report.base.clauses(text) == ["a (x; y) b: c", "d `e; f`", "The g (h: i)"]
+    assert report.base.claim(text) == ["a (x; y) b", "c", "d `e; f`", "The g (h: i)"]
+    assert report.base.lead("head:", ["one", "", "two\n- three"]) == (
+        "head:\n- one\n- two\n  - three")
 
 
 def test_the_report_does_not_repeat_the_summary_table(committed):

@@ -16,6 +16,7 @@ from .base import (
     engines_text,
     gnum,
     label,
+    lead,
     md_table,
     names,
     num,
@@ -27,6 +28,7 @@ from .base import (
 )
 from .data import need
 from .knobs import knob_points
+from .pages import PAGE_TARGET
 
 ALIGNED = "reference profile (aligned)"
 DEFAULT = study.DEFAULT_FAMILY
@@ -41,9 +43,11 @@ def section(res: Results) -> str:
             f"(`python -m experiments.pareto`: {meta['elapsed_s']:.0f} s in its last run, "
             f"`{meta['provenance']['command']}`.)")
     named = set(res.csv("pareto_cheapest.csv").setting.dropna())
-    return "\n\n".join([head, cheapest(res), ties(table, named), drake(res, table),
-                        grid(table, meta),
-                        bullets([line(res, table), aligned(res, table), *knob_points(res)])])
+    (swing,) = need(res, "swing")
+    return "\n\n".join([head, *cheapest(res), ties(table, named), drake(res, table),
+                        *grid(table, meta),
+                        bullets([line(res, table), knees(table, swing), aligned(res, table),
+                                 *knob_points(res)])])
 
 
 def _setting(text: str) -> str:
@@ -52,27 +56,30 @@ def _setting(text: str) -> str:
     return text if not m else text.replace(m.group(0), f"dt = {step(float(m.group(1)))}")
 
 
-def cheapest(res: Results) -> str:
+def cheapest(res: Results) -> list[str]:
+    """The cheapest setting of all per accuracy, then each engine's at the accuracies its page
+    does not give (``pages.PAGE_TARGET`` is there)."""
     best = res.csv("pareto_cheapest.csv")
-    rows = []
-    for target, g in best.groupby("target", sort=False):
-        top = g[g.engine == "any"].iloc[0]
-        each = g[(g.engine != "any") & (g.engine != top.winner)]
-        reach = [f"{label(r.engine)} {_setting(r.setting)} ({secs(r.wall_per_collision_s)})"
-                 for r in each.itertuples() if isinstance(r.winner, str)]
-        none = [label(r.engine) for r in each.itertuples() if not isinstance(r.winner, str)]
-        rows.append({
-            "max relative error": sci(target, 1),
-            "cheapest of all": f"{label(top.winner)}, {_setting(top.setting)}",
-            "its error, cost per collision": f"{sci(top.max_rel_err)}, "
-                                             f"{secs(top.wall_per_collision_s)}",
-            "each engine's cheapest (cost)": "; ".join(reach)
-            + (f"; {names(none)}: none" if none else "")})
-    return ("**The cheapest engine and setting for an accuracy** (max relative error of v1 "
+    top = best[best.engine == "any"]
+    overall = pd.DataFrame({
+        "max relative error": top.target.map(lambda t: sci(t, 1)),
+        "cheapest of all": [f"{label(r.winner)}, {_setting(r.setting)}" for r in top.itertuples()],
+        "its error": top.max_rel_err.map(sci),
+        "cost per collision": top.wall_per_collision_s.map(secs)})
+    each = best[(best.engine != "any") & ~np.isclose(best.target, PAGE_TARGET)]
+    table = each.pivot(index="engine", columns="target", values="setting")
+    cost = each.pivot(index="engine", columns="target", values="wall_per_collision_s")
+    rows = pd.DataFrame({"engine": [label(e) for e in table.index]} | {
+        f"within {sci(t, 1)}": [f"{_setting(s)} ({secs(c)})" if isinstance(s, str) and
+                                pd.notna(c) else "none" for s, c in zip(table[t], cost[t])]
+        for t in sorted(table.columns, reverse=True)})
+    return ["**The cheapest engine and setting for an accuracy** (max relative error of v1 "
             "against rigid theory over the mid-step grid, every impact sound; "
             "`results/pareto_cheapest.csv`, cost per collision = "
-            f"{secs(study.WINDOW_S)} of approach plus the contact, medians of one run):\n\n"
-            + md_table(pd.DataFrame(rows)))
+            f"{secs(study.WINDOW_S)} of approach plus the contact, medians of one run):",
+            md_table(overall),
+            "Each engine's cheapest setting (cost per collision); within "
+            f"{sci(PAGE_TARGET, 1)}: its [page](engines.md).", md_table(rows)]
 
 
 def _errors(table: pd.DataFrame, engine: str, family: str) -> pd.Series:
@@ -93,8 +100,8 @@ def ties(table: pd.DataFrame, named: set[str]) -> str:
                   if len(fams) > 1 and any(n.startswith(f"{f}, dt") for f in fams for n in named)]
     if not found:
         return ""
-    return (f"Solver knobs that do nothing here make ties ({'; '.join(found)} give the same "
-            "errors at every step): the table names whichever was cheapest in this run.")
+    return lead("Solver knobs that do nothing here make ties, the same errors at every step "
+                "(the tables name whichever was cheapest in this run):", found)
 
 
 def drake(res: Results, table: pd.DataFrame) -> str:
@@ -110,18 +117,19 @@ def drake(res: Results, table: pd.DataFrame) -> str:
         for r in c[c.family.str.startswith("discrete") & c.p_law.notna()].itertuples():
             laws.setdefault(f"{r.p_law:.2f}", []).append(r.family.split(",")[0][9:])
         reached = best[(best.engine == e) & best.winner.notna()]
-        out.append(
-            f"{label(e)} reaches {'none of them' if reached.empty else 'some of them'} by "
-            "design: its Hunt-Crossley contact is a different model (e falls with speed), at "
-            f"least {pct_of(d.max_rel_err.min())} from rigid theory on this grid at any step. "
-            "Against its own law it converges: "
-            + (f"its continuous mode at accuracy {gnum(swing.setting(e, 'accuracy'))} is "
-               f"within {sci(cont.law_err_at_dt_min.iloc[0])} relative (set by the grid's "
-               "barrel-end point, where the ball slides onto the cap during the contact and the "
-               "law's infinite cylinder does not follow it), " if len(cont) else "")
-            + "its discrete approximations are first order (`p_law` "
-            + names(f"{p} {names(f)}" for p, f in laws.items()) + ", `convergence.csv`).")
-    return " ".join(out)
+        out.append(lead(
+            f"**{label(e)} reaches {'none of them' if reached.empty else 'some of them'}** by "
+            "design, but converges to its own law:", [
+                "its Hunt-Crossley contact is a different model (e falls with speed)",
+                f"at least {pct_of(d.max_rel_err.min())} from rigid theory on this grid at any "
+                "step",
+                f"its continuous mode at accuracy {gnum(swing.setting(e, 'accuracy'))}: within "
+                f"{sci(cont.law_err_at_dt_min.iloc[0])} of its law (relative), set by the "
+                "grid's barrel-end point, where the ball slides onto the cap during the contact "
+                "and the law's infinite cylinder does not follow it" if len(cont) else "",
+                "its discrete approximations: first order (`p_law` "
+                + names(f"{p} {names(f)}" for p, f in laws.items()) + ", `convergence.csv`)"]))
+    return "\n\n".join(out)
 
 
 def _acc(x) -> str:
@@ -132,20 +140,22 @@ def pct_of(x: float) -> str:
     return f"{num(100 * x)}%"
 
 
-def grid(table: pd.DataFrame, meta: dict) -> str:
+def grid(table: pd.DataFrame, meta: dict) -> list[str]:
     dts = sorted(table[~table.family.isin([DEFAULT, ALIGNED])].dt_s.unique())
     fams = [f"{label(e)}: {' / '.join(f for f in g.family.unique() if f not in (DEFAULT, ALIGNED))}"
             for e, g in table.groupby("engine", sort=False)]
     s = meta["grid_s_m"]
-    return (f"Every engine over the knob families its record declares, each at {len(dts)} time "
-            f"steps from {step(dts[0])} to {step(dts[-1])}, plus its default profile (also at "
-            f"its own step): {'; '.join(fams)}. The paper's swing is fired at {len(s)} points "
-            f"over s in [{s[0]:g}, {s[-1]:g}] m with the contact instant at "
-            f"{meta['contact_phase']:g} of a step (what a simulation that does not align "
-            "contacts meets on average), and the cost is the wall time to simulate "
-            f"{secs(study.WINDOW_S)} of approach plus the contact (`results/pareto.csv`: median "
-            f"and max relative error of v1, median wall per collision over {meta['repeats']} "
-            "repeats, counts of every status).")
+    return [lead(f"Every engine over the knob families its record declares, each at {len(dts)} "
+                 f"time steps from {step(dts[0])} to {step(dts[-1])}, plus its default profile "
+                 "(also at its own step):", fams),
+            lead("The grid (`results/pareto.csv`):", [
+                f"the paper's swing at {len(s)} points over s in [{s[0]:g}, {s[-1]:g}] m",
+                f"the contact instant at {meta['contact_phase']:g} of a step, what a simulation "
+                "that does not align contacts meets on average",
+                f"the cost: the wall time to simulate {secs(study.WINDOW_S)} of approach plus "
+                "the contact",
+                "recorded: median and max relative error of v1, median wall per collision over "
+                f"{meta['repeats']} repeats, counts of every status"])]
 
 
 def _reference_family(table: pd.DataFrame, engine: str) -> str:
@@ -184,30 +194,32 @@ def line(res: Results, table: pd.DataFrame) -> str:
     cost = {e: t[(t.engine == e) & (t.family == f) & (t.dt_s <= 1e-5)].per_step_us.median()
             for e, f in f64}
     order = sorted(cost, key=cost.get)
-    text = (f"**The {count(len(f64))} float64 impulse-type solvers sit on one line**: "
-            + names(f"{label(e)} ({f})" for e, f in f64)
-            + f" give {'the same' if same else 'about the same'} error at the same step (max "
-            f"relative error {names(f'{sci(ref[d])} at {step(d)}' for d in at)}), first order "
-            f"in dt (fitted p = {c.p:.2f}, r^2 = {c.r2:.2f}, `results/convergence.csv`): the "
-            "contact is seen half a step late while the bat turns. They differ in cost per "
-            f"step: {label(order[0])} is cheapest, then {names(label(e) for e in order[1:])}.")
+    facts = [names(f"{label(e)} ({f})" for e, f in f64)
+             + f": {'the same' if same else 'about the same'} error at the same step",
+             "max relative error " + names(f"{sci(ref[d])} at {step(d)}" for d in at),
+             f"first order in dt (fitted p = {c.p:.2f}, r^2 = {c.r2:.2f}, "
+             "`results/convergence.csv`): the contact is seen half a step late while the bat "
+             "turns",
+             f"cost per step: {label(order[0])} is cheapest, then "
+             f"{names(label(e) for e in order[1:])}"]
     f32 = [e for e in swing.of_precision("float32") if e in set(t.engine)]
     joined = [(e, *_joins(t, e, ref)) for e in f32]
-    joined = [(e, f, d) for e, f, d in joined if f]
-    if joined:
-        text += (" " + names(f"{label(e)} ({f}, down to {step(d)})" for e, f, d in joined)
-                 + " join the same line (within a factor "
-                 f"{SAME_LINE:g}): they too see the contact from a step's geometry.")
+    facts.append(lead(f"joining the same line (within a factor {SAME_LINE:g}): they too see the "
+                      "contact from a step's geometry",
+                      [f"{label(e)} ({f}, down to {step(d)})" for e, f, d in joined if f]))
+    level = []
     for e in f32:
         c = conv[(conv.engine == e) & (conv.family == _reference_family(t, e))]
         if len(c) and c.err_at_dt_min.iloc[0] > 10 * ref.get(c.dt_min_s.iloc[0], math.inf):
-            text += (f" {label(e)}'s reference solver levels off at "
-                     f"{sci(c.err_at_dt_min.iloc[0])} (a contact made a step early).")
+            level.append(f"{label(e)}'s at {sci(c.err_at_dt_min.iloc[0])}")
+    if level:
+        facts.append(f"reference solvers that level off (a contact made a step early): "
+                     f"{names(level)}")
     small = t[(t.dt_s == t.dt_s.min()) & t.all_ok & t.engine.isin(swing.rigid)]
     low = small.loc[small.per_step_us.idxmin()]
-    text += (f" The cheapest step of all is {label(low.engine)}'s ({low.family}, "
-             f"{num(low.per_step_us)} us at {step(low.dt_s)}).")
-    return text + " " + knees(t, swing)
+    facts.append(f"the cheapest step of all: {label(low.engine)}'s ({low.family}, "
+                 f"{num(low.per_step_us)} us at {step(low.dt_s)})")
+    return lead(f"**The {count(len(f64))} float64 impulse-type solvers sit on one line**:", facts)
 
 
 def knees(t: pd.DataFrame, swing) -> str:
@@ -220,9 +232,9 @@ def knees(t: pd.DataFrame, swing) -> str:
         r = good.iloc[k]
         each.append(f"{label(e)} {r.family}, dt = {step(r.dt_s)} ({sci(r.max_rel_err)} in "
                     f"{secs(r.wall_per_collision_s)})")
-    return ("Knees of the fronts (farthest from the chord in log-log, circled on the chart): "
-            + "; ".join(each) + "; the knee moves between neighbouring steps from run to run, "
-            "as the timings do.")
+    return lead("**Knees of the fronts** (farthest from the chord in log-log, circled on the "
+                "chart; the knee moves between neighbouring steps from run to run, as the "
+                "timings do):", each)
 
 
 def aligned(res: Results, table: pd.DataFrame) -> str:

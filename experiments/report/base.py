@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from functools import cache
 from pathlib import Path
 
@@ -225,5 +225,54 @@ def md_table(df: pd.DataFrame, fmt: Callable[[object], str] | None = None) -> st
 
 
 def bullets(items: Iterable[str]) -> str:
-    """Markdown bullets; an item may span lines (continuations indented)."""
+    """Markdown bullets; an item may span lines (continuations indented), empty ones dropped."""
     return "\n".join("- " + item.strip().replace("\n", "\n  ") for item in items if item)
+
+
+def lead(head: str, facts: Iterable[str]) -> str:
+    """A conclusion over its facts, one indented sub-bullet each (empty facts dropped): an item
+    for ``bullets``, or a paragraph and its list on its own."""
+    return "\n".join(part for part in (head.strip(), bullets(facts)) if part)
+
+
+def alike(pairs: Iterable[tuple[str, str]]) -> list[tuple[list[str], str]]:
+    """(engine, text) pairs with the same text merged: [(engines, text)], in first-seen order."""
+    merged: dict[str, list[str]] = {}
+    for engine, text in pairs:
+        merged.setdefault(text, []).append(engine)
+    return [(engines, text) for text, engines in merged.items()]
+
+
+def _top_level(text: str) -> Iterator[int]:
+    """The indices of ``text``'s characters outside brackets and backticks."""
+    depth, code = 0, False
+    for i, ch in enumerate(text):
+        if ch == "`":
+            code = not code
+        elif not code and ch in "([":
+            depth += 1
+        elif not code and ch in ")]":
+            depth -= 1
+        elif not code and depth == 0:
+            yield i
+
+
+def clauses(text: str) -> list[str]:
+    """Prose cut into its clauses, at each semicolon and sentence end outside brackets and
+    backticks (a record's text, listed a clause a line); each keeps its case."""
+    out, start = [], 0
+    for i in _top_level(text):
+        if text[i] == ";" or (text[i] == "." and text[i + 1:i + 2] == " "
+                              and text[i + 2:i + 3].isupper()):
+            out.append(text[start:i].strip())
+            start = i + 1
+    out.append(text[start:].strip().rstrip("."))
+    return [c for c in out if c]
+
+
+def claim(text: str) -> list[str]:
+    """A record's prose as a claim and its facts: its first clause cut at its first colon
+    outside brackets (the claim before it, the reason after), then the other clauses."""
+    first, *rest = clauses(text)
+    cut = next((i for i in _top_level(first) if first[i:i + 2] == ": "), None)
+    return ([first] if cut is None else [first[:cut], first[cut + 2:]]) + rest

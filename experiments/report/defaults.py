@@ -11,7 +11,7 @@ import adapters
 from analytic import presets
 
 from ..core.judge import Status
-from .base import Results, dist, engines_text, label, names, num, pct, span, step
+from .base import Results, dist, engines_text, label, lead, names, num, pct, span, step
 from .data import need
 
 REACH_M = presets.R161.radius_m + presets.BASEBALL.radius_m
@@ -33,30 +33,31 @@ def out_of_the_box(res: Results) -> str:
     vc = pitch.v0_mps + pitch.u0_mps + pitch.omega0_radps * grid
     rigid = caught[caught.engine.isin(swing.rigid)]
     travel = (vc.min() * rigid.dt_s.min(), vc.max() * rigid.dt_s.max())
-    steps = names(f"{step(dt)} in {engines_text(g.engine)}"
-                  for dt, g in rigid.sort_values("dt_s", ascending=False).groupby(
-                      "dt_s", sort=False))
+    steps = "; ".join(f"{step(dt)} in {engines_text(g.engine)}"
+                      for dt, g in rigid.sort_values("dt_s", ascending=False).groupby(
+                          "dt_s", sort=False))
     each = [_caught(g, pitch.omega0_radps)
             for _, g in rigid.assign(rel=np.sign(rigid.ok - rigid.theory_ok) + (rigid.ok == 0))
             .groupby(["dt_s", "fraction_theory", "rel"], sort=False)]
-    text = (f"**Out of the box, they catch only the contacts that fall early in a step** "
-            f"(`python -m experiments.defaults`, `results/defaults_*.csv`). At their own time "
-            f"steps ({steps}) the ball moves {span(*travel)} m per step, so only a contact first "
-            f"seen less than R = r_ball + r_bat = {dist(REACH_M, 3)} deep can be caught: a share "
-            f"R/(v_c dt) of contact instants. Over {meta['phases']} contact phases x {len(grid)} "
-            f"points of the paper's swing (`results/defaults_caught.csv`): {'; '.join(each)}.")
-    for r in caught[caught.engine.isin(swing.compliant)].itertuples():
-        text += (f" {label(r.engine)}'s compliant contact at {step(r.dt_s)} misses only "
-                 f"{pct(1 - r.fraction_ok)} (its contact lasts longer than a step), but is "
-                 f"{pct(r.max_rel_err_caught)} from rigid theory there (its law, judged no "
-                 "further: a step of most of a contact).")
+    facts = [f"their own time steps: {steps}",
+             f"the ball moves {span(*travel)} m per step there",
+             f"so only a contact first seen less than R = r_ball + r_bat = {dist(REACH_M, 3)} "
+             "deep can be caught: a share R/(v_c dt) of contact instants",
+             lead(f"caught over {meta['phases']} contact phases x {len(grid)} points of the "
+                  "paper's swing (`results/defaults_caught.csv`):", each)]
+    facts += [f"{label(r.engine)}'s compliant contact at {step(r.dt_s)} misses only "
+              f"{pct(1 - r.fraction_ok)} (its contact lasts longer than a step), but is "
+              f"{pct(r.max_rel_err_caught)} from rigid theory there (its law, judged no "
+              "further: a step of most of a contact)"
+              for r in caught[caught.engine.isin(swing.compliant)].itertuples()]
     none = [e for e in default.rigid if default.counts(e).get(Status.OK, 0) == 0]
     if none:
         who = ("none catches any" if len(none) == len(default.rigid)
                else f"{engines_text(none)} catch none")
-        text += (f" With the contact mid-step, the default profiles' placement "
-                 f"(`{default.stem}`), {who}.")
-    return text
+        facts.append(f"with the contact mid-step, the default profiles' placement "
+                     f"(`{default.stem}`): {who}")
+    return lead("**Out of the box, they catch only the contacts that fall early in a step** "
+                "(`python -m experiments.defaults`, `results/defaults_*.csv`):", facts)
 
 
 def _caught(g: pd.DataFrame, omega0: float) -> str:
@@ -101,17 +102,18 @@ def small_step(res: Results) -> str:
     conv = res.csv("convergence.csv")
     pareto = res.csv("pareto.csv")
     good = [e for e in sw.rigid if sw.counts(e).get(Status.OK, 0) == len(sw.model)]
-    each = names(f"{label(e)} {num(sw.err(e))}" for e in sorted(good, key=sw.err))
-    text = (f"**With a small step but default solver values** (dt = {step(dt)}, contact "
-            f"mid-step: `{sw.stem}`), the largest errors on the swing are {each} m/s (the "
-            "mid-step contact is seen late, tilted by the bat's turn).")
+    errs = [sw.err(e) for e in good]
+    facts = [f"the largest errors on the swing: {span(min(errs), max(errs))} m/s in "
+             f"{engines_text(sorted(good, key=sw.err))}, every impact `ok`" if good else "",
+             "the mid-step contact is seen late, tilted by the bat's turn"]
     for e in sw.rigid:
         knobs = _knobs(res, e)
         if knobs["base"].empty or knobs["base"].within_tolerance.iloc[0] == \
                 knobs["base"].impacts.iloc[0]:
             continue
-        text += " " + _failing_default(e, sw, knobs, conv, pareto)
-    return text
+        facts.append(_failing_default(e, sw, knobs, conv, pareto))
+    return lead(f"**With a small step but default solver values** (dt = {step(dt)}, contact "
+                f"mid-step: `{sw.stem}`):", facts)
 
 
 def _failing_default(e: str, sw, knobs: dict, conv: pd.DataFrame, pareto: pd.DataFrame) -> str:
@@ -120,37 +122,34 @@ def _failing_default(e: str, sw, knobs: dict, conv: pd.DataFrame, pareto: pd.Dat
     if sw.counts(e).get(Status.INACCURATE, 0) == len(rows):
         rel = (rows.v1_engine_mps - rows.v1_analytic_mps) / rows.v1_analytic_mps.abs()
         way = "high" if (rel > 0).all() else "off"
-        text = (f"{label(e)}'s v1 is {pct(rel.abs().median())} too {way} there (median over "
+        head = (f"**{label(e)}**'s v1 is {pct(rel.abs().median())} too {way} there (median over "
                 f"the points)")
     else:
         counts = sw.counts(e)
-        text = (f"{label(e)} lets {counts.get(Status.TUNNELLED, 0)} of {len(rows)} through there "
-                f"({', '.join(f'{k} {v}' for k, v in counts.items())})")
+        head = (f"**{label(e)}** lets {counts.get(Status.TUNNELLED, 0)} of {len(rows)} through "
+                f"there ({', '.join(f'{k} {v}' for k, v in counts.items())})")
+    facts = []
     fix = [k for k, _ in knobs["restores"]]
     brk = [k for k, _ in knobs["breaks"]]
     if fix and set(fix) == set(brk):
         value = _record_default(e, fix[0])
-        text += (f", and its `{fix[0]}` alone does it: every other default knob alone changes "
-                 f"nothing at {step(base.dt_s)} with the contact mid-step, while `{fix[0]}` set "
-                 f"to its reference value, every other default kept, gives the reference answer "
-                 f"(max relative error {num(knobs['restores'][0][1].max_rel_err)}, the "
-                 f"reference profile's {num(ref.max_rel_err)}: `defaults_knobs.csv`)")
+        facts.append(f"its `{fix[0]}` alone does it (every other default alone changes "
+                     f"nothing at {step(base.dt_s)}): put back, max relative error "
+                     f"{num(knobs['restores'][0][1].max_rel_err)}, the reference profile's "
+                     f"{num(ref.max_rel_err)} (`defaults_knobs.csv`)")
         if value is not None:
-            text += (f"; the engine does not report it, and {fix[0]} = {value:g} set explicitly "
-                     "reproduces its default solver bit for bit (a value measured, not the one "
-                     "often quoted; `tests/test_engine_defaults.py` pins it)")
+            facts.append(f"the engine does not report it: {fix[0]} = {value:g} set explicitly "
+                         "reproduces its default solver bit for bit (a value measured, not the "
+                         "one often quoted; `tests/test_engine_defaults.py` pins it)")
     elif knobs["catches"]:
         knob, r = knobs["catches"][0]
-        text += (f"; at {step(r.dt_s)}, its reference `{knob}` alone catches every impact, "
-                 f"with errors up to {pct(r.max_rel_err)} (`defaults_knobs.csv`)")
+        facts.append(f"at {step(r.dt_s)}, its reference `{knob}` alone catches every impact, "
+                     f"with errors up to {pct(r.max_rel_err)} (`defaults_knobs.csv`)")
     fam = conv[(conv.engine == e) & (conv.family == "default profile")]
     if len(fam) and math.isfinite(fam.p.iloc[0]):
-        f = fam.iloc[0]
-        text += (f". Smaller steps help little ({pct(f.err_at_dt_max)} at {step(f.dt_max_s)}, "
-                 f"{pct(f.err_at_dt_min)} at {step(f.dt_min_s)} in the speed-accuracy runs, "
-                 f"p = {f.p:.2f})")
+        facts.append("smaller steps help little: see [Speed vs accuracy](#speed-vs-accuracy)")
     dp = pareto[(pareto.engine == e) & (pareto.family == "default profile")]
     if len(dp) and (dp.n_ok == 0).all():
-        text += (f". At every step from {step(dp.dt_s.min())} to {step(dp.dt_s.max())} its "
-                 "default contact lets the ball through or fails otherwise: not one impact `ok`")
-    return text + "."
+        facts.append(f"not one impact `ok` at any step from {step(dp.dt_s.min())} to "
+                     f"{step(dp.dt_s.max())}")
+    return lead(head, facts)

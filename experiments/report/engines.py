@@ -15,7 +15,23 @@ import adapters
 from analytic import presets
 
 from ..core import judge, terms
-from .base import Results, bullets, dist, gnum, label, md_table, names, num, precision, span, step
+from .base import (
+    Results,
+    alike,
+    bullets,
+    clauses,
+    dist,
+    engines_text,
+    gnum,
+    label,
+    lead,
+    md_table,
+    names,
+    num,
+    precision,
+    span,
+    step,
+)
 from .data import need
 
 
@@ -71,45 +87,47 @@ def section(res: Results) -> str:
     phase = {swing.setting(e, "contact_phase") for e in swing.engines}
     (default,) = need(res, "default")
     mid = {default.setting(e, "contact_phase") for e in default.engines}
-    scene = (
-        f"Same scene everywhere: a capsule bat ({bat.length_m:g} m long, radius "
-        f"{bat.radius_m:g} m) whose mass ({bat.mass_kg:g} kg), COM and inertia are set (never "
-        f"derived from density), a sphere ball ({ball.mass_kg:g} kg, radius {ball.radius_m:g} m),"
-        " no gravity, no friction, motion in the x-y plane. Each adapter reads back the mass "
-        "properties its engine holds and refuses to fire if they differ. The bodies are placed "
-        "from the analytic free motion run backwards, so that the contact is seen on a step "
-        "boundary at exactly the intended point with the bat aligned (`contact_phase = "
-        f"{names(f'{p:g}' for p in sorted(phase))}`); the default profiles use `contact_phase = "
-        f"{names(f'{p:g}' for p in sorted(mid))}`, a mid-step contact as an unaligned simulation "
-        "meets it. Versions and settings as the baseline sweep recorded them "
-        f"(`{swing.stem}.json`):")
-    return "\n\n".join([scene, md_table(pd.DataFrame(rows)),
+    scene = lead("Same scene everywhere:", [
+        f"a capsule bat ({bat.length_m:g} m long, radius {bat.radius_m:g} m) whose mass "
+        f"({bat.mass_kg:g} kg), COM and inertia are set, never derived from density",
+        f"a sphere ball ({ball.mass_kg:g} kg, radius {ball.radius_m:g} m)",
+        "no gravity, no friction, motion in the x-y plane",
+        "each adapter reads back the mass properties its engine holds and refuses to fire if "
+        "they differ",
+        "the bodies are placed from the analytic free motion run backwards: the contact is seen "
+        "on a step boundary at exactly the intended point with the bat aligned (`contact_phase "
+        f"= {names(f'{p:g}' for p in sorted(phase))}`)",
+        f"the default profiles use `contact_phase = {names(f'{p:g}' for p in sorted(mid))}`, a "
+        "mid-step contact as an unaligned simulation meets it"])
+    return "\n\n".join([scene, "Versions and settings as the baseline sweep recorded them "
+                        f"(`{swing.stem}.json`):", md_table(pd.DataFrame(rows)),
                         "What each adapter had to handle (each module's docstring has the "
                         "measurements):", bullets(fixes(swing)), pinned(swing), soft(res)])
 
 
 def fixes(swing) -> list[str]:
-    """What each adapter had to handle, in its record's words; the float32 engines' tolerances."""
-    out = [f"**{label(e)}**: {text}" for e in swing.engines
-           if (text := notes(e, swing, "handled"))]
+    """What each adapter had to handle, in its record's words, a clause a line (engines with the
+    same words together); the float32 engines' tolerances."""
+    said = alike((e, text) for e in swing.engines if (text := notes(e, swing, "handled")))
+    out = [lead(f"**{engines_text(who)}**:", clauses(text)) for who, text in said]
     if any(precision(e) == "float32" for e in swing.engines):
-        out.append(
-            "The float32 engines need the harness's tolerances in their precision: the mass "
-            f"read-back ({terms.MASS_CHECK_ULPS} ulps), the energy-gain verdict "
-            f"({terms.ENERGY_GAIN_ULPS} ulps), the integrator checks. Engines with a "
-            "speculative contact declare its margin (`speculative_margin_m`): the judge then "
-            "allows the contact a whole step early, and the stability theory catches every "
-            "phase below r_ball + r_bat + margin.")
+        out += [lead("The float32 engines need the harness's tolerances in their precision:",
+                     [f"the mass read-back ({terms.MASS_CHECK_ULPS} ulps)",
+                      f"the energy-gain verdict ({terms.ENERGY_GAIN_ULPS} ulps)",
+                      "the integrator checks"]),
+                "Engines with a speculative contact declare its margin (`speculative_margin_m`): "
+                "the judge then allows the contact a whole step early, and the stability theory "
+                "catches every phase below r_ball + r_bat + margin."]
     return out
 
 
 def pinned(swing) -> str:
     """Where the engine defaults quoted come from, in each record's words."""
-    how = [text for e in swing.engines if (text := notes(e, swing, "defaults"))]
-    return ("Every engine default quoted here is in the engine's record (`engine_defaults`) and "
-            "pinned by a test (`tests/test_engine_defaults.py`): read back from a fresh engine "
-            "where it reports it, measured where it does not"
-            + (f" ({'; '.join(how)})" if how else "") + ".")
+    how = alike((e, text) for e in swing.engines if (text := notes(e, swing, "defaults")))
+    return lead("Every engine default quoted here is in the engine's record (`engine_defaults`) "
+                "and pinned by a test (`tests/test_engine_defaults.py`): read back from a fresh "
+                "engine where it reports it, measured where it does not" + (":" if how else "."),
+                [f"**{engines_text(who)}**: {text}" for who, text in how])
 
 
 def soft(res: Results) -> str:
@@ -130,16 +148,20 @@ def soft(res: Results) -> str:
             f"| {order:.2f} | {num(spread)} | {c.contact_duration_s.median() * 1e3:.1f} | "
             f"{span(softs.err_at_dt_min.min(), softs.err_at_dt_min.max())} | {gained} of "
             f"{int(np.isclose(c.e_target, 1).sum())} |")
-    return (
+    intro = lead(
         "A declared soft contact (the `soft` mode: `solref = (-w^2, -2 zeta w)`, zeta from the "
         "closed-form restitution of a spring-damper released at zero force) is calibrated by "
-        "`python -m experiments.calibrate_soft` (`results/soft_calibration.csv`): the residual "
-        "e_measured - e for e = 0.5 at each step, its order in w dt, its spread over impact "
-        f"speeds ({span(cal.v0_mps.min(), cal.v0_mps.max(), gnum)} m/s) and bat masses "
-        f"({span(cal.bat_mass_kg.min(), cal.bat_mass_kg.max(), gnum)} kg); the contact's "
-        "length; the relative error an off-centre impact keeps at the smallest step, the bat "
-        "turning during the contact (`convergence.csv`: see Speed vs accuracy); and the e = 1 "
-        "calibration impacts that gained energy.\n\n"
+        "`python -m experiments.calibrate_soft` (`results/soft_calibration.csv`). Per engine:", [
+            "the residual e_measured - e for e = 0.5 at each step, and its order in w dt",
+            f"its spread over impact speeds ({span(cal.v0_mps.min(), cal.v0_mps.max(), gnum)} "
+            f"m/s) and bat masses ({span(cal.bat_mass_kg.min(), cal.bat_mass_kg.max(), gnum)} "
+            "kg)",
+            "the contact's length",
+            "the relative error an off-centre impact keeps at the smallest step, the bat turning "
+            "during the contact (`convergence.csv`: see Speed vs accuracy)",
+            "the e = 1 calibration impacts that gained energy"])
+    return (
+        intro + "\n\n"
         "| engine | w (rad/s) | residual at dt (s) | order | spread | contact (ms) | "
         "error at the smallest step | e = 1 `energy_gained` |\n|---|---|---|---|---|---|---|---|\n"
         + "\n".join(rows))

@@ -9,7 +9,21 @@ import pandas as pd
 
 from .. import stability as study
 from ..core.judge import Status
-from .base import Results, bullets, count, dist, label, num, pct, secs, span, step
+from .base import (
+    Results,
+    alike,
+    bullets,
+    count,
+    dist,
+    engines_text,
+    label,
+    lead,
+    num,
+    pct,
+    secs,
+    span,
+    step,
+)
 from .data import need
 
 
@@ -40,19 +54,23 @@ def bound(res: Results, cells: pd.DataFrame) -> str:
     top = cells.v0_mps.max()
     ref = cells[cells["map"].isin([f"{e} reference" for e in swing.rigid])]
     same = np.isclose(ref.fraction_caught, ref.theory_fraction_caught)
-    return (
-        f"**Tunnelling bound.** A contact first seen phase x v x dt deep is resolved iff that "
-        f"is below R = r_ball + r_bat = {dist(r, 3)}; beyond, the ball's centre has crossed the "
-        "bat's axis and the ball is pushed through. So every contact is caught while "
-        f"**v_rel dt < {dist(r, 3)}** (dt <= {secs(r / pitch.v0_mps)} at {pitch.v0_mps:g} m/s, "
-        f"{secs(r / top)} at {top:g} m/s; for the paper's swing, v_rel = {v_rel:.1f} m/s at the "
-        f"COM, dt <= {secs(r / v_rel)}), and a fraction R/(v_rel dt) of them above. An engine "
-        "with a speculative contact (a contact offset, prediction distance or margin) also "
-        "solves a contact whose gap at the step's start is within its margin, so it catches "
-        "every phase while v_rel dt < R + margin (the blue dash-dot line). With the reference "
-        f"solvers the fraction of contacts caught equals this count in {pct(same.mean(), 3)} "
-        f"of the {len(ref)} cells of the {count(len(swing.rigid))} rigid-contact engines (a "
-        "test checks it: `tests/test_pareto_stability.py`).")
+    return lead(f"**Tunnelling bound: every contact is caught while v_rel dt < {dist(r, 3)}**, "
+                "R = r_ball + r_bat:", [
+                    "a contact first seen phase x v x dt deep is resolved iff that is below R; "
+                    "beyond, the ball's centre has crossed the bat's axis and the ball is pushed "
+                    "through",
+                    f"so dt <= {secs(r / pitch.v0_mps)} at {pitch.v0_mps:g} m/s, {secs(r / top)} "
+                    f"at {top:g} m/s; for the paper's swing (v_rel = {v_rel:.1f} m/s at the COM) "
+                    f"dt <= {secs(r / v_rel)}",
+                    "above it, a fraction R/(v_rel dt) of them",
+                    "an engine with a speculative contact (a contact offset, prediction distance "
+                    "or margin) also solves a contact whose gap at the step's start is within its "
+                    "margin: it catches every phase while v_rel dt < R + margin (the blue "
+                    "dash-dot line)",
+                    "with the reference solvers the fraction of contacts caught equals this count "
+                    f"in {pct(same.mean(), 3)} of the {len(ref)} cells of the "
+                    f"{count(len(swing.rigid))} rigid-contact engines (a test checks it: "
+                    "`tests/test_pareto_stability.py`)"])
 
 
 def inaccurate(table: pd.DataFrame) -> list[str]:
@@ -78,28 +96,29 @@ def compliant(res: Results, table: pd.DataFrame, cells: pd.DataFrame) -> list[st
     out = []
     for e in swing.compliant:
         contact = swing.rows(e).contact_duration_s.median()
-        text = (f"**{label(e)}** (a compliant contact, judged against its own law) has no "
-                f"tunnelling bound of this kind: its contact lasts about {secs(contact)} on the "
-                "paper's swing and is missed when a reading interval is longer than that (its "
-                "reference mode is continuous; dt only spaces the readings).")
+        facts = [f"its contact lasts about {secs(contact)} on the paper's swing and is missed "
+                 "when a reading interval is longer than that (its reference mode is "
+                 "continuous; dt only spaces the readings)"]
         for m, g in cells[cells["map"].str.startswith(f"{e} Hunt-Crossley")].groupby("map"):
             d = re.search(r"d = ([0-9.]+) s/m", m)
             full = g.groupby("dt_s").fraction_ok.min()
             clean = full[full == 1].index
             last = max((dt for dt in clean if (full[full.index <= dt] == 1).all()), default=None)
-            text += (f" Its Hunt-Crossley map ({m.split('(', 1)[-1].rstrip(')')}; judged against "
-                     "the law) draws the law's own limits: "
-                     + (f"the rebound speed cannot exceed 1/d = {1 / float(d.group(1)):.0f} m/s "
-                        "however fast the ball comes in (e < 1/(d v), drake#19320), " if d else "")
-                     + "and a step longer than the contact time t_c(v) misses the contact"
-                     + (f"; every phase is ok up to dt = {step(last)}" if last else "")
-                     + ", and rows with fewer than ten steps per contact are `unjudged`.")
-        out.append(text)
+            facts.append(lead(
+                f"its Hunt-Crossley map ({m.split('(', 1)[-1].rstrip(')')}; judged against the "
+                "law) draws the law's own limits:", [
+                    f"the rebound speed cannot exceed 1/d = {1 / float(d.group(1)):.0f} m/s "
+                    "however fast the ball comes in (e < 1/(d v), drake#19320)" if d else "",
+                    "a step longer than the contact time t_c(v) misses the contact",
+                    f"every phase is ok up to dt = {step(last)}" if last else "",
+                    "rows with fewer than ten steps per contact are `unjudged`"]))
+        out.append(lead(f"**{label(e)}** (a compliant contact, judged against its own law) has "
+                        "no tunnelling bound of this kind:", facts))
     return out
 
 
 def defaults(table: pd.DataFrame, cells: pd.DataFrame) -> list[str]:
-    out = []
+    out, through = [], []
     for m, g in table[table.profile == "default"].groupby("map", sort=False):
         e, n = g.engine.iloc[0], len(g)
         counts = g.status.value_counts()
@@ -107,36 +126,40 @@ def defaults(table: pd.DataFrame, cells: pd.DataFrame) -> list[str]:
         if len(gained) > n / 10:
             letters = cells[cells["map"] == m].failure
             rise = gained.ke_ratio - 1
-            out.append(
-                f"**{label(e)}'s default solver** gains energy at e = 1 in {len(gained)} of its "
-                f"{n} impacts (the most common failure in {int((letters == 'E').sum())} of its "
-                f"{len(letters)} cells; {pct(rise.min())} to {pct(rise.max())}, median "
-                f"{pct(rise.median())}): its contact error reduction turns the overlap at "
-                "first contact into velocity.")
+            out.append(lead(
+                f"**{label(e)}'s default solver gains energy at e = 1** in {len(gained)} of its "
+                f"{n} impacts:", [
+                    f"the most common failure in {int((letters == 'E').sum())} of its "
+                    f"{len(letters)} cells",
+                    f"energy gained: {pct(rise.min())} to {pct(rise.max())}, median "
+                    f"{pct(rise.median())}",
+                    "its contact error reduction turns the overlap at first contact into "
+                    "velocity"]))
         elif counts.get(Status.OK, 0) == 0:
-            out.append(
-                f"**{label(e)}'s default contact** lets the ball through at every step and "
-                f"speed ({counts.get(Status.TUNNELLED, 0)} impacts) or holds it past "
-                f"{secs(study.BUDGET_S)} ({counts.get(Status.NO_SEPARATION, 0)}; reported "
-                "`no_separation`).")
+            through.append((e, f"{counts.get(Status.TUNNELLED, 0)} of {n} impacts tunnelled\n"
+                               f"{counts.get(Status.NO_SEPARATION, 0)} held past "
+                               f"{secs(study.BUDGET_S)} (reported `no_separation`)"))
+    for who, text in alike(through):
+        out.append(lead("**The default contact lets the ball through at every step and speed** "
+                        f"in {engines_text(who)}" + (", each" if len(who) > 1 else "") + ":",
+                        text.split("\n")))
     return out
 
 
 def soft(table: pd.DataFrame) -> list[str]:
-    out = []
+    said = []
     for _, g in table[table["map"].str.endswith(" soft")].groupby("map", sort=False):
-        e = g.engine.iloc[0]
         ok = g[g.status == Status.OK]
         wdt = ok.soft_omega_radps * ok.dt_s
         sink = study.SOFT_SPEED_MPS / study.REACH_M
         inside = bool((ok.soft_omega_radps > sink).all() and (wdt < 2).all())
-        out.append(
-            f"**{label(e)}'s soft contact** (e = {study.SOFT_E:g}, "
-            f"{study.SOFT_SPEED_MPS:g} m/s): the ball sinks through when w < v/R = "
-            f"{sink:.0f} rad/s (the spring's depth v/w exceeds R) and Euler is unstable when "
-            "w dt > 2 (energy gain, then pass-through); "
-            + ("every `ok` impact lies between these lines (w from "
-               f"{num(ok.soft_omega_radps.min())} rad/s, w dt up to {num(wdt.max())})"
-               if inside and len(ok) else
-               f"{len(ok)} impacts are `ok`") + ".")
-    return out
+        said.append((g.engine.iloc[0], "\n".join([
+            f"the ball sinks through when w < v/R = {sink:.0f} rad/s (the spring's depth v/w "
+            "exceeds R)",
+            "Euler is unstable when w dt > 2 (energy gain, then pass-through)",
+            f"every `ok` impact lies between these lines: w from "
+            f"{num(ok.soft_omega_radps.min())} rad/s, w dt up to {num(wdt.max())}"
+            if inside and len(ok) else f"{len(ok)} impacts are `ok`"])))
+    return [lead(f"**{engines_text(who)}: soft contact{'s' if len(who) > 1 else ''}** "
+                 f"(e = {study.SOFT_E:g}, {study.SOFT_SPEED_MPS:g} m/s):", text.split("\n"))
+            for who, text in alike(said)]

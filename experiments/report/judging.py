@@ -4,18 +4,20 @@ from __future__ import annotations
 
 from ..core import terms
 from ..core.judge import Status
-from .base import Results
+from .base import Results, lead
 
 
 def section(res: Results) -> str:
     """The statuses, then every tolerance term with its value and reason (``core.terms``)."""
     rows = "\n".join(f"| `{name}` | {value:g} | {why} |" for name, value, why in terms.table())
-    return (
-        "A row is `ok` only when the engine's impact is sound and matches the answer that "
-        "applies within its tolerance: rigid-body theory for a rigid contact, the engine's own "
-        "contact law for a soft one, the one-step frictional law with friction, the linear "
-        "chain for a segmented bat. The tolerance is built from the engine's error model (its "
-        "float precision, its contact's declared biases: `adapters/errors.py`) and the terms "
-        f"below; one function turns it into the status (`judge.verdict`). Statuses: "
-        f"{', '.join(f'`{s.value}`' for s in Status)}.\n\n"
-        "| term | value | why |\n|---|---|---|\n" + rows)
+    return "\n\n".join([
+        lead("A row is `ok` only when the engine's impact is sound and matches, within its "
+             "tolerance, the answer that applies:",
+             ["rigid-body theory for a rigid contact", "the engine's own contact law for a "
+              "soft one", "the one-step frictional law with friction", "the linear chain for a "
+              "segmented bat"]),
+        "The tolerance is built from the engine's error model (its float precision, its "
+        "contact's declared biases: `adapters/errors.py`) and the terms below; one function "
+        "turns it into the status (`judge.verdict`).",
+        f"Statuses: {', '.join(f'`{s.value}`' for s in Status)}.",
+        "| term | value | why |\n|---|---|---|\n" + rows])

@@ -7,7 +7,19 @@ import re
 import numpy as np
 import pandas as pd
 
-from .base import Results, engines_text, label, names, pct, sci, span, step, times
+from .base import (
+    Results,
+    alike,
+    engines_text,
+    label,
+    lead,
+    names,
+    pct,
+    sci,
+    span,
+    step,
+    times,
+)
 from .data import need
 
 ALIGNED = "reference profile (aligned)"
@@ -17,7 +29,7 @@ DEFAULT = "default profile"
 def knob_points(res: Results) -> list[str]:
     table = res.csv("pareto.csv")
     conv = res.csv("convergence.csv")
-    return [iterations(table, conv, res.csv("defaults_knobs.csv")), *soft(res, table, conv),
+    return [*iterations(table, conv, res.csv("defaults_knobs.csv")), *soft(res, table, conv),
             integrator_fails(table), out_of_the_box(res, table)]
 
 
@@ -26,7 +38,8 @@ def _errs(table: pd.DataFrame, engine: str, family: str) -> pd.Series:
     return d.set_index("dt_s").max_rel_err
 
 
-def iterations(table: pd.DataFrame, conv: pd.DataFrame, knobs: pd.DataFrame) -> str:
+def iterations(table: pd.DataFrame, conv: pd.DataFrame, knobs: pd.DataFrame) -> list[str]:
+    """Iteration counts that change nothing; default solver values that cost at every step."""
     same = []
     for e, g in table[table.family.str.contains("iteration")].groupby("engine", sort=False):
         fams = list(g.family.unique())
@@ -34,21 +47,22 @@ def iterations(table: pd.DataFrame, conv: pd.DataFrame, knobs: pd.DataFrame) -> 
         if len(fams) > 1 and all(np.allclose(x, errs[0], equal_nan=True) for x in errs):
             counts = [m.group(0) for f in fams if (m := re.search(r"\d+", f))]
             same.append(f"{label(e)} {' = '.join(counts)}")
-    text = ("**Solver iterations do nothing** for one frictionless contact ("
-            + "; ".join(same) + ": identical errors at every step)." if same else "")
+    out = [lead("**Solver iterations do nothing** for one frictionless contact (identical "
+                "errors at every step):", same)] if same else []
     for r in conv[conv.family == DEFAULT].itertuples():
         base = conv[(conv.engine == r.engine) & (conv.family != DEFAULT)]
         if len(base) and r.err_at_dt_min > 100 * base.err_at_dt_min.min():
             lo, hi = sorted((r.err_at_dt_min, r.err_at_dt_max))
-            text += (f" **{label(r.engine)}'s default solver values** cost "
-                     f"{span(100 * lo, 100 * hi)}% at every step ({pct(r.err_at_dt_max)} at "
-                     f"{step(r.dt_max_s)}, {pct(r.err_at_dt_min)} at {step(r.dt_min_s)}; "
-                     f"p = {r.p:.2f}){_culprit(knobs, r.engine)}.")
-    return text
+            out.append(lead(
+                f"**{label(r.engine)}'s default solver values** cost {span(100 * lo, 100 * hi)}% "
+                "at every step:",
+                [f"{pct(r.err_at_dt_max)} at {step(r.dt_max_s)}, {pct(r.err_at_dt_min)} at "
+                 f"{step(r.dt_min_s)} (p = {r.p:.2f})", _culprit(knobs, r.engine)]))
+    return out
 
 
 def _culprit(knobs: pd.DataFrame, engine: str) -> str:
-    """', all of it from K' where the default with K alone put back errs like the reference."""
+    """'all of it from K' where the default with K alone put back errs like the reference."""
     k = knobs[knobs.engine == engine]
     ref = k[k.change == "reference profile"].max_rel_err
     if ref.empty:
@@ -57,9 +71,9 @@ def _culprit(knobs: pd.DataFrame, engine: str) -> str:
             if c.startswith("default, ") and err <= 1.1 * ref.iloc[0]]
     if not back:
         return ""
-    return (f", all of it from its {names((f'`{b}`' for b in back), 'or')} (put back alone, "
-            f"{'it gives' if len(back) == 1 else 'each gives'} the reference profile's error: "
-            "`defaults_knobs.csv`)")
+    return (f"all of it from its {names((f'`{b}`' for b in back), 'or')}: put back alone, "
+            f"{'it gives' if len(back) == 1 else 'each gives'} the reference profile's error "
+            "(`defaults_knobs.csv`)")
 
 
 def _soft(conv: pd.DataFrame, engine: str) -> pd.DataFrame:
@@ -70,9 +84,10 @@ def _soft(conv: pd.DataFrame, engine: str) -> pd.DataFrame:
 
 
 def soft(res: Results, table: pd.DataFrame, conv: pd.DataFrame) -> list[str]:
-    """What every soft contact does (said once, ``SOFT_LEAD``), then each engine's numbers."""
+    """What every soft contact does (said once, ``SOFT_LEAD``), then each engine's numbers
+    (engines with the same numbers together)."""
     (swing,) = need(res, "swing")
-    out = []
+    said = []
     for e in swing.rigid:
         c = _soft(conv, e)
         if c.empty:
@@ -83,55 +98,61 @@ def soft(res: Results, table: pd.DataFrame, conv: pd.DataFrame) -> list[str]:
         wall["w"] = wall.family.str.extract(r"w=(\d+)")[0]
         piv = wall.pivot_table(index=["dt_s", "w"], columns="integrator", dropna=False,
                                values=["wall_per_collision_s", "max_rel_err"])
-        text = (f"**{label(e)}'s soft contact**: against rigid theory it leaves "
-                f"{span(c.err_at_dt_min.min(), c.err_at_dt_min.max())} at the smallest step "
-                f"(fitted p {span(c.p.min(), c.p.max(), lambda v: f'{v:.2f}', ' to ')}; "
-                + (names(f"{r.family} fits a power law well, r^2 = {r.r2:.2f}, and it too levels "
-                         f"off near {sci(r.err_at_dt_min, 1)}" for r in fit.itertuples())
-                   if len(fit) else "none fits a power law well") + "). "
-                + _integrators(piv["wall_per_collision_s"], piv["max_rel_err"]))
-        out.append(text.rstrip() + " " + own_law(c))
+        facts = [f"against rigid theory it leaves "
+                 f"{span(c.err_at_dt_min.min(), c.err_at_dt_min.max())} at the smallest step "
+                 f"(fitted p {span(c.p.min(), c.p.max(), lambda v: f'{v:.2f}', ' to ')}; "
+                 + (names(f"{r.family} fits a power law well, r^2 = {r.r2:.2f}, and it too "
+                          f"levels off near {sci(r.err_at_dt_min, 1)}" for r in fit.itertuples())
+                    if len(fit) else "none fits a power law well") + ")",
+                 *_integrators(piv["wall_per_collision_s"], piv["max_rel_err"]), *own_law(c)]
+        said.append((e, "\n".join(facts)))
+    out = [lead(f"**{names(f'{label(e)}' for e in who)}: soft contact"
+                + ("s**:" if len(who) > 1 else "**:"), text.split("\n"))
+           for who, text in alike(said)]
     return [SOFT_LEAD, *out] if out else out
 
 
 #: What every soft contact of the MuJoCo family does, said once before each engine's numbers.
-SOFT_LEAD = (
-    "**A soft contact does not converge to the impulse model, but to its own law**: a "
-    "spring-damper in contact space, m_eff (w^2 x + 2 zeta w x') with m_eff at the current "
-    "contact point (`ErrorModel.contact_law`, `analytic.compliant.ContactSpaceSpringDamper`); "
-    "its finite contact time while the bat turns is a model error no step removes, and its v1 "
-    "approaches its law at about first order (a test checks the order for every soft contact "
-    "an engine declares: `tests/test_adapters_semantics.py::test_soft_contact_converges_to_its"
-    "_own_law`). The chart draws each soft setting twice: a dot against rigid theory, a hollow "
-    "diamond against its own law (`max_law_rel_err` in `results/pareto.csv`; fitted orders "
-    "`p_law` in `results/convergence.csv`).")
+SOFT_LEAD = lead(
+    "**A soft contact does not converge to the impulse model, but to its own law**:", [
+        "a spring-damper in contact space, m_eff (w^2 x + 2 zeta w x') with m_eff at the "
+        "current contact point (`ErrorModel.contact_law`, "
+        "`analytic.compliant.ContactSpaceSpringDamper`)",
+        "its finite contact time while the bat turns is a model error no step removes",
+        "its v1 approaches its law at about first order (a test checks the order for every "
+        "soft contact an engine declares: "
+        "`tests/test_adapters_semantics.py::test_soft_contact_converges_to_its_own_law`)",
+        "the chart draws each soft setting twice: a dot against rigid theory, a hollow diamond "
+        "against its own law (`max_law_rel_err` in `results/pareto.csv`; fitted orders `p_law` "
+        "in `results/convergence.csv`)"])
 
 
-def _integrators(t: pd.DataFrame, err: pd.DataFrame) -> str:
+def _integrators(t: pd.DataFrame, err: pd.DataFrame) -> list[str]:
     """RK4's and implicitfast's cost and error beside Euler's, where the engine ran them."""
     if not {"RK4", "Euler", "implicitfast"} <= set(t.columns):
-        return ""
+        return []
     cost = (t["RK4"] / t["Euler"]).median()
     worse = int((err["RK4"] > err["Euler"]).sum())
     both = int(err[["RK4", "Euler"]].notna().all(axis=1).sum())
     same = np.allclose(err["implicitfast"], err["Euler"], equal_nan=True)
     implicit = (t["implicitfast"] / t["Euler"]).median()
-    return (f"RK4 costs {times(cost, 1)} Euler and its max error is the larger at {worse} of "
-            f"{both} settings; implicitfast gives {'Euler' if same else 'about Euler'}'s "
-            f"numbers at {times(implicit, 1)} its cost.")
+    return [f"RK4 costs {times(cost, 1)} Euler and its max error is the larger at {worse} of "
+            f"{both} settings",
+            f"implicitfast gives {'Euler' if same else 'about Euler'}'s numbers at "
+            f"{times(implicit, 1)} its cost"]
 
 
-def own_law(c: pd.DataFrame) -> str:
+def own_law(c: pd.DataFrame) -> list[str]:
     """The fitted orders against its own law (``p_law``): at the middle stiffness, then the
     others."""
     mid = c[c.w == c.w.median()]
     rest = c[c.w != c.w.median()]
     at = names(f"{r.p_law:.2f} for {r.integrator}" for r in mid.itertuples())
-    return (f"Against its own law: order {at} at w = {mid.w.iloc[0]:g} rad/s"
-            + (f"; {span(rest.p_law.min(), rest.p_law.max(), lambda v: f'{v:.2f}')} at w = "
-               f"{names(f'{w:g}' for w in sorted(rest.w.unique()))} rad/s, where the grid's "
-               "deepest contacts approach the sinking limit w = v/R or the step w dt = 0.1"
-               if len(rest) else "") + ".")
+    return [f"against its own law: order {at} at w = {mid.w.iloc[0]:g} rad/s",
+            f"orders {span(rest.p_law.min(), rest.p_law.max(), lambda v: f'{v:.2f}')} at w = "
+            f"{names(f'{w:g}' for w in sorted(rest.w.unique()))} rad/s, where the grid's "
+            "deepest contacts approach the sinking limit w = v/R or the step w dt = 0.1"
+            if len(rest) else ""]
 
 
 def integrator_fails(table: pd.DataFrame) -> str:
@@ -143,9 +164,9 @@ def integrator_fails(table: pd.DataFrame) -> str:
                       if c.startswith("n_") and g[c].sum()}
             why = ("; an impulse mapping assumes one explicit step"
                    if "impulse" in fam and "RK4" in fam else "")
-            out.append(f"{label(e)}'s {fam} fails at every step ("
-                       + ", ".join(f"{k} {v}" for k, v in counts.items()) + why + ")")
-    return "**Some settings fail at every step**: " + "; ".join(out) + "." if out else ""
+            out.append(f"{label(e)}'s {fam}: "
+                       + ", ".join(f"{k} {v}" for k, v in counts.items()) + why)
+    return lead("**Some settings fail at every step**:", out) if out else ""
 
 
 def out_of_the_box(res: Results, table: pd.DataFrame) -> str:
@@ -162,15 +183,14 @@ def out_of_the_box(res: Results, table: pd.DataFrame) -> str:
     lost = rigid[rigid.n_ok == 0]
     steps = names(step(d) for d in sorted(set(own.dt_s)))
     every = "every" if len(lost) == len(rigid) else "nearly every"
-    text = (f"**Out of the box** ({steps}) with the contact mid-step {every} rigid-contact "
-            f"engine fails ({engines_text(lost.engine)} catch none); with random contact "
-            "instants see the baseline sweeps: "
-            + names(f"{pct(r.fraction_ok, 3)} caught by {label(r.engine)}"
-                    for r in caught[caught.engine.isin(swing.rigid)].itertuples()) + ".")
+    facts = [f"{engines_text(lost.engine)} catch none",
+             "with random contact instants: see [the baseline "
+             "sweeps](#baseline-sweeps-and-what-they-show)"]
     for r in own[own.engine.isin(swing.compliant)].itertuples():
         missed = r.n_tunnelled + r.n_non_finite
-        text += (f" {label(r.engine)}'s {step(r.dt_s)} default misses "
-                 f"{'nothing' if missed == 0 else f'{missed} of {r.impacts}'} but is "
-                 f"{pct(r.max_rel_err)} from rigid theory and too coarse for its own law (fewer "
-                 "than ten steps per contact: `unjudged`).")
-    return text
+        facts.append(f"{label(r.engine)}'s {step(r.dt_s)} default misses "
+                     f"{'nothing' if missed == 0 else f'{missed} of {r.impacts}'} but is "
+                     f"{pct(r.max_rel_err)} from rigid theory and too coarse for its own law "
+                     "(fewer than ten steps per contact: `unjudged`)")
+    return lead(f"**Out of the box** ({steps}), with the contact mid-step, {every} "
+                "rigid-contact engine fails:", facts)

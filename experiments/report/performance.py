@@ -11,6 +11,7 @@ from .base import (
     Results,
     engines_text,
     label,
+    lead,
     md_table,
     names,
     num,
@@ -58,12 +59,14 @@ def batches(res: Results) -> str:
             f"(harness {num(r.harness_us_per_impact, 2)} us, bare engine "
             f"{num(r.bare_us_per_impact, 2)} us an impact; error {num(r.max_abs_err_mps)} m/s)"
             for r in best.sort_values("impacts_per_s", ascending=False).itertuples()]
-    return (f"{res.chart('bench_batches.png', 'impacts per second against batch size')}\n\n"
-            "**Batches.** Fired in batches of growing size (a batched engine's worlds in one "
-            "call; a single-world engine's on as many of its adapters as the run repays, stepped "
-            "in turn and judged together) and every impact judged, each engine's best "
-            f"(`results/bench_batches.csv`): {'; '.join(each)}. The harness's share is the wall "
-            "time less the time inside the engine's calls, reads included.")
+    return "\n\n".join([
+        res.chart("bench_batches.png", "impacts per second against batch size"),
+        lead("**Batches.** Fired in batches of growing size and every impact judged, each "
+             "engine's best (`results/bench_batches.csv`; its cost alone: its "
+             "[page](engines.md)):", each),
+        "A batched engine fires its worlds in one call; a single-world engine fires on as many "
+        "of its adapters as the run repays, stepped in turn and judged together. The harness's "
+        "share is the wall time less the time inside the engine's calls, reads included."])
 
 
 def twins(res: Results) -> str:
@@ -73,12 +76,12 @@ def twins(res: Results) -> str:
     for (engine, twin), g in res.csv("twins.csv").groupby(["engine", "twin"], sort=False):
         ref = g[g.step.str.startswith("each at its reference")].max_abs_diff_mps
         rest = g.max_abs_diff_mps.drop(ref.index)
-        each.append(f"{label(engine)} against {label(twin)} {num(ref.max())} m/s at their "
+        each.append(f"{label(engine)} against {label(twin)}: {num(ref.max())} m/s at their "
                     f"reference profiles, {num(rest.min())}-{num(rest.max())} m/s over "
                     f"{len(rest)} matched set-ups")
-    return ("**Twins.** The ports of one engine fired on the same grid, the largest difference "
-            f"of v1 between them (`results/twins.csv`, `python -m experiments.twins`): "
-            f"{'; '.join(each)}.")
+    return lead("**Twins.** The ports of one engine fired on the same grid, the largest "
+                "difference of v1 between them (`results/twins.csv`, `python -m "
+                "experiments.twins`):", each)
 
 
 def steps(res: Results, bench: pd.DataFrame) -> str:
@@ -110,24 +113,28 @@ def steps(res: Results, bench: pd.DataFrame) -> str:
     text.append("Per bare step the rigid-contact engines rank "
                 + names(f"{label(r.engine)} ({num(r.bare_per_step_us)} us)"
                         for r in rigid.itertuples()) + ".")
-    return " ".join(text)
+    return "\n\n".join(text)
 
 
 def overhead(bench: pd.DataFrame) -> str:
     low = bench.loc[bench.simulate_overhead_us.idxmin()]
     top = bench.loc[bench.simulate_overhead_us.idxmax()]
-    return (
-        "The overhead of `simulate()` over the bare steps is placing the bodies, reading them "
-        "back on the steps around the contact, the geometry of each reading, classifying and "
-        "building the outcome record, and deciding that the episode is over (the bound of "
-        "`analytic.collide.separates_for_good` on the state after separation); it varies with "
-        "how fast the engine's own Python API sets and reads a state, from "
-        f"{num(low.simulate_overhead_us)} us in {label(low.engine)} to "
-        f"{num(top.simulate_overhead_us)} us in {label(top.engine)} among the rigid-contact "
-        "engines. Firing through the runner and building the table add the rest, much of it "
-        "the judge: each row's rigid episode (`collide`, cached across settings) and its "
-        "tolerance (one vectorized prediction per bat for every row). The machine's speed "
-        "drifts between runs, so read the columns as ratios within one run.")
+    return "\n\n".join([
+        lead("The overhead of `simulate()` over the bare steps:", [
+            "placing the bodies, reading them back on the steps around the contact, the "
+            "geometry of each reading",
+            "classifying and building the outcome record",
+            "deciding that the episode is over (the bound of "
+            "`analytic.collide.separates_for_good` on the state after separation)",
+            "it varies with how fast the engine's own Python API sets and reads a state: from "
+            f"{num(low.simulate_overhead_us)} us in {label(low.engine)} to "
+            f"{num(top.simulate_overhead_us)} us in {label(top.engine)} among the rigid-contact "
+            "engines"]),
+        "Firing through the runner and building the table add the rest, much of it the judge: "
+        "each row's rigid episode (`collide`, cached across settings) and its tolerance (one "
+        "vectorized prediction per bat for every row).",
+        "The machine's speed drifts between runs, so read the columns as ratios within one "
+        "run."])
 
 
 def _points(run: dict) -> int:
@@ -166,21 +173,22 @@ def runners(res: Results, meta: dict) -> str:
         "The runners, each warmed (workers started, engines imported) and taking turns so that "
         "the machine's drift hits all alike, on one sweep (fire, locate, chart, write); medians, "
         "with the range over the repeats:", md_table(pd.DataFrame(rows)),
-        "The first impact of a run is fired in the calling process and times the rest: below "
-        f"{MIN_PARALLEL_S:g} s of work nothing is shipped (so a sweep whose first impact is "
-        f"cheap stays serial whatever `--workers` says: {times(cheap['speedup_workers2'])} "
-        "here), above it the impacts go out in chunks of about "
-        f"{secs(CHUNK_S)}, and the sweet-spot and COP searches run side by side while this "
-        "process draws the chart. The Dask workers share the GIL with their event loop and "
-        f"heartbeats. In the same run two processes ran a pure-Python loop "
-        f"{times(meta['two_process_ceiling'])} as fast as one, which bounds every parallel "
-        "figure above."])
+        lead("The first impact of a run is fired in the calling process and times the rest:", [
+            f"below {MIN_PARALLEL_S:g} s of work nothing is shipped: a sweep whose first impact "
+            f"is cheap stays serial whatever `--workers` says ({times(cheap['speedup_workers2'])}"
+            " here)",
+            f"above it the impacts go out in chunks of about {secs(CHUNK_S)}",
+            "the sweet-spot and COP searches run side by side while this process draws the "
+            "chart"]),
+        "The Dask workers share the GIL with their event loop and heartbeats. In the same run "
+        f"two processes ran a pure-Python loop {times(meta['two_process_ceiling'])} as fast as "
+        "one, which bounds every parallel figure above."])
 
 
 def analytic(res: Results, meta: dict) -> str:
     a = res.json("bench_analytic.json")
     return (f"`python -m experiments.sweep --engine all` on 41 points takes "
-            f"{meta['sweep_41_s']:.1f} s including start-up (every engine imported). "
+            f"{meta['sweep_41_s']:.1f} s including start-up (every engine imported).\n\n"
             f"`python -m experiments.bench_analytic`: the vectorized analytic v1 runs "
             f"{sci(a['points'], 1)} points in {secs(a['median_s'], 3)} (median of {a['repeats']}; "
             f"{sci(a['impacts_per_s'])} impacts/s).")
