@@ -27,14 +27,15 @@ from .impact import (
     sweet_zone,
 )
 from .impulse3d import Impulse3D, RigidBody3D, impulse_3d
-from .model import Ball, Bat, ImpactCase, Outcome
+from .model import WOOD_DENSITY_KGM3, Ball, Bat, ImpactCase, Outcome
 from .swing import MEASURED_EXPONENT, Swing, SwingModel, swing_for
 
 __all__ = [
     "COR_DATA", "REALISTIC_BALL", "Ball", "Bat", "CollisionEpisode", "CorLaw", "CorPoint",
     "FrictionOutcome", "FrictionalImpulse", "Hole", "ImpactCase", "Impulse3D",
     "MEASURED_EXPONENT", "Outcome", "PaperOblique", "RealisticBall", "RigidBody3D",
-    "SweetRegion", "Swing", "SwingModel", "batted_ball_speed", "center_of_percussion", "collide",
+    "SweetRegion", "Swing", "SwingModel", "WOOD_DENSITY_KGM3", "batted_ball_speed",
+    "center_of_percussion", "collide",
     "collision_efficiency", "corked_bat", "corked_bat_paper", "episode_sweet_spot", "fit_cor_law",
     "frictional_impulse", "gradients",
     "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays", "predict_friction",

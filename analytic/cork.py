@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass, replace
 
 from . import checks
-from .model import Bat
+from .model import WOOD_DENSITY_KGM3, Bat
 
 #: Any fill, from none (hollow) to the densest element, osmium at 22.59 g/cm^3 (CRC Handbook
 #: of Chemistry and Physics): past it a "fill" is no material.
@@ -76,7 +76,7 @@ def corked_bat(
     hole_radius_m: float = 0.0127,
     hole_depth_m: float = 0.254,
     fill_density_kgm3: float = 200.0,
-    wood_density_kgm3: float = 640.0,
+    wood_density_kgm3: float = WOOD_DENSITY_KGM3,
 ) -> Bat:
     """The bat with its barrel end drilled and filled, exact.
 
@@ -85,7 +85,7 @@ def corked_bat(
         J'    = J + M (x_cm - x'_cm)^2 + dM (r^2/4 + h^2/12 + (x_c - x'_cm)^2)
     i.e. the old bat and the (signed) cylinder, each moved to the NEW COM by parallel axes; the
     cylinder's own transverse moment per unit mass is r^2/4 + h^2/12. Defaults: a 1 in x 10 in
-    hole filled with cork (200 kg/m^3) in wood of 640 kg/m^3 (ash/maple, roughly).
+    hole filled with cork (200 kg/m^3) in the R161's wood (``WOOD_DENSITY_KGM3``, 584 kg/m^3).
     """
     h = _hole(bat, hole_radius_m, hole_depth_m, fill_density_kgm3, wood_density_kgm3)
     dM = h.dmass_kg
@@ -110,7 +110,7 @@ def corked_bat_paper(
     hole_radius_m: float = 0.0127,
     hole_depth_m: float = 0.254,
     fill_density_kgm3: float = 200.0,
-    wood_density_kgm3: float = 640.0,
+    wood_density_kgm3: float = WOOD_DENSITY_KGM3,
 ) -> Bat:
     """The paper's corked bat (its eqs. 7.1.1-7.1.4), kept for the audit.
 

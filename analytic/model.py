@@ -14,6 +14,13 @@ from dataclasses import dataclass
 
 from . import checks
 
+#: The bat's wood (kg/m^3), one value for every model of the R161: the density at which its
+#: fitted profile (``beam.r161_profile``: knob, handle, flared taper, 2.5 in barrel) has the
+#: R161's mass, balance point and J_cm. Inside white ash's specific gravity, 0.55-0.67 (USDA
+#: Wood Handbook, FPL-GTR-190, 2010, ch. 5). The cork model drills its hole
+#: in this wood; tests re-derive it from the fit.
+WOOD_DENSITY_KGM3 = 584.4235903446794
+
 #: The largest coefficient of friction accepted: beyond a few, every impact grips.
 MAX_MU = 10.0
 #: The largest speed (m/s) of a ball or a bat's COM, and spin (rad/s) of a bat, accepted: three
@@ -102,7 +109,7 @@ class Bat:
         hole_radius_m: float = 0.0127,
         hole_depth_m: float = 0.254,
         fill_density_kgm3: float = 200.0,
-        wood_density_kgm3: float = 640.0,
+        wood_density_kgm3: float = WOOD_DENSITY_KGM3,
     ) -> Bat:
         """This bat with a hole drilled from the barrel end and filled (exact: analytic.cork)."""
         from .cork import corked_bat

@@ -25,6 +25,7 @@ import adapters
 from analytic import Bat, compliant, predict, presets
 from analytic.ball import LAWS
 from analytic.dynamics import HingedSwing
+from analytic.model import WOOD_DENSITY_KGM3
 
 from .core import carry, cli, estimate, judge, runs, tables
 from .core.estimate import duration
@@ -71,7 +72,8 @@ def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked
 
 
 HOLE = {"hole_radius": ("hole_radius_m", 0.0127), "hole_depth": ("hole_depth_m", 0.254),
-        "fill_density": ("fill_density_kgm3", 200.0), "wood_density": ("wood_density_kgm3", 640.0)}
+        "fill_density": ("fill_density_kgm3", 200.0),
+        "wood_density": ("wood_density_kgm3", WOOD_DENSITY_KGM3)}
 
 
 def sweep_from_args(args: argparse.Namespace) -> Sweep:

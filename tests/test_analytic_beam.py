@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from analytic import beam, presets
+from analytic import WOOD_DENSITY_KGM3, beam, presets
 from analytic.ball import REALISTIC_BALL
 from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact, compliant_reference, impulse_reference
@@ -44,6 +44,15 @@ def test_r161_profile_holds_the_bats_mass_properties(r161):
     assert got["mass_kg"] == pytest.approx(presets.R161.mass_kg, rel=1e-10)
     assert got["com_from_knob_m"] == pytest.approx(presets.R161.com_from_knob_m, rel=1e-10)
     assert got["inertia_cm_kgm2"] == pytest.approx(presets.R161.inertia_cm_kgm2, rel=1e-10)
+
+
+def test_one_wood_density_for_every_model_of_the_r161(r161):
+    # the cork model's default wood is the density at which the beam's profile has the R161's
+    # M, x_cm and J_cm (the fit's residual is 1e-10, so the density agrees to about that)
+    assert r161[1].density_kgpm3 == pytest.approx(WOOD_DENSITY_KGM3, rel=1e-9)
+    drilled = presets.R161.corked()  # 1 x 10 in of cork, 200 kg/m^3
+    removed = (WOOD_DENSITY_KGM3 - 200.0) * math.pi * 0.0127**2 * 0.254
+    assert presets.R161.mass_kg - drilled.mass_kg == pytest.approx(removed, rel=1e-12)
 
 
 @pytest.mark.parametrize("shear", [False, True])

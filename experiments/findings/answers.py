@@ -20,6 +20,7 @@ from scipy import optimize
 import adapters
 from analytic import (
     MEASURED_EXPONENT,
+    WOOD_DENSITY_KGM3,
     Bat,
     ImpactCase,
     Swing,
@@ -177,13 +178,13 @@ def sweet_spot_table() -> pd.DataFrame:
 # -- 2. corked bats ------------------------------------------------------------------------------
 
 def corked_bats() -> dict[tuple[str, int], tuple[Bat, Bat]]:
-    """(fill, depth in inches) -> (exact corked R161, the paper's), 1 in holes in 640 kg/m^3
-    wood."""
+    """(fill, depth in inches) -> (exact corked R161, the paper's), 1 in holes in the R161's
+    wood (``WOOD_DENSITY_KGM3``)."""
     out = {}
     for fill, rho in FILLS.items():
         for depth in DEPTHS_IN:
             kw = dict(hole_radius_m=0.5 * IN, hole_depth_m=depth * IN, fill_density_kgm3=rho,
-                      wood_density_kgm3=640.0)
+                      wood_density_kgm3=WOOD_DENSITY_KGM3)
             out[(fill, depth)] = (R161.corked(**kw), corked_bat_paper(R161, **kw))
     return out
 

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from analytic import MEASURED_EXPONENT, center_of_percussion
+from analytic import MEASURED_EXPONENT, WOOD_DENSITY_KGM3, center_of_percussion
 
 from . import answers as A
 from .located import sweet_engines_text
@@ -138,8 +138,10 @@ def _cork_bats_text(verdicts: pd.DataFrame) -> str:
     return f"""## 2. Does corking help?
 
 A 1 in (25.4 mm) hole 6, 8 or 10 in deep drilled into the barrel end and filled with cork
-(200 kg/m^3), rubber (1100 kg/m^3) or left hollow, in wood of 640 kg/m^3 (`analytic.corked_bat`:
-the hole's own r^2/4 + h^2/12 and parallel axes about the new COM):
+(200 kg/m^3), rubber (1100 kg/m^3) or left hollow, in the R161's wood,
+{WOOD_DENSITY_KGM3:.0f} kg/m^3 (the density at which its beam profile has its mass, balance and
+J_cm, section 3c; `analytic.corked_bat`: the hole's own r^2/4 + h^2/12 and parallel axes
+about the new COM):
 
 {md_table(A.cork_properties(), "{:.4g}")}
 

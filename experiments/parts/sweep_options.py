@@ -11,7 +11,13 @@ from pathlib import Path
 import adapters
 from analytic import presets
 from analytic.ball import LAWS
-from analytic.model import MAX_MU, MAX_OMEGA_RADPS, MAX_SPEED_MPS, MAX_SPIN_RADPS
+from analytic.model import (
+    MAX_MU,
+    MAX_OMEGA_RADPS,
+    MAX_SPEED_MPS,
+    MAX_SPIN_RADPS,
+    WOOD_DENSITY_KGM3,
+)
 
 from ..core import cli
 
@@ -31,7 +37,8 @@ def _add_cork(p: argparse.ArgumentParser) -> None:
             ("--hole-radius", "M", "hole radius (m, default 0.0127)"),
             ("--hole-depth", "M", "hole depth (m, default 0.254)"),
             ("--fill-density", "KGM3", "cork 200 (default), rubber 1100, hollow 0"),
-            ("--wood-density", "KGM3", "wood density (kg/m^3, default 640)")):
+            ("--wood-density", "KGM3", f"wood density (kg/m^3, default {WOOD_DENSITY_KGM3:.0f}: "
+             "the R161's)")):
         p.add_argument(flag, type=cli.number(0.0), default=None, metavar=metavar,
                        help=f"with --corked: {text}")
 
