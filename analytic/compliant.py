@@ -72,10 +72,12 @@ class LinearSpringDamper:
         checks.positive("stiffness_npm", self.stiffness_npm)
         checks.non_negative("damping_nspm", self.damping_nspm)
 
-    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
+                peak_m: float = 0.0) -> float:
         return self.stiffness_npm * x_m + self.damping_nspm * rate_mps
 
-    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
+                      peak_m: float = 0.0) -> float:
         """Crosses zero, linearly in time, where the contact lets go."""
         return self.force_n(x_m, rate_mps)
 
@@ -96,10 +98,12 @@ class HuntCrossley:
         checks.in_range("exponent", self.exponent, 1.0, 2.0)
         checks.non_negative("dissipation_spm", self.dissipation_spm)
 
-    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
+                peak_m: float = 0.0) -> float:
         return self.stiffness * x_m**self.exponent * (1.0 + self.dissipation_spm * rate_mps)
 
-    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
+                      peak_m: float = 0.0) -> float:
         """F / x^(n-1): zero where F is, but crossing linearly in time at x = 0 (F ~ x^n
         would make the release instant ill-conditioned)."""
         return self.stiffness * x_m * (1.0 + self.dissipation_spm * rate_mps)
@@ -130,15 +134,55 @@ class ContactSpaceSpringDamper:
         checks.positive("omega_radps", self.omega_radps)
         checks.non_negative("damping_ratio", self.damping_ratio)
 
-    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
+                peak_m: float = 0.0) -> float:
         w = self.omega_radps
         return m_eff_kg * (w * w * x_m + 2 * self.damping_ratio * w * rate_mps)
 
-    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
+                      peak_m: float = 0.0) -> float:
         return self.force_n(x_m, rate_mps, m_eff_kg)
 
 
-ContactLaw = LinearSpringDamper | HuntCrossley | ContactSpaceSpringDamper
+@dataclass(frozen=True, kw_only=True)
+class Hysteretic:
+    """A rate-independent hysteretic contact: on first loading F = k x^n; below the deepest
+    overlap so far, x_m (``peak_m``: the integrator carries it), unloading and reloading follow
+    one curve, F = k x_m^n ((x - x_r) / (x_m - x_r))^n, zero below x_r = (1 - e^2) x_m. The force
+    depends on the overlap and its history, never on its rate. On a rigid wall the unloading
+    gives back (x_m - x_r) / x_m = e^2 of the loading's work: restitution ``cor`` e at every
+    speed. ``stiffness`` k (N/m^n), ``exponent`` n (3/2: Hertz's sphere). Only
+    ``compliant.predict`` and ``flexible.predict`` carry the peak."""
+
+    stiffness: float
+    exponent: float
+    cor: float
+
+    def __post_init__(self) -> None:
+        checks.positive("stiffness", self.stiffness)
+        checks.in_range("exponent", self.exponent, 1.0, 2.0)
+        checks.in_range("cor", self.cor, 0.0, 1.0, lo_open=True)
+
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
+                peak_m: float = 0.0) -> float:
+        top = max(peak_m, x_m)
+        rest = (1.0 - self.cor**2) * top
+        if x_m <= rest:
+            return 0.0
+        return self.stiffness * top**self.exponent * ((x_m - rest) / (top - rest))**self.exponent
+
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
+                      peak_m: float = 0.0) -> float:
+        """x - x_r: positive while loading (e^2 x), zero where the force is."""
+        return x_m - (1.0 - self.cor**2) * max(peak_m, x_m)
+
+
+ContactLaw = LinearSpringDamper | HuntCrossley | ContactSpaceSpringDamper | Hysteretic
+
+
+def peak_rate(x_m: float, rate_mps: float, peak_m: float) -> float:
+    """d(peak)/dt of the deepest overlap so far: the overlap's rate while it is the deepest."""
+    return rate_mps if rate_mps > 0.0 and x_m >= peak_m else 0.0
 
 
 class ImpactLaw(Protocol):
@@ -250,23 +294,24 @@ def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
         return x, rate, 1.0 / (1 / m + 1 / M + s * s / J), n, s
 
     law = law_for_impact(law, state(y0)[1])  # the overlap's rate at first touch: v_c
+    y0 = np.append(y0, 0.0)  # z[10]: the deepest overlap so far (a hysteretic law's memory)
 
     def contact(z):
         x, rate, m_eff, n, s = state(z)
-        return law.force_n(max(x, 0.0), rate, m_eff), x, n, s
+        return law.force_n(max(x, 0.0), rate, m_eff, z[10]), x, n, s, rate
 
     def rhs(t, z):
-        f, x, n, s = contact(z)
+        f, x, n, s, rate = contact(z)
         f = max(f, 0.0) if x > 0.0 or t == 0.0 else 0.0
         a = f * n / m
         return [z[2], z[3], a[0], a[1], z[6], z[7], -f * n[0] / M, -f * n[1] / M, z[9],
-                -f * s / J]
+                -f * s / J, peak_rate(x, rate, z[10])]
 
     def released(t, z):
         if t == 0.0:
             return 1.0
         x, rate, m_eff, _, _ = state(z)
-        return law.release_value(x, rate, m_eff)
+        return law.release_value(x, rate, m_eff, z[10])
 
     released.terminal, released.direction = True, -1
     # a generous horizon: a Hertz contact of a baseball lasts about a millisecond
@@ -276,7 +321,7 @@ def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
     z = sol.y[:, -1]
     forces = [contact(sol.y[:, i]) for i in range(sol.y.shape[1])]
     return CompliantOutcome(
-        **outcome_fields(case, y0, z),
+        **outcome_fields(case, y0[:10], z[:10]),
         contact_duration_s=float(sol.t[-1]),
         peak_force_n=max(max(f for f, *_ in forces), 0.0),
         peak_penetration_m=max(x for _, x, *_ in forces),

@@ -24,7 +24,7 @@ from scipy import integrate, interpolate, optimize
 
 from .beam import Beam
 from .collide import _geometry, first_touch, outcome_fields
-from .compliant import CompliantOutcome, ContactLaw, ImpactLaw, law_for_impact
+from .compliant import CompliantOutcome, ContactLaw, ImpactLaw, law_for_impact, peak_rate
 from .model import ImpactCase
 
 #: Bending modes kept by default: 24 reach 15 kHz on the R161 (Timoshenko). The local
@@ -53,20 +53,24 @@ class FlexOutcome(CompliantOutcome):
 
 
 def predict(case: ImpactCase, beam: Beam, law: ContactLaw | ImpactLaw, *,
-            modes: int = MODES) -> FlexOutcome:
+            modes: int = MODES, loss_factor: float = 0.0, patch_m: float = 0.0) -> FlexOutcome:
     """The impact of ``case`` on ``beam``'s flexible bat under the normal force ``law`` (an
-    ``ImpactLaw`` resolved at the first touch's closing speed, kept through re-touches). The
-    case's bat must hold the beam's mass properties (``beam.rigid_bat``); its capsule radius
-    is the contact surface's, as in the rigid theory. Frame and fields as
-    ``analytic.compliant.predict``."""
+    ``ImpactLaw`` resolved at the first touch's closing speed, kept through re-touches; a
+    hysteretic law's memory starts afresh at each touch). The case's bat must hold the beam's
+    mass properties (``beam.rigid_bat``); its capsule radius is the contact surface's, as in
+    the rigid theory. ``loss_factor`` eta (1) damps each mode as a viscous ratio eta/2 at its
+    own frequency (the wood's loss, 0 by default); ``patch_m`` a (m) spreads the force evenly
+    over s - a..s + a along the axis (a point, 0 by default), so the modes see each shape's
+    mean over the patch. Frame and fields as ``analytic.compliant.predict``."""
     rigid = beam.rigid
     for key, value in rigid.items():
         if not math.isclose(getattr(case.bat, key), value, rel_tol=1e-12):
             raise ValueError(f"bat.{key} = {getattr(case.bat, key)!r}: must be the beam's "
                              f"{value!r} (use beam.rigid_bat)")
     shapes = beam.modes(modes)
-    problem = _Problem(case, law, shapes)
-    y = np.concatenate([first_touch(case), np.zeros(2 * modes)])
+    problem = _Problem(case, law, shapes, patch_m=patch_m)
+    problem.damping = loss_factor * np.sqrt(problem.w2)  # 2 zeta omega, zeta = eta / 2
+    y = np.concatenate([first_touch(case), np.zeros(2 * modes + 1)])
     problem.law = law_for_impact(law, problem.state(y)[1])  # the overlap's rate: v_c
     y0, t, touches, peaks = y.copy(), 0.0, 0, []
     while touches < MAX_TOUCHES:
@@ -80,6 +84,7 @@ def predict(case: ImpactCase, beam: Beam, law: ContactLaw | ImpactLaw, *,
             break
         t += again[0]
         y = again[1]
+        y[-1] = 0.0  # the ball has recovered between touches
     modal = problem.mode_energies(y)
     return FlexOutcome(
         **outcome_fields(case, y0[:10], y[:10]),
@@ -92,7 +97,8 @@ def predict(case: ImpactCase, beam: Beam, law: ContactLaw | ImpactLaw, *,
 class _Problem:
     """The equations of motion and the contact's geometry."""
 
-    def __init__(self, case: ImpactCase, law: ContactLaw | ImpactLaw, shapes) -> None:
+    def __init__(self, case: ImpactCase, law: ContactLaw | ImpactLaw, shapes, *,
+                 patch_m: float = 0.0) -> None:
         bat, ball = case.bat, case.ball
         self.m, self.M, self.J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
         self.reach = bat.radius_m + ball.radius_m
@@ -101,9 +107,11 @@ class _Problem:
         self.w2 = (2 * math.pi * shapes.frequencies_hz) ** 2
         self.k = len(self.w2)
         nodes = shapes.nodes_m
-        self.phi = (interpolate.CubicHermiteSpline(nodes, shapes.shapes.T, shapes.slopes.T)
-                    if shapes.hermite else interpolate.CubicSpline(nodes, shapes.shapes.T))
+        point = (interpolate.CubicHermiteSpline(nodes, shapes.shapes.T, shapes.slopes.T)
+                 if shapes.hermite else interpolate.CubicSpline(nodes, shapes.shapes.T))
+        self.phi = point if patch_m == 0.0 else _patch_mean(point, patch_m)
         self.dphi = self.phi.derivative()
+        self.damping = np.zeros(len(self.w2))
         self.phi_max = np.abs(shapes.shapes).max(axis=1)
         self.period = 2 * math.pi / math.sqrt(self.w2[0])
         #: DOP853 oscillates stably to h omega ~ 1 (measured: 1/omega_max blew up a stiff bat)
@@ -116,7 +124,7 @@ class _Problem:
         s, h = float(d @ tt), float(d @ n)
         x_knob = s + self.x_cm
         phi = self.phi(x_knob)
-        q, qd = z[10:10 + self.k], z[10 + self.k:]
+        q, qd = z[10:10 + self.k], z[10 + self.k:10 + 2 * self.k]
         slope = float(self.dphi(x_knob) @ q)
         rel = z[2:4] - z[6:8]
         x = self.reach - h + float(phi @ q)
@@ -129,20 +137,21 @@ class _Problem:
     def force(self, z, t=1.0):
         x, rate, m_eff, phi, arms, frame = self.state(z)
         touching = x > 0.0 or t == 0.0
-        f = max(self.law.force_n(max(x, 0.0), rate, m_eff), 0.0) if touching else 0.0
-        return f, x, phi, arms, frame
+        f = max(self.law.force_n(max(x, 0.0), rate, m_eff, z[-1]), 0.0) if touching else 0.0
+        return f, x, phi, arms, frame, rate
 
     def rhs(self, t, z, free: bool = False):
         """The force is -f grad x: on the ball f (n - w' t), on the bat the opposite with the
         torque -f (s + w' h), on mode k -f phi_k."""
-        f, _, phi, (s, h, slope), (tt, n) = self.force(z, t)
+        f, x, phi, (s, h, slope), (tt, n), rate = self.force(z, t)
         f = 0.0 if free else f
         k = self.k
-        q, qd = z[10:10 + k], z[10 + k:]
+        q, qd = z[10:10 + k], z[10 + k:10 + 2 * k]
         push = f * (n - slope * tt)
         return np.concatenate([z[2:4], push / self.m, z[6:8], -push / self.M,
                                [z[9], -f * (s + slope * h) / self.J], qd,
-                               -self.w2 * q - f * phi])
+                               -self.w2 * q - self.damping * qd - f * phi,
+                               [peak_rate(x, rate, z[-1])]])
 
     def atol(self, y) -> np.ndarray:
         """Absolute tolerances: the rigid coordinates' as ``analytic.compliant``'s; a mode's
@@ -151,14 +160,15 @@ class _Problem:
         its period)."""
         base = RTOL * 1e-3 * (np.abs(y[:10]).max() + 1.0)
         per_mode = base / self.phi_max
-        return np.concatenate([np.full(10, base), per_mode, per_mode * np.sqrt(self.w2)])
+        return np.concatenate([np.full(10, base), per_mode, per_mode * np.sqrt(self.w2),
+                               [base]])
 
     def contact(self, y):
         def released(t, z):
             if t == 0.0:
                 return 1.0
             x, rate, m_eff, *_ = self.state(z)
-            return self.law.release_value(x, rate, m_eff)
+            return self.law.release_value(x, rate, m_eff, z[-1])
 
         released.terminal, released.direction = True, -1
         return integrate.solve_ivp(self.rhs, (0.0, 1.0), y, method="DOP853", rtol=RTOL,
@@ -170,14 +180,14 @@ class _Problem:
         harmonic modes. Shape (len(t), size)."""
         t = np.asarray(t, dtype=float)[:, None]
         k, w = self.k, np.sqrt(self.w2)
-        q, qd = y[10:10 + k], y[10 + k:]
+        q, qd = y[10:10 + k], y[10 + k:10 + 2 * k]
         z = np.repeat(y[None, :], len(t), axis=0)
         z[:, 0:2] += y[2:4] * t
         z[:, 4:6] += y[6:8] * t
         z[:, 8] += y[9] * t[:, 0]
         cos, sin = np.cos(w * t), np.sin(w * t)
         z[:, 10:10 + k] = q * cos + qd / w * sin
-        z[:, 10 + k:] = qd * cos - q * w * sin
+        z[:, 10 + k:10 + 2 * k] = qd * cos - q * w * sin
         return z
 
     def gaps(self, zs) -> np.ndarray:
@@ -213,7 +223,7 @@ class _Problem:
         return max(f for f, _ in pairs), max(x for _, x in pairs)
 
     def mode_energies(self, z) -> np.ndarray:
-        q, qd = z[10:10 + self.k], z[10 + self.k:]
+        q, qd = z[10:10 + self.k], z[10 + self.k:10 + 2 * self.k]
         return 0.5 * (qd * qd + self.w2 * q * q)
 
     def energy(self, z) -> float:
@@ -221,3 +231,14 @@ class _Problem:
         ke = 0.5 * self.m * float(z[2:4] @ z[2:4]) + 0.5 * self.M * float(z[6:8] @ z[6:8]) \
             + 0.5 * self.J * z[9] ** 2
         return ke + float(self.mode_energies(z).sum())
+
+
+def _patch_mean(shape: interpolate.PPoly, half_m: float) -> interpolate.PPoly:
+    """The mean of each shape over x - a..x + a (a = ``half_m``), as a spline in x: from the
+    shapes' antiderivative, sampled on a grid fine against a (8 points per a) and clamped to
+    the bat at its ends."""
+    whole = shape.antiderivative()
+    lo, hi = float(shape.x[0]), float(shape.x[-1])
+    x = np.linspace(lo, hi, int(math.ceil(8 * (hi - lo) / half_m)) + 1)
+    a, b = np.clip(x - half_m, lo, hi), np.clip(x + half_m, lo, hi)
+    return interpolate.CubicSpline(x, ((whole(b) - whole(a)).T / (b - a)).T)
