@@ -7,7 +7,7 @@
 """
 
 from . import flight, gradients, presets
-from .ball import COR_DATA, REALISTIC_BALL, CorLaw, CorPoint, RealisticBall, fit_cor_law
+from .ball import COR_DATA, REALISTIC_BALL, CorLaw, CorPoint, RealisticBall
 from .collide import CollisionEpisode, collide
 from .cork import Hole, corked_bat, corked_bat_paper
 from .friction import FrictionalImpulse, FrictionOutcome, frictional_impulse, predict_friction
@@ -36,7 +36,7 @@ __all__ = [
     "MEASURED_EXPONENT", "Outcome", "PaperOblique", "RealisticBall", "RigidBody3D",
     "SweetRegion", "Swing", "SwingModel", "WOOD_DENSITY_KGM3", "batted_ball_speed",
     "center_of_percussion", "collide",
-    "collision_efficiency", "corked_bat", "corked_bat_paper", "episode_sweet_spot", "fit_cor_law",
+    "collision_efficiency", "corked_bat", "corked_bat_paper", "episode_sweet_spot",
     "frictional_impulse", "gradients",
     "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays", "predict_friction",
     "flight", "predict_oblique_paper", "presets", "sweet_region", "sweet_spot", "sweet_zone",

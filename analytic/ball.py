@@ -1,30 +1,40 @@
-"""A realistic baseball: Hertz's pulse with the measured fall of its COR with impact speed.
+"""A realistic baseball: Hertz's pulse with a COR that falls with impact speed.
 
 A Hunt-Crossley contact's restitution depends on a = d v0 alone (``compliant``), so one
 dissipation d fixes e at one speed only, and ``compliant.BASEBALL_HERTZ`` (e = 0.5 at 40 m/s)
 falls too steeply: 0.61 at 25.9 m/s, 0.39 at 60. ``RealisticBall`` instead takes e from a
-power law fitted to published CORs (``COR_DATA``, ``fit_cor_law``) and, per impact, the
-Hunt-Crossley d that gives that e at the impact's closing speed: the measured COR-speed
-curve with a Hertz pulse shape (a phenomenological ball, not a model of its core).
+power law (``CorLaw``) and, per impact, the Hunt-Crossley d that gives that e at the impact's
+closing speed: the COR-speed curve with a Hertz pulse shape (a phenomenological ball, not a
+model of its core). ``HystereticBall`` has the same e(v) on a wall from a rate-independent
+loss (``compliant.Hysteretic``): the two differ only where the contact's rate matters (a
+yielding bat).
+
+The speed dependence is an assumption. The published statements (``COR_DATA``) are one test
+speed, MLB's 85 ft/s, and a qualitative "about 0.5" at 40-60 m/s; the fall with speed is
+reported [sawicki2003] [shenoy2001], but no speed-resolved table of it could be read. So
+``COR_LAW`` is a central choice through MLB's centre and Nathan's 0.5, and ``COR_LAWS`` the
+range every number resting on it carries: MLB's band at 85 ft/s times an exponent from 0 (no
+fall) to 1/4 (elastic-plastic impact [johnson1985]).
 
 Sources by key: mlbcor (MLB's ball specification), msnbc2003 (D. Ropeik, "Squeezing the
 'juice' out of baseballs", msnbc.com, 2003: the UMass Lowell Baseball Research Center's MLB
 balls), nathan2000 (A. M. Nathan, Am. J. Phys. 68, 979 (2000)), ncaa (the NCAA BBCOR
-standard, 2011), johnson1985 (K. L. Johnson, Contact Mechanics, CUP (1985), ch. 11).
+standard, 2011), johnson1985 (K. L. Johnson, Contact Mechanics, CUP (1985), ch. 11),
+sawicki2003 (G. S. Sawicki, M. Hubbard, W. J. Stronge, Am. J. Phys. 71, 1152 (2003),
+abstract), shenoy2001 (M. M. Shenoy, L. V. Smith, J. T. Axtell, Composite Structures 52, 397
+(2001), abstract).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-import numpy as np
-from scipy import optimize
-
 from . import checks, compliant
-from .compliant import BASEBALL_HERTZ, HuntCrossley, hunt_crossley_dissipation
+from .compliant import BASEBALL_HERTZ, HuntCrossley, Hysteretic, hunt_crossley_dissipation
 from .model import Ball, Bat, ImpactCase
 
-#: Kinds of COR measurement: a ball fired at a rigid wall, or at a stationary bat.
+#: Kinds of COR statement: a ball fired at a rigid wall, or at a stationary bat.
 KINDS = ("ball-wall", "ball-bat")
 #: The power law's reference speed (m/s): 85 ft/s, MLB's test speed [mlbcor].
 SPEED_REF_MPS = 25.9
@@ -32,43 +42,35 @@ SPEED_REF_MPS = 25.9
 
 @dataclass(frozen=True, kw_only=True)
 class CorPoint:
-    """One published COR: ``cor`` (1) with its 1-sigma ``sigma`` (1) at ``speed_mps`` (m/s),
-    ``kind`` (one of KINDS), ``source`` (a reference key) and whether the fit uses it
-    (``fitted``: a ball-bat figure carries the bat's recoil and vibration, so it is shown only)."""
+    """One published statement of a ball's COR: ``cor`` (1) within +- ``half_width`` (1, the
+    statement's own range: a tolerance band, or how precisely it was given) at ``speed_mps``
+    (m/s), ``kind`` (one of KINDS), ``source`` (a reference key) and ``note``."""
 
     speed_mps: float
     cor: float
-    sigma: float
+    half_width: float
     kind: str
     source: str
-    fitted: bool
+    note: str
 
     def __post_init__(self) -> None:
         checks.positive("speed_mps", self.speed_mps)
         checks.in_range("cor", self.cor, 0.0, 1.0, lo_open=True)
-        checks.non_negative("sigma", self.sigma)
+        checks.non_negative("half_width", self.half_width)
         if self.kind not in KINDS:
             raise ValueError(f"kind={self.kind!r} is unknown; allowed: {', '.join(KINDS)}")
 
 
-#: Published CORs of MLB balls, by source key (sigmas marked 'assigned' are ours).
+#: What is published about an MLB ball's COR, by source key.
 COR_DATA = (
-    # 0.546 +- 0.032 fired at 85 ft/s at a northern white ash wall (0.514-0.578) [mlbcor]
-    CorPoint(speed_mps=25.9, cor=0.546, sigma=0.032, kind="ball-wall", source="mlbcor",
-             fitted=True),
-    # the UMass Lowell sample of MLB balls averaged 0.55 in that test; sigma assigned: the
-    # reported mean's last digit [msnbc2003]
-    CorPoint(speed_mps=25.9, cor=0.55, sigma=0.01, kind="ball-wall", source="msnbc2003",
-             fitted=True),
-    # "about 0.5" at 40-60 m/s, the ball-bat regime, as a ball-wall equivalent; sigma assigned:
-    # 0.50 read to the nearest 0.05 [nathan2000]
-    CorPoint(speed_mps=40.0, cor=0.50, sigma=0.025, kind="ball-wall", source="nathan2000",
-             fitted=True),
-    CorPoint(speed_mps=60.0, cor=0.50, sigma=0.025, kind="ball-wall", source="nathan2000",
-             fitted=True),
-    # the BBCOR limit, which the best wood bats come just under: ball fired at 136 mph at a
-    # stationary bat, so the bat's recoil and vibration are in it: shown, not fitted [ncaa]
-    CorPoint(speed_mps=60.8, cor=0.50, sigma=0.0, kind="ball-bat", source="ncaa", fitted=False),
+    CorPoint(speed_mps=25.9, cor=0.546, half_width=0.032, kind="ball-wall", source="mlbcor",
+             note="specification: 0.514-0.578 fired at 85 ft/s at northern white ash"),
+    CorPoint(speed_mps=25.9, cor=0.55, half_width=0.005, kind="ball-wall", source="msnbc2003",
+             note="the same test: UMass Lowell's sample mean, given to two digits"),
+    CorPoint(speed_mps=50.0, cor=0.50, half_width=0.05, kind="ball-wall", source="nathan2000",
+             note="'about 0.5' at 40-60 m/s: shown at the middle, read to +-0.05"),
+    CorPoint(speed_mps=60.8, cor=0.50, half_width=0.0, kind="ball-bat", source="ncaa",
+             note="BBCOR's cap at 136 mph on a still bat (its recoil and vibration in it)"),
 )
 
 
@@ -76,8 +78,8 @@ COR_DATA = (
 class CorLaw:
     """e(v) = ``cor_ref`` (v / ``speed_ref_mps``)^-``exponent``, capped at 1 (an elastic
     bounce; the cap is reached only far below the data). A power law: elastic-plastic impact
-    gives e ~ v^-1/4 [johnson1985]; here the exponent is fitted. Exponents above 1 would make
-    the rebound speed e v fall as the impact speed rises, so they are refused."""
+    gives e ~ v^-1/4 [johnson1985]. Exponents above 1 would make the rebound speed e v fall as
+    the impact speed rises, so they are refused."""
 
     cor_ref: float
     speed_ref_mps: float
@@ -94,34 +96,28 @@ class CorLaw:
         return min(1.0, self.cor_ref * (v / self.speed_ref_mps) ** -self.exponent)
 
 
-def fit_cor_law(points=COR_DATA) -> tuple[CorLaw, np.ndarray, np.ndarray]:
-    """The power law through the ``fitted`` points by weighted least squares (curve_fit,
-    absolute sigmas, speed_ref 25.9 m/s): (the law, each point's residual cor - e(v) in the
-    order given, fitted or not, and the 2x2 covariance of (cor_ref, exponent)). The exact
-    Jacobian and tight tolerances put the optimum within ~1e-11 of chi^2's minimum (with
-    finite differences MINPACK stops 1e-8 short)."""
-    used = [p for p in points if p.fitted]
-    if len(used) < 3:
-        raise ValueError(f"points: {len(used)} fitted; allowed: at least 3 (two parameters "
-                         "and a degree of freedom)")
-    for p in used:
-        checks.positive(f"sigma of the {p.source} point at {p.speed_mps:g} m/s", p.sigma)
-    v, e, sigma = (np.array([getattr(p, k) for p in used]) for k in ("speed_mps", "cor", "sigma"))
+def law_through(cor_ref: float, speed_mps: float, cor: float) -> CorLaw:
+    """The power law with ``cor_ref`` at SPEED_REF_MPS that passes ``cor`` at ``speed_mps``."""
+    exponent = math.log(cor_ref / cor) / math.log(speed_mps / SPEED_REF_MPS)
+    return CorLaw(cor_ref=cor_ref, speed_ref_mps=SPEED_REF_MPS, exponent=exponent)
 
-    def model(v, cor_ref, exponent):
-        return cor_ref * (v / SPEED_REF_MPS) ** -exponent
 
-    def jacobian(v, cor_ref, exponent):
-        x = v / SPEED_REF_MPS
-        return np.column_stack([x**-exponent, -cor_ref * x**-exponent * np.log(x)])
+#: The central law, an assumption: MLB's centre at 85 ft/s, 0.546 [mlbcor], and Nathan's
+#: "about 0.5" at the middle of 40-60 m/s [nathan2000]: e falls as v^-0.134 (0.516 at 40 m/s,
+#: 0.489 at 60).
+COR_LAW = law_through(0.546, 50.0, 0.50)
+#: The exponents the range spans: no fall, and elastic-plastic impact's 1/4 [johnson1985].
+EXPONENT_RANGE = (0.0, 0.25)
+#: The range: MLB's band at 85 ft/s [mlbcor] times EXPONENT_RANGE, as its four corners. e(v)
+#: is monotonic in both, so at every speed its extremes are corners.
+COR_LAWS = tuple(CorLaw(cor_ref=c, speed_ref_mps=SPEED_REF_MPS, exponent=p)
+                 for c in (0.514, 0.578) for p in EXPONENT_RANGE)
 
-    popt, pcov = optimize.curve_fit(model, v, e, p0=(float(e.mean()), 0.25), sigma=sigma,
-                                    absolute_sigma=True, jac=jacobian, xtol=1e-15, ftol=1e-15,
-                                    gtol=1e-15)
-    law = CorLaw(cor_ref=float(popt[0]), speed_ref_mps=SPEED_REF_MPS, exponent=float(popt[1]))
-    residuals = np.array([p.cor - law.cor(p.speed_mps) for p in points])
-    return law, residuals, pcov
 
+def cor_range(speed_mps: float) -> tuple[float, float]:
+    """(least, largest) COR (1) of COR_LAWS at ``speed_mps`` (m/s)."""
+    cors = [law.cor(speed_mps) for law in COR_LAWS]
+    return min(cors), max(cors)
 
 @dataclass(frozen=True, kw_only=True)
 class RealisticBall:
@@ -157,35 +153,83 @@ WALL = Bat(name="wall", length_m=1.0, radius_m=0.03, mass_kg=1e12, com_from_knob
            inertia_cm_kgm2=1e12)
 
 
+@dataclass(frozen=True, kw_only=True)
+class HystereticBall:
+    """A ball whose COR follows ``cor_law`` through a rate-independent loss: per impact the
+    ``compliant.Hysteretic`` law with ``stiffness`` k (N/m^n), ``exponent`` n and e =
+    cor_law.cor(v0) at the first touch's closing speed. On a wall its e(v) is the realistic
+    ball's; on a yielding bat its loss does not fall as the compression slows."""
+
+    stiffness: float
+    exponent: float
+    cor_law: CorLaw
+
+    def __post_init__(self) -> None:
+        checks.positive("stiffness", self.stiffness)
+        checks.in_range("exponent", self.exponent, 1.0, 2.0)
+        if not isinstance(self.cor_law, CorLaw):
+            raise ValueError(f"cor_law={self.cor_law!r} is not a CorLaw; allowed: a CorLaw")
+
+    def restitution(self, speed_mps: float) -> float:
+        """The COR (1) of an impact closing at ``speed_mps`` (m/s)."""
+        return self.cor_law.cor(speed_mps)
+
+    def at_speed(self, speed_mps: float) -> Hysteretic:
+        """The hysteretic law of one impact closing at ``speed_mps`` (m/s, > 0)."""
+        return Hysteretic(stiffness=self.stiffness, exponent=self.exponent,
+                          cor=self.cor_law.cor(checks.positive("speed_mps", speed_mps)))
+
+
+#: The kinds of ball a COR law makes: the rate-dependent (Hunt-Crossley) and the rate-
+#: independent (hysteretic) one.
+BALL_KINDS = {"hunt-crossley": RealisticBall, "hysteretic": HystereticBall}
+
+
 def wall_stiffness(cor_law: CorLaw, ball: Ball, *, duration_s: float, speed_mps: float,
-                   exponent: float = 1.5) -> float:
-    """The stiffness k (N/m^n) with which ``ball`` on a rigid wall at ``speed_mps`` stays in
-    contact ``duration_s``. x'' = -(k/m) x^n (1 + d x') scales with x* = (m v^2/k)^(1/(n+1)),
-    t* = x*/v, leaving X'' = -X^n (1 + a X'), a = d v: at fixed a the duration goes as
-    k^(-1/(n+1)), so one integration at a trial k gives k exactly (two passes for roundoff)."""
+                   exponent: float = 1.5, kind: str = "hunt-crossley") -> float:
+    """The stiffness k (N/m^n) with which ``ball`` (of ``kind``, BALL_KINDS) on a rigid wall at
+    ``speed_mps`` stays in contact ``duration_s``. x'' = -(k/m) x^n (1 + d x') scales with
+    x* = (m v^2/k)^(1/(n+1)), t* = x*/v, leaving X'' = -X^n (1 + a X'), a = d v (the
+    hysteretic law scales alike, with no a): at fixed a the duration goes as k^(-1/(n+1)), so
+    one integration at a trial k gives k exactly (two passes for roundoff)."""
+    make = BALL_KINDS[checks.choice("kind", kind, tuple(BALL_KINDS))]
     case = ImpactCase(bat=WALL, ball=ball, s_m=0.0, v0_mps=speed_mps, e=0.5)
     k = 1e8
     for _ in range(2):
-        trial = RealisticBall(stiffness=k, exponent=exponent, cor_law=cor_law)
+        trial = make(stiffness=k, exponent=exponent, cor_law=cor_law)
         t = compliant.predict(case, trial).contact_duration_s
         k *= (t / duration_s) ** (exponent + 1.0)
     return k
 
 
-#: The power law fitted to COR_DATA (``fit_cor_law``; tests re-derive it): 0.548 +- 0.009 at
-#: 25.9 m/s, falling as v^-(0.133 +- 0.059) (1 sigma): 0.518 at 40 m/s, 0.490 at 60 m/s.
-COR_LAW = CorLaw(cor_ref=0.5484749820338872, speed_ref_mps=SPEED_REF_MPS,
-                 exponent=0.13326191892149594)
+#: The contact time both balls are calibrated to: 0.7 ms on a wall at 40 m/s (0.6-1 ms
+#: measured [nathan2000]).
+CONTACT_S, CONTACT_SPEED_MPS = 0.7e-3, 40.0
+
+
+def ball_of(cor_law: CorLaw, kind: str = "hunt-crossley", ball: Ball | None = None):
+    """A ball of ``kind`` (BALL_KINDS) with ``cor_law``, Hertz's exponent and the stiffness
+    for which it stays CONTACT_S on a wall at CONTACT_SPEED_MPS (``wall_stiffness``)."""
+    from .presets import BASEBALL
+    k = wall_stiffness(cor_law, ball or BASEBALL, duration_s=CONTACT_S,
+                       speed_mps=CONTACT_SPEED_MPS, kind=kind)
+    return BALL_KINDS[kind](stiffness=k, exponent=1.5, cor_law=cor_law)
+
 
 #: The default realistic baseball: COR_LAW's restitution, Hertz's exponent and the stiffness
-#: for which it stays 0.7 ms on a wall at 40 m/s (0.6-1 ms measured [nathan2000];
-#: ``wall_stiffness``, re-derived by the tests). On the wall it then lasts 0.75 ms at
-#: 25.9 m/s and 0.65 ms at 60 m/s, and at 40 m/s peaks at 31 kN and 6.7 mm compression.
-REALISTIC_BALL = RealisticBall(stiffness=42761190.771648414, exponent=1.5, cor_law=COR_LAW)
+#: for which it stays 0.7 ms on a wall at 40 m/s (``ball_of``, re-derived by the tests). On
+#: the wall it then lasts 0.75 ms at 25.9 m/s and 0.65 ms at 60 m/s, and at 40 m/s peaks at
+#: 31 kN and 6.7 mm compression.
+REALISTIC_BALL = RealisticBall(stiffness=42873266.67825176, exponent=1.5, cor_law=COR_LAW)
+#: The rate-independent ball with the same e(v) and contact time on a wall (``ball_of``): its
+#: unloading curve is steeper than its loading, so it is softer on loading, 23 kN and 12.6 mm
+#: at 40 m/s.
+HYSTERETIC_BALL = HystereticBall(stiffness=16411436.516395548, exponent=1.5, cor_law=COR_LAW)
 
-#: Laws a sweep can put beside the rigid answer, by name: the realistic ball (the default) and
-#: the single-d Hertz law it supersedes, kept for comparison.
-LAWS = {"ball": REALISTIC_BALL, "hertz": BASEBALL_HERTZ}
+#: Laws a sweep can put beside the rigid answer, by name: the realistic ball (the default),
+#: the rate-independent one, and the single-d Hertz law the first supersedes.
+LAWS = {"ball": REALISTIC_BALL, "hysteretic": HYSTERETIC_BALL, "hertz": BASEBALL_HERTZ}
 
-__all__ = ["COR_DATA", "COR_LAW", "CorLaw", "CorPoint", "LAWS", "REALISTIC_BALL",
-           "RealisticBall", "fit_cor_law", "wall_stiffness"]
+__all__ = ["BALL_KINDS", "COR_DATA", "COR_LAW", "COR_LAWS", "CorLaw", "CorPoint",
+           "HYSTERETIC_BALL", "HystereticBall", "LAWS", "REALISTIC_BALL", "RealisticBall",
+           "ball_of", "cor_range", "law_through", "wall_stiffness"]
