@@ -7,6 +7,7 @@ from __future__ import annotations
 import pandas as pd
 
 from ..parts import flex_beam as B
+from . import flex_models
 from .answers import MLB, PAPER
 from .report import md_table
 
@@ -22,9 +23,10 @@ def flex_section() -> Section:
     rows = [B.impact_row(sw, x) for sw in SWINGS.values() for x in B.POINTS_M[::2]]
     fine = [B.impact_row(sw, x) for sw in SWINGS.values() for x in B.ZONE_POINTS_M]
     zones = {key: B.sweet_zone(fine, key) for key in SWINGS}
-    text = "\n".join([_modes_text(modes), _spots_text(spots, zones, modes, rows),
+    models_text, models = flex_models.section(SWINGS)
+    text = "\n".join([_modes_text(modes), _spots_text(spots, zones, modes, rows), models_text,
                       _efficiency_text(rows)])
-    stats = {"spots": spots.to_dict("records"), "zones": zones}
+    stats = {"spots": spots.to_dict("records"), "zones": zones, "models": models}
     return text, {}, stats
 
 
@@ -82,12 +84,11 @@ under the same ball peaks {shift.min():.1f}-{shift.max():.1f} cm farther from th
 first mode is not excited, nothing is lost to it, and the second and third modes
 ({ti.f2_hz:.0f} Hz and {ti.f3_hz:.0f} Hz, periods comparable to the
 {contact.min():.2f}-{contact.max():.2f} ms contact) give back part of what they take while the
-ball is still on the bat: near the node the beam returns the ball faster than the rigid bat.
-That excess is a model result that rests on the ball's law (section 4's realistic ball): its
-damping grows with the compression rate (Hunt-Crossley), so a bat that gives locally slows the
-compression and the ball loses less; a ball whose loss did not depend on the rate would not
-gain it, and measured wood bats test just under the ball's own COR [ncaa]. With the wood's modulus
-20% lower or higher the speed peak moves by at most
+ball is still on the bat: near the node this beam returns the ball faster than the rigid bat.
+That excess rests on the ball's law (section 4's realistic ball): its damping grows with the
+compression rate (Hunt-Crossley), so a bat that gives locally slows the compression and the
+ball loses less (measured wood bats test just under the ball's own COR [ncaa]). With the
+wood's modulus 20% lower or higher the speed peak moves by at most
 {100 * max(s.max() - s.min() for s in sens.values()):.1f} cm. The sweet zone, where v1 is
 within {100 * B.SPEED_SHARE:.0f}% of the best on a 1 cm grid and the first mode takes under
 {100 * B.STING_SHARE:.0f}% of the collision's available energy: {zone_text}.

@@ -86,12 +86,14 @@ def _case(b: beam.Beam, sw: Swing, x_m: float) -> ImpactCase:
                       e=presets.E_WOOD)
 
 
-def impact_row(sw: Swing, x_m: float, modulus_scale: float = 1.0) -> dict:
-    """The rigid bat and the beam at one impact point (the realistic ball on both)."""
+def impact_row(sw: Swing, x_m: float, modulus_scale: float = 1.0, law=REALISTIC_BALL,
+               **beam_kw) -> dict:
+    """The rigid bat and the beam at one impact point (``law``, the realistic ball by default,
+    on both; ``beam_kw`` to ``flexible.predict``: modes, loss_factor, patch_m)."""
     b = r161_beam(modulus_scale)
     case = _case(b, sw, x_m)
-    rigid = rigid_predict(case, REALISTIC_BALL)
-    flex = flexible.predict(case, b, REALISTIC_BALL)
+    rigid = rigid_predict(case, law)
+    flex = flexible.predict(case, b, law, **beam_kw)
     m, M, J, s = case.ball.mass_kg, case.bat.mass_kg, case.bat.inertia_cm_kgm2, case.s_m
     m_red = 1.0 / (1 / m + 1 / M + s * s / J)
     available = 0.5 * m_red * case.closing_speed_mps**2
@@ -104,21 +106,23 @@ def impact_row(sw: Swing, x_m: float, modulus_scale: float = 1.0) -> dict:
             "touches": flex.touches}
 
 
-def speed_peak_m(sw: Swing, modulus_scale: float = 1.0) -> tuple[float, float]:
-    """(x of the beam's exit-speed peak (m from the knob), v1 there): bounded Brent search
-    over the barrel to 0.5 mm."""
-    res = optimize.minimize_scalar(lambda x: -impact_row(sw, x, modulus_scale)["v1_beam_mps"],
-                                   bounds=(0.50, 0.80), method="bounded",
-                                   options={"xatol": 5e-4})
+def speed_peak_m(sw: Swing, modulus_scale: float = 1.0,
+                 law=REALISTIC_BALL) -> tuple[float, float]:
+    """(x of the beam's exit-speed peak (m from the knob), v1 there) under ``law``: bounded
+    Brent search over the barrel to 0.5 mm."""
+    res = optimize.minimize_scalar(
+        lambda x: -impact_row(sw, x, modulus_scale, law)["v1_beam_mps"], bounds=(0.50, 0.80),
+        method="bounded", options={"xatol": 5e-4})
     return float(res.x), float(-res.fun)
 
 
-def sweet_spots(sw: Swing, modulus_scale: float = 1.0) -> dict:
-    """Both sweet spots (m from the barrel end) and the rigid bat's speed peak beside them."""
+def sweet_spots(sw: Swing, modulus_scale: float = 1.0, law=REALISTIC_BALL) -> dict:
+    """Both sweet spots (m from the barrel end) and the rigid bat's speed peak beside them,
+    the ball ``law`` on both."""
     b = r161_beam(modulus_scale)
-    x_peak, v_peak = speed_peak_m(sw, modulus_scale)
+    x_peak, v_peak = speed_peak_m(sw, modulus_scale, law)
     rigid = optimize.minimize_scalar(
-        lambda x: -rigid_predict(_case(b, sw, x), REALISTIC_BALL).v1_mps, bounds=(0.50, 0.80),
+        lambda x: -rigid_predict(_case(b, sw, x), law).v1_mps, bounds=(0.50, 0.80),
         method="bounded", options={"xatol": 5e-4})
     length = presets.R161.length_m
     return {"swing": sw.key, "modulus_scale": modulus_scale,
