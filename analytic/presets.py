@@ -17,8 +17,10 @@ LB_KG = 0.45359237
 #: Effective capsule radius of a wood bat (m). A barrel is at most 2.61 in (66.3 mm) across (MLB
 #: Official Baseball Rules 3.02(a)) and tapers toward the handle; 60 mm is a round value for the
 #: hitting zone that keeps the capsule's cylinder out to s = 0.25 m on the R161, the end of the
-#: paper's range. The radius only gives the engines a surface: a frictionless contact normal to
-#: the axis has no torque arm across it, so v1 does not depend on it.
+#: paper's range. For a head-on, frictionless hit in the swing plane v1 does not depend on it
+#: (the normal meets the axis, no torque arm across it); with an undercut D the normal tilts by
+#: asin(D / (r_ball + r_bat)), so the best undercut scales with it: 2.01 cm here, 2.10 cm on a
+#: 2.61 in barrel (the MLB-like swing; findings section 3b).
 WOOD_BARREL_RADIUS_M = 0.030
 
 R161 = Bat(

@@ -170,7 +170,8 @@ integrated contact, though the bat turns by up to {turn:.0f} mrad meanwhile. So 
 answers above (sweet spot, corking, metal) hold as comparisons at one e, and their absolute
 speeds are high by the amount the ball's COR at the closing speed falls below 0.5; with a COR
 that falls faster or slower they move with it (`python -m experiments.sweep --reference
-compliant` puts both along any bat; `--law hertz` the superseded law).
+compliant` puts both along any bat; `--law hysteretic` the rate-independent ball,
+`--law hertz` the superseded law).
 """
 
 

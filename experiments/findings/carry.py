@@ -13,7 +13,7 @@ column name says otherwise (cm, deg, rpm, ft).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 
 import numpy as np
@@ -228,6 +228,22 @@ def sweet_spots(sc: Scenario) -> SweetSpots:
     return SweetSpots(speed_s_m=hit.speed_sweet_spot_m, best=best,
                       at_speed_spot_m=carry_m(hit, hit.speed_sweet_spot_m, best.undercut_m),
                       rows=tuple(best_s_at(hit, d) for d in ROW_UNDERCUTS_M))
+
+
+#: The widest legal barrel, 2.61 in across (MLB Official Baseball Rules 3.02(a)), as a capsule
+#: radius (m): the contact radius against the model's 30 mm.
+WIDEST_BARREL_RADIUS_M = 0.5 * 2.61 * 0.0254
+
+
+def wide_barrel_best(sc: Scenario) -> Best:
+    """The longest carry's point on an R161 with the widest legal barrel: with an undercut the
+    contact normal tilts by asin(D / (r_ball + r_bat)), so the best undercut grows with r_bat."""
+    return best_point(hit_of(sc, bat=replace(R161, radius_m=WIDEST_BARREL_RADIUS_M)))
+
+
+def best_carry_range_m(sc: Scenario) -> tuple[float, float]:
+    """The longest carry's (least, most) over the drag and lift corners (m)."""
+    return carry_range_m(sweet_spots(sc).best.launch)
 
 
 def mu_scan(sc: Scenario, mus: tuple[float, ...] = MU_SCAN) -> pd.DataFrame:

@@ -33,7 +33,7 @@ from .answers import (
     Scenario,
     from_end_cm,
 )
-from .report import Section, md_table, pyplot
+from .report import Section, md_table, pyplot, ranged
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -131,12 +131,17 @@ def _sweet_text() -> str:
     span = [(max(r) - min(r)) * 100 for r in rows.values()]
     level = p.rows[0]
     mp, mm = mu_spread(PAPER), mu_spread(MLB)
+    wides = [C.wide_barrel_best(sc) for sc in (PAPER, MLB)]
+    wide = [100 * w.undercut_m for w in wides]
+    carry = [(w.carry_m, b.best.carry_m) for w, b in zip(wides, (p, m), strict=True)]
     return f"""**The distance sweet spot is the speed sweet spot.** The longest carry comes from
 the same point of the barrel as the fastest ball, to within {shift[0]:.1f} mm (paper's swing) and
 {shift[1]:.1f} mm (MLB-like): hitting the speed sweet spot with the best undercut loses
 {lost[0]:.1f} cm and {lost[1]:.1f} cm of carry. What decides the distance is the undercut. The
-best ball flies **{p.best.carry_m:.1f} m ({ft(p.best.carry_m)})** off the paper's swing and
-**{m.best.carry_m:.1f} m ({ft(m.best.carry_m)})** off the MLB-like one:
+best ball flies **{ranged(p.best.carry_m, *C.best_carry_range_m(PAPER))} m** off the paper's swing
+and **{ranged(m.best.carry_m, *C.best_carry_range_m(MLB))} m** off the MLB-like one (the range: drag
+and lift at the corners of their spread, C_D +-{DRAG_SPREAD:.0%} and C_L +-{LIFT_SPREAD:.0%}; the
+table's figures are the central model's, kept to compare rows):
 
 {md_table(_sweet_rows(), "{:.4g}")}
 
@@ -153,6 +158,12 @@ paper's swing:
 MLB-like swing:
 
 {md_table(_undercut_rows(MLB), "{:.4g}")}
+
+The best undercut depends on the bat's radius: with an undercut D the contact normal tilts by
+asin(D / (r_ball + r_bat)). On the widest legal barrel, 2.61 in [rules], instead of the
+model's 30 mm the best undercut is {wide[0]:.2f} cm instead of {p.best.undercut_m * 100:.2f}
+(paper's swing) and {wide[1]:.2f} instead of {m.best.undercut_m * 100:.2f} cm (MLB-like), the
+carry the same to {max(abs(w - c) for w, c in carry):.2f} m.
 
 Friction: from mu = {mp['mu_lo']:g} to {mp['mu_hi']:g} the best carry changes by
 {mp['spread_m'] * 1e3:.1f} mm (paper's swing) and {mm['spread_m'] * 1e3:.1f} mm (MLB-like), for
@@ -194,8 +205,11 @@ ball's backspin does. Hit at the fastball's best point, it leaves with
 That ball climbs too steeply, so the curveball's best undercut is smaller,
 **{p.curveball.undercut_m * 100:.2f} cm against {p.fastball.undercut_m * 100:.2f} cm**
 (MLB-like: {m.curveball.undercut_m * 100:.2f} against {m.fastball.undercut_m * 100:.2f} cm), and
-it carries **{gain[0]:+.1f} m ({C.feet(gain[0]):+.0f} ft)** and {gain[1]:+.1f} m
-({C.feet(gain[1]):+.0f} ft) farther:
+in this model it carries {gain[0]:+.1f} m ({C.feet(gain[0]):+.0f} ft) and {gain[1]:+.1f} m
+({C.feet(gain[1]):+.0f} ft) farther. That is the upper bound: rigid rolling hands the incoming
+topspin on in full. Measured outgoing spin is nearly independent of the incoming spin
+[nathan2012] [crossnathan2006]; at the same pitch speed a curveball then leaves like the
+fastball and carries the same. **The curveball's gain lies between 0 and {max(gain):+.1f} m**:
 
 {md_table(_pitch_rows(), "{:.4g}")}
 
@@ -208,10 +222,8 @@ Their model differs from this one: the bat swings upward at an angle chosen with
 (here the swing is level, so the undercut alone sets the launch angle), the pitch arrives
 descending at an angle set by its speed (here horizontally), e falls with the closing speed
 (here e = {E} throughout), and their curveball is slower than their fastball (here the same
-speed). Measurements temper the argument: a real ball grips and stretches on the bat,
-leaving with up to {C.KENSRUD_EXTRA_SPIN:.0%} more spin than a rigid ball rolling off it
-[kensrud2017], its spin nearly independent of the spin it arrived with [nathan2012], so that a
-curveball gains less backspin over a fastball than the rigid model gives [crossnathan2006].
+speed). A real ball also grips and stretches on the bat, leaving with up to
+{C.KENSRUD_EXTRA_SPIN:.0%} more spin than a rigid ball rolling off it [kensrud2017].
 """
 
 

@@ -20,7 +20,7 @@ from .report import Section, md_table, pyplot
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-RUSSELL_CM = (12.7, 17.8)   # Russell's sweet region, cm from the barrel end [russell]
+RUSSELL_CM = A.RUSSELL_CM
 CORK_EXPONENTS = np.linspace(0.0, 1.0, 41)  # the cork chart's swing-speed exponents
 
 
@@ -70,6 +70,7 @@ def _sweet_literature_text(table: pd.DataFrame, lo_cm: float, hi_cm: float,
     """Our region against Cross's and Russell's, and the centre of percussion."""
     bat_lo, bat_hi = batting
     inside = max(0.0, min(bat_hi, RUSSELL_CM[1]) - max(bat_lo, RUSSELL_CM[0])) / (bat_hi - bat_lo)
+    share, share_coarse = A.russell_share(fine=True), A.russell_share(fine=False)
     paper_zone = table.iloc[0]
     w = A.BATTING_OMEGAS_RADPS
     return f"""\
@@ -80,7 +81,10 @@ depends on the swing: the {lo_cm:.1f}-{hi_cm:.1f} cm above spans the paper's bat
 12 rad/s, slower than any batting swing, and the slow swings put it farthest from the end. For
 batting swings ({w[0]:.0f}-{w[-1]:.0f} rad/s, the MLB-like 48 rad/s +- 8, the bat turning about
 the knob or the hands, pitches 35-47 m/s) the model puts it **{bat_lo:.1f}-{bat_hi:.1f} cm from
-the end**, {inside:.0%} of it inside Russell's range; the MLB-like swing's best point is
+the end**, {inside:.0%} of that length inside Russell's range (the extremes are corner swings,
+so the region does not depend on the grid); over the swings themselves, taken evenly in pitch,
+rate and pivot, {share:.0%} put their sweet spot inside it (on a grid {A.SHARE_GRID_TEXT}; the
+default grid gives {share_coarse:.0%}). The MLB-like swing's best point is
 {table.iloc[1]['s* (cm from end)']:.1f} cm. A rigid bat cannot settle where a batter *feels* the
 sweet spot: that is set by the bat's vibrations (the node, the sting in the hands), which this
 model does not have [nathan2000] (section 3c has them).

@@ -13,14 +13,16 @@ from dataclasses import dataclass
 
 import pandas as pd
 
-from analytic import MEASURED_EXPONENT
+from analytic import MEASURED_EXPONENT, WOOD_DENSITY_KGM3, ball
 
 from . import answers as A
 from . import carry as C
 from . import metal as M
-from .report import Stats, md_table
+from .report import Stats, md_table, ranged
 
 FINDINGS = "python -m experiments.findings"
+#: White ash's specific gravity 0.55-0.67 [woodhandbook], as densities (kg/m^3).
+WOOD_RANGE_KGM3 = (550.0, 670.0)
 RIGID = "rigid-bat model (e, swing)"
 
 
@@ -77,6 +79,16 @@ def input_claims() -> list[Claim]:
               source="[cross2009] length; [ncaa] drop"),
         Claim(key="input.russell", statement="Russell's sweet region (cm from the end)",
               value="12.7-17.8", command="-", depends="-", source="[russell]"),
+        Claim(key="input.cor", statement="the ball's COR at 85 ft/s (MLB's band's centre)",
+              value=f"{ball.COR_LAW.cor_ref:.3f}", command="analytic.ball.COR_LAW",
+              depends="-", source="[mlbcor]"),
+        Claim(key="input.cor_exponent", statement="the COR's fall with speed, e ~ v^-p: p "
+              "(assumed; no speed-resolved data read)",
+              value="{:g}-{:g}".format(*ball.EXPONENT_RANGE), command="analytic.ball.COR_LAWS",
+              depends="-", source="assumption; 1/4 [johnson1985]"),
+        Claim(key="input.wood", statement="the R161's wood density (kg/m^3), beam fit",
+              value=f"{WOOD_DENSITY_KGM3:.0f}", command="analytic.WOOD_DENSITY_KGM3",
+              depends="the profile's assumed barrel and knob", source="computed; [woodhandbook]"),
     ]
 
 
@@ -96,18 +108,39 @@ def sweet_claims(sweet: Stats, flex: Stats | None) -> list[Claim]:
         out += [Claim(key=f"sweet.{sc.key}", statement=f"best point, {sc.label} (cm)",
                       value=f"{sweet['best_cm'][sc.key]:.1f}", command=cmd,
                       depends="swing, pitch; not e"),
-                Claim(key=f"carry.{sc.key}", statement=f"longest carry, {sc.label} (m)",
-                      value=f"{best.carry_m:.1f}", command=f"{FINDINGS} (section 3b)",
-                      depends="undercut, e, spin, C_D +-10%, C_L +-20%",
-                      source="computed; drag and lift [nathancalc]")]
+                Claim(key=f"carry.{sc.key}", statement=f"longest carry, {sc.label} (m; range: "
+                      "C_D +-10%, C_L +-20%)",
+                      value=ranged(best.carry_m, *C.best_carry_range_m(sc)),
+                      command=f"{FINDINGS} (section 3b)", depends="undercut, e, spin, drag, lift",
+                      source="computed; drag and lift [nathancalc]"),
+                Claim(key=f"carry.wide.{sc.key}", statement=f"best undercut, 30 mm / 2.61 in "
+                      f"barrel, {sc.label} (cm)", value=f"{100 * best.undercut_m:.2f} / "
+                      f"{100 * C.wide_barrel_best(sc).undercut_m:.2f}",
+                      command=f"{FINDINGS} (section 3b)", depends="the contact radius",
+                      source="computed; [rules]")]
+    share_cmd = f"{FINDINGS} (section 1, answers.russell_share)"
+    out += [Claim(key="sweet.share", statement="batting swings whose sweet spot is in Russell's "
+                  "range (fine grid)", value=f"{A.russell_share():.0%}", command=share_cmd,
+                  depends="the grid: the default one gives "
+                  f"{A.russell_share(fine=False):.0%}")]
+    gains = [C.pitch_optima(sc).curveball.carry_m - C.pitch_optima(sc).fastball.carry_m
+             for sc in A.SCENARIOS]
+    out += [Claim(key="curve.gain", statement="curveball carry over fastball (m): spin "
+                  "independence to rigid rolling", value=f"0 to {max(gains):+.1f}",
+                  command=f"{FINDINGS} (section 3b)", depends="outgoing spin's dependence on "
+                  "incoming", source="[nathan2012] [crossnathan2006]; rolling computed")]
     if flex:
-        spots = [s for s in flex["spots"] if s["modulus_scale"] == 1.0]
-        cm = [100 * s[k] for s in spots for k in ("speed_peak_from_tip_m", "node1_from_tip_m")]
-        out.append(Claim(key="flex.spots", statement="beam: speed peak and first node (cm)",
-                         value=f"{min(cm):.1f}-{max(cm):.1f}",
-                         command=f"{FINDINGS} (section 3c; python -m experiments.flex)",
-                         depends="E +-20% moves the peak by up to 1 cm; the ball's law",
-                         source="computed; E, G [woodhandbook]"))
+        m, cmd = flex["models"], f"{FINDINGS} (section 3c, flex_models)"
+        out += [Claim(key="flex.node", statement="beam: first mode's barrel node (cm)",
+                      value=f"{m['node_cm'][0]:.1f}", command=cmd,
+                      depends="robust: not the ball, E +-20% moves it < 0.1 cm",
+                      source="computed; E, G [woodhandbook]"),
+                Claim(key="flex.peak", statement="beam: speed peak over two ball models (cm)",
+                      value="{:.0f}-{:.0f}".format(*m["peak_cm"]), command=cmd,
+                      depends="the ball's law (rate-dependent or not); E +-20%: 1 cm"),
+                Claim(key="flex.sign", statement="beam minus rigid bat at the peak (m/s), two "
+                      "ball models", value="{:+.1f} to {:+.1f}".format(*m["beam_minus_rigid"]),
+                      command=cmd, depends="the ball's law")]
     return out
 
 
@@ -115,6 +148,9 @@ def cork_claims(cork: Stats) -> list[Claim]:
     """What the 1 x 10 in cork fill gains or loses, in m/s and in metres of carry."""
     v = cork["verdicts"]
     cmd = f"{FINDINGS} (section 2, answers.cork_verdicts; carry: section 3b)"
+    by_wood = [A.cork_verdicts(A.R161.corked(wood_density_kgm3=rho))["gain at n = 0.27 (m/s)"]
+               for rho in WOOD_RANGE_KGM3]
+    wood = {sc.key: [float(w.iloc[i]) for w in by_wood] for i, sc in enumerate(A.SCENARIOS)}
     cork_bat, out = "R161, 1 x 10 in cork", []
     for i, sc in enumerate(A.SCENARIOS):
         row, k = v.iloc[i], sc.key
@@ -125,6 +161,10 @@ def cork_claims(cork: Stats) -> list[Claim]:
                   value=f"{row['gain at n = 0.5 (m/s)']:+.2f}", command=cmd, depends=RIGID),
             Claim(key=f"cork.even.{k}", statement=f"cork break-even n, {sc.label}",
                   value=f"{row['break-even n']:.2f}", command=cmd, depends=RIGID),
+            Claim(key=f"cork.wood.{k}", statement=f"cork v1 change at n = 0.27, wood "
+                  f"550-670 kg/m^3, {sc.label}", value="{:+.2f} to {:+.2f}".format(
+                      *sorted(wood[k])), command=cmd, depends=f"{RIGID}, wood density",
+                  source="[woodhandbook] ash's range"),
             Claim(key=f"cork.same.{k}", statement=f"cork, same swing (n = 0), {sc.label}",
                   value=f"{row['gain, same swing (n = 0, m/s)']:+.2f}", command=cmd,
                   depends=RIGID),
@@ -177,21 +217,27 @@ def metal_claims(metal: Stats) -> list[Claim]:
     return out
 
 
-def ball_claims(ball: Stats) -> list[Claim]:
-    """The calibrated ball and how far rigid theory at e = 0.5 is from it."""
-    cmd = f"{FINDINGS} (section 4, analytic.ball.fit_cor_law)"
-    lo = min(ball[k]["diff lo"] for k in ("paper", "mlb"))
-    hi = max(ball[k]["diff hi"] for k in ("paper", "mlb"))
+def ball_claims(stats: Stats) -> list[Claim]:
+    """The ball's COR over the assumed law's range, and how far rigid theory at e = 0.5 is from
+    it."""
+    cmd = f"{FINDINGS} (section 4, analytic.ball.COR_LAW, COR_LAWS)"
+    lo = min(stats[k]["diff lo"] for k in ("paper", "mlb"))
+    hi = max(stats[k]["diff hi"] for k in ("paper", "mlb"))
+    r_lo = min(stats[k]["range lo"] for k in ("paper", "mlb"))
+    r_hi = max(stats[k]["range hi"] for k in ("paper", "mlb"))
+    e_lo, e_hi = stats["regime_cor"]
+    dep, src = "the assumed speed dependence", "assumption through [mlbcor] [nathan2000]"
     return [
-        Claim(key="ball.cor26", statement="realistic ball's COR at 25.9 m/s",
-              value=f"{ball['cor_25.9']:.3f}", command=cmd, depends="the fitted data",
-              source="fit to [mlbcor] [msnbc2003] [nathan2000]"),
-        Claim(key="ball.cor60", statement="realistic ball's COR at 60 m/s",
-              value=f"{ball['cor_60']:.3f}", command=cmd, depends="the fitted data",
-              source="fit to [mlbcor] [msnbc2003] [nathan2000]"),
+        Claim(key="ball.cor60", statement="the ball's COR at 60 m/s (range: COR_LAWS)",
+              value=ranged(stats["cor_60"], *stats["cor_60_range"]), command=cmd, depends=dep,
+              source=src),
+        Claim(key="ball.regime", statement="the COR at the swings' closing speeds, "
+              "{:.0f}-{:.0f} m/s (range)".format(*stats["regime_mps"]),
+              value="{:.2f}-{:.2f} ({:.2f}-{:.2f})".format(e_lo, e_hi, *stats["regime_range"]),
+              command=cmd, depends=dep, source=src),
         Claim(key="ball.gap", statement="rigid (e = 0.5) minus realistic ball, along the "
-              "barrel (m/s)", value=f"{lo:+.1f} to {hi:+.1f}", command=cmd,
-              depends="the COR law at 50-80 m/s closing speed"),
+              "barrel (m/s; over COR_LAWS)", value=f"{lo:+.1f} to {hi:+.1f} ({r_lo:+.0f} to "
+              f"{r_hi:+.0f})", command=cmd, depends=dep),
     ]
 
 
@@ -239,14 +285,18 @@ def short_answers_text(claims: list[Claim]) -> str:
     return f"""**Short answers** (model results; the referee section gives each number's command,
 what it depends on and its source):
 - **Sweet spot**: in a rigid-bat model the best point moves with the swing: {v('sweet.batting')} cm
-  from the barrel end for batting swings (the MLB-like swing: {v('sweet.mlb')} cm, its best ball
-  carrying {v('carry.mlb')} m), inside or near Russell's {v('input.russell')} cm; slower swings
-  put it farther out ({v('sweet.all')} cm down to 12 rad/s; the paper's swing {v('sweet.paper')}
-  cm, {v('carry.paper')} m). On a flexible R161 the fastest point and the first mode's node lie
-  {v('flex.spots')} cm from the end (section 3c).
+  from the barrel end for batting swings ({v('sweet.share')} of them inside Russell's
+  {v('input.russell')} cm; the MLB-like swing: {v('sweet.mlb')} cm, its best ball carrying
+  {v('carry.mlb')} m over the drag and lift spread); slower swings put it farther out
+  ({v('sweet.all')} cm down to 12 rad/s; the paper's swing {v('sweet.paper')} cm,
+  {v('carry.paper')} m). On a flexible R161 the first mode's node lies {v('flex.node')} cm from
+  the end whatever the ball; the fastest point, {v('flex.peak')} cm, and whether the beam beats a
+  rigid bat ({v('flex.sign')} m/s) depend on the ball's law (section 3c). A curveball carries
+  {v('curve.gain')} m farther than a fastball at the same speed (section 3b).
 - **Corking** ({v('input.cork')} cork fill, rigid model, e = {v('input.e')}): the answer depends
   on how much faster the lighter bat is swung (speed ~ I_knob^-n). At the measured
-  n = {v('input.n')} it changes v1 by {v('cork.n027.paper')} m/s (paper's swing; carry
+  n = {v('input.n')}, in wood of {v('input.wood')} kg/m^3, it changes v1 by
+  {v('cork.n027.paper')} m/s ({v('cork.wood.paper')} over ash's densities; paper's swing; carry
   {v('cork.carry027.paper')} m) and {v('cork.n027.mlb')} m/s (MLB-like; {v('cork.carry027.mlb')} m);
   at constant torque (n = {v('input.torque')}) by {v('cork.n05.paper')} m/s
   ({v('cork.carry05.paper')} m) and {v('cork.n05.mlb')} m/s ({v('cork.carry05.mlb')} m). It pays
@@ -261,9 +311,10 @@ what it depends on and its source):
   31 in bat's {v('metal.pair027.paper')} / {v('metal.pair027.mlb')} m/s is mostly its shorter
   length. A livelier collision gains more: what-if e = 0.55-0.60 adds {v('metal.lively')} m/s
   ({v('metal.lively_carry')} m of carry), and BBCOR caps e at 0.50 [ncaa].
-- **The ball**: a COR law fitted to measurements gives {v('ball.cor26')} at 25.9 m/s and
-  {v('ball.cor60')} at 60 m/s; rigid theory at e = {v('input.e')} lies {v('ball.gap')} m/s above
-  it along the barrel (section 4).
+- **The ball**: no speed-resolved COR could be read, so its fall with speed is an assumption:
+  from {v('input.cor')} at 85 ft/s as v^-p, p = {v('input.cor_exponent')}, it is
+  {v('ball.regime')} at the swings' closing speeds. Rigid theory at e = {v('input.e')} lies
+  {v('ball.gap')} m/s above it along the barrel: the sign rests on the assumption (section 4).
 - **The paper**: its corked-bat inertia cannot be checked (lost minus signs); its oblique
   rebound angle and its metal-bat speed do not follow from its data; its reaction times follow
   from its own speeds ({v('paper.t42.59')} and {v('paper.t38.57')} s) and inherit their errors;

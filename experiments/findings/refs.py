@@ -56,6 +56,9 @@ REFS = {
     "rules": "Official Baseball Rules (MLB): ball 5-5.25 oz, 9-9.25 in around (3.01); bats of "
              "one piece of solid wood, barrel at most 2.61 in (3.02), a wood-only rule, not a "
              "BBCOR one; pitching rubber 60 ft 6 in (18.44 m) from home plate.",
+    "shenoy2001": "M. M. Shenoy, L. V. Smith, J. T. Axtell, Composite Structures 52, 397 (2001), "
+                  "\"Performance assessment of wood, metal and composite baseball bats\" "
+                  "(abstract): the ball's COR depends on the impact speed.",
     "sawicki2003": "G. S. Sawicki, M. Hubbard, W. J. Stronge, Am. J. Phys. 71, 1152 (2003), "
                    "\"How to hit home runs\" (abstract): undercut and upward swing angle set for "
                    "the longest carry, e falling with closing speed; post-impact conditions "

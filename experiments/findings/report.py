@@ -51,6 +51,19 @@ def pyplot() -> ModuleType:
     return plt
 
 
+def ranged(value: float, lo: float, hi: float, fmt: str = "") -> str:
+    """``value (lo-hi)`` rounded to the decade of the range's half-width, the figures the range
+    allows (half-width 12 -> tens, 0.08 -> hundredths); ``fmt`` a sign, e.g. '+'."""
+    half = max(abs(hi - lo) / 2, 1e-12)
+    digits = -math.floor(math.log10(half))
+
+    def cut(x: float) -> str:
+        return f"{round(x, digits):{fmt}.{max(digits, 0)}f}"
+
+    sep = " to " if fmt or lo < 0 else "-"
+    return f"{cut(value)} ({cut(lo)}{sep}{cut(hi)})"
+
+
 def along_the_barrel(ax: Axes, title: str) -> None:
     """Axes of v1 against the distance from the barrel end (the end on the right)."""
     ax.invert_xaxis()
