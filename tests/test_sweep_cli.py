@@ -98,7 +98,7 @@ def test_runners_give_identical_rows(sweep_plan):
 def test_compliant_reference_beside_the_rigid_one(tmp_path):
     # --reference compliant adds the law's prediction per row; the default law is the realistic
     # ball. Checked here: the law's e at each closing speed v_c = v0 + u0 + omega0 s is the
-    # fitted power law e = cor_ref (v_c / v_ref)^-exponent; the difference column is rigid
+    # assumed power law e = cor_ref (v_c / v_ref)^-exponent; the difference column is rigid
     # minus compliant; and the contact lasts what a Hertz contact of this baseball does.
     from analytic import ImpactCase, compliant, presets
     from analytic.ball import REALISTIC_BALL, WALL
