@@ -41,12 +41,12 @@ class Claim:
 
 
 def _carry_change(key: str, bat: str, model: str, e: float = A.E) -> str:
-    """The change in carry (m) of one bat's row of ``carry.bat_table``, signed to 0.1 m (a
-    change that rounds to zero is written 0.0, not -0.0)."""
+    """The change in carry (m) of one bat's row of ``carry.bat_table``, signed, with its least
+    and most over the drag and lift corners, in the figures that range allows."""
     t = C.bat_table(A.MLB if key == "mlb" else A.PAPER)
-    r = t[(t.bat == bat) & (t["swing model"] == model) & (t.e == e)]
-    text = f"{float(r['change (m)'].iloc[0]):+.1f}"
-    return "0.0" if text in ("+0.0", "-0.0") else text
+    r = t[(t.bat == bat) & (t["swing model"] == model) & (t.e == e)].iloc[0]
+    lo, hi = (float(x) for x in r["change over spread (m)"].split(" to "))
+    return ranged(float(r["change (m)"]), lo, hi, "+")
 
 
 def _lively_carry() -> tuple[float, float]:

@@ -58,7 +58,9 @@ def ranged(value: float, lo: float, hi: float, fmt: str = "") -> str:
     digits = -math.floor(math.log10(half))
 
     def cut(x: float) -> str:
-        return f"{round(x, digits):{fmt}.{max(digits, 0)}f}"
+        x = round(x, digits)
+        return f"{x:{fmt if x else ''}.{max(digits, 0)}f}".replace("-0.", "0.") if not x \
+            else f"{x:{fmt}.{max(digits, 0)}f}"
 
     sep = " to " if fmt or lo < 0 else "-"
     return f"{cut(value)} ({cut(lo)}{sep}{cut(hi)})"
