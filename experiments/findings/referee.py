@@ -145,29 +145,31 @@ def sweet_claims(sweet: Stats, flex: Stats | None) -> list[Claim]:
 
 
 def cork_claims(cork: Stats) -> list[Claim]:
-    """What the 1 x 10 in cork fill gains or loses, in m/s and in metres of carry."""
+    """What the 1 x 10 in cork fill gains or loses, in m/s (with its range over ash's densities)
+    and in metres of carry (over the drag and lift corners)."""
     v = cork["verdicts"]
     cmd = f"{FINDINGS} (section 2, answers.cork_verdicts; carry: section 3b)"
-    by_wood = [A.cork_verdicts(A.R161.corked(wood_density_kgm3=rho))["gain at n = 0.27 (m/s)"]
-               for rho in WOOD_RANGE_KGM3]
-    wood = {sc.key: [float(w.iloc[i]) for w in by_wood] for i, sc in enumerate(A.SCENARIOS)}
+    by_wood = [A.cork_verdicts(A.R161.corked(wood_density_kgm3=rho)) for rho in WOOD_RANGE_KGM3]
+    dep = f"{RIGID}; wood {WOOD_RANGE_KGM3[0]:.0f}-{WOOD_RANGE_KGM3[1]:.0f} kg/m^3 [woodhandbook]"
+
+    def gain(i: int, column: str) -> str:
+        lo, hi = sorted(float(w[column].iloc[i]) for w in by_wood)
+        return ranged(float(v[column].iloc[i]), lo, hi, "+")
+
     cork_bat, out = "R161, 1 x 10 in cork", []
     for i, sc in enumerate(A.SCENARIOS):
         row, k = v.iloc[i], sc.key
         out += [
-            Claim(key=f"cork.n027.{k}", statement=f"cork v1 change at n = 0.27, {sc.label}",
-                  value=f"{row['gain at n = 0.27 (m/s)']:+.2f}", command=cmd, depends=RIGID),
+            Claim(key=f"cork.n027.{k}", statement=f"cork v1 change at n = 0.27, {sc.label} "
+                  "(range: ash's density)", value=gain(i, "gain at n = 0.27 (m/s)"),
+                  command=cmd, depends=dep),
             Claim(key=f"cork.n05.{k}", statement=f"cork v1 change at n = 0.5, {sc.label}",
-                  value=f"{row['gain at n = 0.5 (m/s)']:+.2f}", command=cmd, depends=RIGID),
+                  value=gain(i, "gain at n = 0.5 (m/s)"), command=cmd, depends=dep),
             Claim(key=f"cork.even.{k}", statement=f"cork break-even n, {sc.label}",
-                  value=f"{row['break-even n']:.2f}", command=cmd, depends=RIGID),
-            Claim(key=f"cork.wood.{k}", statement=f"cork v1 change at n = 0.27, wood "
-                  f"550-670 kg/m^3, {sc.label}", value="{:+.2f} to {:+.2f}".format(
-                      *sorted(wood[k])), command=cmd, depends=f"{RIGID}, wood density",
-                  source="[woodhandbook] ash's range"),
+                  value=f"{row['break-even n']:.2f}", command=cmd,
+                  depends=f"{dep}: moves it < 0.002"),
             Claim(key=f"cork.same.{k}", statement=f"cork, same swing (n = 0), {sc.label}",
-                  value=f"{row['gain, same swing (n = 0, m/s)']:+.2f}", command=cmd,
-                  depends=RIGID),
+                  value=gain(i, "gain, same swing (n = 0, m/s)"), command=cmd, depends=dep),
             Claim(key=f"cork.carry027.{k}", statement=f"cork carry change, n = 0.27, {sc.label}",
                   value=_carry_change(k, cork_bat, 'measured'), command=cmd,
                   depends=f"{RIGID}, drag and lift"),
@@ -295,8 +297,8 @@ what it depends on and its source):
   {v('curve.gain')} m farther than a fastball at the same speed (section 3b).
 - **Corking** ({v('input.cork')} cork fill, rigid model, e = {v('input.e')}): the answer depends
   on how much faster the lighter bat is swung (speed ~ I_knob^-n). At the measured
-  n = {v('input.n')}, in wood of {v('input.wood')} kg/m^3, it changes v1 by
-  {v('cork.n027.paper')} m/s ({v('cork.wood.paper')} over ash's densities; paper's swing; carry
+  n = {v('input.n')}, in wood of {v('input.wood')} kg/m^3 (ranges: ash's densities; carries:
+  drag and lift), it changes v1 by {v('cork.n027.paper')} m/s (paper's swing; carry
   {v('cork.carry027.paper')} m) and {v('cork.n027.mlb')} m/s (MLB-like; {v('cork.carry027.mlb')} m);
   at constant torque (n = {v('input.torque')}) by {v('cork.n05.paper')} m/s
   ({v('cork.carry05.paper')} m) and {v('cork.n05.mlb')} m/s ({v('cork.carry05.mlb')} m). It pays
