@@ -27,7 +27,7 @@ from scipy import integrate, linalg, optimize
 
 from . import checks
 from .chain import Chain
-from .compliant import ContactLaw, ImpactLaw, law_for_impact
+from .compliant import ContactLaw, Hysteretic, ImpactLaw, law_for_impact
 from .model import Ball
 
 #: The free-flight search samples the gap this many times per period of the chain's highest
@@ -233,6 +233,9 @@ def compliant_reference(impact: ChainImpact, law: ContactLaw | ImpactLaw, *,
     m = impact.ball.mass_kg
     row = impact.chain.point_row(impact.x_m)
     law = law_for_impact(law, impact.v0_mps + float(row @ impact.initial_velocities()))
+    if isinstance(law, Hysteretic):
+        raise ValueError("law: a hysteretic law needs its deepest overlap carried, which the "
+                         "chain's integration does not; allowed: a rate-dependent law")
     reach = impact.chain.bat.radius_m + impact.ball.radius_m
     peaks: list[float] = []
     turns: list[float] = []

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, interpolate, optimize
 
+from . import checks
 from .beam import Beam
 from .collide import _geometry, first_touch, outcome_fields
 from .compliant import CompliantOutcome, ContactLaw, ImpactLaw, law_for_impact, peak_rate
@@ -62,6 +63,8 @@ def predict(case: ImpactCase, beam: Beam, law: ContactLaw | ImpactLaw, *,
     own frequency (the wood's loss, 0 by default); ``patch_m`` a (m) spreads the force evenly
     over s - a..s + a along the axis (a point, 0 by default), so the modes see each shape's
     mean over the patch. Frame and fields as ``analytic.compliant.predict``."""
+    checks.in_range("loss_factor", loss_factor, 0.0, 1.0)
+    checks.in_range("patch_m", patch_m, 0.0, 0.1 * beam.profile.length_m)
     rigid = beam.rigid
     for key, value in rigid.items():
         if not math.isclose(getattr(case.bat, key), value, rel_tol=1e-12):

@@ -82,3 +82,21 @@ def test_beam_modal_truncation_converges():
     for col in [c for c in check.columns if c.startswith("v1")]:
         v = check.set_index("beam model")[col]
         assert abs(v["48 modes"] - v["24 modes"]) < abs(v["12 modes"] - v["24 modes"]) < 0.2
+
+
+def test_models_that_cannot_carry_a_hysteretic_law_refuse_it():
+    # the chain's integration has no deepest-overlap state: a hysteretic law there would be
+    # elastic, so it is refused; bad beam options are refused before any work
+    from analytic import beam, flexible
+    from analytic.ball import HYSTERETIC_BALL
+    from analytic.chain import Chain
+    from analytic.chain_impact import ChainImpact, compliant_reference
+
+    eb = beam.Beam(profile=beam.r161_profile()[0], wood=beam.r161_profile()[1])
+    impact = ChainImpact(chain=Chain.from_beam(eb, 4, like=presets.R161),
+                         ball=presets.BASEBALL, x_m=0.66, v0_mps=40.0, e=0.5)
+    with pytest.raises(ValueError, match="law"):
+        compliant_reference(impact, HYSTERETIC_BALL)
+    for kw, name in (({"loss_factor": -0.1}, "loss_factor"), ({"patch_m": 1.0}, "patch_m")):
+        with pytest.raises(ValueError, match=name):
+            flexible.predict(None, eb, HYSTERETIC_BALL, **kw)  # checked before the case
