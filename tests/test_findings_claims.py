@@ -73,6 +73,7 @@ def test_a_changed_number_is_caught(claims):
     # the check above cannot pass vacuously: a README sentence quoting a value one unit off in
     # its last digit leaves a digit behind
     value = claims["cork.n027.paper"]
-    wrong = value[:-1] + str((int(value[-1]) + 1) % 10)
+    i = max(i for i, ch in enumerate(value) if ch.isdigit())  # its last digit, one unit off
+    wrong = value[:i] + str((int(value[i]) + 1) % 10) + value[i + 1:]
     assert re.search(r"\d", _strike(f"corking changes the speed by {wrong} m/s", claims))
     assert not re.search(r"\d", _strike(f"corking changes the speed by {value} m/s", claims))
