@@ -72,12 +72,10 @@ class LinearSpringDamper:
         checks.positive("stiffness_npm", self.stiffness_npm)
         checks.non_negative("damping_nspm", self.damping_nspm)
 
-    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
-                peak_m: float = 0.0) -> float:
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         return self.stiffness_npm * x_m + self.damping_nspm * rate_mps
 
-    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
-                      peak_m: float = 0.0) -> float:
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         """Crosses zero, linearly in time, where the contact lets go."""
         return self.force_n(x_m, rate_mps)
 
@@ -98,12 +96,10 @@ class HuntCrossley:
         checks.in_range("exponent", self.exponent, 1.0, 2.0)
         checks.non_negative("dissipation_spm", self.dissipation_spm)
 
-    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
-                peak_m: float = 0.0) -> float:
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         return self.stiffness * x_m**self.exponent * (1.0 + self.dissipation_spm * rate_mps)
 
-    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
-                      peak_m: float = 0.0) -> float:
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         """F / x^(n-1): zero where F is, but crossing linearly in time at x = 0 (F ~ x^n
         would make the release instant ill-conditioned)."""
         return self.stiffness * x_m * (1.0 + self.dissipation_spm * rate_mps)
@@ -134,13 +130,11 @@ class ContactSpaceSpringDamper:
         checks.positive("omega_radps", self.omega_radps)
         checks.non_negative("damping_ratio", self.damping_ratio)
 
-    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
-                peak_m: float = 0.0) -> float:
+    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         w = self.omega_radps
         return m_eff_kg * (w * w * x_m + 2 * self.damping_ratio * w * rate_mps)
 
-    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
-                      peak_m: float = 0.0) -> float:
+    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0) -> float:
         return self.force_n(x_m, rate_mps, m_eff_kg)
 
 
@@ -178,6 +172,21 @@ class Hysteretic:
 
 
 ContactLaw = LinearSpringDamper | HuntCrossley | ContactSpaceSpringDamper | Hysteretic
+
+
+def force_of(law, x_m: float, rate_mps: float, m_eff_kg: float, peak_m: float) -> float:
+    """``law``'s force (N), given the deepest overlap so far where the law has a memory (a
+    ``Hysteretic`` one): every other law keeps the plain ``force_n(x, x', m_eff)``."""
+    if isinstance(law, Hysteretic):
+        return law.force_n(x_m, rate_mps, m_eff_kg, peak_m)
+    return law.force_n(x_m, rate_mps, m_eff_kg)
+
+
+def release_of(law, x_m: float, rate_mps: float, m_eff_kg: float, peak_m: float) -> float:
+    """``law.release_value`` as ``force_of`` calls ``force_n``."""
+    if isinstance(law, Hysteretic):
+        return law.release_value(x_m, rate_mps, m_eff_kg, peak_m)
+    return law.release_value(x_m, rate_mps, m_eff_kg)
 
 
 def peak_rate(x_m: float, rate_mps: float, peak_m: float) -> float:
@@ -298,7 +307,7 @@ def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
 
     def contact(z):
         x, rate, m_eff, n, s = state(z)
-        return law.force_n(max(x, 0.0), rate, m_eff, z[10]), x, n, s, rate
+        return force_of(law, max(x, 0.0), rate, m_eff, z[10]), x, n, s, rate
 
     def rhs(t, z):
         f, x, n, s, rate = contact(z)
@@ -311,7 +320,7 @@ def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
         if t == 0.0:
             return 1.0
         x, rate, m_eff, _, _ = state(z)
-        return law.release_value(x, rate, m_eff, z[10])
+        return release_of(law, x, rate, m_eff, z[10])
 
     released.terminal, released.direction = True, -1
     # a generous horizon: a Hertz contact of a baseball lasts about a millisecond

@@ -25,7 +25,15 @@ from scipy import integrate, interpolate, optimize
 from . import checks
 from .beam import Beam
 from .collide import _geometry, first_touch, outcome_fields
-from .compliant import CompliantOutcome, ContactLaw, ImpactLaw, law_for_impact, peak_rate
+from .compliant import (
+    CompliantOutcome,
+    ContactLaw,
+    ImpactLaw,
+    force_of,
+    law_for_impact,
+    peak_rate,
+    release_of,
+)
 from .model import ImpactCase
 
 #: Bending modes kept by default: 24 reach 15 kHz on the R161 (Timoshenko). The local
@@ -140,7 +148,7 @@ class _Problem:
     def force(self, z, t=1.0):
         x, rate, m_eff, phi, arms, frame = self.state(z)
         touching = x > 0.0 or t == 0.0
-        f = max(self.law.force_n(max(x, 0.0), rate, m_eff, z[-1]), 0.0) if touching else 0.0
+        f = max(force_of(self.law, max(x, 0.0), rate, m_eff, z[-1]), 0.0) if touching else 0.0
         return f, x, phi, arms, frame, rate
 
     def rhs(self, t, z, free: bool = False):
@@ -171,7 +179,7 @@ class _Problem:
             if t == 0.0:
                 return 1.0
             x, rate, m_eff, *_ = self.state(z)
-            return self.law.release_value(x, rate, m_eff, z[-1])
+            return release_of(self.law, x, rate, m_eff, z[-1])
 
         released.terminal, released.direction = True, -1
         return integrate.solve_ivp(self.rhs, (0.0, 1.0), y, method="DOP853", rtol=RTOL,

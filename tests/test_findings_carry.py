@@ -20,6 +20,7 @@ from experiments.findings import REFS
 from experiments.findings import answers as A
 from experiments.findings import carry as C
 from experiments.findings import carry_text as T
+from experiments.findings.report import ranged
 
 #: In the full tier (a minute of flights and frictional impulses; the fast tier checks the
 #: numbers the findings quote, test_findings_claims), on one worker: they share the carries the
@@ -158,7 +159,8 @@ def test_section_quotes_the_computed_numbers(section):
     assert list(figs) == [T.CHART] and f"]({T.CHART})" in text
     for sc in A.SCENARIOS:
         b = C.sweet_spots(sc).best
-        assert f"**{b.carry_m:.1f} m ({C.feet(b.carry_m):.0f} ft)**" in text
+        # the longest carry with its least and most over the drag and lift corners
+        assert f"**{ranged(b.carry_m, *carry_range_m(b.launch))} m**" in text
         assert f"{abs(b.s_m - C.sweet_spots(sc).speed_s_m) * 1e3:.1f} mm" in text
     p, m = C.pitch_optima(A.PAPER), C.pitch_optima(A.MLB)
     assert (f"**{p.curveball.undercut_m * 100:.2f} cm against "
@@ -166,7 +168,10 @@ def test_section_quotes_the_computed_numbers(section):
     assert (f"{m.curveball.undercut_m * 100:.2f} against "
             f"{m.fastball.undercut_m * 100:.2f} cm") in text
     gain = p.curveball.carry_m - p.fastball.carry_m
-    assert f"**{gain:+.1f} m ({C.feet(gain):+.0f} ft)**" in text
+    assert f"{gain:+.1f} m ({C.feet(gain):+.0f} ft)" in text
+    # the bracket: measured spin independence (no gain) to rigid rolling (the larger gain)
+    best = max(po.curveball.carry_m - po.fastball.carry_m for po in (p, m))
+    assert f"**The curveball's gain lies between 0 and {best:+.1f} m**" in text
     cork = C.bat_table(A.PAPER)
     row = cork[(cork["swing model"] == "measured") & (cork.bat == "R161, 1 x 10 in cork")]
     change = row["change (m)"].iloc[0]
