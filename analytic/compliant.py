@@ -212,7 +212,7 @@ def law_for_impact(law: ContactLaw | ImpactLaw, closing_mps: float) -> ContactLa
     return at_speed(checks.positive("closing_mps", closing_mps))
 
 
-#: Superseded by ``analytic.ball.REALISTIC_BALL`` (whose COR follows the measured data at every
+#: Superseded by ``analytic.ball.REALISTIC_BALL`` (whose COR follows its power law at every
 #: speed); kept for comparison. A baseball against a rigid surface as a Hertz contact with
 #: hysteresis (Hunt-Crossley, n = 3/2) and one dissipation, calibrated to two figures: e = 0.5
 #: at 40 m/s (the ball-bat regime's COR, about 0.5 at 40-60 m/s [nathan2000]: A. M. Nathan,

@@ -5,7 +5,7 @@ reference, and every engine's segmented bat against the same chain solved exactl
 
 Beam (``analytic.beam``, ``analytic.flexible``): the R161 as a free-free Timoshenko beam
 (its profile fitted to its mass, balance and J_cm; white ash), hit by the realistic ball
-(``analytic.ball.REALISTIC_BALL``: Hertz, its COR the measured one) along the barrel, for the
+(``analytic.ball.REALISTIC_BALL``: Hertz, its COR the assumed law's) along the barrel, for the
 paper's swing, a major-league swing and a bat at rest: exit speed, energy left in bending (each
 mode), contact time, beside the rigid bat under the same law; the two sweet spots and the sweet zone
 (``flex_beam``), with the wood's modulus at 80, 100 and 120%. Chain (``analytic.chain``):

@@ -5,8 +5,8 @@ as it really is, and an audit of the paper.
 
 Writes findings.md and findings_*.png into the run directory (results/ by
 ``python -m experiments.baselines``). The numbers come from ``answers``, ``metal`` and ``carry``
-(the rigid-bat model, flight, engines through the runner) and ``ball`` (the ball calibrated to
-measured CORs); ``questions`` (sections 1-2), ``metal_text`` (3), ``carry_text`` (3b),
+(the rigid-bat model, flight, engines through the runner) and ``ball`` (the ball's assumed
+COR law and its range); ``questions`` (sections 1-2), ``metal_text`` (3), ``carry_text`` (3b),
 ``flex_text`` (3c), ``ball`` (4) and ``report`` (the head, sections 5-6, the references) write
 them up. ``referee`` collects every quoted number as a claim with its command, dependence and
 source: the short answers quote claims only, and tests/test_findings_claims.py traces them.
