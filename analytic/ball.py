@@ -120,12 +120,11 @@ def cor_range(speed_mps: float) -> tuple[float, float]:
     return min(cors), max(cors)
 
 @dataclass(frozen=True, kw_only=True)
-class RealisticBall:
-    """A Hertz ball whose COR follows ``cor_law`` at every impact speed: F = k x^n (1 + d x')
-    with ``stiffness`` k (N/m^n), ``exponent`` n (1; 3/2 is Hertz's sphere) and d set once per
-    impact from the closing speed at first touch, so that e(v0) = cor_law.cor(v0) exactly
-    (``at_speed``). A re-touch within one episode keeps that first d. Pass it wherever a
-    contact law goes: ``compliant.law_for_impact`` resolves it."""
+class CorBall:
+    """A Hertz-shaped ball whose COR follows ``cor_law`` at every impact speed: ``stiffness``
+    k (N/m^n), ``exponent`` n (1; 3/2 is Hertz's sphere). Its kinds differ only in the contact
+    law ``at_speed`` resolves at the first touch's closing speed (kept through re-touches).
+    Pass it wherever a contact law goes: ``compliant.law_for_impact`` resolves it."""
 
     stiffness: float
     exponent: float
@@ -140,6 +139,12 @@ class RealisticBall:
     def restitution(self, speed_mps: float) -> float:
         """The COR (1) of an impact closing at ``speed_mps`` (m/s)."""
         return self.cor_law.cor(speed_mps)
+
+
+@dataclass(frozen=True, kw_only=True)
+class RealisticBall(CorBall):
+    """The rate-dependent ball: F = k x^n (1 + d x'), d set once per impact so that
+    e(v0) = cor_law.cor(v0) exactly (``at_speed``)."""
 
     def at_speed(self, speed_mps: float) -> HuntCrossley:
         """The Hunt-Crossley law of one impact closing at ``speed_mps`` (m/s, > 0): the d for
@@ -148,36 +153,21 @@ class RealisticBall:
         return HuntCrossley(stiffness=self.stiffness, exponent=self.exponent, dissipation_spm=d)
 
 
-#: A wall: so heavy and so hard to turn that the reduced mass is the ball's.
-WALL = Bat(name="wall", length_m=1.0, radius_m=0.03, mass_kg=1e12, com_from_knob_m=0.5,
-           inertia_cm_kgm2=1e12)
-
-
 @dataclass(frozen=True, kw_only=True)
-class HystereticBall:
-    """A ball whose COR follows ``cor_law`` through a rate-independent loss: per impact the
-    ``compliant.Hysteretic`` law with ``stiffness`` k (N/m^n), ``exponent`` n and e =
-    cor_law.cor(v0) at the first touch's closing speed. On a wall its e(v) is the realistic
-    ball's; on a yielding bat its loss does not fall as the compression slows."""
-
-    stiffness: float
-    exponent: float
-    cor_law: CorLaw
-
-    def __post_init__(self) -> None:
-        checks.positive("stiffness", self.stiffness)
-        checks.in_range("exponent", self.exponent, 1.0, 2.0)
-        if not isinstance(self.cor_law, CorLaw):
-            raise ValueError(f"cor_law={self.cor_law!r} is not a CorLaw; allowed: a CorLaw")
-
-    def restitution(self, speed_mps: float) -> float:
-        """The COR (1) of an impact closing at ``speed_mps`` (m/s)."""
-        return self.cor_law.cor(speed_mps)
+class HystereticBall(CorBall):
+    """The rate-independent ball: per impact the ``compliant.Hysteretic`` law with e =
+    cor_law.cor(v0). On a wall its e(v) is the realistic ball's; on a yielding bat its loss
+    does not fall as the compression slows."""
 
     def at_speed(self, speed_mps: float) -> Hysteretic:
         """The hysteretic law of one impact closing at ``speed_mps`` (m/s, > 0)."""
         return Hysteretic(stiffness=self.stiffness, exponent=self.exponent,
                           cor=self.cor_law.cor(checks.positive("speed_mps", speed_mps)))
+
+
+#: A wall: so heavy and so hard to turn that the reduced mass is the ball's.
+WALL = Bat(name="wall", length_m=1.0, radius_m=0.03, mass_kg=1e12, com_from_knob_m=0.5,
+           inertia_cm_kgm2=1e12)
 
 
 #: The kinds of ball a COR law makes: the rate-dependent (Hunt-Crossley) and the rate-
@@ -230,6 +220,6 @@ HYSTERETIC_BALL = HystereticBall(stiffness=16411436.516395548, exponent=1.5, cor
 #: the rate-independent one, and the single-d Hertz law the first supersedes.
 LAWS = {"ball": REALISTIC_BALL, "hysteretic": HYSTERETIC_BALL, "hertz": BASEBALL_HERTZ}
 
-__all__ = ["BALL_KINDS", "COR_DATA", "COR_LAW", "COR_LAWS", "CorLaw", "CorPoint",
+__all__ = ["BALL_KINDS", "COR_DATA", "CorBall", "COR_LAW", "COR_LAWS", "CorLaw", "CorPoint",
            "HYSTERETIC_BALL", "HystereticBall", "LAWS", "REALISTIC_BALL", "RealisticBall",
            "ball_of", "cor_range", "law_through", "wall_stiffness"]

@@ -58,7 +58,7 @@ def ball_cor_curve(speeds_mps: tuple[float, ...] = BALL_SPEEDS_MPS) -> pd.DataFr
 
 
 def rigid_vs_compliant(sc: A.Scenario, points: int = 41,
-                       law: ball.RealisticBall = LAW) -> pd.DataFrame:
+                       law: ball.CorBall = LAW) -> pd.DataFrame:
     """Along the R161's barrel half for one swing: rigid v1 (e = 0.5), the realistic ball's
     (``law``'s) v1, rigid v1 at the ball's own COR at that closing speed, contact time and the
     bat's turn."""
