@@ -14,9 +14,13 @@ For each engine (reference profile, R161, the paper's swing, N impact points):
   process) and on an expensive hinged-swing sweep of 96 points;
 - the wall time of the sweep command on 41 points, start-up included;
 - throughput against batch size (``experiments.parts.throughput``): impacts per second at each
-  --batches size, with the largest error against theory and the harness's own share.
-Writes bench_engines.csv, .json and .png, and bench_batches.csv and .png into the run
-directory.
+  --batches size, with the largest error against theory and the harness's own share, on the
+  device each engine computes on. --batches-only measures this part alone (a batched engine
+  on a GPU machine: BATSIM_WARP_DEVICE=cuda:0 for the Warp engines, JAX's default device for
+  MJX). Rows measured on the other kind of device (CPU or GPU) are kept from --keep-rows
+  (default: the committed results/bench_batches.csv), so that one table holds both.
+Writes bench_engines.csv, .json and .png (not with --batches-only), and bench_batches.csv and
+.png into the run directory.
 """
 
 from __future__ import annotations
@@ -200,9 +204,37 @@ def _options(p: argparse.ArgumentParser) -> None:
                    help="batch sizes of the throughput part (default 1,10,...,100000)")
     p.add_argument("--batch-budget", type=cli.number(0.0, lo_open=True), default=30.0,
                    metavar="S", help="grow the batch while a firing would last at most this (s)")
+    p.add_argument("--batches-only", action="store_true",
+                   help="only the throughput part (e.g. the batched engines on a GPU)")
+    p.add_argument("--keep-rows", type=Path, default=ROOT / "results" / "bench_batches.csv",
+                   metavar="CSV", help="throughput rows whose device kind (CPU, GPU) this run "
+                   "did not measure are kept from this table (default: the committed one)")
+
+
+def batches_files(args: argparse.Namespace) -> tuple[dict[str, bytes], list[str]]:
+    """The throughput part: bench_batches.csv and .png (with the rows kept from --keep-rows)
+    and its summary lines."""
+    import matplotlib.pyplot as plt
+
+    repeats = 1 if args.quick else 3
+    measured = pd.DataFrame([row for n in args.engine for row in throughput.measure(
+        n, args.batches, args.batch_budget, repeats)])
+    kept = pd.read_csv(args.keep_rows) if args.keep_rows.is_file() else None
+    batches = throughput.merged(measured, kept)
+    fig = throughput.chart(batches)
+    files = {"bench_batches.csv": batches.to_csv(index=False, float_format="%.4g",
+                                                 lineterminator="\n").encode(),
+             "bench_batches.png": figure_png(fig)}
+    plt.close(fig)
+    return files, [throughput.summary(measured).to_string(index=False,
+                                                          float_format=lambda v: f"{v:.3g}")]
+
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every measurement: the files and what to print."""
+    if args.batches_only:
+        files, lines = batches_files(args)
+        return files, "\n".join(lines)
     repeats = 1 if args.quick else args.repeats
     firing = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, args.points),
                           v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
@@ -226,14 +258,12 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                   for r in par]
     sweep_s = timed_command(["--engine", engines, "--points", "41"], 1 if args.quick else 3)
     lines.append(f"sweep --engine {engines}, 41 points, start-up included: median {sweep_s:.2f} s")
-    batches = pd.DataFrame([row for n in args.engine
-                            for row in throughput.measure(n, args.batches, args.batch_budget)])
-    lines.append(throughput.summary(batches).to_string(index=False,
-                                                       float_format=lambda v: f"{v:.3g}"))
+    files, more = batches_files(args)
+    lines += more
     import matplotlib.pyplot as plt
 
-    fig, batch_fig = chart(table), throughput.chart(batches)
-    files = {
+    fig = chart(table)
+    files |= {
         "bench_engines.csv": table.to_csv(index=False, float_format="%.4g",
                                           lineterminator="\n").encode(),
         "bench_engines.json": json_bytes({
@@ -241,12 +271,8 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
             "runners": par, "two_process_ceiling": ceiling, "repeats": repeats,
             "provenance": provenance()}),
         "bench_engines.png": figure_png(fig),
-        "bench_batches.csv": batches.to_csv(index=False, float_format="%.4g",
-                                            lineterminator="\n").encode(),
-        "bench_batches.png": figure_png(batch_fig),
     }
     plt.close(fig)
-    plt.close(batch_fig)
     return files, "\n".join(lines)
 
 

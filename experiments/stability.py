@@ -35,6 +35,7 @@ from .core.cli import Command
 from .core.fire import Job
 from .core.io import figure_png, json_bytes, provenance
 from .core.judge import Status
+from .parts import throughput
 
 BAT, BALL = presets.R161, presets.BASEBALL
 REACH_M = BAT.radius_m + BALL.radius_m
@@ -344,8 +345,9 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                                           lineterminator="\n").encode()
     files["stability_cells.csv"] = pd.concat([cells, soft]).to_csv(
         index=False, float_format="%.6g", lineterminator="\n").encode()
-    files["stability.json"] = json_bytes({"quick": args.quick, "phases": k,
-                                          "elapsed_s": elapsed, "provenance": provenance()})
+    files["stability.json"] = json_bytes({
+        "quick": args.quick, "phases": k, "elapsed_s": elapsed, "provenance": provenance(),
+        "devices": {n: throughput.device(n, adapters.settings_for(n)) for n in args.engine}})
     rigid = [f"{n} reference" for n in args.engine
              if adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE]
     ref = cells[cells["map"].isin(rigid)]

@@ -29,6 +29,7 @@ from analytic import presets
 from .core import cli, estimate, runs, tables
 from .core.cli import Command
 from .core.io import json_bytes, provenance
+from .parts import throughput
 
 
 def firing(points: int) -> tables.Firing:
@@ -90,12 +91,13 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     with runs.Progress(len(jobs), "impacts") as bar, cli.runner(args, bar) as runner:
         table = tables.table(runner.fire(jobs), "twins")
     n, rows = len(f.s_m), []
-    for i, (name, step, _, _) in enumerate(todo):
+    for i, (name, step, mine, _) in enumerate(todo):
         a = table.iloc[2 * i * n:(2 * i + 1) * n].reset_index(drop=True)
         b = table.iloc[(2 * i + 1) * n:(2 * i + 2) * n].reset_index(drop=True)
         diff = (a.v1_engine_mps - b.v1_engine_mps).abs()
         worst = int(diff.idxmax()) if diff.notna().any() else 0
-        rows.append({"engine": name, "twin": adapters.record(name).can.twin_of, "step": step.label,
+        rows.append({"engine": name, "device": throughput.device(name, mine),
+                     "twin": adapters.record(name).can.twin_of, "step": step.label,
                      "points": n, "max_abs_diff_mps": float(diff.max()),
                      "at_s_m": float(a.s_m[worst]), "median_abs_diff_mps": float(diff.median()),
                      "engine_err_mps": float(a.v1_abs_err_mps.max()),
@@ -109,7 +111,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                                            "engine": mine.as_dict(), "twin": twin.as_dict()}
                                            for name, step, mine, twin in todo},
                                        "provenance": provenance()})}
-    text = out.drop(columns=["twin", "points"]).to_string(
+    text = out.drop(columns=["twin", "points", "device"]).to_string(
         index=False, float_format=lambda v: f"{v:.3g}")
     return files, text
 

@@ -83,7 +83,8 @@ class MjwarpEngine(BatchedEngine):
                 else "pyramidal"}
 
     def device(self) -> str:
-        return _device(self.settings)
+        alias = _device(self.settings)
+        return alias if alias == "cpu" else f"{alias}: {wp.get_device(alias).name}"
 
     def derivative(self, states, tangents, steps: int, inertia_tangent_kgm2: float = 0.0):
         raise NotImplementedError(no_adjoints())

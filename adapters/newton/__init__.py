@@ -1,4 +1,5 @@
-"""Newton (NVIDIA's physics engine on Warp), on Warp's CPU device: many worlds per call.
+"""Newton (NVIDIA's physics engine on Warp), on Warp's CPU device (another with
+BATSIM_WARP_DEVICE=cuda:0): many worlds per call.
 
 Two free bodies per world, replicated with ``ModelBuilder.replicate`` (one Newton world each, so
 only the bat and the ball of one world collide): the bat a massless capsule (density 0) on a

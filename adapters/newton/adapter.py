@@ -54,6 +54,10 @@ class NewtonEngine(BatchedEngine):
         self.touching, self.planar = np.zeros(worlds, dtype=bool), np.ones(worlds, dtype=bool)
         self.ball_v = np.zeros((worlds, 2), dtype=np.float32)
 
+    def device(self) -> str:
+        alias = sc.DEVICE
+        return alias if alias == "cpu" else f"{alias}: {wp.get_device(alias).name}"
+
     def mass_properties(self) -> MassProperties:
         m = self.model
         mass, inertia = m.body_mass.numpy(), m.body_inertia.numpy()

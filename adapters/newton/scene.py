@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 import warnings
 
 import numpy as np
@@ -19,7 +20,9 @@ import warp as wp  # noqa: E402  (after Newton, which it comes with)
 wp.config.log_level = wp.LOG_WARNING  # no banner, no line per compiled module on stdout
 with _stdout_silenced():  # Warp's CUDA probe writes to stderr when there is no driver
     wp.init()
-DEVICE = "cpu"
+#: Warp's device for every model: the CPU unless the environment's BATSIM_WARP_DEVICE names
+#: another ("cuda:0"), as for MuJoCo Warp.
+DEVICE = os.environ.get("BATSIM_WARP_DEVICE") or "cpu"
 #: Bodies and shapes of one world, in the order added.
 BAT, BALL = 0, 1
 #: Newton's capsule lies along its shape's z axis: a quarter turn about y lays it along -x, so

@@ -58,6 +58,32 @@ class Job:
     swing: HingedSwing | None = None
 
 
+class Jobs(Sequence):
+    """Jobs that share engine, settings and swing, one per case (a grid, or a grid tiled over
+    many worlds), held as their cases: ``runs`` knows them for one engine's run without a look
+    at each job, and no ``Job`` is made per impact until one is asked for."""
+
+    def __init__(self, *, engine: str, settings: Settings, cases: Sequence[ImpactCase],
+                 swing: HingedSwing | None = None) -> None:
+        self.engine, self.settings, self.cases, self.swing = engine, settings, cases, swing
+
+    def __len__(self) -> int:
+        return len(self.cases)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return Jobs(engine=self.engine, settings=self.settings, cases=self.cases[i],
+                        swing=self.swing)
+        return Job(engine=self.engine, settings=self.settings, case=self.cases[i],
+                   swing=self.swing)
+
+    def __add__(self, other: Sequence[Job]) -> list[Job]:
+        return [*self, *other]
+
+    def __radd__(self, other: Sequence[Job]) -> list[Job]:
+        return [*other, *self]
+
+
 def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> FiredSeq:
     """Fire jobs in this process, in order: each run of consecutive jobs sharing engine,
     settings, scene and swing as one batch on a batched engine, and on a single-world one in
@@ -96,6 +122,8 @@ def _groups(host: Hosted, run: Sequence[Job]):
 #: compare their shared objects by identity first, so a grid's jobs compare fast).
 batch_key = attrgetter("engine", "settings", "swing", "case.bat", "case.ball", "case.e",
                        "case.mu")
+#: What the cases of one batch share.
+scene_key = attrgetter("bat", "ball", "e", "mu")
 
 
 def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
@@ -103,6 +131,9 @@ def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
     swing, those of one engine differing only in ``contact_phase`` joined into one."""
     if not jobs:
         return []
+    if isinstance(jobs, Jobs) and len(set(map(scene_key, dict(zip(map(id, jobs.cases),
+                                                                   jobs.cases)).values()))) == 1:
+        return [jobs]  # (its distinct cases share a scene)
     keys = list(map(batch_key, jobs))
     cuts = [0, *compress(range(1, len(keys)), map(ne, keys[1:], keys)), len(keys)]
     spans: list[list[int]] = []  # [first, end) of each batch: joined runs are consecutive
@@ -124,7 +155,10 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     t0 = time.perf_counter()
     st = host.settings
     plans: list[SwingPlan] | None = None
-    cases, each = [j.case for j in jobs], [j.settings for j in jobs]
+    if isinstance(jobs, Jobs):
+        cases, each = list(jobs.cases), [jobs.settings] * len(jobs)
+    else:
+        cases, each = [j.case for j in jobs], [j.settings for j in jobs]
     if jobs[0].swing is not None:
         planned = [swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
                               swing=jobs[0].swing, settings=k, mu=c.mu,

@@ -23,7 +23,7 @@ from typing import Any
 
 import adapters
 
-from .fire import Fired, Job, fire_jobs
+from .fire import Fired, Job, Jobs, fire_jobs
 from .fired import FiredSeq
 from .hosting import close_engines, forget_engines
 
@@ -141,9 +141,11 @@ class Runner:
 
     def fire(self, jobs: Sequence[Job]) -> Sequence[Fired]:
         """Every job fired, results in the order of ``jobs``."""
-        jobs = list(jobs)
-        if not jobs:
+        if not len(jobs):
             return []
+        if isinstance(jobs, Jobs) and adapters.record(jobs.engine).batched:
+            return fire_jobs(jobs, self.progress)  # one batch, in this process
+        jobs = list(jobs)
         kind = {n: adapters.record(n).batched for n in {j.engine for j in jobs}}
         batched = [kind[j.engine] for j in jobs]
         # nothing to decide, or nothing to spread: no probe

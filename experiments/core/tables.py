@@ -28,7 +28,7 @@ from analytic import (
 from analytic.dynamics import HingedSwing
 
 from . import friction_judge, judge
-from .fire import Fired, Job, fire_jobs
+from .fire import Fired, Job, Jobs, fire_jobs
 from .fired import gather
 
 #: Columns of a sweep table, in order. Units are in the names.
@@ -78,10 +78,9 @@ class Firing:
     def cases(self) -> list[ImpactCase]:
         return [self.case(s) for s in self.s_m]
 
-    def jobs(self, engine: str, settings: adapters.Settings) -> list[Job]:
+    def jobs(self, engine: str, settings: adapters.Settings) -> Jobs:
         """One job per grid point for an engine."""
-        return [Job(engine=engine, settings=settings, case=c, swing=self.swing)
-                for c in self.cases()]
+        return Jobs(engine=engine, settings=settings, cases=self.cases(), swing=self.swing)
 
 
 def grid(bat: Bat, points: int, s_min_m: float | None = None,

@@ -27,7 +27,7 @@ from adapters import Scene
 from analytic import presets
 
 from ..core import tables
-from ..core.fire import Job, fire_jobs
+from ..core.fire import Jobs, fire_jobs
 from ..core.hosting import hosted
 from ..core.judge import Status
 from ..core.placement import start_state
@@ -42,8 +42,11 @@ def _firing() -> tables.Firing:
                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
 
 
-def bare_s(name: str, settings, cases, steps: int) -> float:
-    """Seconds to set the batch's starts and step it ``steps`` times, nothing read."""
+def bare_s(name: str, settings, cases, steps: int, reads: list | None = None) -> float:
+    """Seconds to set the batch's starts and step it ``steps`` times, nothing read; a batched
+    engine's states read once at the end, and, with ``reads``, read again (the states already
+    computed: the copy off the device and the conversion alone), that second read's seconds
+    appended to it."""
     host = hosted(name, settings)
     c = cases[0]
     if host.batched:
@@ -54,7 +57,12 @@ def bare_s(name: str, settings, cases, steps: int) -> float:
         for _ in range(steps):
             batch.step()
         batch.read()
-        return time.perf_counter() - t0
+        bare = time.perf_counter() - t0
+        if reads is not None:
+            t0 = time.perf_counter()
+            batch.read()
+            reads.append(time.perf_counter() - t0)
+        return bare
     batch = host.batch(Scene(bat=c.bat, ball=c.ball, e=c.e), 1)
     t0 = time.perf_counter()
     for k in cases:
@@ -71,15 +79,21 @@ ENGINE_CALLS = ("set_state", "step", "read", "in_contact", "failed", "set_drive"
 @contextlib.contextmanager
 def _clocked(cls: type, spent: list[float]):
     """While open, the time inside the ENGINE_CALLS of every adapter of class ``cls`` (those
-    made meanwhile too) adds up in ``spent[0]`` (s), and the calls are counted in ``spent[1]``."""
+    made meanwhile too) adds up in ``spent[0]`` (s), the calls are counted in ``spent[1]``, and
+    the time inside ``step`` alone adds up in ``spent[2]`` (s)."""
     def clock(call):
+        stepping = call.__name__ == "step"
+
         def timed(*args):
             t0 = time.perf_counter()
             try:
                 return call(*args)
             finally:
-                spent[0] += time.perf_counter() - t0
+                dt = time.perf_counter() - t0
+                spent[0] += dt
                 spent[1] += 1
+                if stepping:
+                    spent[2] += dt
         return timed
 
     calls = {name: cls.__dict__.get(name) for name in ENGINE_CALLS if hasattr(cls, name)}
@@ -111,7 +125,7 @@ def clock_cost_s(calls: int = 20_000) -> tuple[float, float]:
         for _ in range(calls):
             noop.step()
         plain = time.perf_counter() - t0
-        spent = [0.0, 0]
+        spent = [0.0, 0, 0.0]
         with _clocked(_Noop, spent):
             t0 = time.perf_counter()
             for _ in range(calls):
@@ -122,10 +136,11 @@ def clock_cost_s(calls: int = 20_000) -> tuple[float, float]:
     return float(np.median(inside)), float(np.median(outside))
 
 
-def _timed(name: str, settings, jobs: list[Job], clock: tuple[float, float]):
+def _timed(name: str, settings, jobs: Jobs, clock: tuple[float, float]):
     """Fire ``jobs`` and judge every impact: the table, the wall time and the time inside the
-    engine's calls (s), the clock's own cost (``clock_cost_s``) taken out of both."""
-    spent = [0.0, 0]
+    engine's calls and inside its steps alone (s), the clock's own cost (``clock_cost_s``) taken
+    out of each."""
+    spent = [0.0, 0, 0.0]
     pool = adapters.pool_class(name)  # a single-world engine's long runs step on it
     with _clocked(type(hosted(name, settings).adapter), spent), \
             (_clocked(pool, spent) if pool is not None else contextlib.nullcontext()):
@@ -133,7 +148,8 @@ def _timed(name: str, settings, jobs: list[Job], clock: tuple[float, float]):
         table = tables.table(fire_jobs(jobs), "throughput")
         wall = time.perf_counter() - t0
     inside_s, outside_s = clock
-    return table, wall - spent[1] * (inside_s + outside_s), spent[0] - spent[1] * inside_s
+    return (table, wall - spent[1] * (inside_s + outside_s), spent[0] - spent[1] * inside_s,
+            spent[2])
 
 
 def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) -> list[dict]:
@@ -145,16 +161,17 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
     rows = []
     for size in sizes:
         cases = [base[i % GRID] for i in range(size)]
-        jobs = [Job(engine=name, settings=settings, case=c) for c in cases]
+        jobs = Jobs(engine=name, settings=settings, cases=cases)
         fired = fire_jobs(jobs)  # compile and warm at this size (and the judge's answers)
         tables.table(fired, "throughput")
         steps = int(np.median([f.outcome.steps for f in fired[:GRID]]))
-        walls, inside, bares = [], [], []
+        walls, inside, stepping, bares, reads = [], [], [], [], []
         for _ in range(repeats):
-            table, wall, engine = _timed(name, settings, jobs, clock)
+            table, wall, engine, step = _timed(name, settings, jobs, clock)
             walls.append(wall)
             inside.append(wall - engine)
-            bares.append(bare_s(name, settings, cases, steps))
+            stepping.append(step)
+            bares.append(bare_s(name, settings, cases, steps, reads))
         wall, bare = float(np.median(walls)), float(np.median(bares))
         rows.append({"engine": name, "precision": adapters.record(name).errors.precision,
                      "batched": hosted(name, settings).batched,
@@ -162,6 +179,9 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
                      "impacts_per_s": size / wall, "wall_s": wall,
                      "us_per_impact": wall / size * 1e6, "bare_us_per_impact": bare / size * 1e6,
                      "harness_us_per_impact": float(np.median(inside)) / size * 1e6,
+                     "step_us_per_impact": float(np.median(stepping)) / size * 1e6,
+                     "read_us_per_impact": float(np.median(reads)) / size * 1e6 if reads
+                     else math.nan,
                      "steps_median": steps, "repeats": repeats,
                      "max_abs_err_mps": float(table.v1_abs_err_mps.max()),
                      "ok": int((table.status == Status.OK).sum()), "judged": len(table)})
@@ -177,6 +197,21 @@ def device(name: str, settings) -> str:
     return adapter.device() if hasattr(adapter, "device") else "cpu"
 
 
+def kind(device: str) -> str:
+    """'GPU' or 'CPU': the kind of device a row's ``device`` names."""
+    return "CPU" if "cpu" in device.lower() else "GPU"
+
+
+def merged(measured: pd.DataFrame, kept: pd.DataFrame | None) -> pd.DataFrame:
+    """``measured`` and, after it, the rows of ``kept`` measured on a kind of device that
+    ``measured`` has none of (the CPU rows of one machine beside the GPU rows of another)."""
+    if kept is None or kept.empty:
+        return measured
+    mine = {kind(d) for d in measured.device}
+    other = kept[[kind(d) not in mine for d in kept.device]]
+    return pd.concat([measured, other], ignore_index=True) if len(other) else measured
+
+
 def chart(table: pd.DataFrame):
     """Impacts per second against the largest error, one marker per engine and precision,
     sized by batch; CPU and GPU in two panels."""
@@ -185,12 +220,12 @@ def chart(table: pd.DataFrame):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    kinds = sorted({"GPU" if "cpu" not in d.lower() else "CPU" for d in table.device})
+    kinds = sorted({kind(d) for d in table.device})
     table = table.assign(device=table.device.replace({"cpu: cpu": "cpu"}))
     fig, axes = plt.subplots(1, len(kinds), figsize=(6.5 * len(kinds) + 3, 5), squeeze=False,
                              layout="constrained")
-    for ax, kind in zip(axes[0], kinds):
-        part = table[table.device.str.lower().str.contains("cpu") == (kind == "CPU")]
+    for ax, panel in zip(axes[0], kinds):
+        part = table[[kind(d) == panel for d in table.device]]
         for name, rows in part.groupby("engine", sort=False):
             rec = adapters.record(name)
             best = rows.loc[rows.impacts_per_s.idxmax()]
@@ -204,8 +239,8 @@ def chart(table: pd.DataFrame):
         ax.set_yscale("log")
         ax.set_xlabel("largest |v1 - rigid theory| over the judged impacts (m/s, log)")
         ax.set_ylabel("judged impacts per second (log)")
-        ax.set_title(f"{kind}: {', '.join(sorted(set(part.device)))}\nmarker size: batch "
-                     "1 .. 1e5 (line joins one engine's sizes)", fontsize=9)
+        ax.set_title(f"{panel}: {', '.join(sorted(set(part.device)))}\nmarker size: batch "
+                     f"1 .. {part.batch.max():.0e} (line joins one engine's sizes)", fontsize=9)
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # off the marks
     return fig
