@@ -5,8 +5,9 @@
 - sweeps: the sweeps listed in BASELINES (R161, 41 points), each as <stem>.csv/.json/.png, then
   thresholds.json (what the regression test allows) and summary.md;
 - the studies, each into its usual file names: pareto, stability, swing, defaults,
-  calibrate_soft, twins, friction, flex, findings, gradients, bench_analytic, bench_engines
-  (run the benchmarks on a quiet machine), history (each engine's releases, installed: needs
+  calibrate_soft, twins, friction, flex, findings, gradients, bench_analytic, gpu (the runs a
+  GPU machine made, in results/gpu_runs/), bench_engines (run the benchmarks on a quiet
+  machine; it keeps gpu's rows), history (each engine's releases, installed: needs
   the package index);
 - report: results/report.md and the engine pages (engines.md, engine_<name>.md), written from
   the files above as they are in results/ (so it runs last, whatever order --only names the
@@ -28,6 +29,7 @@ from . import (
     findings,
     flex,
     friction,
+    gpu,
     gradients,
     history,
     pareto,
@@ -55,7 +57,7 @@ BASELINES = {
 STUDIES = {"pareto": pareto, "stability": stability, "swing": swing, "defaults": defaults,
            "calibrate_soft": calibrate_soft, "twins": twins, "friction": friction,
            "flex": flex, "findings": findings, "gradients": gradients,
-           "bench_analytic": bench_analytic, "bench_engines": bench_engines,
+           "bench_analytic": bench_analytic, "gpu": gpu, "bench_engines": bench_engines,
            "history": history, "report": report}  # the report reads the others' files: last
 PARTS = ("sweeps", *STUDIES)
 #: The regression test may see errors up to FACTOR times the baseline's (see thresholds.json).

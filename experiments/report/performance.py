@@ -7,6 +7,7 @@ import re
 import pandas as pd
 
 from ..core.runner import CHUNK_S, MIN_PARALLEL_S
+from . import gpu
 from .base import (
     Results,
     engines_text,
@@ -46,8 +47,9 @@ def section(res: Results) -> str:
              "(medians; `results/bench_engines.csv`):")
     (swing,) = need(res, "swing")
     rigid = bench[bench.engine.isin(swing.rigid)]
-    return "\n\n".join([intro, md_table(table), steps(res, bench), overhead(rigid),
-                        batches(res), twins(res), runners(res, meta), analytic(res, meta)])
+    return "\n\n".join(part for part in [
+        intro, md_table(table), steps(res, bench), overhead(rigid), batches(res), twins(res),
+        gpu.section(res), runners(res, meta), analytic(res, meta)] if part)
 
 
 def batches(res: Results) -> str:

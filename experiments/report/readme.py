@@ -21,8 +21,9 @@ END = "<!-- end of the engines table -->"
 REFERENCE = "sweep_all_reference_r161_swing"
 DEFAULT = "sweep_all_default_r161_swing"
 HEADER = ("| engine | install | float | reference profile: impacts ok, max error of v1 | "
-          "out of the box (its dt): statuses | cost per impact: batch of 1; best batch |\n"
-          "| --- | --- | --- | --- | --- | --- |")
+          "out of the box (its dt): statuses | CPU cost per impact: batch of 1; best batch | "
+          "GPU: judged impacts/s at the best batch (max error) |\n"
+          "| --- | --- | --- | --- | --- | --- | --- |")
 
 
 def _install(rec) -> str:
@@ -54,11 +55,27 @@ def _costs(results: Path) -> dict[str, str]:
     bench = pd.read_csv(results / "bench_engines.csv")
     out = {name: f"{us:,.0f} us; not measured" for name, us in
            zip(bench.engine, bench.harness_per_collision_us)}
-    path = results / "bench_batches.csv"
-    for name, rows in (pd.read_csv(path).groupby("engine") if path.exists() else ()):
+    for name, rows in _batches(results, "CPU").groupby("engine"):
         one, best = rows[rows.batch == 1], rows.loc[rows.us_per_impact.idxmin()]
         first = f"{one.us_per_impact.iloc[0]:,.0f} us" if len(one) else "-"
         out[name] = f"{first}; {best.us_per_impact:,.1f} us at {best.batch:,}"
+    return out
+
+
+def _batches(results: Path, kind: str) -> pd.DataFrame:
+    """The rows of bench_batches.csv measured on a ``kind`` of device ('CPU' or 'GPU')."""
+    path = results / "bench_batches.csv"
+    rows = pd.read_csv(path) if path.exists() else pd.DataFrame(columns=["engine", "device"])
+    return rows[[("GPU", "CPU")["cpu" in d.lower()] == kind for d in rows.device]]
+
+
+def _gpu(results: Path) -> dict[str, str]:
+    """Per engine run on a GPU: its judged impacts/s at its best batch, the error beside it."""
+    out = {}
+    for name, rows in _batches(results, "GPU").groupby("engine"):
+        best = rows.loc[rows.impacts_per_s.idxmax()]
+        out[name] = (f"{best.impacts_per_s:.2g}/s at {best.batch:,} "
+                     f"({rows.max_abs_err_mps.max():.1e} m/s)").replace("e+0", "e")
     return out
 
 
@@ -66,18 +83,19 @@ def engines_table(results: Path) -> str:
     """The table, one row per engine in the reference baseline, from ``results``."""
     ref = pd.read_csv(results / f"{REFERENCE}.csv")
     default = json.loads((results / f"{DEFAULT}.json").read_text())
-    costs = _costs(results)
+    costs, gpu = _costs(results), _gpu(results)
     lines = [HEADER]
     for name, rows in ref.groupby("engine", sort=True):
         rec = adapters.record(name)
         cost = costs.get(name, "not benchmarked")
         lines.append(f"| {name} | {_install(rec)} | {rec.errors.precision} | "
-                     f"{accuracy(rows, name)} | {out_of_the_box(default, name)} | {cost} |")
+                     f"{accuracy(rows, name)} | {out_of_the_box(default, name)} | {cost} | "
+                     f"{gpu.get(name, '-')} |")
     for name in sorted(set(adapters.names()) - set(ref.engine)):
         if adapters.record(name).adapter.startswith("adapters."):  # a built-in, not measured
             rec = adapters.record(name)
             lines.append(f"| {name} | {_install(rec)} | {rec.errors.precision} | not in "
-                         "results/ yet | not in results/ yet | not benchmarked |")
+                         "results/ yet | not in results/ yet | not benchmarked | - |")
     return "\n".join(lines)
 
 
