@@ -4,7 +4,7 @@ map's time, and the bars."""
 
 from __future__ import annotations
 
-from .base import Results, label, lead, num, sci
+from .base import Results, label, lead, num, sci, span
 
 
 def section(res: Results) -> str:
@@ -35,13 +35,16 @@ def _cost(meta: dict) -> str:
            f"{bars['harness_share']['bar']:.0%}: "
            f"{'met' if bars['harness_share']['met'] else 'not met'})"]
     device = meta["profile"][0]["device"].split(": ")[-1]
+    bare = [p["bare_engine_us"] for p in meta["profile"]]
+    ratio = [p["harness_us"] / p["bare_engine_us"] for p in meta["profile"]]
     return "\n\n".join([
         lead(f"**On a GPU** ({device}; `results/gpu_runs/`, gathered by `python -m "
              "experiments.gpu`). Each engine at its best batch, one firing of the tiled "
              "41-point grid, every impact judged; the parts from the engine's calls clocked "
              "in that firing and a bare run of the same worlds:", each),
-        lead("On the GPU the engines step 1e5 worlds in about a microsecond an impact; the "
-             "harness, on the host, costs 3-5 times that and sets the rate:", met)])
+        lead(f"On the GPU the bare engines take {span(min(bare), max(bare))} us an impact; "
+             f"the harness, on the host, {span(min(ratio), max(ratio))} times that, and sets "
+             "the rate:", met)])
 
 
 def _twins(res: Results) -> str:
@@ -53,7 +56,7 @@ def _twins(res: Results) -> str:
                     f"{num(ref.max_abs_diff_mps_cpu)} on the CPU at the reference profiles "
                     f"(median {num(ref.median_abs_diff_mps_gpu)} against "
                     f"{num(ref.median_abs_diff_mps_cpu)}); over its {len(g)} steps the GPU's "
-                    f"largest difference is {num(g.ratio.min())}-{num(g.ratio.max())} times the "
+                    f"largest difference is {span(g.ratio.min(), g.ratio.max())} times the "
                     "CPU's, the statuses "
                     f"{'the same' if (g.statuses_gpu == g.statuses_cpu).all() else 'differ'}")
     return lead("**Twins on the GPU** against MuJoCo C (`results/twins_gpu.csv`):", each)
