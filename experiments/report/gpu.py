@@ -59,7 +59,15 @@ def _twins(res: Results) -> str:
                     f"largest difference is {span(g.ratio.min(), g.ratio.max())} times the "
                     "CPU's, the statuses "
                     f"{'the same' if (g.statuses_gpu == g.statuses_cpu).all() else 'differ'}")
-    return lead("**Twins on the GPU** against MuJoCo C (`results/twins_gpu.csv`):", each)
+    ratio = pairs.groupby("engine", sort=False).ratio
+    held = [label(e) for e, r in ratio if r.between(0.5, 2.0).all()]
+    grew = [label(e) for e, r in ratio if not r.between(0.5, 2.0).all()]
+    verdict = (f"the causes found on the CPU hold for {', '.join(held) or 'none'} (every step "
+               "within 2x of the CPU's)" + (f"; {', '.join(grew)} "
+               f"{'differs' if len(grew) == 1 else 'differ'} more on the GPU, a cause the CPU "
+               "runs did not show" if grew else ""))
+    return lead(f"**Twins on the GPU** against MuJoCo C (`results/twins_gpu.csv`): {verdict}:",
+                each)
 
 
 def _stability(meta: dict) -> str:
