@@ -8,7 +8,10 @@ judging's wall time less the time spent inside the engine's calls
 (ENGINE_CALLS), clocked in the same firing (two separate timings of ~60 us an impact differ by
 more than the few us sought), the clock's own cost per call (0.3 us here, measured on a call that
 does nothing) taken out of both; the same worlds stepped bare (set the starts, step as many times,
-nothing read) are timed beside it. Each size is fired once untimed first (compiles, caches);
+nothing read) are timed beside it. Where the engine's time goes: inside its steps alone
+(``step_us_per_impact``; on a GPU a step may only queue work, waited for at the next read) and a
+read of states already computed (``read_us_per_impact``: the copy off the device and the
+conversion). Each size is fired once untimed first (compiles, caches);
 the numbers are medians of the repeats. Sizes grow while the next one's firing, priced at
 this one's cost per impact, fits in the budget.
 """
