@@ -77,6 +77,12 @@ class Jobs(Sequence):
         return Job(engine=self.engine, settings=self.settings, case=self.cases[i],
                    swing=self.swing)
 
+    def one_scene(self) -> bool:
+        """Whether every case shares the scene (bat, ball, e, mu): a look at each distinct
+        case object once, however often the grid is tiled."""
+        distinct = dict(zip(map(id, self.cases), self.cases)).values()
+        return len(set(map(scene_key, distinct))) == 1
+
     def __add__(self, other: Sequence[Job]) -> list[Job]:
         return [*self, *other]
 
@@ -131,9 +137,8 @@ def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
     swing, those of one engine differing only in ``contact_phase`` joined into one."""
     if not jobs:
         return []
-    if isinstance(jobs, Jobs) and len(set(map(scene_key, dict(zip(map(id, jobs.cases),
-                                                                   jobs.cases)).values()))) == 1:
-        return [jobs]  # (its distinct cases share a scene)
+    if isinstance(jobs, Jobs) and jobs.one_scene():
+        return [jobs]
     keys = list(map(batch_key, jobs))
     cuts = [0, *compress(range(1, len(keys)), map(ne, keys[1:], keys)), len(keys)]
     spans: list[list[int]] = []  # [first, end) of each batch: joined runs are consecutive
