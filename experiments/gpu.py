@@ -5,9 +5,9 @@
 A GPU machine is lent here for minutes, not kept, so the commands are run there as they are run
 anywhere (the Warp engines on BATSIM_WARP_DEVICE=cuda:0, MJX on JAX's default device):
 
-    python -m experiments.bench_engines --quick --batches-only --engine mjx --batches 1,1000,...
-    python -m experiments.twins --engine mjx,mjx64,mjwarp
-    python -m experiments.stability --quick --engine mjwarp,newton
+    python -m experiments.bench_engines --quick --batches-only --engine E --batches 1000,...
+    python -m experiments.twins --engine E,...
+    python -m experiments.stability --quick --engine E,...
 
 and their run directories (csv and json) are committed as they came back, under --runs
 (default results/gpu_runs/, with ``session.json`` saying what ran out of time), beside the
@@ -36,8 +36,9 @@ from .parts import throughput
 
 RUNS = ROOT / "results" / "gpu_runs"
 RESULTS = ROOT / "results"
-#: The issue's bars: MJX float32's judged impacts/s, the fastest engine's, the harness's share.
-BARS = {"mjx_impacts_per_s": 1e5, "fastest_impacts_per_s": 1e6, "harness_share": 0.25}
+#: The bars: every engine's judged impacts/s at its best batch (the slowest's), the fastest
+#: engine's, and the harness's largest share of the wall time.
+BARS = {"slowest_impacts_per_s": 1e5, "fastest_impacts_per_s": 1e6, "harness_share": 0.25}
 
 
 def _runs(root: Path) -> list[Path]:
@@ -119,17 +120,18 @@ def profile(table: pd.DataFrame) -> list[dict]:
 
 def bars(prof: list[dict]) -> dict:
     """Each bar, what was measured and whether it is met."""
-    by = {p["engine"]: p for p in prof}
+    slowest = min(prof, key=lambda p: p["impacts_per_s"])
     fastest = max(prof, key=lambda p: p["impacts_per_s"])
     worst = max(prof, key=lambda p: p["harness_share"])
-    got = {"mjx_impacts_per_s": by["mjx"]["impacts_per_s"] if "mjx" in by else float("nan"),
+    got = {"slowest_impacts_per_s": slowest["impacts_per_s"],
            "fastest_impacts_per_s": fastest["impacts_per_s"],
            "harness_share": worst["harness_share"]}
-    met = {"mjx_impacts_per_s": got["mjx_impacts_per_s"] >= BARS["mjx_impacts_per_s"],
+    met = {"slowest_impacts_per_s": got["slowest_impacts_per_s"] >= BARS["slowest_impacts_per_s"],
            "fastest_impacts_per_s": got["fastest_impacts_per_s"] >= BARS["fastest_impacts_per_s"],
            "harness_share": got["harness_share"] <= BARS["harness_share"]}
     return {k: {"bar": BARS[k], "measured": got[k], "met": bool(met[k])} for k in BARS} | {
-        "fastest": fastest["engine"], "largest_harness_share": worst["engine"]}
+        "slowest": slowest["engine"], "fastest": fastest["engine"],
+        "largest_harness_share": worst["engine"]}
 
 
 def _options(p: argparse.ArgumentParser) -> None:

@@ -91,7 +91,10 @@ def test_profile_and_bars_follow_the_rows(gathered):
         assert math.isclose(p["harness_share"], best.harness_us_per_impact / best.us_per_impact)
         assert math.isclose(p["bare_impacts_per_s"], 1e6 / best.bare_us_per_impact)
     bars = meta["bars"]
-    assert bars["mjx_impacts_per_s"]["met"] == (bars["mjx_impacts_per_s"]["measured"] >= 1e5)
+    assert bars["slowest_impacts_per_s"]["measured"] == table.groupby(
+        "engine").impacts_per_s.max().min()
+    assert bars["slowest_impacts_per_s"]["met"] == (
+        bars["slowest_impacts_per_s"]["measured"] >= 1e5)
     assert bars["fastest_impacts_per_s"]["measured"] == table.impacts_per_s.max()
     assert bars["harness_share"]["met"] == (bars["harness_share"]["measured"] <= 0.25)
 
