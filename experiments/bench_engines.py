@@ -16,9 +16,9 @@ For each engine (reference profile, R161, the paper's swing, N impact points):
 - throughput against batch size (``experiments.parts.throughput``): impacts per second at each
   --batches size, with the largest error against theory and the harness's own share, on the
   device each engine computes on. --batches-only measures this part alone (a batched engine
-  on a GPU machine: BATSIM_WARP_DEVICE=cuda:0 for the Warp engines, JAX's default device for
-  MJX). Rows measured on the other kind of device (CPU or GPU) are kept from --keep-rows
-  (default: the committed results/bench_batches.csv), so that one table holds both.
+  on a GPU machine: BATSIM_WARP_DEVICE=cuda:0 for the engines on Warp, JAX's default device
+  for those on JAX). Rows measured on the other kind of device (CPU or GPU) are kept from
+  --keep-rows (default: the committed results/bench_batches.csv), so that one table holds both.
 Writes bench_engines.csv, .json and .png (not with --batches-only), and bench_batches.csv and
 .png into the run directory.
 """

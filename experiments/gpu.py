@@ -3,7 +3,7 @@
     python -m experiments.gpu [--runs DIR]
 
 A GPU machine is lent here for minutes, not kept, so the commands are run there as they are run
-anywhere (the Warp engines on BATSIM_WARP_DEVICE=cuda:0, MJX on JAX's default device):
+anywhere (engines on Warp with BATSIM_WARP_DEVICE=cuda:0, on JAX on its default device):
 
     python -m experiments.bench_engines --quick --batches-only --engine E --batches 1000,...
     python -m experiments.twins --engine E,...
