@@ -15,6 +15,7 @@ import pandas as pd
 import adapters
 
 from ..core.judge import Status
+from ..parts import throughput
 
 BEGIN = "<!-- engines table: written by python -m experiments.baselines from results/ -->"
 END = "<!-- end of the engines table -->"
@@ -66,7 +67,7 @@ def _batches(results: Path, kind: str) -> pd.DataFrame:
     """The rows of bench_batches.csv measured on a ``kind`` of device ('CPU' or 'GPU')."""
     path = results / "bench_batches.csv"
     rows = pd.read_csv(path) if path.exists() else pd.DataFrame(columns=["engine", "device"])
-    return rows[[("GPU", "CPU")["cpu" in d.lower()] == kind for d in rows.device]]
+    return rows[[throughput.kind(d) == kind for d in rows.device]]
 
 
 def _gpu(results: Path) -> dict[str, str]:
