@@ -45,11 +45,11 @@ def test_a_world_fired_in_a_batch_of_engines_ends_as_it_does_alone(name, monkeyp
     fired_alone = fire_jobs(jobs)
     alone = _outcomes(fired_alone)
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    monkeypatch.setattr(hosting, "POOL_MAX", 16)  # 21 = 16 + 5: batches of unequal size
+    monkeypatch.setattr(hosting, "POOL_MAX", 16)  # 21 = 11 + 10: batches of unequal size
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)  # any run repays its engines
     fired_batched = fire_jobs(jobs)
     batched = _outcomes(fired_batched)
-    assert hosting.hosted(name, jobs[0].settings).held() == 16
+    assert hosting.hosted(name, jobs[0].settings).held() == 11  # shared out evenly
     # NaN != NaN: compare the text of each value
     assert [repr(o) for o in batched] == [repr(o) for o in alone]
     # and so are their verdicts, the blocks' columns read as the outcomes one by one are
@@ -75,8 +75,10 @@ def test_a_batch_of_engines_stays_within_what_the_engine_can_hold(name, monkeypa
     held = []
     try:
         for settings in (first, dataclasses.replace(first, overlap_m=2 * first.overlap_m)):
-            fire_jobs([Job(engine=name, settings=settings, case=case)] * (limit + 10))
+            fire_jobs([Job(engine=name, settings=settings, case=case)] * (2 * limit))
             held.append(sum(h.held() for h in hosting._HOSTED.values() if h.name == name))
     finally:
         hosting.close_engines()
-    assert held == [limit, limit]
+    # the first run holds the limit (its 2 x limit impacts in two batches); the second,
+    # beside a world the first keeps, shares its impacts out evenly within the rest
+    assert held[0] == limit and limit // 2 < held[1] <= limit

@@ -189,6 +189,7 @@ RECORD = EngineRecord(
         friction_rule=FrictionRule.MAX,
         soft_contact={"contact_model": "soft"},
         stiffness_setting="soft_omega_radps",
+        pool_adapter="adapters.mujoco.worlds:MujocoWorlds",
     ),
     errors=MujocoErrors(),
     engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,

@@ -85,6 +85,14 @@ class MujocoEngine(Engine):
             m.pair_solref[0], m.pair_solimp[0], m.pair_solreffriction[0] = \
                 pair_parameters(st, scene.e)
 
+    def sibling(self) -> MujocoEngine:
+        """Another world on this one's model (a data of its own): what a pool holds
+        (``worlds.MujocoWorlds``)."""
+        twin = copy.copy(self)
+        twin.data = mujoco.MjData(self.model)
+        twin._qpos, twin._qvel = twin.data.qpos, twin.data.qvel
+        return twin
+
     def set_body_friction(self, *, bat: float, ball: float) -> None:
         self.model.geom_friction[self._bat_geom][0] = bat
         self.model.geom_friction[self._ball_geom][0] = ball

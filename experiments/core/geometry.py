@@ -37,7 +37,9 @@ BAT_COLUMNS = (*range(BAT_X, BAT_W + 1), *range(BAT_Z, BAT_WY + 1))
 def padded(states: np.ndarray) -> np.ndarray:
     """A batch of states with every column: a planar engine's 11 columns padded with zeros."""
     if states.shape[1] == len(PLANAR_FIELDS):
-        return np.pad(states, ((0, 0), (0, len(STATE_FIELDS) - len(PLANAR_FIELDS))))
+        full = np.zeros((len(states), len(STATE_FIELDS)))
+        full[:, :len(PLANAR_FIELDS)] = states
+        return full
     return states
 
 

@@ -64,7 +64,7 @@ class Hosted:
         """How many single-world engines to step the next ``impacts`` on: those made already,
         or as many as these impacts repay (``POOLED_SAVING_S`` an impact against each engine's
         making: its first build as timed, then, with a pool adapter, a world's share of the
-        pool's build), if at least ``POOL_MIN``. A firing makes what it
+        pool's build), if at least ``POOL_MIN``, shared out evenly. A firing makes what it
         repays itself, so the engines are made in a run's first firing, not a few each time."""
         if self.make_s is None:
             return 1
@@ -72,7 +72,10 @@ class Hosted:
         size = min(POOL_MAX, impacts, max(self.held(), repaid))
         if size > self.held() and self.record.can.max_worlds is not None:
             size = min(size, _room(self))
-        return size if size >= POOL_MIN else 1
+        if size < POOL_MIN:
+            return 1
+        # batches of even size: no last one of a few impacts, fired alone
+        return max(POOL_MIN, math.ceil(impacts / math.ceil(impacts / size)))
 
     def shrink(self) -> None:
         """Close every engine but the first (a pool given back)."""

@@ -79,6 +79,10 @@ def bare_s(name: str, settings, cases, steps: int, reads: list | None = None) ->
 ENGINE_CALLS = ("set_state", "step", "read", "in_contact", "failed", "set_drive")
 
 
+#: Whether a clocked call is under way (``_clocked``).
+_INSIDE = [False]
+
+
 @contextlib.contextmanager
 def _clocked(cls: type, spent: list[float]):
     """While open, the time inside the ENGINE_CALLS of every adapter of class ``cls`` (those
@@ -88,11 +92,15 @@ def _clocked(cls: type, spent: list[float]):
         stepping = call.__name__ == "step"
 
         def timed(*args):
+            if _INSIDE[0]:  # a pool's call into its worlds' adapters: counted once, outside
+                return call(*args)
+            _INSIDE[0] = True
             t0 = time.perf_counter()
             try:
                 return call(*args)
             finally:
                 dt = time.perf_counter() - t0
+                _INSIDE[0] = False
                 spent[0] += dt
                 spent[1] += 1
                 if stepping:
