@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from itertools import chain
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -125,10 +126,12 @@ class EngineWorlds:
         return any(engine.in_contact() for engine in self.engines)
 
     def in_contact(self) -> np.ndarray:
-        return np.array([engine.in_contact() for engine in self.engines], dtype=bool)
+        return np.fromiter((engine.in_contact() for engine in self.engines), bool, self.n)
 
     def read(self) -> np.ndarray:
-        return g.padded(np.array([engine.read() for engine in self.engines], dtype=float))
+        states = [engine.read() for engine in self.engines]
+        flat = np.fromiter(chain.from_iterable(states), float, self.n * len(states[0]))
+        return g.padded(flat.reshape(self.n, -1))
 
     def failed(self) -> np.ndarray:
         return np.array([engine.failed() for engine in self.engines], dtype=bool)
