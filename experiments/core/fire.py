@@ -119,7 +119,7 @@ def _groups(host: Hosted, run: Sequence[Job]):
         return
     at = 0
     while at < len(run):
-        size = 1 if run[0].swing is not None else host.pool_size(len(run) - at)
+        size = 1 if run[0].swing is not None else host.pool_size(len(run), len(run) - at)
         yield run[at:at + size]
         at += size
 

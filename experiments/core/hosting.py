@@ -60,22 +60,23 @@ class Hosted:
         """How many worlds this host holds: its single-world adapters', or its pool's."""
         return max(len(self.engines), self.pool_worlds)
 
-    def pool_size(self, impacts: int) -> int:
-        """How many single-world engines to step the next ``impacts`` on: those made already,
-        or as many as these impacts repay (``POOLED_SAVING_S`` an impact against each engine's
-        making: its first build as timed, then, with a pool adapter, a world's share of the
-        pool's build), if at least ``POOL_MIN``, shared out evenly. A firing makes what it
-        repays itself, so the engines are made in a run's first firing, not a few each time."""
+    def pool_size(self, impacts: int, left: int) -> int:
+        """How many single-world engines to step the next of a run's ``left`` impacts on (of
+        ``impacts`` in all): those made already, or as many as the run repays
+        (``POOLED_SAVING_S`` an impact against each engine's making: its first build as timed,
+        then, with a pool adapter, a world's share of the pool's first build), if at least
+        ``POOL_MIN``, shared out evenly. Every batch of a run asks of the whole run, and the
+        cost of making is measured once, so a run fired again finds its engines made: a
+        firing makes what it repays itself, in a run's first firing, not a few each time."""
         if self.make_s is None:
             return 1
         repaid = int(impacts * POOLED_SAVING_S / self.make_s)
         size = min(POOL_MAX, impacts, max(self.held(), repaid))
         if size > self.held() and self.record.can.max_worlds is not None:
             size = min(size, _room(self))
-        if size < POOL_MIN:
-            return 1
-        # batches of even size: no last one of a few impacts, fired alone
-        return max(POOL_MIN, math.ceil(impacts / math.ceil(impacts / size)))
+        # the run in batches of even size (no last one of a few impacts, fired alone)
+        size = min(left, math.ceil(impacts / math.ceil(impacts / size)))
+        return size if size >= POOL_MIN else 1
 
     def shrink(self) -> None:
         """Close every engine but the first (a pool given back)."""
@@ -121,7 +122,7 @@ class Hosted:
             self.pool_scene = None
             t0 = time.perf_counter()
             self.pool.build(scene, n)
-            if n > self.pool_worlds:  # what a world costs in the pool, as built
+            if self.pool_worlds == 0:  # what a world costs in the pool, as first built
                 self.make_s = (time.perf_counter() - t0) / n
             self._check(self.pool, scene)
             self.pool_scene, self.pool_n = scene, n
