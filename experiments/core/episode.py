@@ -352,6 +352,8 @@ class _Stepper:
         good (``separates_for_good``, a few float operations), else, where a free-flight search
         is due, when ``free_flight`` says (it predicted a contact: searched again near it)."""
         xp, bat, ball, no = self.xp, self.bat, self.ball, self.xp.not_
+        if not xp.any(after):  # (the contact goes on everywhere: nothing to look for)
+            return
         self.finish(after & (off_span > 0.0), "left_cylinder", step, S, side)
         after = after & self.active & apart
         t_left, dt = (self.max_steps - step) * self.st.dt_s, self.st.dt_s
