@@ -33,8 +33,9 @@ class SceneMismatch(RuntimeError):
 #: by enough worlds to cost less than a world alone does in Python floats.
 POOL_MAX, POOL_MIN = 256, 16
 #: What an impact costs the harness less when fired in a batch of single-world engines than
-#: alone (s): about 135 us alone against 15-30 us in a batch of 64-256 (``bench_engines``' harness
-#: share on a 2-core host). More engines are made only once the impacts fired repay their making.
+#: alone (s): 93-118 us alone against 8-16 us in a batch of 90-250 (MuJoCo, PyBullet, pymunk in
+#: a run of 1e3, ``bench_engines``' harness share on a 2-core host). More engines are made only
+#: once the impacts fired repay their making.
 POOLED_SAVING_S = 1e-4
 
 
