@@ -141,14 +141,24 @@ class Cost:
     2-core host like CI's: only their ratios carry over to another host); a batched engine's
     ``world_step_cost_s`` is what each further world adds to a step (None for a single-world
     engine: ``EngineRecord.batched`` says which), and ``start_s`` what each new batch size
-    first costs in a process (s: JAX's trace and compile, Warp's module load)."""
+    first costs in a process (s: JAX's trace and compile, Warp's module load).
+    ``coast_step_cost_s``: a step with the bodies apart (the approach, a hinged swing's steps),
+    where it costs much less than a contact step (None: ``step_cost_s``)."""
 
     step_cost_s: float = 1e-5
     world_step_cost_s: float | None = None
     start_s: float = 0.0
+    coast_step_cost_s: float | None = None
+
+    @property
+    def coast_s(self) -> float:
+        """What a step with the bodies apart costs (s)."""
+        return self.step_cost_s if self.coast_step_cost_s is None else self.coast_step_cost_s
 
     def __post_init__(self) -> None:
         checks.positive("step_cost_s", self.step_cost_s)
+        if self.coast_step_cost_s is not None:
+            checks.positive("coast_step_cost_s", self.coast_step_cost_s)
         if self.world_step_cost_s is not None:
             checks.positive("world_step_cost_s", self.world_step_cost_s)
         checks.non_negative("start_s", self.start_s)

@@ -3,9 +3,11 @@
 An impact takes ``approach_steps`` steps to reach the contact, the contact's own steps (one for
 a rigid impulse; the rigid episode's sliding time, or a compliant law's contact time, over dt)
 and a few more until free flight proves the bodies apart; a hinged swing adds its own steps.
-The step cost is the engine record's ``step_cost_s`` (measured by ``experiments.bench_engines``);
-each step adds the harness's own ``STEP_OVERHEAD_S``, each step it reads (the contact's and
-those after it) ``OBSERVED_STEP_S``, and each impact its ``OVERHEAD_S``. A
+The step cost is the engine record's ``step_cost_s`` (measured by ``experiments.bench_engines``),
+a step with the bodies apart its ``Cost.coast_s`` (a contact solver's step can cost ten of them);
+each step adds the harness's own ``STEP_OVERHEAD_S`` (``COAST_OVERHEAD_S`` with the bodies
+apart), each step it reads (the contact's and those after it) ``OBSERVED_STEP_S``, and each
+impact its ``OVERHEAD_S``. A
 batched engine steps each run of jobs that share a scene together, for as many steps as the
 longest of them takes, each step costing ``step_cost_s`` plus ``world_step_cost_s`` per world, and
 each new batch size its ``start_s`` (compiling). An impact the engine cannot fire (a swing on an
@@ -30,6 +32,9 @@ OVERHEAD_S = 1e-4
 #: What a step costs beyond the engine's own step (s): the adapter's Python wrapper, reading
 #: the state, watching the contact (measured: 6-30 us; the baseline sweeps' wall times).
 STEP_OVERHEAD_S = 1e-5
+#: What a step with the bodies apart costs beyond the engine's own (s): the loop's call alone, no
+#: reading (measured: 0.09 us, ``episode.run_episode`` of a ``Coast`` on a step that does nothing).
+COAST_OVERHEAD_S = 1e-7
 #: What reading one step costs the harness (s): the state read back, the contact's geometry,
 #: the end of the episode tested (measured: about 40 us a step of one world on a 2-core host,
 #: in a profile of MuJoCo's reference sweep; a MuJoCo default-profile sweep, 147 read steps an
@@ -59,13 +64,11 @@ def contact_s(case: ImpactCase, settings: adapters.Settings,
     return episode.sustained_contact_s if episode.impacts == 1 else episode.episode_s
 
 
-def impact_steps(job: Job, contact_time_s: float) -> float:
-    """Steps one impact takes (module docstring), with a contact lasting ``contact_time_s``."""
+def coast_steps(job: Job) -> float:
+    """The steps of an impact with the bodies apart: the approach and a hinged swing's."""
     st = job.settings
-    steps = st.approach_steps + observed_steps(job, contact_time_s)
-    if job.swing is not None:
-        steps += job.swing.duration_s(job.case.bat) / st.dt_s
-    return min(steps, st.approach_steps + math.ceil(st.max_contact_s / st.dt_s) + 2)
+    swing = 0.0 if job.swing is None else job.swing.duration_s(job.case.bat) / st.dt_s
+    return st.approach_steps + swing
 
 
 def observed_steps(job: Job, contact_time_s: float) -> float:
@@ -87,17 +90,19 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
         rec = adapters.record(name)
         contact = sum(contact_s(j.case, j.settings, rec.errors) for j in sample) / len(sample)
         cost = rec.cost.step_cost_s + STEP_OVERHEAD_S
+        coast = rec.cost.coast_s + COAST_OVERHEAD_S
         if not rec.drives_bat and mine[0].swing is not None:  # unsupported: nothing stepped
             out[name] = len(mine) * OVERHEAD_S
         elif rec.cost.world_step_cost_s is None:
-            out[name] = sum(impact_steps(j, contact) * cost + OVERHEAD_S
-                            + observed_steps(j, contact) * OBSERVED_STEP_S for j in mine)
+            out[name] = sum(coast_steps(j) * coast + observed_steps(j, contact)
+                            * (cost + OBSERVED_STEP_S) + OVERHEAD_S for j in mine)
         else:
             batches = runs(mine)
+            world = rec.cost.world_step_cost_s
             out[name] = rec.cost.start_s * len({(run[0].settings, len(run)) for run in batches}) \
-                + sum(max(impact_steps(j, contact) for j in run)
-                      * (cost + len(run) * rec.cost.world_step_cost_s) + len(run) * OVERHEAD_S
-                      + max(observed_steps(j, contact) for j in run) * OBSERVED_STEP_S
+                + sum(max(map(coast_steps, run)) * (coast + len(run) * world)
+                      + max(observed_steps(j, contact) for j in run)
+                      * (cost + len(run) * world + OBSERVED_STEP_S) + len(run) * OVERHEAD_S
                       for run in batches)
     return out
 
