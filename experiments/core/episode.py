@@ -175,7 +175,8 @@ class ManyWorlds:
 @dataclass
 class Episodes:
     """The end of each world's episode, in the batch's namespace (an array of n values, or one
-    value for one world): how it ended, the steps it took, the state then, the first and last
+    value for one world): how it ended, the steps it took, the state then (its ``columns``),
+    the first and last
     step that saw the contact (-1: none), the deepest penetration (m), and the ball centre's
     side of the bat's axis then (m, positive on the side it came from)."""
 
@@ -253,17 +254,15 @@ class _Stepper:
         self.first, self.last = xp.full(n, -1), xp.full(n, -1)
         self.peak, self.off_steps = xp.full(n, -math.inf), xp.full(n, 0)
         self.active, self.prev_step = xp.full(n, True), xp.full(n, 0)
-        self.check_at = xp.full(n, 0)
+        self.check_at, self.ends = xp.full(n, 0), []  # ends: (mask, reading) per finish
 
     def run(self, starts) -> Episodes:
         """Step from ``starts`` until every world's episode is over (module docstring)."""
         batch, xp, n = self.batch, self.xp, self.batch.n
-        self.out = Episodes(ended=xp.full(n, ""), steps=xp.full(n, self.max_steps), end=starts,
+        self.prev = cols = xp.columns(starts)
+        self.out = Episodes(ended=xp.full(n, ""), steps=xp.full(n, self.max_steps), end=cols,
                             first=None, last=None, peak_m=None, side_m=xp.full(n, math.nan))
-        self.prev = starts
-        side = self.geometry(xp, self.bat, self.ball, xp.cols(starts))[3]
-        self.came_from = xp.where(side < 0.0, -1.0, 1.0)
-        cols = xp.cols(starts)
+        self.came_from = xp.where(self.geometry(xp, self.bat, self.ball, cols)[3] < 0.0, -1.0, 1.0)
         vx0, vy0 = cols[g.BALL_VX], cols[g.BALL_VY]
         self.ball_v0 = (vx0, vy0, DEFLECTED ** 2 * (vx0 * vx0 + vy0 * vy0))
         batch.set_state(starts)
@@ -271,6 +270,7 @@ class _Stepper:
         o = self.out
         o.ended = xp.where(batch.failed(), "non_finite", o.ended)
         o.first, o.last, o.peak_m = self.first, self.last, self.peak
+        o.end = xp.ended_at(o.end, self.ends)
         return o
 
     def over(self, step: int, batch) -> bool:
@@ -281,7 +281,7 @@ class _Stepper:
         if (step < self.st.approach_steps and not xp.any(self.first >= 0)
                 and not batch.any_contact()):
             return False
-        self.observe(step, batch.in_contact(), batch.read())
+        self.observe(step, batch.in_contact(), self.xp.columns(batch.read()))
         return not xp.any(self.active)
 
     def budget_spent(self, batch) -> None:
@@ -289,23 +289,24 @@ class _Stepper:
         xp = self.xp
         if not xp.any(self.active):
             return
-        S = batch.read()
+        S = xp.columns(batch.read())
         finite = xp.finite(S)
         self.finish(xp.not_(finite), "non_finite", self.max_steps, S)
         if not xp.any(self.active):
             return
-        pen, _, _, side = self.geometry(xp, self.bat, self.ball, xp.cols(S), self.came_from)
+        pen, _, _, side = self.geometry(xp, self.bat, self.ball, S, self.came_from)
         self.peak = xp.where(self.active, xp.maximum(self.peak, pen), self.peak)
         self.finish(self.active, "budget", self.max_steps, S, side)
 
     def finish(self, mask, why: str, step: int, S, side=None) -> None:
-        """End the episodes of the worlds in ``mask`` (still active) with this reading."""
+        """End the episodes of the worlds in ``mask`` (still active) with this reading
+        (``S``: its columns)."""
         xp, o = self.xp, self.out
         m = mask & self.active
         if not xp.any(m):
             return
         o.ended, o.steps = xp.where(m, why, o.ended), xp.where(m, step, o.steps)
-        o.end = xp.where_rows(m, S, o.end)
+        self.ends.append((m, S))
         if side is not None:
             o.side_m = xp.where(m, side, o.side_m)
         self.active = self.active & xp.not_(m)
@@ -313,26 +314,26 @@ class _Stepper:
             self.peak = xp.where(m, math.nan, self.peak)
 
     def observe(self, step: int, touching, S) -> None:
-        """One step's reading: failures, the contact's first and last steps, how it ends."""
+        """One step's reading (``S``: its columns): failures, the contact's first and last
+        steps, how it ends."""
         xp, st, no = self.xp, self.st, self.xp.not_
         look = self.active & (touching | (self.first >= 0) | (step >= st.approach_steps))
         finite = xp.finite(S)
         self.finish(look & no(finite), "non_finite", step, S)
-        cols = xp.cols(S)
-        jumped = self.jumped(xp, xp.cols(self.prev), cols, (step - self.prev_step) * st.dt_s,
+        jumped = self.jumped(xp, self.prev, S, (step - self.prev_step) * st.dt_s,
                              self.limit_m)
         self.finish(look & finite & jumped, "jumped", step, S)
         ok = look & finite & no(jumped)
         if not xp.any(ok):
             return
-        self.prev = xp.where_rows(ok, S, self.prev)
+        self.prev = xp.pick(ok, S, self.prev)
         self.prev_step = xp.where(ok, step, self.prev_step)
-        pen, apart, off_span, side = self.geometry(xp, self.bat, self.ball, cols,
+        pen, apart, off_span, side = self.geometry(xp, self.bat, self.ball, S,
                                                    self.came_from)
         self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
         # a contact that began and ended between two readings shows in the ball's velocity
         vx0, vy0, limit2 = self.ball_v0
-        dvx, dvy = cols[g.BALL_VX] - vx0, cols[g.BALL_VY] - vy0
+        dvx, dvy = S[g.BALL_VX] - vx0, S[g.BALL_VY] - vy0
         deflected = dvx * dvx + dvy * dvy > limit2  # |v - v0| > DEFLECTED |v0|, squared
         t = ok & (touching | (deflected & (self.first < 0)))
         self.first = xp.where(t & (self.first < 0), step, self.first)
@@ -340,13 +341,13 @@ class _Stepper:
         self.off_steps = xp.where(t, xp.where(self.rigid & (off_span > 0.0),
                                               self.off_steps + 1, 0), self.off_steps)
         self.finish(t & (self.off_steps > OFF_SPAN_STEPS), "left_cylinder", step, S, side)
-        self.flight_end(ok & no(touching) & (self.first >= 0), step, S, cols, apart, off_span,
+        self.flight_end(ok & no(touching) & (self.first >= 0), step, S, apart, off_span,
                         side)
         due = ok & no(touching) & (self.first < 0) & (step > st.approach_steps + 1)
         self.finish(due & (side <= 0.0), "passed", step, S, side)
         self.finish(due & (side > 0.0), "missed", step, S, side)
 
-    def flight_end(self, after, step: int, S, cols, apart, off_span, side) -> None:
+    def flight_end(self, after, step: int, S, apart, off_span, side) -> None:
         """After contact, the worlds whose bodies do not touch: the episode ends as
         ``analytic.collide`` would end it from this state, off the cylinder's span or apart for
         good (``separates_for_good``, a few float operations), else, where a free-flight search
@@ -359,7 +360,7 @@ class _Stepper:
         t_left, dt = (self.max_steps - step) * self.st.dt_s, self.st.dt_s
         # out of the plane there is no cheap bound: the 3D search decides (``analytic.spatial``)
         gone = after & (False if self.spatial else xp.separates(
-            cols, reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
+            S, reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
             t_max_s=t_left))
         self.finish(gone, "separated", step, S, side)
         search = after & no(gone) & (self.check_at <= step)
@@ -367,8 +368,8 @@ class _Stepper:
             return
         kw = dict(reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
                   s_min_m=bat.s_min_m, s_max_m=bat.s_max_m, t_max_s=t_left)
-        t, why = (g.free_flights_3d(xp, cols, search, **kw) if self.spatial
-                  else xp.free_flights(cols, search, **kw))
+        t, why = (g.free_flights_3d(xp, S, search, **kw) if self.spatial
+                  else xp.free_flights(S, search, **kw))
         ahead = why == "contact"
         self.finish(search & (why == "left_cylinder"), "left_cylinder", step, S, side)
         self.finish(search & no(ahead), "separated", step, S, side)

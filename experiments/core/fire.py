@@ -215,7 +215,7 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
 def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:
     """Every world's outcome, measured from its start and end states, as columns named as
     ``SimOutcome``'s fields (``q`` is (v1 - V)/(v0n + V), V = u0n + omega0 s)."""
-    S0, S1 = xp.cols(start), xp.cols(ep.end)
+    S0, S1 = xp.cols(start), ep.end
     energy = g.kinetic_energy_3d if spatial else g.kinetic_energy_j
     ke0, ke1 = energy(bat, ball, S0), energy(bat, ball, S1)
     v1, u1, w1 = S1[g.BALL_VY], S1[g.BAT_VY], S1[g.BAT_W]

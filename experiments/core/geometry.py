@@ -43,8 +43,23 @@ def padded(states: np.ndarray) -> np.ndarray:
     return states
 
 
-def _finite_rows(states: np.ndarray) -> np.ndarray:
-    return np.isfinite(states).all(axis=1)
+def _pick(mask: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.where(mask, a, b)`` over columns (a world each), with no copy where the mask is all
+    or none (the stepper never writes into an array it holds)."""
+    if mask.all():
+        return a
+    return np.where(mask, a, b) if mask.any() else b
+
+
+def _ended_at(start: np.ndarray, ends: list) -> np.ndarray:
+    """Each world's state at the end of its episode (columns): its reading in ``ends``, a list
+    of (mask, columns) in which each world is in one mask at most, else its ``start``."""
+    if len(ends) == 1 and ends[0][0].all():
+        return ends[0][1]
+    out = start.copy()
+    for mask, cols in ends:
+        out[:, mask] = cols[:, mask]
+    return out
 
 
 def _indices(mask) -> np.ndarray | tuple:
@@ -87,14 +102,16 @@ def _hypot(x: float, y: float) -> float:
     return float(np.hypot(x, y))
 
 
-#: numpy over a batch: arrays of n values, n rows. The two namespaces round alike (``sqrt``,
-#: not ``** 0.5``: Python's pow and numpy's differ in the last bit).
+#: numpy over a batch: arrays of n values, n rows (``columns``: a copy of them as 20 rows of n,
+#: each contiguous, which the stepper owns). The two namespaces round alike (``sqrt``, not
+#: ``** 0.5``: Python's pow and numpy's differ in the last bit).
 ARRAYS = SimpleNamespace(
     cos=np.cos, sin=np.sin, hypot=np.hypot, sqrt=np.sqrt, clip=np.clip, where=np.where,
     maximum=np.maximum, any=np.ndarray.any, not_=np.logical_not, full=np.full, put=_put,
-    where_rows=lambda mask, a, b: np.where(mask[:, None], a, b),
-    cols=lambda states: states.T, row=lambda states, i: states[i],
-    stack=lambda rows: np.array(rows, dtype=float), finite=_finite_rows, indices=_indices,
+    pick=_pick, ended_at=_ended_at, cols=lambda states: states.T, row=lambda states, i: states[i],
+    columns=lambda states: np.array(states.T, order="C"),
+    stack=lambda rows: np.array(rows, dtype=float),
+    finite=lambda cols: np.isfinite(cols).all(axis=0), indices=_indices,
     with_bat=_with_bat, from_cols=lambda cols: padded(np.column_stack(cols)),
     separates=lambda S, **kw: separates_for_good_many(_planar_cols(S), **kw),
     free_flights=_free_flights, floor=np.floor)
@@ -104,8 +121,9 @@ SCALARS = SimpleNamespace(
     cos=math.cos, sin=math.sin, hypot=_hypot, sqrt=math.sqrt,
     clip=lambda x, lo, hi: min(max(x, lo), hi), where=lambda c, a, b: a if c else b,
     maximum=max, any=bool, not_=lambda flag: not flag, full=lambda n, value: value,
-    put=lambda value, i, new: new, where_rows=lambda flag, a, b: a if flag else b,
-    cols=lambda state: state, row=lambda state, i: state,
+    put=lambda value, i, new: new, pick=lambda flag, a, b: a if flag else b,
+    ended_at=lambda start, ends: ends[-1][1] if ends else start,
+    cols=lambda state: state, row=lambda state, i: state, columns=lambda state: state,
     stack=lambda rows: State(*rows[0]), finite=lambda state: math.isfinite(sum(state)),
     indices=lambda flag: (0,) if flag else (),
     with_bat=_state_with_bat,
