@@ -387,14 +387,11 @@ def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts,
 
 def classify(xp, ended, first, peak_m, side_m, reach_m: float, ke0, ke1, allowance: float):
     """The status value of each episode (module docstring), in the namespace ``xp``: every
-    physical verdict is made here. ``allowance``: the relative energy gain that is rounding
-    (``judge.energy_allowance``)."""
-    w = xp.where
-    return w((ended == "non_finite") | (ended == "jumped"), Status.NON_FINITE.value,
-             w((ended == "passed") | ((ended == "budget") & (first < 0)), Status.TUNNELLED.value,
-               w(ended == "missed", Status.NO_CONTACT.value,
-                 w(ended == "budget", Status.NO_SEPARATION.value,
-                   w(side_m <= 0.0, Status.TUNNELLED.value,
-                     w(peak_m > reach_m, Status.PENETRATION.value,
-                       w(ke1 > ke0 * (1.0 + allowance), Status.ENERGY_GAINED.value,
-                         Status.OK.value)))))))
+    physical verdict is made here, the first rule that holds. ``allowance``: the relative
+    energy gain that is rounding (``judge.energy_allowance``)."""
+    rules = (((ended == "non_finite") | (ended == "jumped"), Status.NON_FINITE),
+             ((ended == "passed") | ((ended == "budget") & (first < 0)), Status.TUNNELLED),
+             (ended == "missed", Status.NO_CONTACT), (ended == "budget", Status.NO_SEPARATION),
+             (side_m <= 0.0, Status.TUNNELLED), (peak_m > reach_m, Status.PENETRATION),
+             (ke1 > ke0 * (1.0 + allowance), Status.ENERGY_GAINED))
+    return xp.select([c for c, _ in rules], [s.value for _, s in rules], Status.OK.value)

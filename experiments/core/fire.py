@@ -36,6 +36,7 @@ from .placement import (
     SwingPlan,
     case_columns,
     check_placements,
+    distinct_cases,
     hands_for,
     start_states,
     swing_case,
@@ -61,11 +62,14 @@ class Job:
 class Jobs(Sequence):
     """Jobs that share engine, settings and swing, one per case (a grid, or a grid tiled over
     many worlds), held as their cases: ``runs`` knows them for one engine's run without a look
-    at each job, and no ``Job`` is made per impact until one is asked for."""
+    at each job, and no ``Job`` is made per impact until one is asked for. ``distinct``: the
+    distinct cases (``placement.distinct_cases``), where known."""
 
     def __init__(self, *, engine: str, settings: Settings, cases: Sequence[ImpactCase],
-                 swing: HingedSwing | None = None) -> None:
+                 swing: HingedSwing | None = None,
+                 distinct: tuple[np.ndarray, np.ndarray] | None = None) -> None:
         self.engine, self.settings, self.cases, self.swing = engine, settings, cases, swing
+        self.distinct = distinct
 
     def __len__(self) -> int:
         return len(self.cases)
@@ -77,11 +81,17 @@ class Jobs(Sequence):
         return Job(engine=self.engine, settings=self.settings, case=self.cases[i],
                    swing=self.swing)
 
+    def known(self) -> Jobs:
+        """These jobs with their distinct cases known (worked out once for a firing)."""
+        return self if self.distinct is not None else Jobs(
+            engine=self.engine, settings=self.settings, cases=self.cases, swing=self.swing,
+            distinct=distinct_cases(self.cases))
+
     def one_scene(self) -> bool:
         """Whether every case shares the scene (bat, ball, e, mu): a look at each distinct
         case object once, however often the grid is tiled."""
-        distinct = dict(zip(map(id, self.cases), self.cases)).values()
-        return len(set(map(scene_key, distinct))) == 1
+        first = (self.distinct or distinct_cases(self.cases))[0]
+        return len({scene_key(self.cases[i]) for i in first}) == 1
 
     def __add__(self, other: Sequence[Job]) -> list[Job]:
         return [*self, *other]
@@ -137,7 +147,7 @@ def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
     swing, those of one engine differing only in ``contact_phase`` joined into one."""
     if not jobs:
         return []
-    if isinstance(jobs, Jobs) and jobs.one_scene():
+    if isinstance(jobs, Jobs) and (jobs := jobs.known()).one_scene():
         return [jobs]
     keys = list(map(batch_key, jobs))
     cuts = [0, *compress(range(1, len(keys)), map(ne, keys[1:], keys)), len(keys)]
@@ -172,7 +182,9 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
         cases, plans = [p[0] for p in planned], [p[1] for p in planned]
     bat, ball = cases[0].bat, cases[0].ball
     xp = g.ARRAYS if host.batched or len(cases) > 1 else g.SCALARS
-    cc = case_columns(xp, cases)
+    # a swing re-plans every case: the jobs' distinct cases are not the fired ones
+    distinct = jobs.distinct if isinstance(jobs, Jobs) and plans is None else None
+    cc = case_columns(xp, cases, distinct)
     t = cc.turned  # ImpactCase.out_of_plane, over the columns
     spatial = t is not None and bool(np.any((t.undercut_m != 0.0) | (t.spin_x != 0.0)
                                             | (t.spin_y != 0.0)))
@@ -209,7 +221,8 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     cols.update(nan_release(len(cases)) if plans is None else {
         "release_omega_analytic_radps": np.array([p.omega_release_radps for p in plans]),
         "release_angle_analytic_rad": np.array([p.angle_release_rad for p in plans])})
-    return FiredBlock(cases, cols, engine=host.name, settings=each, wall_s=wall)
+    return FiredBlock(cases, cols, engine=host.name, settings=each, wall_s=wall,
+                      distinct=distinct)
 
 
 def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:

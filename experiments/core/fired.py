@@ -52,13 +52,16 @@ def outcome(cols: dict, i: int | None, *, engine: str, settings: Settings,
 
 class FiredBlock(Sequence):
     """One batch's fired impacts as columns (``FLOAT_FIELDS``, status, steps, ended, and the
-    analytic release as ``release_omega_analytic_radps``/``release_angle_analytic_rad``), and
-    each job's own settings (its worlds may differ in ``contact_phase``)."""
+    analytic release as ``release_omega_analytic_radps``/``release_angle_analytic_rad``),
+    each job's own settings (its worlds may differ in ``contact_phase``), and its distinct cases
+    where known (``placement.distinct_cases``)."""
 
     def __init__(self, cases: Sequence[ImpactCase], cols: dict[str, np.ndarray], *,
-                 engine: str, settings: Sequence[Settings], wall_s: float) -> None:
+                 engine: str, settings: Sequence[Settings], wall_s: float,
+                 distinct: tuple[np.ndarray, np.ndarray] | None = None) -> None:
         self.cases, self.cols = list(cases), cols
         self.engine, self.settings, self.wall_s = engine, settings, wall_s
+        self.distinct = distinct
 
     def __len__(self) -> int:
         return len(self.cases)
@@ -112,12 +115,14 @@ class Gathered:
     """Fired impacts as columns, whatever parts they came in: each impact's case, settings and
     engine, and ``cols``: FLOAT_FIELDS, status (its value), steps, ended, wall_s and the
     analytic release (``release_omega_analytic_radps``, ``release_angle_analytic_rad``), one
-    array each (units as in ``SimOutcome``)."""
+    array each (units as in ``SimOutcome``); ``distinct``: the distinct cases, where known
+    (``placement.distinct_cases``)."""
 
     cases: list[ImpactCase]
     settings: list[Settings]
     engines: list[str]
     cols: dict[str, np.ndarray]
+    distinct: tuple[np.ndarray, np.ndarray] | None = None
 
     def outcome(self, i: int) -> SimOutcome:
         """The outcome of impact ``i``, as fired."""
@@ -156,9 +161,11 @@ def gather(fired: Sequence[Fired]) -> Gathered:
                                          else [fired]) if len(p)]
     if not parts:
         parts = [_block_columns([])]
+    one = fired.parts[0] if isinstance(fired, FiredSeq) and len(fired.parts) == 1 else fired
     def joined(i: int) -> list:
         return list(itertools.chain.from_iterable(p[i] for p in parts))
 
     return Gathered(cases=joined(0), settings=joined(1), engines=joined(2),
                     cols={k: np.concatenate([p[3][k] for p in parts])
-                          for k in (*FLOAT_FIELDS, *_OTHER)})
+                          for k in (*FLOAT_FIELDS, *_OTHER)},
+                    distinct=one.distinct if isinstance(one, FiredBlock) else None)

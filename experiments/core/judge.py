@@ -353,14 +353,18 @@ def verdict(status, err_mps, tol_mps, law_err_mps, law_tol_mps, within=True) -> 
     theory where ``tol_mps`` is finite, else the engine's own contact law where
     ``law_tol_mps`` is) and its other judged outputs within theirs (``within``), ``inaccurate``
     outside, and ``unjudged`` where neither answer applies."""
-    ok, bad = Status.OK.value, Status.INACCURATE.value
+    out = np.array(status, dtype=object)  # a failure stays what it is
     with np.errstate(invalid="ignore"):
-        judged = np.where(~np.isnan(tol_mps), np.where(err_mps <= tol_mps, ok, bad),
-                          np.where(~np.isnan(law_tol_mps),
-                                   np.where(law_err_mps <= law_tol_mps, ok, bad),
-                                   Status.UNJUDGED.value))
-    judged = np.where((judged == ok) & ~np.asarray(within), bad, judged)
-    return np.where(np.asarray(status) == ok, judged, status).astype(object)
+        rigid, law = ~np.isnan(tol_mps), ~np.isnan(law_tol_mps)
+        fits = np.where(rigid, err_mps <= tol_mps, law_err_mps <= law_tol_mps) & within
+    judged = _JUDGED[np.where(rigid | law, np.where(fits, 0, 1), 2)]
+    np.copyto(out, judged, where=out == Status.OK.value)
+    return out
+
+
+#: ``verdict``'s judgements by code, as Python strings (pandas reads numpy's own slowly).
+_JUDGED = np.array([Status.OK.value, Status.INACCURATE.value, Status.UNJUDGED.value],
+                   dtype=object)
 
 
 def phases(k: int) -> np.ndarray:

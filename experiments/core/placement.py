@@ -65,17 +65,26 @@ CASE_FIELDS = ("s_m", "v0_mps", "u0_mps", "omega0_radps", "theta_rad", "phi_rad"
                "hands_from_knob_m")
 
 
-def case_columns(xp, cases: Sequence[ImpactCase]) -> SimpleNamespace:
+def distinct_cases(cases: Sequence[ImpactCase]) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct case objects of ``cases`` (by identity), ordered by it: the row where each
+    first appears, and each row's index into them."""
+    ids = np.fromiter(map(id, cases), dtype=np.int64, count=len(cases))
+    _, first, inv = np.unique(ids, return_index=True, return_inverse=True)
+    return first, inv.reshape(-1)
+
+
+def case_columns(xp, cases: Sequence[ImpactCase],
+                 distinct: tuple[np.ndarray, np.ndarray] | None = None) -> SimpleNamespace:
     """The cases' CASE_FIELDS and normal speeds (v0n, u0n, closing) in the namespace ``xp``
     of ``geometry`` (arrays over a batch; one case's own floats for one world), and
     ``turned``: None, or where a case has an undercut or a spinning ball, their columns
     (``undercut_m``, ``cos_tilt``, ``spin_x``/``_y``/``_z`` rad/s). A batch that repeats
-    case objects (a grid tiled over many worlds) reads each distinct one once."""
+    case objects (a grid tiled over many worlds) reads each distinct one once (``distinct``:
+    ``distinct_cases``, where the caller knows it)."""
     if xp is not g.SCALARS and len(cases) > 1:
-        ids = np.fromiter(map(id, cases), dtype=np.int64, count=len(cases))
-        _, first, inv = np.unique(ids, return_index=True, return_inverse=True)
+        first, inv = distinct_cases(cases) if distinct is None else distinct
         if len(first) < len(cases):
-            return _spread(_columns(xp, [cases[i] for i in first]), inv.reshape(-1))
+            return _spread(_columns(xp, [cases[i] for i in first]), inv)
     return _columns(xp, cases)
 
 
