@@ -280,6 +280,10 @@ def separates_for_good_many(x, *, reach_m: float, ball_radius_m: float,
                 & (0.5 * bound * horizon * horizon <= end + gap))
 
 
+#: How ``free_flight_many``'s searches end, by code (Python strings: numpy's are slow to pick).
+_ENDS = np.array(["left_cylinder", "separated", "contact", "time_limit"], dtype=object)
+
+
 def free_flight_many(y, *, reach_m: float, ball_radius_m: float, s_min_m: float,
                      s_max_m: float, t_max_s: float) -> tuple[np.ndarray, np.ndarray]:
     """``free_flight`` for many states at once, ``y`` of shape (10, m) in PlanarState's order,
@@ -313,11 +317,9 @@ def free_flight_many(y, *, reach_m: float, ball_radius_m: float, s_min_m: float,
         rows, at = live[done], k[done]
         pick = (np.flatnonzero(done), at)
         before = np.where(at > 0, t[pick[0], np.maximum(at - 1, 0)], t0[done])
-        kind = np.select([off[pick], sep[pick], touch[pick]],
-                         ["left_cylinder", "separated", "contact"], "time_limit")
-        t_out[rows] = np.where(kind == "contact", before, np.where(kind == "time_limit",
-                                                                    t_max_s, t[pick]))
-        why[rows] = kind
+        kind = np.select([off[pick], sep[pick], touch[pick]], [0, 1, 2], 3)  # _ENDS' order
+        t_out[rows] = np.where(kind == 2, before, np.where(kind == 3, t_max_s, t[pick]))
+        why[rows] = _ENDS[kind]
         live, t0, g0 = live[~done], t[~done, -1], g[~done, -1]
     return t_out, why
 
