@@ -7,6 +7,7 @@ through ``experiments.core.runner``.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -186,11 +187,7 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
         g, judged, [] if plain and not spin_columns else [rigid[k] for k in inv],
         spin_columns, plain)
 
-    def each(values) -> np.ndarray:  # one value per distinct impact, spread over the rows
-        return np.array(values)[inv]
-
-    def text(values) -> pd.api.extensions.ExtensionArray:  # (strings: one per distinct)
-        return _text(np.array(values, dtype=object)[inv])
+    each = functools.partial(_spread, rows=inv)
 
     ref = {k: each([getattr(r, k) for r in rigid])
            for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
@@ -201,22 +198,21 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
         rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
     cols = {
         "engine": _text(g.engines), "profile": _text([profile] * n),
-        "bat": text([k.bat.name for k in cases]),
+        "bat": each([k.bat.name for k in cases]),
         **{f: each([getattr(k, f) for k in cases])
            for f in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad")},
         "v1_analytic_mps": ref["v1_mps"], "v1_engine_mps": v1, "v1_abs_err_mps": err,
         "v1_rel_err": rel, "v1_tol_mps": tol, "v1_impulse_mps": impulse,
         "rigid_impacts": each([r.impacts for r in rigid]),
         "rigid_sustained_s": each([r.sustained_contact_s for r in rigid]),
-        "rigid_end": text([r.ended for r in rigid]),
+        "rigid_end": each([r.ended for r in rigid]),
         "v1_law_mps": law[:, 0], "v1_law_err_mps": law_err, "v1_law_tol_mps": law[:, 1],
         "u1_analytic_mps": ref["u1_mps"], "u1_engine_mps": c["u1_mps"],
         "omega1_analytic_radps": ref["omega1_radps"], "omega1_engine_radps": c["omega1_radps"],
         "hand_dv_analytic_mps": ref["hand_dv_mps"], "hand_dv_engine_mps": c["hand_dv_mps"],
         "ke_before_j": c["ke_before_j"], "ke_after_j": c["ke_after_j"],
         "status": _text(status), "episode_end": _text(c["ended"]),
-        "ball_side_end_m": c["ball_side_m"],
-        "contact_duration_s": c["contact_duration_s"],
+        "ball_side_end_m": c["ball_side_m"], "contact_duration_s": c["contact_duration_s"],
         "peak_penetration_m": c["peak_penetration_m"], "steps": c["steps"],
         "wall_s": c["wall_s"],
     }
@@ -226,6 +222,14 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
         cols["release_omega_analytic_radps"] = c["release_omega_analytic_radps"]
         cols["release_angle_err_rad"] = c["release_angle_rad"] - c["release_angle_analytic_rad"]
     return pd.DataFrame(cols, copy=False)  # (columns made here, not shared)
+
+
+def _spread(values: list, rows: np.ndarray):
+    """One value per distinct impact (``values``) spread over the rows: an array, or for
+    strings a column as pandas stores them (``_text``)."""
+    text = bool(values) and isinstance(values[0], str)
+    spread = np.array(values, dtype=object if text else None)[rows]
+    return _text(spread) if text else spread
 
 
 def _text(values) -> pd.api.extensions.ExtensionArray:
