@@ -176,9 +176,8 @@ class ManyWorlds:
 class Episodes:
     """The end of each world's episode, in the batch's namespace (an array of n values, or one
     value for one world): how it ended, the steps it took, the state then (its ``columns``),
-    the first and last
-    step that saw the contact (-1: none), the deepest penetration (m), and the ball centre's
-    side of the bat's axis then (m, positive on the side it came from)."""
+    the first and last step that saw the contact (-1: none), the deepest penetration (m), and
+    the ball centre's side of the bat's axis then (m, positive on the side it came from)."""
 
     ended: object
     steps: object

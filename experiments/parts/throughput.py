@@ -237,12 +237,13 @@ def chart(table: pd.DataFrame):
                              layout="constrained")
     for ax, panel in zip(axes[0], kinds):
         part = table[[kind(d) == panel for d in table.device]]
+        shift = _side_by_side(part)
         for name, rows in part.groupby("engine", sort=False):
             rec = adapters.record(name)
             best = rows.loc[rows.impacts_per_s.idxmax()]
-            ax.plot(rows.max_abs_err_mps.clip(lower=1e-16), rows.impacts_per_s, "-",
-                    color=rec.look.color, alpha=0.4)
-            ax.scatter(rows.max_abs_err_mps.clip(lower=1e-16), rows.impacts_per_s,
+            err = rows.max_abs_err_mps.clip(lower=1e-16) * shift[name]
+            ax.plot(err, rows.impacts_per_s, "-", color=rec.look.color, alpha=0.4)
+            ax.scatter(err, rows.impacts_per_s,
                        s=12 + 10 * np.log10(rows.batch), marker=rec.look.marker,
                        color=rec.look.color,
                        label=f"{name} ({rec.errors.precision}; best at batch {best.batch:,})")
@@ -251,10 +252,24 @@ def chart(table: pd.DataFrame):
         ax.set_xlabel("largest |v1 - rigid theory| over the judged impacts (m/s, log)")
         ax.set_ylabel("judged impacts per second (log)")
         ax.set_title(f"{panel}: {', '.join(sorted(set(part.device)))}\nmarker size: batch "
-                     f"1 .. {part.batch.max():.0e} (line joins one engine's sizes)", fontsize=9)
+                     f"1 .. {part.batch.max():.0e} (line joins one engine's sizes)"
+                     + ("\nengines of equal error set side by side (x times 1.3^k)"
+                        if any(v != 1.0 for v in shift.values()) else ""), fontsize=9)
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # off the marks
     return fig
+
+
+def _side_by_side(part: pd.DataFrame) -> dict[str, float]:
+    """Each engine's factor on its errors in the chart: engines whose largest errors are equal
+    (to 2 digits, every batch size alike) are set side by side, 1.3 times apart, so that no
+    marker hides another; 1 for the rest."""
+    groups: dict[tuple, list[str]] = {}
+    for name, rows in part.groupby("engine", sort=False):
+        key = tuple(sorted({float(f"{x:.2g}") for x in rows.max_abs_err_mps}))
+        groups.setdefault(key, []).append(name)
+    return {name: 1.3 ** (k - (len(names) - 1) / 2)
+            for names in groups.values() for k, name in enumerate(names)}
 
 
 def summary(table: pd.DataFrame) -> pd.DataFrame:
