@@ -87,11 +87,6 @@ def _state_with_bat(start: State, swung: State) -> State:
     return start._replace(**{STATE_FIELDS[i]: swung[i] for i in BAT_COLUMNS})
 
 
-def _put(values: np.ndarray, i: int, value) -> np.ndarray:
-    values[i] = value
-    return values
-
-
 def _planar_cols(S) -> tuple:
     return (S[BALL_X], S[BALL_Y], S[BALL_VX], S[BALL_VY], S[BAT_X], S[BAT_Y], S[BAT_VX],
             S[BAT_VY], S[BAT_ANGLE], S[BAT_W])
@@ -118,7 +113,7 @@ def _hypot(x: float, y: float) -> float:
 #: ``** 0.5``: Python's pow and numpy's differ in the last bit).
 ARRAYS = SimpleNamespace(
     cos=np.cos, sin=np.sin, hypot=np.hypot, sqrt=np.sqrt, clip=np.clip, where=np.where,
-    maximum=np.maximum, any=np.ndarray.any, not_=np.logical_not, full=np.full, put=_put,
+    maximum=np.maximum, any=np.ndarray.any, not_=np.logical_not, full=np.full,
     pick=_pick, ended_at=_ended_at, select=_select, cols=lambda states: states.T,
     row=lambda states, i: states[i],
     columns=lambda states: np.array(states.T, order="C"),
@@ -133,7 +128,7 @@ SCALARS = SimpleNamespace(
     cos=math.cos, sin=math.sin, hypot=_hypot, sqrt=math.sqrt,
     clip=lambda x, lo, hi: min(max(x, lo), hi), where=lambda c, a, b: a if c else b,
     maximum=max, any=bool, not_=lambda flag: not flag, full=lambda n, value: value,
-    put=lambda value, i, new: new, pick=lambda flag, a, b: a if flag else b,
+    pick=lambda flag, a, b: a if flag else b,
     ended_at=lambda start, ends: ends[-1][1] if ends else start,
     select=lambda conditions, values, default: next(
         (v for c, v in zip(conditions, values) if c), default),
