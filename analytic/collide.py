@@ -261,69 +261,6 @@ def separates_for_good(state: PlanarState, *, reach_m: float, ball_radius_m: flo
     return 0.5 * bound * horizon * horizon <= end + gap
 
 
-def separates_for_good_many(x, *, reach_m: float, ball_radius_m: float,
-                            t_max_s: float) -> np.ndarray:
-    """``separates_for_good`` for many states at once: ``x`` holds arrays (ball x, y, vx, vy,
-    bat x, y, vx, vy, angle, omega), in PlanarState's order; one bool per state."""
-    bx, by, bvx, bvy, cx, cy, cvx, cvy, angle, w = x
-    c, s = np.cos(angle), np.sin(angle)
-    dx, dy = bx - cx, by - cy
-    rvx, rvy = bvx - cvx, bvy - cvy
-    opening = rvy * c - rvx * s - w * (dx * c + dy * s)
-    gap = dy * c - dx * s - reach_m
-    end = EPISODE_GAP_RADII * ball_radius_m
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        horizon = 2.0 * end / opening
-        v_rel = np.hypot(rvx, rvy)
-        bound = 2.0 * np.abs(w) * v_rel + w * w * (np.hypot(dx, dy) + v_rel * horizon)
-        return ((opening > 0.0) & (gap >= 0.0) & (horizon <= t_max_s)
-                & (0.5 * bound * horizon * horizon <= end + gap))
-
-
-#: How ``free_flight_many``'s searches end, by code (Python strings: numpy's are slow to pick).
-_ENDS = np.array(["left_cylinder", "separated", "contact", "time_limit"], dtype=object)
-
-
-def free_flight_many(y, *, reach_m: float, ball_radius_m: float, s_min_m: float,
-                     s_max_m: float, t_max_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """``free_flight`` for many states at once, ``y`` of shape (10, m) in PlanarState's order,
-    sampled as ``_next_contact`` samples one; a contact's time is the sample before it (no
-    root is polished). Returns (time, why) arrays."""
-    t_out, why = np.full(y.shape[1], t_max_s), np.full(y.shape[1], "time_limit", dtype=object)
-    w = np.abs(y[9])
-    h_max = np.where(w * 1e-4 > 0.02, 0.02 / np.maximum(w, 1e-300), 1e-4)
-    live = np.arange(y.shape[1] if t_max_s > 0.0 else 0)
-    t0, g0 = np.zeros(len(live)), _gap(y[:, live], 0.0, reach_m)[0]
-    while len(live):
-        Y = y[:, live]
-        zero = np.zeros((2, len(live)))
-        now = Y + np.concatenate([Y[2:4], zero, Y[6:8], zero, Y[9:10], zero[:1]]) * t0
-        rv, c, s = now[2:4] - now[6:8], np.cos(now[8]), np.sin(now[8])
-        dx, dy = now[0] - now[4], now[1] - now[5]
-        opening = -rv[0] * s + rv[1] * c - now[9] * (dx * c + dy * s)
-        curving = -2 * now[9] * (rv[0] * c + rv[1] * s) - now[9] ** 2 * (dy * c - dx * s)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            h = np.where((opening > 0.0) & (-curving * h_max[live] > 0.5 * opening),
-                         np.maximum(0.5 * opening / -curving,
-                                    MIN_SAMPLE_FRACTION * h_max[live]), h_max[live])
-        t = np.minimum(t0[:, None] + h[:, None] * np.arange(1, _CHUNK + 1), t_max_s)
-        g, ax = _gap(Y[:, :, None], t, reach_m)
-        prev = np.concatenate((g0[:, None], g[:, :-1]), axis=1)
-        off = ~((s_min_m <= ax) & (ax <= s_max_m))
-        sep = g > EPISODE_GAP_RADII * ball_radius_m
-        touch = ((prev > 0.0) & (g <= 0.0)) | ((prev <= 0.0) & (g < -APEX_M))
-        end = off | sep | touch | (t >= t_max_s)
-        done, k = end.any(axis=1), end.argmax(axis=1)
-        rows, at = live[done], k[done]
-        pick = (np.flatnonzero(done), at)
-        before = np.where(at > 0, t[pick[0], np.maximum(at - 1, 0)], t0[done])
-        kind = np.select([off[pick], sep[pick], touch[pick]], [0, 1, 2], 3)  # _ENDS' order
-        t_out[rows] = np.where(kind == 2, before, np.where(kind == 3, t_max_s, t[pick]))
-        why[rows] = _ENDS[kind]
-        live, t0, g0 = live[~done], t[~done, -1], g[~done, -1]
-    return t_out, why
-
-
 def _next_contact(y, reach, r_ball, s_min, s_max, t_max):
     """Time to the next contact (root of the gap, to float precision) or to the episode's end,
     and which: 'contact', 'separated', 'left_cylinder' or 'time_limit'. The gap is sampled

@@ -18,13 +18,8 @@ import numpy as np
 
 from adapters import PLANAR_FIELDS, STATE_FIELDS, State
 from analytic import Ball, Bat
-from analytic.collide import (
-    PlanarState,
-    free_flight,
-    free_flight_many,
-    separates_for_good,
-    separates_for_good_many,
-)
+from analytic.batch_ends import free_flight_many, separates_for_good_many
+from analytic.collide import PlanarState, free_flight, separates_for_good
 from analytic.spatial import free_flight_3d
 
 (BALL_X, BALL_Y, BALL_VX, BALL_VY, BALL_W, BAT_X, BAT_Y, BAT_ANGLE, BAT_VX, BAT_VY, BAT_W,
