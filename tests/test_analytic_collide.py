@@ -11,7 +11,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from analytic import ImpactCase, predict, presets
-from analytic.batch_ends import free_flight_many, separates_for_good_many
+from analytic.batch_ends import SPLIT_MIN, free_flight_many, separates_for_good_many
 from analytic.collide import RTOL, PlanarState, collide, free_flight, separates_for_good
 
 from .conftest import EPS, cases, examples
@@ -180,8 +180,9 @@ def test_many_states_end_as_each_one_does(v, w, gap, s, angle, t_max):
 def test_many_flights_end_at_the_same_sample_in_either_half_of_a_round():
     # A ball leaving a still bat at v reaches the end gap (one ball radius) at
     # t = (r - g0) / v: with h = 1e-4 s (no spin) at sample k when v = (r - g0) / ((k - 0.5) h).
-    # The search samples each round of 32 in two halves of 16: flights that end in the first
-    # half, the second, or a later round end at the very sample the one-state search finds.
+    # The search samples each round of 32 whole on a few states and in two halves of 16 on
+    # many (SPLIT_MIN): flights that end in the first half, the second, or a later round end
+    # at the very sample the one-state search finds, either way.
     reach, g0, h = R161.radius_m + BALL.radius_m, 1e-4, 1e-4
     speeds = (BALL.radius_m - g0) / ((np.arange(1, 70) - 0.5) * h)
     states = [PlanarState(ball_x_m=0.0, ball_y_m=reach + g0, ball_vx_mps=0.0, ball_vy_mps=v,
@@ -189,11 +190,14 @@ def test_many_flights_end_at_the_same_sample_in_either_half_of_a_round():
                           bat_angle_rad=0.0, bat_omega_radps=0.0) for v in speeds]
     kw = dict(reach_m=reach, ball_radius_m=BALL.radius_m, s_min_m=R161.s_min_m,
               s_max_m=R161.s_max_m, t_max_s=0.1)
-    times, whys = free_flight_many(np.array([x.array() for x in states]).T, **kw)
     expected = [free_flight(x, **kw) for x in states]
-    assert list(whys) == [w for _, w in expected] == ["separated"] * len(states)
-    assert list(times) == [t for t, _ in expected]
-    assert np.allclose(times, np.arange(1, 70) * h, rtol=1e-12)  # sample k, at t = k h
+    assert [w for _, w in expected] == ["separated"] * len(states)
+    assert np.allclose([t for t, _ in expected], np.arange(1, 70) * h, rtol=1e-12)  # k h
+    cols = np.array([x.array() for x in states]).T
+    for copies in (1, -(-SPLIT_MIN // len(states))):
+        times, whys = free_flight_many(np.tile(cols, copies), **kw)
+        assert list(whys) == [w for _, w in expected] * copies
+        assert list(times) == [t for t, _ in expected] * copies
 
 
 @pytest.mark.parametrize("e", [0.0, 0.5])
