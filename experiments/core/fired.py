@@ -124,10 +124,18 @@ class Gathered:
     cols: dict[str, np.ndarray]
     distinct: tuple[np.ndarray, np.ndarray] | None = None
 
-    def outcome(self, i: int) -> SimOutcome:
-        """The outcome of impact ``i``, as fired."""
-        return outcome(self.cols, i, engine=self.engines[i], settings=self.settings[i],
-                       wall_s=float(self.cols["wall_s"][i]))
+    def outcomes(self, rows: Sequence[int]) -> list[SimOutcome]:
+        """The outcomes of the impacts at ``rows``, as fired: each column picked at all rows at
+        once (a third of the time of one ``outcome`` per row)."""
+        rows = np.asarray(rows, dtype=np.intp)
+        c = {k: self.cols[k][rows].astype(float).tolist() for k in (*FLOAT_FIELDS, "wall_s")}
+        c.update({k: self.cols[k][rows].tolist() for k in ("steps", "ended")})
+        status = [Status(v) for v in self.cols["status"][rows].tolist()]
+        return [SimOutcome(**{k: c[k][j] for k in FLOAT_FIELDS}, status=status[j],
+                           steps=int(c["steps"][j]), ended=str(c["ended"][j]),
+                           engine=self.engines[i], settings=self.settings[i],
+                           wall_s=c["wall_s"][j])
+                for j, i in enumerate(rows.tolist())]
 
 
 #: The columns ``gather`` makes besides FLOAT_FIELDS.

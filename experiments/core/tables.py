@@ -126,7 +126,7 @@ def _with_friction(g, judged, rigid, spin_columns: bool, plain: bool):
     if plain and not spin_columns:
         return {}, tol, law, impulse, np.ones(len(tol), dtype=bool)
     cases = g.cases
-    extra, v1_law, within = friction_judge.columns(cases, [g.outcome(i) for i in range(len(cases))],
+    extra, v1_law, within = friction_judge.columns(cases, g.outcomes(range(len(cases))),
                                                    rigid)
     each = np.array([c.frictionless_planar for c in cases])
     v1 = np.array([r.v1_mps for r in rigid])
@@ -175,7 +175,7 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
     g = gather(fired)
     c, n = g.cols, len(g.cases)
     rep, inv = _distinct(g)
-    cases, outs = [g.cases[i] for i in rep], [g.outcome(i) for i in rep]
+    cases, outs = [g.cases[i] for i in rep], g.outcomes(rep)
     rigid = [judge.rigid(k, o.settings.max_contact_s) for k, o in zip(cases, outs)]
     law = np.array([judge.soft_judgement(k, o) for k, o in zip(cases, outs)]).reshape(-1, 2)
     judged = (judge.tolerances(cases, outs, c["release_omega_analytic_radps"][rep], rigid),
@@ -197,7 +197,7 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
     cols = {
-        "engine": _text(g.engines), "profile": _text([profile] * n),
+        "engine": _texts(g.engines), "profile": _spread([profile], np.zeros(n, dtype=np.intp)),
         "bat": each([k.bat.name for k in cases]),
         **{f: each([getattr(k, f) for k in cases])
            for f in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad")},
@@ -226,10 +226,10 @@ def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> p
 
 def _spread(values: list, rows: np.ndarray):
     """One value per distinct impact (``values``) spread over the rows: an array, or for
-    strings a column as pandas stores them (``_text``)."""
-    text = bool(values) and isinstance(values[0], str)
-    spread = np.array(values, dtype=object if text else None)[rows]
-    return _text(spread) if text else spread
+    strings a column as pandas stores them (``_text``), taken from the few values made once."""
+    if bool(values) and isinstance(values[0], str):
+        return _text(values).take(rows)
+    return np.array(values)[rows]
 
 
 def _text(values) -> pd.api.extensions.ExtensionArray:
@@ -237,6 +237,13 @@ def _text(values) -> pd.api.extensions.ExtensionArray:
     inference from numpy's fixed-width strings costs ten times as much (about 0.6 against
     0.06 ms a column of 1e4)."""
     return pd.array(np.asarray(values, dtype=object), dtype="str")
+
+
+def _texts(values: list) -> pd.api.extensions.ExtensionArray:
+    """``_text`` of strings that are often all one value (an engine's name on every row)."""
+    if values and values.count(values[0]) == len(values):  # (C speed: compared by identity)
+        return _spread(values[:1], np.zeros(len(values), dtype=np.intp))
+    return _text(values)
 
 
 def _engine_values(name: str, settings: adapters.Settings, firing: Firing, s_m,
