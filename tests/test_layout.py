@@ -28,11 +28,9 @@ ALLOWED = {
 }
 
 #: The modules outside the judge that may still spell a status, each with why (at most 2).
-STATUS_WORDS_KEPT = {
-    "experiments/core/episode.py": "'non_finite' there is an episode's ending (the loop's word "
-    "for how stepping stopped, beside 'jumped', 'budget', 'passed'; a row's episode_end), "
-    "not a status: classify maps it onto Status.NON_FINITE",
-}
+#: None do: an episode's ending, whose 'non_finite' was the one word shared with a status,
+#: is an ``endings.Ending`` code, its label spelt from the enum's name.
+STATUS_WORDS_KEPT: dict[str, str] = {}
 
 
 def _name(path: Path) -> str:

@@ -34,6 +34,7 @@ from adapters import Hands, Settings, State
 from analytic import Ball, Bat, Outcome
 
 from . import geometry as g
+from .endings import Ending
 from .judge import Status
 from .terms import DEFLECTED, JUMP_REACHES, OFF_SPAN_STEPS
 
@@ -175,9 +176,10 @@ class ManyWorlds:
 @dataclass
 class Episodes:
     """The end of each world's episode, in the batch's namespace (an array of n values, or one
-    value for one world): how it ended, the steps it took, the state then (its ``columns``),
-    the first and last step that saw the contact (-1: none), the deepest penetration (m), and
-    the ball centre's side of the bat's axis then (m, positive on the side it came from)."""
+    value for one world): how it ended (``Ending``), the steps it took, the state then (its
+    ``columns``), the first and last step that saw the contact (-1: none), the deepest
+    penetration (m), and the ball centre's side of the bat's axis then (m, positive on the
+    side it came from)."""
 
     ended: object
     steps: object
@@ -259,15 +261,16 @@ class _Stepper:
         """Step from ``starts`` until every world's episode is over (module docstring)."""
         batch, xp, n = self.batch, self.xp, self.batch.n
         self.prev = cols = xp.columns(starts)
-        self.out = Episodes(ended=xp.full(n, ""), steps=xp.full(n, self.max_steps), end=cols,
-                            first=None, last=None, peak_m=None, side_m=xp.full(n, math.nan))
+        self.out = Episodes(ended=xp.full(n, Ending.NONE), steps=xp.full(n, self.max_steps),
+                            end=cols, first=None, last=None, peak_m=None,
+                            side_m=xp.full(n, math.nan))
         self.came_from = xp.where(self.geometry(xp, self.bat, self.ball, cols)[3] < 0.0, -1.0, 1.0)
         vx0, vy0 = cols[g.BALL_VX], cols[g.BALL_VY]
         self.ball_v0 = (vx0, vy0, DEFLECTED ** 2 * (vx0 * vx0 + vy0 * vy0))
         batch.set_state(starts)
         run_episode(batch, self, self.max_steps)
         o = self.out
-        o.ended = xp.where(batch.failed(), "non_finite", o.ended)
+        o.ended = xp.where(batch.failed(), Ending.NON_FINITE, o.ended)
         o.first, o.last, o.peak_m = self.first, self.last, self.peak
         o.end = xp.ended_at(o.end, self.ends)
         return o
@@ -290,14 +293,14 @@ class _Stepper:
             return
         S = xp.columns(batch.read())
         finite = xp.finite(S)
-        self.finish(xp.not_(finite), "non_finite", self.max_steps, S)
+        self.finish(xp.not_(finite), Ending.NON_FINITE, self.max_steps, S)
         if not xp.any(self.active):
             return
         pen, _, _, side = self.geometry(xp, self.bat, self.ball, S, self.came_from)
         self.peak = xp.where(self.active, xp.maximum(self.peak, pen), self.peak)
-        self.finish(self.active, "budget", self.max_steps, S, side)
+        self.finish(self.active, Ending.BUDGET, self.max_steps, S, side)
 
-    def finish(self, mask, why: str, step: int, S, side=None) -> None:
+    def finish(self, mask, why: Ending, step: int, S, side=None) -> None:
         """End the episodes of the worlds in ``mask`` (still active) with this reading
         (``S``: its columns)."""
         xp, o = self.xp, self.out
@@ -305,11 +308,14 @@ class _Stepper:
         if not xp.any(m):
             return
         o.ended, o.steps = xp.where(m, why, o.ended), xp.where(m, step, o.steps)
-        self.ends.append((m, S))
+        if self.ends and self.ends[-1][1] is S:  # (one reading's ends as one: fewer copies)
+            self.ends[-1] = (self.ends[-1][0] | m, S)
+        else:
+            self.ends.append((m, S))
         if side is not None:
             o.side_m = xp.where(m, side, o.side_m)
         self.active = self.active & xp.not_(m)
-        if why in ("non_finite", "jumped"):
+        if why in (Ending.NON_FINITE, Ending.JUMPED):
             self.peak = xp.where(m, math.nan, self.peak)
 
     def observe(self, step: int, touching, S) -> None:
@@ -318,10 +324,10 @@ class _Stepper:
         xp, st, no = self.xp, self.st, self.xp.not_
         look = self.active & (touching | (self.first >= 0) | (step >= st.approach_steps))
         finite = xp.finite(S)
-        self.finish(look & no(finite), "non_finite", step, S)
+        self.finish(look & no(finite), Ending.NON_FINITE, step, S)
         jumped = self.jumped(xp, self.prev, S, (step - self.prev_step) * st.dt_s,
                              self.limit_m)
-        self.finish(look & finite & jumped, "jumped", step, S)
+        self.finish(look & finite & jumped, Ending.JUMPED, step, S)
         ok = look & finite & no(jumped)
         if not xp.any(ok):
             return
@@ -339,12 +345,12 @@ class _Stepper:
         self.last = xp.where(t, step, self.last)
         self.off_steps = xp.where(t, xp.where(self.rigid & (off_span > 0.0),
                                               self.off_steps + 1, 0), self.off_steps)
-        self.finish(t & (self.off_steps > OFF_SPAN_STEPS), "left_cylinder", step, S, side)
+        self.finish(t & (self.off_steps > OFF_SPAN_STEPS), Ending.LEFT_CYLINDER, step, S, side)
         self.flight_end(ok & no(touching) & (self.first >= 0), step, S, apart, off_span,
                         side)
         due = ok & no(touching) & (self.first < 0) & (step > st.approach_steps + 1)
-        self.finish(due & (side <= 0.0), "passed", step, S, side)
-        self.finish(due & (side > 0.0), "missed", step, S, side)
+        self.finish(due & (side <= 0.0), Ending.PASSED, step, S, side)
+        self.finish(due & (side > 0.0), Ending.MISSED, step, S, side)
 
     def flight_end(self, after, step: int, S, apart, off_span, side) -> None:
         """After contact, the worlds whose bodies do not touch: the episode ends as
@@ -354,24 +360,23 @@ class _Stepper:
         xp, bat, ball, no = self.xp, self.bat, self.ball, self.xp.not_
         if not xp.any(after):  # (the contact goes on everywhere: nothing to look for)
             return
-        self.finish(after & (off_span > 0.0), "left_cylinder", step, S, side)
+        self.finish(after & (off_span > 0.0), Ending.LEFT_CYLINDER, step, S, side)
         after = after & self.active & apart
         t_left, dt = (self.max_steps - step) * self.st.dt_s, self.st.dt_s
         # out of the plane there is no cheap bound: the 3D search decides (``analytic.spatial``)
         gone = after & (False if self.spatial else xp.separates(
             S, reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
             t_max_s=t_left))
-        self.finish(gone, "separated", step, S, side)
+        self.finish(gone, Ending.SEPARATED, step, S, side)
         search = after & no(gone) & (self.check_at <= step)
         if not xp.any(search):
             return
         kw = dict(reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
                   s_min_m=bat.s_min_m, s_max_m=bat.s_max_m, t_max_s=t_left)
-        t, why = (g.free_flights_3d(xp, S, search, **kw) if self.spatial
-                  else xp.free_flights(S, search, **kw))
-        ahead = why == "contact"
-        self.finish(search & (why == "left_cylinder"), "left_cylinder", step, S, side)
-        self.finish(search & no(ahead), "separated", step, S, side)
+        t, ahead, left = (g.free_flights_3d(xp, S, search, **kw) if self.spatial
+                          else xp.free_flights(S, search, **kw))
+        self.finish(search & left, Ending.LEFT_CYLINDER, step, S, side)
+        self.finish(search & no(ahead), Ending.SEPARATED, step, S, side)
         self.check_at = xp.where(search & ahead,
                                  step + xp.maximum(1, xp.floor(t / dt) - 1), self.check_at)
 
@@ -383,14 +388,3 @@ def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts,
     ``rigid``: the contact converges to a rigid impulse (``ErrorModel.contact_reference``)."""
     return _Stepper(batch, bat, ball, settings, spatial, rigid).run(starts)
 
-
-def classify(xp, ended, first, peak_m, side_m, reach_m: float, ke0, ke1, allowance: float):
-    """The status value of each episode (module docstring), in the namespace ``xp``: every
-    physical verdict is made here, the first rule that holds. ``allowance``: the relative
-    energy gain that is rounding (``judge.energy_allowance``)."""
-    rules = (((ended == "non_finite") | (ended == "jumped"), Status.NON_FINITE),
-             ((ended == "passed") | ((ended == "budget") & (first < 0)), Status.TUNNELLED),
-             (ended == "missed", Status.NO_CONTACT), (ended == "budget", Status.NO_SEPARATION),
-             (side_m <= 0.0, Status.TUNNELLED), (peak_m > reach_m, Status.PENETRATION),
-             (ke1 > ke0 * (1.0 + allowance), Status.ENERGY_GAINED))
-    return xp.select([c for c, _ in rules], [s.value for _, s in rules], Status.OK.value)

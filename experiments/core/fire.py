@@ -27,7 +27,8 @@ from analytic import ImpactCase
 from analytic.dynamics import HingedSwing, MotionState
 
 from . import geometry as g
-from .episode import Coast, OneWorld, SimOutcome, classify, run_episode, step_episodes
+from .endings import LABELS, classify
+from .episode import Coast, OneWorld, SimOutcome, run_episode, step_episodes
 from .fired import Fired, FiredBlock, FiredSeq, nan_release, outcome
 from .hosting import Hosted, SceneMismatch, engine_settings, hosted
 from .judge import Status, energy_allowance
@@ -246,7 +247,7 @@ def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:
                            bat.radius_m + ball.radius_m, ke0, ke1, allowance),
         "contact_duration_s": xp.where(ep.first >= 0,
                                        (ep.last - ep.first + 1) * host.settings.dt_s, 0.0),
-        "peak_penetration_m": ep.peak_m, "steps": ep.steps, "ended": ep.ended,
+        "peak_penetration_m": ep.peak_m, "steps": ep.steps, "ended": LABELS[ep.ended],
         "ball_side_m": ep.side_m, "v1_z_mps": S1[g.BALL_VZ], "spin1_radps": S1[g.BALL_W],
         "backspin1_radps": S1[g.BALL_WX]}
 

@@ -87,14 +87,25 @@ def _planar_cols(S) -> tuple:
             S[BAT_VY], S[BAT_ANGLE], S[BAT_W])
 
 
-def _free_flights(S, mask, **kw) -> tuple[np.ndarray, np.ndarray]:
-    """``free_flight_many`` from the worlds in ``mask``: (time, why) for every world ('' where
-    not searched)."""
-    t, why = np.zeros(len(mask)), np.full(len(mask), "", dtype=object)
+def _free_flights(S, mask, **kw) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``free_flight_many`` from the worlds in ``mask``: per world the time, whether a contact
+    is ahead and whether the ball leaves the cylinder's span first (0, False, False where not
+    searched)."""
+    n = len(mask)
+    t, ahead, left = np.zeros(n), np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
     idx = np.flatnonzero(mask)
     if len(idx):
-        t[idx], why[idx] = free_flight_many(np.array(_planar_cols(S))[:, idx], **kw)
-    return t, why
+        t[idx], why = free_flight_many(np.array(_planar_cols(S))[:, idx], **kw)
+        ahead[idx], left[idx] = why == "contact", why == "left_cylinder"
+    return t, ahead, left
+
+
+def _free_flight(S, flag: bool, **kw) -> tuple[float, bool, bool]:
+    """``_free_flights`` for one world."""
+    if not flag:
+        return 0.0, False, False
+    t, why = free_flight(planar(S), **kw)
+    return t, why == "contact", why == "left_cylinder"
 
 
 def _hypot(x: float, y: float) -> float:
@@ -133,7 +144,7 @@ SCALARS = SimpleNamespace(
     with_bat=_state_with_bat,
     from_cols=lambda cols: State(*cols),
     separates=lambda S, **kw: separates_for_good(planar(S), **kw),
-    free_flights=lambda S, flag, **kw: free_flight(planar(S), **kw) if flag else (0.0, ""),
+    free_flights=_free_flight,
     floor=math.floor)
 
 
@@ -248,8 +259,8 @@ def jumped_3d(xp, before, after, elapsed_s, limit_m: float):
 
 
 def free_flights_3d(xp, S, mask, **kw) -> tuple:
-    """``analytic.spatial.free_flight_3d`` from each world in ``mask``: (time, why) per world
-    ('' where not searched), in the batch's namespace."""
+    """``analytic.spatial.free_flight_3d`` from each world in ``mask``, in the batch's
+    namespace: as ``_free_flights`` gives it (time, contact ahead, off the span first)."""
     rows = [S] if xp is SCALARS else list(np.asarray(S).T)
     flags = [mask] if xp is SCALARS else list(mask)
     out = []
@@ -264,6 +275,6 @@ def free_flights_3d(xp, S, mask, **kw) -> tuple:
         rv = np.array([r[BALL_VX] - r[BAT_VX], r[BALL_VY] - r[BAT_VY], r[BALL_VZ] - r[BAT_VZ]])
         omega = np.array([r[BAT_WX], r[BAT_WY], r[BAT_W]])
         out.append(free_flight_3d(rel, rv, axis, omega, **kw))
-    if xp is SCALARS:
-        return out[0]
-    return np.array([t for t, _ in out]), np.array([w for _, w in out], dtype=object)
+    t, why = np.array([t for t, _ in out]), np.array([w for _, w in out], dtype=object)
+    ahead, left = why == "contact", why == "left_cylinder"
+    return (float(t[0]), bool(ahead[0]), bool(left[0])) if xp is SCALARS else (t, ahead, left)
