@@ -18,6 +18,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import compress, pairwise
 from operator import attrgetter, ne
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -41,6 +42,7 @@ from .placement import (
     hands_for,
     start_states,
     swing_case,
+    take_rows,
 )
 
 #: Set by the SIGINT handler of ``experiments.core.cli.main_guard``. Python code that an engine
@@ -108,8 +110,8 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
     parts: list[Sequence[Fired]] = []
     for run in runs(jobs):
         host = hosted(run[0].engine, run[0].settings)
-        for group in _groups(host, run):
-            fired = fire_group(host, group)
+        for group, placed in _groups(host, run):
+            fired = fire_group(host, group, placed)
             if isinstance(fired, FiredBlock) or not parts or isinstance(parts[-1], FiredBlock):
                 parts.append(fired)
             else:
@@ -122,17 +124,52 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
 
 
 def _groups(host: Hosted, run: Sequence[Job]):
-    """The batches a run is fired in: one on a batched engine; on a single-world one, as many
-    engines at a time as the rest of the run repays (one under a swing, whose worlds may swing
-    for different times)."""
+    """The batches a run is fired in, each with its rows of the run's ``Placed`` (or None):
+    one on a batched engine; on a single-world one, as many engines at a time as the rest of
+    the run repays (one under a swing, whose worlds may swing for different times), the run
+    placed once for all its batches of several worlds."""
     if host.batched:
-        yield run
+        yield run, None
         return
-    at = 0
+    at, placed = 0, None
     while at < len(run):
         size = 1 if run[0].swing is not None else host.pool_size(len(run), len(run) - at)
-        yield run[at:at + size]
+        if size > 1 and placed is None:
+            placed = Placed.of(host, run)
+        yield run[at:at + size], placed and placed.rows(at, size)
         at += size
+
+
+@dataclass(frozen=True)
+class Placed:
+    """Jobs' case columns (``case_columns``, with each job's ``contact_phase``) and start
+    states, worked out once for a run and taken by rows for each of its batches."""
+
+    cc: SimpleNamespace
+    starts: np.ndarray
+
+    @classmethod
+    def of(cls, host: Hosted, jobs: Sequence[Job]) -> Placed:
+        cases, each, distinct = _cases(jobs)
+        cc = case_columns(g.ARRAYS, cases, distinct)
+        cc.contact_phase = _contact_phase(each)
+        return cls(cc, start_states(g.ARRAYS, cases[0].bat, cases[0].ball, cc,
+                                    host.settings)[0])
+
+    def rows(self, at: int, n: int) -> Placed:
+        return Placed(take_rows(self.cc, slice(at, at + n)), self.starts[at:at + n])
+
+
+def _cases(jobs: Sequence[Job]) -> tuple[list, list, tuple | None]:
+    """The jobs' cases, settings, and distinct cases where known."""
+    if isinstance(jobs, Jobs):
+        return list(jobs.cases), [jobs.settings] * len(jobs), jobs.distinct
+    return [j.case for j in jobs], [j.settings for j in jobs], None
+
+
+def _contact_phase(each: list[Settings]):
+    return (each[0].contact_phase if each.count(each[0]) == len(each)
+            else np.array([k.contact_phase for k in each]))
 
 
 #: What the jobs of one batch share: engine, settings, swing, bat, ball, e and mu (equal tuples
@@ -165,16 +202,15 @@ def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
     return [jobs[a:b] for a, b in spans]
 
 
-def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
+def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
+               ) -> Sequence[Fired]:
     """Fire jobs that share engine, settings, scene and swing as one batch (module docstring):
-    a ``FiredBlock`` on a batched engine, a list of one ``Fired`` on a single-world one."""
+    a ``FiredBlock`` on a batched engine, a list of one ``Fired`` on a single-world one.
+    ``placed``: the jobs' ``Placed``, where their run worked it out."""
     t0 = time.perf_counter()
     st = host.settings
     plans: list[SwingPlan] | None = None
-    if isinstance(jobs, Jobs):
-        cases, each = list(jobs.cases), [jobs.settings] * len(jobs)
-    else:
-        cases, each = [j.case for j in jobs], [j.settings for j in jobs]
+    cases, each, distinct = _cases(jobs)
     if jobs[0].swing is not None:
         planned = [swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
                               swing=jobs[0].swing, settings=k, mu=c.mu,
@@ -184,8 +220,12 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
     bat, ball = cases[0].bat, cases[0].ball
     xp = g.ARRAYS if host.batched or len(cases) > 1 else g.SCALARS
     # a swing re-plans every case: the jobs' distinct cases are not the fired ones
-    distinct = jobs.distinct if isinstance(jobs, Jobs) and plans is None else None
-    cc = case_columns(xp, cases, distinct)
+    distinct = distinct if plans is None else None
+    if placed is None or xp is not g.ARRAYS:
+        cc = case_columns(xp, cases, distinct)
+        cc.contact_phase = _contact_phase(each)
+    else:
+        cc = placed.cc
     t = cc.turned  # ImpactCase.out_of_plane, over the columns
     spatial = t is not None and bool(np.any((t.undercut_m != 0.0) | (t.spin_x != 0.0)
                                             | (t.spin_y != 0.0)))
@@ -196,10 +236,9 @@ def fire_group(host: Hosted, jobs: Sequence[Job]) -> Sequence[Fired]:
         batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e, mu=cases[0].mu), len(cases))
     except adapters.MissingFeature as err:  # an older release of the engine (history)
         return _failed(host, cases, each, plans, Status.UNSUPPORTED, str(err)[:200], t0)
-    cc.contact_phase = (each[0].contact_phase if each.count(each[0]) == len(each)
-                        else np.array([k.contact_phase for k in each]))
     check_placements(xp, cases, cc, each)
-    starts = start_states(xp, bat, ball, cc, st)[0]
+    starts = (start_states(xp, bat, ball, cc, st)[0] if placed is None or xp is not g.ARRAYS
+              else placed.starts)
     release = xp.full(len(cases), math.nan), xp.full(len(cases), math.nan)
     try:
         if plans is not None:

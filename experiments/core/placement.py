@@ -84,14 +84,15 @@ def case_columns(xp, cases: Sequence[ImpactCase],
     if xp is not g.SCALARS and len(cases) > 1:
         first, inv = distinct_cases(cases) if distinct is None else distinct
         if len(first) < len(cases):
-            return _spread(_columns(xp, [cases[i] for i in first]), inv)
+            return take_rows(_columns(xp, [cases[i] for i in first]), inv)
     return _columns(xp, cases)
 
 
-def _spread(cols: SimpleNamespace, rows: np.ndarray) -> SimpleNamespace:
-    """``cols`` (arrays over distinct cases, and ``turned``'s) taken at ``rows``."""
+def take_rows(cols: SimpleNamespace, rows) -> SimpleNamespace:
+    """Case columns (and ``turned``'s) taken at ``rows`` (indices or a slice); what is not an
+    array, one value for all, kept."""
     return SimpleNamespace(**{k: v[rows] if isinstance(v, np.ndarray) else
-                              _spread(v, rows) if isinstance(v, SimpleNamespace) else v
+                              take_rows(v, rows) if isinstance(v, SimpleNamespace) else v
                               for k, v in vars(cols).items()})
 
 
