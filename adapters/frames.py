@@ -149,6 +149,8 @@ def mujoco_rows(qpos: np.ndarray, qvel: np.ndarray, planar: np.ndarray,
     yaw = np.where(planar, flat_yaw, yaw)
     ball_wz, bat_wz = np.where(planar, v[:, 11], ball_w[:, 2]), np.where(planar, v[:, 5],
                                                                        bat_w[:, 2])
+    # stacked as 20 rows of n, handed over transposed: its columns contiguous (no copy in the
+    # harness, which reads a batch by columns)
     return np.stack([q[:, 7], q[:, 8], v[:, 6], v[:, 7], ball_wz, q[:, 0], q[:, 1], yaw,
                      v[:, 0], v[:, 1], bat_wz, q[:, 9], v[:, 8], ball_w[:, 0],
-                     ball_w[:, 1], q[:, 2], tilt, v[:, 2], bat_w[:, 0], bat_w[:, 1]], axis=1)
+                     ball_w[:, 1], q[:, 2], tilt, v[:, 2], bat_w[:, 0], bat_w[:, 1]]).T

@@ -234,7 +234,9 @@ class BatchedEngine(abc.ABC):
     @abc.abstractmethod
     def read(self) -> np.ndarray:
         """Every world's state: shape (n, 20) in ``STATE_FIELDS`` order, or (n, 11), the
-        ``PLANAR_FIELDS``, for a planar engine (as the class says)."""
+        ``PLANAR_FIELDS``, for a planar engine (as the class says); a new array each call (the
+        harness keeps it). In Fortran order (each field's column contiguous) the harness reads
+        it without a copy."""
 
     @abc.abstractmethod
     def in_contact(self) -> np.ndarray:

@@ -134,7 +134,7 @@ class NewtonEngine(BatchedEngine):
         s = self.states[0]
         q = s.body_q.numpy().astype(float).reshape(self.n, 2, 7)
         qd = s.body_qd.numpy().astype(float).reshape(self.n, 2, 6)
-        out = np.empty((self.n, len(STATE_FIELDS)))
+        out = np.empty((len(STATE_FIELDS), self.n)).T  # columns contiguous: no copy in the harness
         out[:, [BX, BY, BZ]] = q[:, sc.BALL, :3]
         out[:, [BVX, BVY, BVZ, BWX, BWY, BW]] = qd[:, sc.BALL]
         out[:, [CX, CY, CZ]] = q[:, sc.BAT, :3]

@@ -30,9 +30,10 @@ BAT_COLUMNS = (*range(BAT_X, BAT_W + 1), *range(BAT_Z, BAT_WY + 1))
 
 
 def padded(states: np.ndarray) -> np.ndarray:
-    """A batch of states with every column: a planar engine's 11 columns padded with zeros."""
+    """A batch of states with every column: a planar engine's 11 columns padded with zeros (in
+    Fortran order: its columns read without a copy)."""
     if states.shape[1] == len(PLANAR_FIELDS):
-        full = np.zeros((len(states), len(STATE_FIELDS)))
+        full = np.zeros((len(STATE_FIELDS), len(states))).T
         full[:, :len(PLANAR_FIELDS)] = states
         return full
     return states
@@ -114,15 +115,16 @@ def _hypot(x: float, y: float) -> float:
     return float(np.hypot(x, y))
 
 
-#: numpy over a batch: arrays of n values, n rows (``columns``: a copy of them as 20 rows of n,
-#: each contiguous, which the stepper owns). The two namespaces round alike (``sqrt``, not
-#: ``** 0.5``: Python's pow and numpy's differ in the last bit).
+#: numpy over a batch: arrays of n values, n rows (``columns``: them as 20 rows of n, each
+#: contiguous: a copy, or the rows themselves where their columns are contiguous already (an
+#: adapter's ``read`` hands over a new array each call)). The two namespaces round alike
+#: (``sqrt``, not ``** 0.5``: Python's pow and numpy's differ in the last bit).
 ARRAYS = SimpleNamespace(
     cos=np.cos, sin=np.sin, hypot=np.hypot, sqrt=np.sqrt, clip=np.clip, where=np.where,
     maximum=np.maximum, any=np.ndarray.any, not_=np.logical_not, full=np.full,
     pick=_pick, ended_at=_ended_at, select=_select, cols=lambda states: states.T,
     row=lambda states, i: states[i],
-    columns=lambda states: np.array(states.T, order="C"),
+    columns=lambda states: np.ascontiguousarray(states.T),
     stack=lambda rows: np.array(rows, dtype=float),
     finite=lambda cols: np.isfinite(cols).all(axis=0), indices=_indices,
     with_bat=_with_bat, from_cols=lambda cols: padded(np.column_stack(cols)),
