@@ -264,7 +264,7 @@ class _Stepper:
         self.out = Episodes(ended=xp.full(n, Ending.NONE), steps=xp.full(n, self.max_steps),
                             end=cols, first=None, last=None, peak_m=None,
                             side_m=xp.full(n, math.nan))
-        self.came_from = xp.where(self.geometry(xp, self.bat, self.ball, cols)[3] < 0.0, -1.0, 1.0)
+        self.came_from = xp.where(g.side_of_axis(xp, cols) < 0.0, -1.0, 1.0)
         vx0, vy0 = cols[g.BALL_VX], cols[g.BALL_VY]
         self.ball_v0 = (vx0, vy0, DEFLECTED ** 2 * (vx0 * vx0 + vy0 * vy0))
         batch.set_state(starts)

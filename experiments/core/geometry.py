@@ -39,6 +39,15 @@ def padded(states: np.ndarray) -> np.ndarray:
     return states
 
 
+def _from_cols(cols) -> np.ndarray:
+    """A batch of states from its first columns (arrays of n values), the rest 0, in Fortran
+    order (``padded``)."""
+    out = np.zeros((len(STATE_FIELDS), len(cols[0])))
+    for row, col in zip(out, cols):
+        row[:] = col
+    return out.T
+
+
 def _pick(mask: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``np.where(mask, a, b)`` over columns (a world each), with no copy where the mask is all
     or none (the stepper never writes into an array it holds)."""
@@ -127,7 +136,7 @@ ARRAYS = SimpleNamespace(
     columns=lambda states: np.ascontiguousarray(states.T),
     stack=lambda rows: np.array(rows, dtype=float),
     finite=lambda cols: np.isfinite(cols).all(axis=0), indices=_indices,
-    with_bat=_with_bat, from_cols=lambda cols: padded(np.column_stack(cols)),
+    with_bat=_with_bat, from_cols=_from_cols,
     separates=lambda S, **kw: separates_for_good_many(_planar_cols(S), **kw),
     free_flights=_free_flights, floor=np.floor)
 
@@ -177,6 +186,13 @@ def contact_geometry(xp, bat: Bat, ball: Ball, S, came_from=1.0):
     apart = (rvx * nx + rvy * ny > 0.0) & (dist != 0.0)
     off_span = xp.maximum(bat.s_min_m - along, along - bat.s_max_m)
     return pen, apart, off_span, side
+
+
+def side_of_axis(xp, S):
+    """The ball centre's side of the bat's axis line in the swing plane, dy cos a - dx sin a
+    (m), as both geometries measure ``side`` before ``came_from`` signs it."""
+    c, s = xp.cos(S[BAT_ANGLE]), xp.sin(S[BAT_ANGLE])
+    return (S[BALL_Y] - S[BAT_Y]) * c - (S[BALL_X] - S[BAT_X]) * s
 
 
 def kinetic_energy_j(bat: Bat, ball: Ball, S):
