@@ -221,8 +221,8 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
     xp = g.ARRAYS if host.batched or len(cases) > 1 else g.SCALARS
     # a swing re-plans every case: the jobs' distinct cases are not the fired ones
     distinct = distinct if plans is None else None
-    if placed is None or xp is not g.ARRAYS:
-        cc = case_columns(xp, cases, distinct)
+    if placed is None or xp is not g.ARRAYS:  # (placed here: one world, or a batched engine)
+        cc, placed = case_columns(xp, cases, distinct), None
         cc.contact_phase = _contact_phase(each)
     else:
         cc = placed.cc
@@ -237,8 +237,7 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
     except adapters.MissingFeature as err:  # an older release of the engine (history)
         return _failed(host, cases, each, plans, Status.UNSUPPORTED, str(err)[:200], t0)
     check_placements(xp, cases, cc, each)
-    starts = (start_states(xp, bat, ball, cc, st)[0] if placed is None or xp is not g.ARRAYS
-              else placed.starts)
+    starts = start_states(xp, bat, ball, cc, st)[0] if placed is None else placed.starts
     release = xp.full(len(cases), math.nan), xp.full(len(cases), math.nan)
     try:
         if plans is not None:
