@@ -11,9 +11,11 @@ does nothing) taken out of both; the same worlds stepped bare (set the starts, s
 nothing read) are timed beside it. Where the engine's time goes: inside its steps alone
 (``step_us_per_impact``; on a GPU a step may only queue work, waited for at the next read) and a
 read of states already computed (``read_us_per_impact``: the copy off the device and the
-conversion). Each size is fired once untimed first (compiles, caches);
-the numbers are medians of the repeats. Sizes grow while the next one's firing, priced at
-this one's cost per impact, fits in the budget.
+conversion). Each size is fired once untimed first (compiles, caches); the numbers are medians
+of the repeats. Sizes grow while the next one's firing, priced at this one's cost per impact,
+fits in the budget. Every adapter made before, of any engine, is closed first: each engine is
+measured alone in the process (another engine's hundreds of adapters left alive slowed the
+next: PyBullet at 1e3 measured 12-14 us alone, 17 after PhysX).
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from analytic import presets
 
 from ..core import tables
 from ..core.fire import Jobs, fire_jobs
-from ..core.hosting import hosted
+from ..core.hosting import close_engines, hosted
 from ..core.judge import Status
 from ..core.placement import start_state
 
@@ -166,6 +168,7 @@ def _timed(name: str, settings, jobs: Jobs, clock: tuple[float, float]):
 def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) -> list[dict]:
     """One row per batch size (module docstring): medians of ``repeats`` firings and as many
     bare runs, taking turns."""
+    close_engines()  # measured alone in the process (module docstring)
     settings = adapters.settings_for(name)
     base = _firing().cases()
     clock = clock_cost_s()
