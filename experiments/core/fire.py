@@ -140,7 +140,7 @@ def _groups(host: Hosted, run: Sequence[Job]):
         at += size
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Placed:
     """Jobs' case columns (``case_columns``, with each job's ``contact_phase``) and start
     states, worked out once for a run and taken by rows for each of its batches."""
@@ -153,11 +153,11 @@ class Placed:
         cases, each, distinct = _cases(jobs)
         cc = case_columns(g.ARRAYS, cases, distinct)
         cc.contact_phase = _contact_phase(each)
-        return cls(cc, start_states(g.ARRAYS, cases[0].bat, cases[0].ball, cc,
-                                    host.settings)[0])
+        return cls(cc=cc, starts=start_states(g.ARRAYS, cases[0].bat, cases[0].ball, cc,
+                                              host.settings)[0])
 
     def rows(self, at: int, n: int) -> Placed:
-        return Placed(take_rows(self.cc, slice(at, at + n)), self.starts[at:at + n])
+        return Placed(cc=take_rows(self.cc, slice(at, at + n)), starts=self.starts[at:at + n])
 
 
 def _cases(jobs: Sequence[Job]) -> tuple[list, list, tuple | None]:
