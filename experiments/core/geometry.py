@@ -32,11 +32,7 @@ BAT_COLUMNS = (*range(BAT_X, BAT_W + 1), *range(BAT_Z, BAT_WY + 1))
 def padded(states: np.ndarray) -> np.ndarray:
     """A batch of states with every column: a planar engine's 11 columns padded with zeros (in
     Fortran order: its columns read without a copy)."""
-    if states.shape[1] == len(PLANAR_FIELDS):
-        full = np.zeros((len(STATE_FIELDS), len(states))).T
-        full[:, :len(PLANAR_FIELDS)] = states
-        return full
-    return states
+    return _from_cols(states.T) if states.shape[1] == len(PLANAR_FIELDS) else states
 
 
 def _from_cols(cols) -> np.ndarray:
