@@ -39,7 +39,7 @@ from . import (
     twins,
 )
 from . import sweep as sweep_cmd
-from .core import cli, runs
+from .core import boundary, cli, runs
 from .core.io import ROOT, atomic_write_bytes, atomic_write_many, json_bytes, provenance
 from .core.judge import Status
 from .parts import sweep_chart
@@ -178,6 +178,7 @@ def update_readme() -> None:
     print("README.md: engines table from results/")
 
 
+@boundary.entry
 def main(argv: list[str] | None = None) -> int:
     p = build_parser()
     args = p.parse_args(argv)

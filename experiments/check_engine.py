@@ -12,8 +12,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from .core import boundary, cli
 from .core import check as check_
-from .core import cli
 
 
 def checks_arg(value: str) -> tuple[str, ...]:
@@ -37,6 +37,7 @@ def build_parser() -> cli.Parser:
     return p
 
 
+@boundary.entry
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
 

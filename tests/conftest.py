@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 
 import adapters
 from analytic import Ball, Bat, ImpactCase
-from experiments.core import Status
+from experiments.core import Status, runs
 
 os.environ["BATSIM_QUIET"] = "1"  # no progress lines in test output (subprocesses too)
 
@@ -135,6 +135,16 @@ def run_command(argv: list[str], *, env: dict | None = None, cwd: Path = ROOT,
     assert res.returncode == code, shown
     assert "Traceback" not in res.stderr + res.stdout, shown
     return res
+
+
+def runs_in(out: Path) -> list[str]:
+    """The runs in a folder runs went to: its entries but the staging folder, which must hold
+    nothing a run left (no half-written run, no run moved aside): only locks and its mark."""
+    staged = out / runs.STAGING
+    if staged.is_dir():
+        left = sorted(p.name for p in staged.iterdir() if p.is_dir())
+        assert not left, f"left in {staged}: {left}"
+    return sorted(p.name for p in out.iterdir() if p.name != runs.STAGING)
 
 
 def cheapest(batched: bool) -> str:

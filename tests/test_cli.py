@@ -16,7 +16,7 @@ from experiments import sweep
 from experiments.core import runs
 from experiments.core.io import ROOT
 
-from .conftest import COMMANDS
+from .conftest import COMMANDS, runs_in
 
 NOT_SOFT = [n for n in adapters.names() if adapters.record(n).can.soft_contact is None]
 
@@ -173,11 +173,11 @@ def test_runs_never_overwrite_each_other(tmp_path):
     assert sweep.main(args) == 0
     assert sweep.main(args) == 0
     name = f"sweep-engine={adapters.names()[0]}_points=3_no_locate"
-    assert sorted(p.name for p in tmp_path.iterdir()) == [name, f"{name}.2"]
+    assert sorted(runs_in(tmp_path)) == [name, f"{name}.2"]
     first = (tmp_path / name / "sweep.csv").read_bytes()
     assert sweep.main([*args, "--name", name, "--force", "--e", "0.6"]) == 0
     assert (tmp_path / name / "sweep.csv").read_bytes() != first
-    assert sorted(p.name for p in tmp_path.iterdir()) == [name, f"{name}.2"]
+    assert sorted(runs_in(tmp_path)) == [name, f"{name}.2"]
 
 
 @pytest.mark.parametrize("umask,mode", [(0o022, 0o644), (0o027, 0o640), (0o077, 0o600)])
@@ -230,7 +230,7 @@ def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(name, tmp_p
     assert "interrupted" in err
     assert "Traceback" not in err and "Exception ignored" not in err, err[-2000:]
     assert {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()} == kept
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["r"]
+    assert runs_in(tmp_path) == ["r"]
 
 
 def _needs(rec: adapters.EngineRecord, module: str) -> bool:

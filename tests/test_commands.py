@@ -18,7 +18,7 @@ import adapters
 from experiments import twins
 from experiments.core import tables
 
-from .conftest import COMMANDS, ROOT, cheapest, run_command
+from .conftest import COMMANDS, ROOT, cheapest, run_command, runs_in
 
 SINGLE = cheapest(batched=False)
 BATCHED = cheapest(batched=True)
@@ -62,7 +62,7 @@ def test_command_runs_at_small_size(command, tmp_path):
     out = [] if command in WRITES_NOTHING else ["--out", str(tmp_path)]
     res = run_command(["-m", f"experiments.{command}", *SMALL[command], *out])
     if out:  # one run directory, published whole
-        (run,) = tmp_path.iterdir()
+        (run,) = [tmp_path / name for name in runs_in(tmp_path)]
         assert any(run.iterdir()), res.stdout
         # whichever process ran the engine, its version is in the run's provenance
         for meta in run.glob("*.json"):

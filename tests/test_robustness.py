@@ -40,7 +40,7 @@ def test_two_identical_runs_at_once_keep_both_results(tmp_path):
                               env={**os.environ, "BATSIM_QUIET": "1"}) for _ in range(2)]
     outs = [p.communicate(timeout=120) for p in procs]
     assert [p.returncode for p in procs] == [0, 0], outs
-    folders = sorted(p.name for p in tmp_path.iterdir())
+    folders = sorted(p.name for p in tmp_path.iterdir() if p.name != runs.STAGING)
     assert folders == [f"sweep-engine={ENGINE}_points=3_no_locate",
                        f"sweep-engine={ENGINE}_points=3_no_locate.2"]
     for folder in folders:  # every file whole, as its manifest's digests say
@@ -77,17 +77,59 @@ def test_force_replaces_only_a_run(tmp_path, kind):
 
 
 def test_a_killed_runs_temporary_folder_is_swept_and_its_old_run_restored(tmp_path):
-    # Left by runs that died: a half-written new run (.<name>.<8 chars>.tmp) and, killed
-    # between publish's two renames, the previous run moved aside (.<name>.old-<pid>) with
-    # nothing in its place. The next run in that folder sweeps the first and puts the
-    # second back.
-    (tmp_path / ".a.abcd1234.tmp").mkdir()
-    (tmp_path / ".a.abcd1234.tmp" / "sweep.csv").write_text("half")
-    (tmp_path / ".b.old-99999").mkdir()
-    (tmp_path / ".b.old-99999" / "sweep.csv").write_text("previous")
+    # Left in the staging folder by runs that died: a half-written new run
+    # (<name>.<8 chars>.tmp) and, killed between publish's two renames, the previous run moved
+    # aside (<name>.old-<pid>) with nothing in its place. The next run in that folder sweeps
+    # the first and puts the second back.
+    staging = runs.staging(tmp_path)
+    (staging / "a.abcd1234.tmp").mkdir()
+    (staging / "a.abcd1234.tmp" / "sweep.csv").write_text("half")
+    (staging / "b.old-99999").mkdir()
+    (staging / "b.old-99999" / "sweep.csv").write_text("previous")
     assert _sweep("--out", str(tmp_path), "--name", "c").returncode == 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["b", "c"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [runs.STAGING, "b", "c"]
     assert (tmp_path / "b" / "sweep.csv").read_text() == "previous"
+    assert not (staging / "a.abcd1234.tmp").exists()
+
+
+def test_a_run_deletes_nothing_it_did_not_make(tmp_path):
+    # A user's files in --out whose names look like a run's temporary ones (the pattern the
+    # clean-up matched before runs staged in a folder of their own), a folder named as the
+    # staging one but not the harness's: a run (replacing another with --force) leaves all.
+    mine = {".mydata.old-2019": "thesis", ".photos.ab12cd34.tmp": "holiday",
+            ".c.old-1": "notes"}
+    for name, text in mine.items():
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "keep.txt").write_text(text)
+    assert _sweep("--out", str(tmp_path), "--name", "c").returncode == 0
+    assert _sweep("--out", str(tmp_path), "--name", "c", "--force").returncode == 0
+    for name, text in mine.items():
+        assert (tmp_path / name / "keep.txt").read_text() == text
+    foreign = tmp_path / "other"
+    (foreign / runs.STAGING).mkdir(parents=True)
+    (foreign / runs.STAGING / "x.abcd1234.tmp").write_text("mine")
+    res = _sweep("--out", str(foreign))
+    assert res.returncode == 1 and res.stderr.count("\n") == 1, res.stderr
+    assert "not the harness's" in res.stderr
+    assert (foreign / runs.STAGING / "x.abcd1234.tmp").read_text() == "mine"
+
+
+def test_the_run_lock_is_beside_the_runs_whatever_tmpdir_says(tmp_path):
+    # Two runs of one --name started together, each with its own TMPDIR: they see one lock
+    # (in the staging folder of --out), so one writes and the other is refused.
+    procs = []
+    for k in range(2):
+        tmp = tmp_path / f"tmp{k}"
+        tmp.mkdir()
+        procs.append(subprocess.Popen([*SWEEP, "--out", str(tmp_path / "out"), "--name", "x"],
+                                      cwd=ROOT, text=True, stdout=subprocess.PIPE,
+                                      stderr=subprocess.PIPE,
+                                      env={**os.environ, "BATSIM_QUIET": "1",
+                                           "TMPDIR": str(tmp)}))
+    outs = [p.communicate(timeout=120) for p in procs]
+    assert sorted(p.returncode for p in procs) == [0, 2], outs
+    refused = outs[[p.returncode for p in procs].index(2)][1]
+    assert "another run is writing" in refused or "exists" in refused, refused
 
 
 def _listener(reply: bytes | None) -> tuple[socket.socket, int]:

@@ -21,10 +21,8 @@ import contextlib
 import math
 import re
 import shutil
-import signal
 import sys
 import tempfile
-import threading
 import time
 import warnings
 from collections.abc import Callable
@@ -33,7 +31,7 @@ from pathlib import Path
 
 import adapters
 
-from . import fire, runs
+from . import boundary, runs
 from . import runner as _runner
 from .estimate import duration
 from .runs import RESULTS, RUNS, Progress, publish, quiet_error, run_dir, shown
@@ -52,6 +50,8 @@ class Parser(argparse.ArgumentParser):
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, allow_abbrev=False, **kwargs)
+        self.add_argument("--debug", action="store_true",
+                          help="show the traceback of a failure (also BATSIM_DEBUG=1)")
 
     def error(self, message: str):  # noqa: D102 - argparse's hook
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
@@ -65,14 +65,15 @@ class Parser(argparse.ArgumentParser):
                            f"({', '.join(given)}); allowed: once (several engines or checks: "
                            "one comma-separated list)")
         parsed = super().parse_args(argv, namespace)
-        if (complaint := quiet_error()) is not None:
+        if (complaint := quiet_error() or boundary.environment_error()) is not None:
             self.error(complaint)
         return parsed
 
 
 #: What every command's exit code means (its --help ends with it).
-EXIT_CODES = ("exit codes: 0 done; 2 a bad option, refused before any work; 130 interrupted "
-              "(Ctrl-C), earlier files left as they were")
+EXIT_CODES = ("exit codes: 0 done; 1 a failure, told in one line (--debug: its traceback); 2 a "
+              "bad option or input file, refused before any work; 130 interrupted (Ctrl-C), "
+              "143 or 129 stopped (SIGTERM, SIGHUP): earlier files left as they were")
 
 
 def summary(doc: str) -> str:
@@ -254,22 +255,12 @@ def add_output(p: argparse.ArgumentParser) -> None:
 
 
 def main_guard(run: Callable[[], int]) -> int:
-    """Run a command's body; Ctrl-C (anywhere, engine callbacks included) exits 130 and leaves
-    every earlier file as it was, since nothing is renamed into place before the end."""
-    fire.INTERRUPTED.clear()
-    previous = signal.getsignal(signal.SIGINT)
-    in_main = threading.current_thread() is threading.main_thread()
-    if in_main:
-        signal.signal(signal.SIGINT, _on_sigint)
-    try:
-        with library_messages_kept():
-            return run()
-    except KeyboardInterrupt:
-        print("interrupted: nothing written, earlier results left as they were", file=sys.stderr)
-        return 130
-    finally:
-        if in_main:
-            signal.signal(signal.SIGINT, previous)
+    """Run a command's body: Ctrl-C (anywhere, engine callbacks included), SIGTERM or SIGHUP
+    stops it (``boundary.stopping``; the command's ``boundary.entry`` says so and exits 130,
+    143 or 129), and every earlier file is left as it was, since nothing is renamed into place
+    before the end; what libraries say goes to the run's manifest."""
+    with boundary.stopping(), library_messages_kept():
+        return run()
 
 
 @contextlib.contextmanager
@@ -294,13 +285,6 @@ def library_messages_kept():
         finally:
             sys.unraisablehook = hook
             runs.WARNINGS = []
-
-
-def _on_sigint(signum, frame) -> None:
-    # Raised where the signal lands; if that is inside an engine's callback, which swallows it,
-    # the flag stops the run when the impact is done.
-    fire.INTERRUPTED.set()
-    raise KeyboardInterrupt
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -345,7 +329,11 @@ class Command:
 
     def main(self, argv: list[str] | None = None) -> int:
         """Parse and check every option, pick the run directory, then produce the files (and
-        the text to print) and publish them as a whole."""
+        the text to print) and publish them as a whole; behind the error boundary
+        (``boundary.entry``)."""
+        return boundary.entry(self._main, f"python -m experiments.{self.name}")(argv)
+
+    def _main(self, argv: list[str] | None) -> int:
         p = self.parser()
         args = p.parse_args(argv)
         if self.check:

@@ -12,7 +12,6 @@ run is the runner's business (``experiments.core.runner``).
 from __future__ import annotations
 
 import math
-import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -28,6 +27,7 @@ from analytic import ImpactCase
 from analytic.dynamics import HingedSwing, MotionState
 
 from . import geometry as g
+from .boundary import STOP
 from .endings import LABELS, classify
 from .episode import Coast, OneWorld, SimOutcome, run_episode, step_episodes
 from .fired import Fired, FiredBlock, FiredSeq, nan_release, outcome
@@ -44,11 +44,6 @@ from .placement import (
     swing_case,
     take_rows,
 )
-
-#: Set by the SIGINT handler of ``experiments.core.cli.main_guard``. Python code that an engine
-#: calls back (pymunk's velocity functions) swallows the KeyboardInterrupt raised there, so
-#: every batch checks this flag once it is done.
-INTERRUPTED = threading.Event()
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -116,8 +111,7 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
                 parts.append(fired)
             else:
                 parts[-1] += fired
-            if INTERRUPTED.is_set():
-                raise KeyboardInterrupt
+            STOP.check()  # a signal an engine's callback swallowed
             if tick is not None:
                 tick(len(group))
     return FiredSeq(parts)

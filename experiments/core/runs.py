@@ -25,6 +25,7 @@ from filelock import FileLock, Timeout
 
 import adapters
 
+from ..errors import UserError
 from .io import ROOT, make_public
 
 RUNS = ROOT / "runs"
@@ -80,41 +81,72 @@ def run_dir(p: argparse.ArgumentParser, args: argparse.Namespace, experiment: st
     sweep_stale(args.out)
     if args.name is not None:
         target = args.out / args.name
-        if target.exists() and not args.force:
+        if target.exists() and not args.force:  # (refused before anything is made)
             p.error(f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
                     "another --name")
-        if target.exists() and not (target / MANIFEST).is_file():
-            p.error(f"--force --name {args.name!r}: {target} is not a run (no {MANIFEST}); "
-                    "allowed: another --name (--force replaces only a run)")
         if not reserve(target):
             p.error(f"--name {args.name!r}: another run is writing {target} now; allowed: "
                     "another --name, or wait for it")
+        # (looked at once held: a run that published just before cannot be replaced unasked)
+        if target.exists() and not args.force:
+            release(target)
+            p.error(f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
+                    "another --name")
+        if target.exists() and not (target / MANIFEST).is_file():
+            release(target)
+            p.error(f"--force --name {args.name!r}: {target} is not a run (no {MANIFEST}); "
+                    "allowed: another --name (--force replaces only a run)")
         return target
     base = args.out / run_name(p, args, experiment)
-    if args.force and (not base.exists() or (base / MANIFEST).is_file()) and reserve(base):
-        return base
+    if args.force and reserve(base):
+        if not base.exists() or (base / MANIFEST).is_file():
+            return base
+        release(base)
     n = 1
     while True:
         target = base if n == 1 else args.out / f"{base.name}.{n}"
         if not target.exists() and reserve(target):
-            return target
+            if not target.exists():
+                return target
+            release(target)
         n += 1
 
 
 #: Each run directory holds this file: the command, its files' digests, what libraries said.
 MANIFEST = "run.json"
+#: The folder a run directory's parent holds for the harness alone: runs being written
+#: (``<name>.<random>.tmp``), a run being replaced (``<name>.old-<pid>``) and each name's lock
+#: (``<name>.lock``). Nothing outside it but finished runs is made, and nothing outside it is
+#: ever deleted, whatever its name.
+STAGING = ".batsim"
+#: The file that marks a staging folder as the harness's (one a user made is left alone).
+STAGING_MARK = "MADE_BY_BATSIM"
 #: The locks this process holds on the run directories it will write (target -> lock).
 _HELD: dict[Path, FileLock] = {}
-_TMP = re.compile(r"^\.(?P<name>.+)\.(?:[A-Za-z0-9_]{8}\.tmp|old-\d+)$")
+_STAGED = re.compile(r"^(?P<name>.+)\.(?:[A-Za-z0-9_]{8}\.tmp|old-\d+)$")
+
+
+def staging(out: Path) -> Path:
+    """``out``'s staging folder (``STAGING``), made if need be; UserError if it cannot be, or
+    if a folder of that name there is not the harness's."""
+    folder = out / STAGING
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        mark = folder / STAGING_MARK
+        if not mark.exists() and any(folder.iterdir()):
+            raise UserError(f"{folder} exists and is not the harness's (no {STAGING_MARK}); "
+                            "allowed: move it away, or choose another --out")
+        mark.touch()
+    except OSError as err:
+        raise UserError(f"cannot prepare {folder} ({err.strerror or err}); allowed: an --out "
+                        "you can write to") from None
+    return folder
 
 
 def _lock(target: Path) -> FileLock:
-    """The lock on a run directory: a file in the system's temporary directory, named by the
-    directory's path (nothing added beside the runs)."""
-    key = hashlib.sha1(str(target.resolve()).encode()).hexdigest()[:16]
-    folder = Path(tempfile.gettempdir()) / "batsim-locks"
-    folder.mkdir(exist_ok=True)
-    return FileLock(folder / f"{key}.lock")
+    """The lock on a run directory: a file in the staging folder beside it, so that every run
+    into that folder sees it, whatever its TMPDIR."""
+    return FileLock(staging(target.parent) / f"{target.name}.lock")
 
 
 def reserve(target: Path) -> bool:
@@ -127,6 +159,9 @@ def reserve(target: Path) -> bool:
         lock.acquire(timeout=0)
     except Timeout:
         return False
+    except OSError as err:
+        raise UserError(f"cannot lock {target} ({err.strerror or err}); allowed: an --out you "
+                        "can write to") from None
     _HELD[target] = lock
     return True
 
@@ -139,17 +174,19 @@ def release(target: Path) -> None:
 
 
 def sweep_stale(out: Path) -> None:
-    """Remove the temporary directories (``.<run>.<random>.tmp``, ``.<run>.old-<pid>``) that
-    runs which died left in ``out``: those whose run no live process holds."""
-    if not out.is_dir():
+    """In ``out``'s staging folder, what runs that died left: a half-written run is removed,
+    a run moved aside to be replaced is put back where nothing replaced it; only for names no
+    live process holds. Nothing else in ``out`` is looked at."""
+    folder = out / STAGING
+    if not (folder / STAGING_MARK).is_file():
         return
-    for path in out.iterdir():
-        m = _TMP.match(path.name)
+    for path in folder.iterdir():
+        m = _STAGED.match(path.name)
         if m is None or not path.is_dir():
             continue
         target = out / m["name"]
         if reserve(target):
-            if path.name.startswith(f".{m['name']}.old-") and not target.exists():
+            if path.name.startswith(f"{m['name']}.old-") and not target.exists():
                 os.replace(path, target)  # died between its two renames: the old run is back
             else:
                 shutil.rmtree(path, ignore_errors=True)
@@ -158,19 +195,20 @@ def sweep_stale(out: Path) -> None:
 
 def publish(target: Path, files: dict[str, bytes]) -> Path:
     """Write a run's files into ``target`` as a whole: all of them (and the MANIFEST) into a
-    new directory beside it, then renamed into place (an existing run there is replaced only
-    after that); ``target`` is released."""
-    target.parent.mkdir(parents=True, exist_ok=True)
+    new directory in the staging folder, then renamed into place (an existing run there is
+    moved aside first, and deleted only once the new one is in place); ``target`` is
+    released."""
+    folder = staging(target.parent)
     reserve(target)
     files = {**files, MANIFEST: manifest(files)}
-    tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp"))
+    tmp = Path(tempfile.mkdtemp(dir=folder, prefix=f"{target.name}.", suffix=".tmp"))
     old = None
     try:
         for name, data in files.items():
             (tmp / name).write_bytes(data)
         make_public(tmp, directory=True)
         if target.exists():
-            old = target.with_name(f".{target.name}.old-{os.getpid()}")
+            old = folder / f"{target.name}.old-{os.getpid()}"
             os.replace(target, old)
         os.replace(tmp, target)
     except BaseException:

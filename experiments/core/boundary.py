@@ -1,0 +1,190 @@
+"""Every command's error boundary: whatever goes wrong reaches the user as one line and an
+exit code, and nothing half-made replaces what was there.
+
+    @boundary.entry
+    def main(argv=None) -> int: ...
+
+- an expected failure (``errors.UserError``, a full disk, a memory limit, a closed pipe) is one
+  line on stderr and exit 1 (2 for a bad input, found before any work); a bug too, with its
+  traceback only under ``--debug`` or BATSIM_DEBUG=1;
+- Ctrl-C exits 130, SIGTERM 143 and SIGHUP 129 (``stopping``): the run's files are published as
+  a whole or not at all (``runs.publish``), so every earlier file is left as it was;
+- a closed stdout (``| head -1``) is handled as Python's documentation advises (the rest of the
+  output goes to /dev/null, exit 1); a missing stdout or stderr (``2>&-``) is /dev/null, and
+  text the terminal's encoding cannot show (a non-UTF-8 path, PYTHONIOENCODING=ascii) is
+  shown escaped, never a failure;
+- charts are drawn to files with matplotlib's Agg, whatever MPLBACKEND says (a name matplotlib
+  does not know is refused first, as any bad setting is).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import functools
+import os
+import signal
+import sys
+import threading
+from collections.abc import Callable, Iterator
+
+from .. import errors
+
+#: The signals that stop a run, each as its own exit code (128 + the signal's number).
+STOPPING = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class Stop:
+    """The signal that stopped the run, if one did. Python code that an engine calls back
+    (pymunk's velocity functions) swallows what the signal raises there, so the harness
+    checks this once a batch is done (``check``)."""
+
+    def __init__(self) -> None:
+        self.signum: int | None = None
+
+    def clear(self) -> None:
+        self.signum = None
+
+    def check(self) -> None:
+        """Raise what the signal raises, if one came."""
+        if self.signum is not None:
+            raise _raised(self.signum)
+
+
+STOP = Stop()
+
+
+def _raised(signum: int) -> BaseException:
+    return KeyboardInterrupt() if signum == signal.SIGINT else errors.Terminated(signum)
+
+
+def entry(main: Callable[[list[str] | None], int], prog: str | None = None
+          ) -> Callable[[list[str] | None], int]:
+    """A command's ``main(argv)`` behind the boundary (module docstring); ``prog`` names it in
+    its messages (default: ``python -m`` and the module ``main`` is in)."""
+    prog = prog or f"python -m {_module_name(main)}"
+
+    @functools.wraps(main)
+    def guarded(argv: list[str] | None = None) -> int:
+        prepare_streams()
+        debug = errors.debug_asked(argv)
+        stdout = sys.stdout
+        sys.stdout = _Stdout(stdout)
+        try:
+            return main(argv)
+        except SystemExit:
+            raise
+        except KeyboardInterrupt:
+            errors.report_stop("interrupted", 130)
+            return 130
+        except errors.Terminated as stop:
+            errors.report_stop(f"stopped by {signal.Signals(stop.signum).name}", 128 + stop.signum)
+            return 128 + stop.signum
+        except errors.OutputLost as err:
+            _drop_stdout(stdout)
+            if err.errno != errno.EPIPE:  # a closed pipe (| head) is the reader's choice
+                errors.report(err, prog, debug)
+            return 1
+        except Exception as err:  # noqa: BLE001 - the boundary: every failure is told in one line
+            errors.report(err, prog, debug)
+            return err.code if isinstance(err, errors.UserError) else 1
+        finally:
+            sys.stdout = stdout
+
+    return guarded
+
+
+class _Stdout:
+    """stdout, whose failures to write are ``errors.OutputLost`` (told apart from a file's)."""
+
+    def __init__(self, stream) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except OSError as err:
+            raise errors.OutputLost(err) from None
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except OSError as err:
+            raise errors.OutputLost(err) from None
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
+
+
+def _module_name(fn: Callable) -> str:
+    """The module ``fn`` is in, as ``python -m`` names it (its spec's name when run so)."""
+    if fn.__module__ != "__main__":
+        return fn.__module__
+    spec = getattr(sys.modules["__main__"], "__spec__", None)
+    return spec.name if spec is not None else "__main__"
+
+
+def prepare_streams() -> None:
+    """A missing stdout or stderr becomes /dev/null; both show what their encoding cannot
+    encode as escapes (``backslashreplace``) instead of failing."""
+    for name in ("stdout", "stderr"):
+        stream = getattr(sys, name)
+        if stream is None:
+            setattr(sys, name, open(os.devnull, "w"))  # noqa: SIM115 - for the process's life
+            continue
+        with contextlib.suppress(AttributeError, ValueError, OSError):
+            stream.reconfigure(errors="backslashreplace")
+
+
+def _drop_stdout(stream) -> None:
+    """stdout cannot take more (a closed pipe, a full device): point it at /dev/null, as
+    Python's documentation advises for SIGPIPE, so that the interpreter's flush at exit fails
+    no more."""
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        os.dup2(os.open(os.devnull, os.O_WRONLY), stream.fileno())
+
+
+def environment_error() -> str | None:
+    """The one-line complaint about the environment's settings, or None: BATSIM_DEBUG's value,
+    and MPLBACKEND's (a name matplotlib does not know; any known one is replaced by Agg, since
+    every chart goes to a file)."""
+    raw = os.environ.get("BATSIM_DEBUG", "")
+    if raw.strip().lower() not in errors.DEBUG_VALUES:
+        return (f"BATSIM_DEBUG={raw!r} is not allowed; allowed: 1, true or yes (tracebacks), "
+                "0, false, no or empty")
+    backend = os.environ.pop("MPLBACKEND", None)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    if backend is None:
+        return None
+    from matplotlib import rcsetup
+
+    try:
+        rcsetup.validate_backend(backend)
+    except ValueError:
+        return (f"MPLBACKEND={backend!r} is not a matplotlib backend; allowed: unset it, or a "
+                "backend's name such as agg (the charts are drawn to files with Agg)")
+    return None
+
+
+@contextlib.contextmanager
+def stopping() -> Iterator[None]:
+    """Ctrl-C raises KeyboardInterrupt and SIGTERM or SIGHUP ``errors.Terminated`` where they
+    land (in the main thread), and ``STOP`` keeps which came: the run stops, its workers with
+    it (``runner``), and nothing is published."""
+    STOP.clear()
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum, frame) -> None:
+        STOP.signum = signum
+        raise _raised(signum)
+
+    previous = {s: signal.signal(s, stop) for s in STOPPING}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
