@@ -14,6 +14,9 @@ Engines are registered three ways, the same to the rest of the harness:
   ``[project.entry-points."batsim.engines"]`` ``NAME = "module:RECORD"``; the entry point's name
   is the engine's name (it may not be a built-in's);
 - in this process: ``register(record)`` (an adapter under development, before it is packaged).
+A plug-in that cannot be loaded (its module fails to import, it names a missing module or
+attribute, its entry point shadows another engine's name) is not registered: ``broken()`` says
+why, and no other engine is touched.
 The interface an adapter implements is ``adapters.interface``; ``experiments.core.check_engine``
 checks one.
 """
@@ -71,31 +74,64 @@ _REGISTERED: dict[str, EngineRecord] = {}
 
 
 class PluginConflict(ValueError):
-    """A plug-in's entry point would shadow a built-in engine or another plug-in."""
+    """A name registered in this process is taken already."""
+
+
+class BrokenPlugin(EngineNotInstalled):
+    """An installed plug-in that cannot be loaded (``broken()`` says why)."""
 
 
 @functools.cache
-def _registry() -> MappingProxyType:
-    """Engine name -> where its record is: "module:RECORD" (or the record itself, registered in
-    this process); built-ins first, by name, then plug-ins, then registered ones."""
+def _registry() -> tuple[MappingProxyType, MappingProxyType]:
+    """Engine name -> where its record is ("module:RECORD" for a built-in, the record itself
+    for a plug-in or one registered in this process), built-ins first, by name, then plug-ins,
+    then registered ones; and the broken plug-ins' names -> why each is left out."""
     here = Path(__file__).parent
     builtins = {m.name: f"{__name__}.{m.name}:RECORD"
                 for m in sorted(pkgutil.iter_modules([str(here)]), key=lambda m: m.name)
                 if m.ispkg}
-    plugins: dict[str, str] = {}
+    plugins: dict[str, EngineRecord] = {}
+    broken: dict[str, str] = {}
     for ep in sorted(metadata.entry_points(group=ENTRY_POINT_GROUP), key=lambda e: e.name):
         dist = ep.dist.name if ep.dist is not None else "an unknown distribution"
         if ep.name in builtins:
-            raise PluginConflict(
-                f"plug-in engine {ep.name!r} ({ep.value} from {dist}) shadows the built-in "
-                f"engine {ep.name!r} ({builtins[ep.name]}); allowed: a name that is not one of "
-                f"{', '.join(builtins)}")
-        if ep.name in plugins and plugins[ep.name] != ep.value:
-            raise PluginConflict(
-                f"plug-in engine {ep.name!r} is declared twice ({plugins[ep.name]} and "
-                f"{ep.value} from {dist}); allowed: one entry point per name")
-        plugins[ep.name] = ep.value
-    return MappingProxyType({**builtins, **plugins, **_REGISTERED})
+            broken[ep.name] = (f"plug-in {ep.value} from {dist} shadows the built-in engine "
+                               f"{ep.name!r}; allowed: a name that is not one of "
+                               f"{', '.join(builtins)}")
+        elif ep.name in plugins or ep.name in broken:
+            broken[ep.name] = (f"declared twice (the second: {ep.value} from {dist}); allowed: "
+                               "one entry point per name")
+            plugins.pop(ep.name, None)
+        else:
+            try:
+                plugins[ep.name] = _plugin_record(ep.name, ep.value)
+            except Exception as err:  # noqa: BLE001 - a plug-in may fail any way; it is left out
+                broken[ep.name] = f"{ep.value} from {dist} cannot be loaded: {_said(err)}"
+    return (MappingProxyType({**builtins, **plugins, **_REGISTERED}),
+            MappingProxyType(broken))
+
+
+def _plugin_record(name: str, target: str) -> EngineRecord:
+    """A plug-in's record, loaded (its module imports no engine); whatever goes wrong, an
+    exception (a SystemExit at its import too)."""
+    try:
+        rec = _load_target(name, target)
+    except SystemExit as stop:
+        raise RuntimeError(f"its import called sys.exit({stop.code!r})") from None
+    if not isinstance(rec, EngineRecord):
+        raise TypeError(f"{target} is a {type(rec).__name__}, not an adapters.EngineRecord")
+    return rec
+
+
+def _said(err: BaseException) -> str:
+    """An exception in one line (type and message)."""
+    return f"{type(err).__name__}: {' '.join(str(err).split())}"[:300]
+
+
+def broken() -> MappingProxyType:
+    """Installed plug-ins that are left out, by their entry point's name -> why (a module that
+    fails to import, a missing attribute, a name another engine has)."""
+    return _registry()[1]
 
 
 def reload_plugins() -> None:
@@ -108,7 +144,7 @@ def reload_plugins() -> None:
 def register(rec: EngineRecord) -> None:
     """Register an engine in this process under ``rec.name`` (for an adapter under development;
     a packaged one declares an entry point). Raises PluginConflict for a name already taken."""
-    if rec.name in _registry() and _REGISTERED.get(rec.name) is not rec:
+    if rec.name in _registry()[0] and _REGISTERED.get(rec.name) is not rec:
         raise PluginConflict(f"engine {rec.name!r} is registered already; allowed: a name that "
                              f"is not one of {', '.join(names())}")
     _REGISTERED[rec.name] = rec
@@ -123,11 +159,13 @@ def unregister(name: str) -> None:
 
 def names() -> tuple[str, ...]:
     """Registered engine names: built-ins by name, then plug-ins by name."""
-    return tuple(_registry())
+    return tuple(_registry()[0])
 
 
 def _check_name(name: str) -> str:
-    if name not in _registry():
+    if name in broken() and name not in _registry()[0]:
+        raise BrokenPlugin(f"engine {name!r} is a broken plug-in: {broken()[name]}")
+    if name not in _registry()[0]:
         raise ValueError(f"engine={name!r} is unknown; allowed: {', '.join(names())}")
     return name
 
@@ -136,7 +174,7 @@ def _check_name(name: str) -> str:
 def record(name: str) -> EngineRecord:
     """The engine's record, named as registered and with a plot colour filled in (imports the
     module that declares it, never the engine)."""
-    target = _registry()[_check_name(name)]
+    target = _registry()[0][_check_name(name)]
     rec = target if isinstance(target, EngineRecord) else _load_target(name, target)
     if not isinstance(rec, EngineRecord):
         raise TypeError(f"engine {name!r}: {target} is not an adapters.EngineRecord")
@@ -267,9 +305,9 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
 __all__ = ["BatchedEngine", "Capabilities", "ContactReference", "Cost", "ENTRY_POINT_GROUP",
            "Engine", "EngineNotInstalled", "EngineRecord", "ErrorModel", "FrictionRule", "Hands",
            "Install", "Integrator", "KnobFamily", "MassProperties", "MissingFeature",
-           "PLANAR_FIELDS", "PROFILES",
+           "BrokenPlugin", "PLANAR_FIELDS", "PROFILES",
            "PluginConflict", "Presentation", "ReportNotes", "RestitutionRule", "SPATIAL_FIELDS",
            "STATE_FIELDS", "Scene", "Settings", "State", "Studies", "TwinStep", "available",
-           "chain_class", "contact_reference", "create", "engine_class", "import_engine",
+           "broken", "chain_class", "contact_reference", "create", "engine_class", "import_engine",
            "is_batched", "load", "missing", "names", "record", "register", "reload_plugins",
            "settings_for", "unregister"]

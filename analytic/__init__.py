@@ -17,7 +17,6 @@ from .impact import (
     batted_ball_speed,
     center_of_percussion,
     collision_efficiency,
-    episode_sweet_spot,
     hittable_sweet_spot,
     predict,
     predict_arrays,
@@ -27,6 +26,7 @@ from .impact import (
     sweet_zone,
 )
 from .impulse3d import Impulse3D, RigidBody3D, impulse_3d
+from .marks import EpisodeMark, episode_cop_mark, episode_sweet_spot, episode_sweet_spot_mark
 from .model import WOOD_DENSITY_KGM3, Ball, Bat, ImpactCase, Outcome
 from .swing import MEASURED_EXPONENT, Swing, SwingModel, swing_for
 
@@ -35,7 +35,8 @@ __all__ = [
     "FrictionOutcome", "FrictionalImpulse", "Hole", "ImpactCase", "Impulse3D",
     "MEASURED_EXPONENT", "Outcome", "PaperOblique", "RealisticBall", "RigidBody3D",
     "SweetRegion", "Swing", "SwingModel", "WOOD_DENSITY_KGM3", "batted_ball_speed",
-    "center_of_percussion", "collide",
+    "EpisodeMark", "center_of_percussion", "collide", "episode_cop_mark",
+    "episode_sweet_spot_mark",
     "collision_efficiency", "corked_bat", "corked_bat_paper", "episode_sweet_spot",
     "frictional_impulse", "gradients",
     "hittable_sweet_spot", "impulse_3d", "predict", "predict_arrays", "predict_friction",

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from . import checks
+from . import checks, presets
 from .model import WOOD_DENSITY_KGM3, Bat
 
 #: Any fill, from none (hollow) to the densest element, osmium at 22.59 g/cm^3 (CRC Handbook
@@ -24,19 +24,49 @@ WOOD_KGM3 = (100.0, 1_400.0)
 
 @dataclass(frozen=True, kw_only=True)
 class Hole:
-    """The drilled cylinder and what fills it. Units: m and kg/m^3."""
+    """The drilled cylinder and what fills it. Units: m and kg/m^3. Its own sizes and densities
+    are checked here; whether it fits a bat, by ``check_fits``."""
 
     radius_m: float
     depth_m: float
     fill_density_kgm3: float
     wood_density_kgm3: float
 
-    def check_fits(self, bat: Bat) -> None:
-        """Raise ValueError if the hole is not a finite, non-negative, fitting cylinder."""
-        checks.in_range("hole_radius_m", self.radius_m, 0.0, bat.radius_m, lo_open=True)
-        checks.in_range("hole_depth_m", self.depth_m, 0.0, bat.length_m, lo_open=True)
+    def __post_init__(self) -> None:
+        checks.positive("hole_radius_m", self.radius_m)
+        checks.positive("hole_depth_m", self.depth_m)
         checks.in_range("fill_density_kgm3", self.fill_density_kgm3, 0.0, MAX_FILL_KGM3)
         checks.in_range("wood_density_kgm3", self.wood_density_kgm3, *WOOD_KGM3)
+
+    def check_fits(self, bat: Bat) -> None:
+        """Raise ValueError if the hole leaves the bat no wall (as wide as the bat where it is
+        drilled: ``wall_radius_m``) or no bottom (as deep as the bat is long), or if the bat
+        is hollow already (``presets.HOLLOW``)."""
+        if any(bat == b for b in presets.HOLLOW):
+            raise ValueError(f"bat '{bat.name}' is a hollow metal shell, with no wood in its "
+                             "barrel to drill and fill; allowed: a solid wood bat (r161)")
+        checks.in_range("hole_depth_m", self.depth_m, 0.0, bat.length_m, lo_open=True,
+                        hi_open=True)
+        wall = self.wall_radius_m(bat)
+        if not self.radius_m < wall:
+            raise ValueError(
+                f"hole_radius_m={self.radius_m!r} is out of range: it leaves no wall, "
+                f"'{bat.name}' being {wall:.6g} m in radius where a hole_depth_m="
+                f"{self.depth_m:g} hole is drilled "
+                f"({bat.length_m - self.depth_m:.4g}-{bat.length_m:.4g} m from the knob); "
+                f"allowed: 0 < hole_radius_m < {wall:.6g} (or a shallower hole)")
+
+    def wall_radius_m(self, bat: Bat) -> float:
+        """The bat's least radius (m) over the span the hole is drilled through, from the
+        barrel end to ``depth_m`` short of it: its capsule's radius, and where its profile is
+        known (``presets.profile``, piecewise linear: least at a station or an end) the
+        profile's there too. A hole must be narrower, or it leaves no wall."""
+        prof = presets.profile(bat)
+        if prof is None:
+            return bat.radius_m
+        x0 = bat.length_m - self.depth_m
+        inside = [x for x in prof.stations_m if x0 < x < bat.length_m]
+        return min(bat.radius_m, float(min(prof.radius_m([x0, *inside, bat.length_m]))))
 
     @property
     def volume_m3(self) -> float:

@@ -8,7 +8,7 @@ Every function here is closed form; the vectorized ones broadcast over numpy arr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -161,22 +161,28 @@ def sweet_spot(
 
     dv1/ds = 0 gives omega0 s^2 + 2 A s - omega0 J k = 0 with A = v0n + u0n, k = (m + M)/(m M):
         s* = [-A + sqrt(A^2 + omega0^2 J k)] / omega0 = omega0 J k / (A + sqrt(A^2 + omega0^2 J k))
-    The second form is used: it has no cancellation and gives s* = 0 at omega0 = 0. s* may lie
-    beyond the barrel end; then v1 is largest at the end of the bat.
+    the root where v1 peaks, for either sign of A and omega0, with a closing speed there of
+    A + omega0 s* = sqrt(A^2 + omega0^2 J k) > 0 (a bat turning into a ball at rest has one).
+    The second form is used for A > 0, the first for A <= 0: neither cancels, and the second
+    gives s* = 0 at omega0 = 0. With omega0 = 0 and A <= 0 nothing approaches: ValueError. s*
+    may lie beyond the barrel end; then v1 is largest at the end of the bat.
     """
     _bodies(bat, ball)
     v0, u0, w0 = _speeds(v0_mps, u0_mps, omega0_radps)
     th = checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2)
     ph = checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2)
-    A = v0 * np.cos(th) + u0 * np.cos(ph)
-    if np.any(A <= 0.0):
+    A, w0 = np.broadcast_arrays(v0 * np.cos(th) + u0 * np.cos(ph), w0)
+    if np.any((A <= 0.0) & (w0 == 0.0)):
+        bad = A[(A <= 0.0) & (w0 == 0.0)].flat[0]
         raise ValueError(
-            f"v0*cos(theta) + u0*cos(phi) = {A.flat[np.argmin(A)]!r} m/s; allowed: > 0 "
-            "(the ball and the bat's COM must approach)"
+            f"v0*cos(theta) + u0*cos(phi) = {float(bad)!r} m/s with omega0_radps=0.0: nothing "
+            "on the bat approaches the ball; allowed: > 0, or omega0_radps != 0"
         )
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     cJ = J * (m + M) / (m * M)
-    s = w0 * cJ / (A + np.sqrt(A * A + w0 * w0 * cJ))
+    root = np.sqrt(A * A + w0 * w0 * cJ)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(A > 0.0, w0 * cJ / (A + root), (root - A) / np.where(w0 == 0.0, 1.0, w0))
     return float(s) if s.ndim == 0 else s
 
 
@@ -186,42 +192,6 @@ def hittable_sweet_spot(bat: Bat, ball: Ball, v0_mps: float, u0_mps: float = 0.0
     of the capsule's cylinder when the sweet spot lies beyond it (v1 is unimodal in s)."""
     s = sweet_spot(bat, ball, v0_mps, u0_mps, omega0_radps)
     return min(max(s, bat.s_min_m), bat.s_max_m)
-
-
-def episode_sweet_spot(case: ImpactCase, *, points: int = 41) -> float:
-    """The sweet spot of the whole rigid episode (``collide``) at ``case``'s speeds: where its
-    batted-ball speed peaks on the bat's cylinder (m from the COM). Where the episode is one
-    impulse at the closed-form s*, that is s* (``sweet_spot``, exact); where it is not (e near
-    0: a sustained contact or a second impact changes v1), the episode's own peak: the best of
-    ``points`` grid points, refined to 1 um by a bounded search between its neighbours."""
-    from scipy import optimize
-
-    from .collide import collide
-
-    checks.instance("case", case, ImpactCase)
-    bat = case.bat
-    s_star = sweet_spot(bat, case.ball, case.v0_mps, case.u0_mps, case.omega0_radps,
-                        theta_rad=case.theta_rad, phi_rad=case.phi_rad)
-
-    def episode(s: float):
-        return collide(replace(case, s_m=float(s)))
-
-    single = episode(min(max(s_star, bat.s_min_m), bat.s_max_m))
-    if single.impacts == 1 and single.sustained_contact_s == 0.0:
-        return s_star
-
-    def v1(s: float) -> float:
-        try:
-            return episode(s).v1_mps
-        except ValueError:  # no impact there: the bodies do not approach
-            return -math.inf
-
-    grid = np.linspace(bat.s_min_m, bat.s_max_m, checks.integer("points", points, 3, 10_000))
-    i = int(np.argmax([v1(s) for s in grid]))
-    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
-    best = optimize.minimize_scalar(lambda s: -v1(s), bounds=(lo, hi), method="bounded",
-                                    options={"xatol": 1e-6})
-    return float(best.x)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -5,6 +5,7 @@ Unit conversions: 1 in = 0.0254 m, 1 oz = 0.028349523125 kg, 1 lb = 0.45359237 k
 
 from __future__ import annotations
 
+import functools
 from types import MappingProxyType
 
 from .model import Ball, Bat
@@ -50,6 +51,26 @@ bats balance nearer the handle than wood, the R161's being at 67%) and a 2 5/8 i
 
 BATS = MappingProxyType({b.name: b for b in (R161, EASTON31)})
 """Bats by name (read-only)."""
+
+HOLLOW = (EASTON31,)
+"""Bats whose barrel is a metal shell, hollow already: there is no wood in it to drill and fill
+(``analytic.cork`` refuses them)."""
+
+
+def profile(bat: Bat):
+    """The radius along ``bat`` (an ``analytic.beam.Profile``, m from the knob) where it is
+    known: the R161's fitted profile (``beam.r161_profile``: knob, handle, taper, barrel, with
+    the preset's mass, COM and J_cm) for the R161; None for any other bat, whose capsule's
+    radius is all that is known of it."""
+    return _r161_profile() if bat == R161 else None
+
+
+@functools.cache
+def _r161_profile():
+    from .beam import r161_profile
+
+    return r161_profile()[0]
+
 
 BASEBALL = Ball(name="baseball", mass_kg=0.145, radius_m=0.0366)
 """Official baseball: 5 to 5 1/4 oz (0.142-0.149 kg) and 9 to 9 1/4 in around (radius

@@ -41,13 +41,17 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
-from .core import cli, runs, tables
+from .core import cli, inputs, runs, tables
 from .core.cli import Command
 from .core.hosting import hosted
 from .core.io import ROOT, figure_png, json_bytes, provenance
 from .core.placement import start_state
 from .core.runner import MIN_PARALLEL_S, Runner
+from .errors import BadInput
 from .parts import throughput
+
+#: The table whose rows of the other kind of device are kept by default (committed).
+KEEP_ROWS = ROOT / "results" / "bench_batches.csv"
 
 
 def per_collision(name: str, firing: tables.Firing, repeats: int) -> dict:
@@ -206,9 +210,26 @@ def _options(p: argparse.ArgumentParser) -> None:
                    metavar="S", help="grow the batch while a firing would last at most this (s)")
     p.add_argument("--batches-only", action="store_true",
                    help="only the throughput part (e.g. the batched engines on a GPU)")
-    p.add_argument("--keep-rows", type=Path, default=ROOT / "results" / "bench_batches.csv",
-                   metavar="CSV", help="throughput rows whose device kind (CPU, GPU) this run "
-                   "did not measure are kept from this table (default: the committed one)")
+    p.add_argument("--keep-rows", type=Path, default=None, metavar="CSV",
+                   help="throughput rows whose device kind (CPU, GPU) this run did not measure "
+                   "are kept from this table (default: the committed one, "
+                   "results/bench_batches.csv)")
+
+
+def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """--keep-rows must be a throughput table, read before any work. Not named, it is the
+    committed table, which a checkout holds: if that was deleted, no rows are kept, and
+    stderr says so."""
+    if args.keep_rows is None:
+        if not KEEP_ROWS.exists():
+            print(f"bench_engines: {KEEP_ROWS.relative_to(ROOT)} is absent: no rows of another "
+                  "kind of device are kept", file=sys.stderr)
+            return
+        args.keep_rows = KEEP_ROWS
+    try:
+        inputs.table(args.keep_rows, inputs.THROUGHPUT)
+    except BadInput as err:
+        p.error(f"--keep-rows: {err}")
 
 
 def batches_files(args: argparse.Namespace) -> tuple[dict[str, bytes], list[str]]:
@@ -219,7 +240,7 @@ def batches_files(args: argparse.Namespace) -> tuple[dict[str, bytes], list[str]
     repeats = 1 if args.quick else 3
     measured = pd.DataFrame([row for n in args.engine for row in throughput.measure(
         n, args.batches, args.batch_budget, repeats)])
-    kept = pd.read_csv(args.keep_rows) if args.keep_rows.is_file() else None
+    kept = pd.read_csv(args.keep_rows) if args.keep_rows else None  # checked by _check
     batches = throughput.merged(measured, kept)
     fig = throughput.chart(batches)
     files = {"bench_batches.csv": batches.to_csv(index=False, float_format="%.4g",
@@ -277,7 +298,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
 
 
 COMMAND = Command(name="bench_engines", doc=__doc__, produce=produce, options=_options,
-                  quick="one repeat, no runner comparison", runner=False)
+                  check=_check, quick="one repeat, no runner comparison", runner=False)
 main = COMMAND.main
 
 

@@ -12,6 +12,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+import adapters
+
 from .core import boundary, cli
 from .core import check as check_
 
@@ -43,6 +45,9 @@ def main(argv: list[str] | None = None) -> int:
 
     def body() -> int:
         passed = True
+        for name, why in adapters.broken().items():  # checking all: it fails, as it cannot
+            print(f"check_engine({name!r}): FAILED, a broken plug-in left out: {why}")
+            passed &= args.engine != adapters.available()
         for name in args.engine:
             wanted = tuple(c for c in args.check or check_.applicable(name)
                            if c in check_.applicable(name))

@@ -2,132 +2,154 @@
 
     python -m experiments.compare OLD.csv NEW.csv      (also: python -m experiments.sweep --compare)
 
-Rows are matched on (engine, profile, bat, s, motion); timing columns are ignored. A row
-missing, added or duplicated, a value blank or NaN on one side only, or a text that differs
-(a status, how an episode ended) is a change.
+Rows are matched on (engine, profile, bat, s, motion); timing columns are ignored. A column
+added, dropped or renamed, a row missing, added or duplicated, a value blank or NaN on one side
+only, or a text that differs (a status, how an episode ended) is a change.
 Exit codes: 0 if nothing but timing changed, 1 otherwise, 2 if a file is not a sweep table.
 """
 
 from __future__ import annotations
 
-import csv
 import math
 import sys
 from pathlib import Path
 
 import pandas as pd
 
+from .core import boundary, inputs
 from .core.judge import Status
 from .core.tables import TIMING_COLUMNS
+from .errors import BadInput
 
-KEYS = ["engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad"]
+KEYS = list(inputs.SWEEP_KEYS)
 NUMERIC_KEYS = KEYS[3:]
 
 
 def check_table(path: Path) -> None:
-    """Raise ValueError unless ``path`` is a readable sweep table: a CSV with the key columns,
-    numbers where numbers belong, every row of the header's width."""
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{str(path)!r} is not a file; "
-                         "allowed: a sweep table (sweep.csv of a run)")
+    """ValueError unless ``path`` is a sweep table (``inputs.SWEEP``: the one-line reason)."""
     try:
-        _check_widths(path)
-        table = read(path)
-    except (UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError, OSError,
-            csv.Error, ValueError) as err:
-        raise ValueError(f"{str(path)!r} is not a CSV table ({err}); allowed: a sweep table "
-                         "(sweep.csv of a run)".replace("\n", " ")) from None
-    missing = [k for k in (*KEYS, "status", "v1_abs_err_mps") if k not in table.columns]
-    if missing:
-        raise ValueError(f"{str(path)!r} is not a sweep table (no column {missing[0]!r}); "
-                         "allowed: a sweep table (sweep.csv of a run)")
-    text = [k for k in (*NUMERIC_KEYS, "v1_abs_err_mps")
-            if not pd.api.types.is_numeric_dtype(table[k])]
-    if text:
-        raise ValueError(f"{str(path)!r}: column {text[0]!r} holds text; allowed: a sweep table "
-                         "(sweep.csv of a run)")
+        inputs.table(path, inputs.SWEEP)
+    except BadInput as err:
+        raise ValueError(str(err)) from None
 
 
-def _check_widths(path: Path) -> None:
-    """ValueError at the first row whose width is not the header's (a truncated or damaged
-    file: pandas would pad it with NaN, or take a wider row's first cell for an index)."""
-    with open(path, newline="", encoding="utf-8", errors="strict") as f:
-        rows = csv.reader(f)
-        width = len(next(rows, []))
-        for n, row in enumerate(rows, start=2):
-            if row and len(row) != width:  # (pandas skips blank lines too)
-                raise ValueError(f"line {n} has {len(row)} fields, the header {width}")
+def compare_tables(old_path: Path, new_path: Path, out=None) -> int:
+    """Print what changed between two sweep tables (``compare_frames``); BadInput if one is not
+    a sweep table. Exit code 0 only if nothing but timing changed."""
+    return compare_frames(inputs.table(old_path, inputs.SWEEP),
+                          inputs.table(new_path, inputs.SWEEP), out)
 
 
-def read(path: Path) -> pd.DataFrame:
-    """A sweep table; ParserError if a row is wider than the header."""
-    return pd.read_csv(path, on_bad_lines="error", encoding="utf-8", encoding_errors="strict")
-
-
-def compare_tables(old_path: Path, new_path: Path, out=sys.stdout) -> int:
-    """Print added/removed/duplicated rows, status changes and the largest value changes per
+def compare_frames(old: pd.DataFrame, new: pd.DataFrame, out=None) -> int:
+    """Print (to ``out``, default the stdout of the moment) the columns added, dropped or
+    renamed, the added/removed/duplicated rows, status changes and the largest value changes per
     engine; a value that is blank or NaN on one side only is a change. Exit code 0 only if
     nothing but timing changed."""
-    old = read(old_path).drop(columns=list(TIMING_COLUMNS), errors="ignore")
-    new = read(new_path).drop(columns=list(TIMING_COLUMNS), errors="ignore")
+    out = sys.stdout if out is None else out
+    old = old.drop(columns=list(TIMING_COLUMNS), errors="ignore")
+    new = new.drop(columns=list(TIMING_COLUMNS), errors="ignore")
     changed = False
     for label, table in (("old", old), ("new", new)):
         dup = int(table.duplicated(KEYS).sum())
         if dup:
             changed = True
             print(f"{label}: {dup} duplicated rows", file=out)
-    both = old.merge(new, on=KEYS, how="outer", suffixes=("_old", "_new"), indicator=True)
+    pairs = _pairs(old, new)
     for side, label in (("left_only", "removed"), ("right_only", "added")):
-        rows = both[both["_merge"] == side]
+        rows = pairs[pairs.side == side]
         if len(rows):
             changed = True
             print(f"{label}: {len(rows)} rows", file=out)
-    common = both[both["_merge"] == "both"]
-    status = common[common.status_old.fillna("") != common.status_new.fillna("")]
-    for _, r in status.iterrows():
+    common = pairs[pairs.side == "both"]
+    a = old.iloc[common.row_old.astype(int)].reset_index(drop=True)
+    b = new.iloc[common.row_new.astype(int)].reset_index(drop=True)
+    changed |= _column_changes(old, new, a, b, out)
+    moved = _text(a.status) != _text(b.status)
+    for i in moved[moved].index:
         changed = True
-        print(f"{r.engine} s={r.s_m:.4f}: status {r.status_old} -> {r.status_new}", file=out)
-    numeric = [c for c in old.columns if c not in KEYS and c != "status" and c in new.columns
-               and pd.api.types.is_numeric_dtype(old[c])]
-    text = [c for c in old.columns if c not in (*KEYS, "status", *numeric) and c in new.columns]
-    for engine, df in common.groupby("engine", sort=False):
-        for col in numeric:
-            changed |= _column_change(engine, df, col, out)
-        for col in text:  # how an episode ended, the rigid answer's end: blank is a value too
-            moved = df[f"{col}_old"].fillna("") != df[f"{col}_new"].fillna("")
-            if moved.any():
-                changed = True
-                r = df[moved].iloc[0]
-                print(f"{engine} {col}: {int(moved.sum())} rows changed, first at "
-                      f"s={r.s_m:.4f} ({r[f'{col}_old']!r} -> {r[f'{col}_new']!r})", file=out)
-        for which in ("old", "new"):
-            ok = df[df[f"status_{which}"] == Status.OK]
-            if len(ok):
-                worst = ok[f"v1_abs_err_mps_{which}"].max()
-                print(f"{engine} max |v1 err| {which}: {worst:.3e} m/s", file=out)
+        print(f"{a.engine[i]} s={a.s_m[i]:.4f}: status {a.status[i]} -> {b.status[i]}",
+              file=out)
+    for engine, idx in a.groupby("engine", sort=False).groups.items():
+        changed |= _engine_changes(engine, a.loc[idx], b.loc[idx], out)
     if not changed:
         print("no change apart from timing", file=out)
     return 1 if changed else 0
 
 
-def _column_change(engine: str, df: pd.DataFrame, col: str, out) -> bool:
+def _pairs(old: pd.DataFrame, new: pd.DataFrame) -> pd.DataFrame:
+    """Each row's key, its row number in each table (blank where it has none) and ``side``
+    (both, left_only, right_only): the keys alone are merged, so that no column of the tables
+    can meet a name the merge makes."""
+    left = old[KEYS].assign(row=range(len(old)))
+    right = new[KEYS].assign(row=range(len(new)))
+    return left.merge(right, on=KEYS, how="outer", suffixes=("_old", "_new"), indicator="side")
+
+
+def _text(col: pd.Series) -> pd.Series:
+    """A column as text to compare, blank and NaN alike as ''."""
+    return col.astype(object).where(col.notna(), "")
+
+
+def _column_changes(old: pd.DataFrame, new: pd.DataFrame, a: pd.DataFrame, b: pd.DataFrame,
+                    out) -> bool:
+    """Print the columns dropped, added, or renamed (dropped and added with the same values on
+    every row both tables hold); whether there was any."""
+    dropped = [c for c in old.columns if c not in new.columns]
+    added = [c for c in new.columns if c not in old.columns]
+    for gone in list(dropped):
+        same = next((c for c in added if len(a) and _text(a[gone]).astype(str).equals(
+            _text(b[c]).astype(str))), None)
+        if same is not None:
+            print(f"column renamed: {gone} -> {same} (the same values)", file=out)
+            dropped.remove(gone)
+            added.remove(same)
+    for label, cols in (("dropped", dropped), ("added", added)):
+        if cols:
+            print(f"columns {label} ({len(cols)}): {', '.join(cols)}", file=out)
+    return set(old.columns) != set(new.columns)
+
+
+def _engine_changes(engine: str, a: pd.DataFrame, b: pd.DataFrame, out) -> bool:
+    """Print how each column both tables hold changed for one engine's common rows, and each
+    side's largest error of an ok impact; whether anything changed."""
+    shared = [c for c in a.columns if c in b.columns and c not in (*KEYS, "status")]
+    numeric = [c for c in shared if pd.api.types.is_numeric_dtype(a[c])]
+    changed = False
+    for col in shared:
+        if col in numeric:
+            changed |= _column_change(engine, a, b, col, out)
+            continue
+        moved = _text(a[col]) != _text(b[col])  # how an episode ended: blank is a value too
+        if moved.any():
+            changed = True
+            i = moved.idxmax()
+            print(f"{engine} {col}: {int(moved.sum())} rows changed, first at "
+                  f"s={a.s_m[i]:.4f} ({a[col][i]!r} -> {b[col][i]!r})", file=out)
+    for which, side in (("old", a), ("new", b)):
+        ok = side[side.status == Status.OK]
+        if len(ok):
+            print(f"{engine} max |v1 err| {which}: {ok.v1_abs_err_mps.max():.3e} m/s", file=out)
+    return changed
+
+
+def _column_change(engine: str, a: pd.DataFrame, b: pd.DataFrame, col: str, out) -> bool:
     """Print how one column changed for one engine (a NaN on one side only counts); whether it
     did."""
-    a = pd.to_numeric(df[f"{col}_old"], errors="coerce")
-    b = pd.to_numeric(df[f"{col}_new"], errors="coerce")
-    one_nan = a.isna() != b.isna()
-    diff = (b - a).abs().fillna(0.0)
+    x = pd.to_numeric(a[col], errors="coerce")
+    y = pd.to_numeric(b[col], errors="coerce")
+    one_nan = x.isna() != y.isna()
+    diff = (y - x).abs().fillna(0.0)
     moved = (diff > 0) | one_nan
     if not moved.any():
         return False
     i = diff.mask(one_nan, math.inf).idxmax()  # a NaN on one side first
     print(f"{engine} {col}: {int(moved.sum())} rows changed, largest "
-          f"{diff[i] if not one_nan[i] else math.nan:.3e} at s={df.loc[i, 's_m']:.4f} "
-          f"({a[i]:.6g} -> {b[i]:.6g})", file=out)
+          f"{diff[i] if not one_nan[i] else math.nan:.3e} at s={a.s_m[i]:.4f} "
+          f"({x[i]:.6g} -> {y[i]:.6g})", file=out)
     return True
 
 
+@boundary.entry
 def main(argv: list[str] | None = None) -> int:
     from .core.cli import Parser
 
@@ -137,12 +159,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("old", type=Path, help="the earlier sweep table (a run's sweep.csv)")
     p.add_argument("new", type=Path, help="the later sweep table")
     args = p.parse_args(argv)
-    for path in (args.old, args.new):
-        try:
-            check_table(path)
-        except ValueError as err:
-            p.error(str(err))
-    return compare_tables(args.old, args.new)
+    try:  # both read and checked before any comparison
+        tables = [inputs.table(path, inputs.SWEEP) for path in (args.old, args.new)]
+    except BadInput as err:
+        p.error(str(err))
+    return compare_frames(*tables)
 
 
 if __name__ == "__main__":

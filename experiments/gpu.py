@@ -30,8 +30,10 @@ from pathlib import Path
 
 import pandas as pd
 
+from .core import inputs
 from .core.cli import Command
 from .core.io import ROOT, figure_png, json_bytes, provenance
+from .errors import BadInput
 from .parts import throughput
 
 RUNS = ROOT / "results" / "gpu_runs"
@@ -41,10 +43,39 @@ RESULTS = ROOT / "results"
 BARS = {"slowest_impacts_per_s": 1e5, "fastest_impacts_per_s": 1e6, "harness_share": 0.25}
 
 
+RUNS_ALLOWED = "a folder of the runs a GPU machine made (default results/gpu_runs)"
+STABILITY_JSON = "a stability run's stability.json (its devices, quick, elapsed_s, provenance)"
+
+
 def _runs(root: Path) -> list[Path]:
-    """The run directories under ``root``, oldest first (their run.json's date)."""
-    dirs = [p.parent for p in root.glob("*/run.json")]
-    return sorted(dirs, key=lambda d: json.loads((d / "run.json").read_text())["date_utc"])
+    """The run directories under ``root``, oldest first (their run.json's date), each checked
+    (``check_run``): BadInput naming the first file that is not what it must be."""
+    inputs.directory(root, RUNS_ALLOWED)
+    dated = sorted((inputs.run_date(p), p.parent) for p in root.glob("*/run.json"))
+    for _, d in dated:
+        check_run(d)
+    return [d for _, d in dated]
+
+
+def check_run(d: Path) -> None:
+    """BadInput unless every file of the run directory ``d`` that this command reads is what
+    it must be: its tables (header's width on every row, the columns read, numbers where
+    numbers belong) and a stability run's meta and both its tables."""
+    if (d / "bench_batches.csv").exists():
+        inputs.table(d / "bench_batches.csv", inputs.THROUGHPUT)
+    if (d / "twins.csv").exists():
+        inputs.table(d / "twins.csv", inputs.TWINS_ON_DEVICE)
+    if (d / "stability.json").exists():
+        path = d / "stability.json"
+        meta = inputs.json_object(path, STABILITY_JSON, {
+            "devices": dict, "quick": bool, "elapsed_s": (int, float), "provenance": dict})
+        if not meta["devices"] or not all(isinstance(v, str) for v in meta["devices"].values()):
+            raise inputs.bad(path, f"has devices = {meta['devices']!r}", "an engine -> device "
+                             f"name object in {STABILITY_JSON}")
+        if "machine" not in meta["provenance"]:
+            raise inputs.bad(path, "has no provenance.machine", STABILITY_JSON)
+        inputs.table(d / "stability.csv", inputs.STABILITY)
+        inputs.table(d / "stability_cells.csv", inputs.STABILITY_CELLS)
 
 
 def _gpu(table: pd.DataFrame) -> pd.DataFrame:
@@ -64,16 +95,21 @@ def batches(runs: list[Path], committed: pd.DataFrame | None) -> pd.DataFrame:
     return throughput.merged(cpu, gpu) if cpu is not None else gpu.reset_index(drop=True)
 
 
+#: The columns of a twin step on each device (twins.csv): the GPU's, then the CPU's beside it.
+TWIN_COLUMNS = ["engine", "step", "max_abs_diff_mps", "median_abs_diff_mps", "statuses"]
+
+
 def twins(runs: list[Path], cpu: pd.DataFrame) -> pd.DataFrame:
-    """Each twin step on the GPU beside the same step on the CPU."""
-    gpu = pd.concat([_gpu(pd.read_csv(d / "twins.csv")) for d in runs
-                     if (d / "twins.csv").is_file()], ignore_index=True)
-    both = gpu.merge(cpu.drop(columns=["device"], errors="ignore"), on=["engine", "step"],
-                     suffixes=("_gpu", "_cpu"))
-    both["ratio"] = both.max_abs_diff_mps_gpu / both.max_abs_diff_mps_cpu
+    """Each twin step on the GPU beside the same step on the CPU (none if no run has twins)."""
     keep = ["engine", "device", "step", "max_abs_diff_mps_gpu", "max_abs_diff_mps_cpu",
             "ratio", "median_abs_diff_mps_gpu", "median_abs_diff_mps_cpu", "statuses_gpu",
             "statuses_cpu"]
+    parts = [_gpu(pd.read_csv(d / "twins.csv")) for d in runs if (d / "twins.csv").is_file()]
+    if not parts:
+        return pd.DataFrame(columns=keep)
+    gpu = pd.concat(parts, ignore_index=True)[["device", *TWIN_COLUMNS]]
+    both = gpu.merge(cpu[TWIN_COLUMNS], on=["engine", "step"], suffixes=("_gpu", "_cpu"))
+    both["ratio"] = both.max_abs_diff_mps_gpu / both.max_abs_diff_mps_cpu
     return both[keep]
 
 
@@ -95,12 +131,20 @@ def stability(runs: list[Path]) -> list[dict]:
                     f"{kind.lower()}_machine": meta["provenance"]["machine"],
                     "impacts": len(pd.read_csv(d / "stability.csv"))}
         if {"CPU", "GPU"} <= set(by_kind):
-            cells = [pd.read_csv(by_kind[k][0] / "stability_cells.csv") for k in ("GPU", "CPU")]
-            same = (cells[0].failure.fillna("") == cells[1].failure.fillna("")) & (
-                cells[0].fraction_ok == cells[1].fraction_ok)
-            row |= {"cells": len(same), "cells_agree": int(same.sum())}
+            row |= _cells_agree(*(by_kind[k][0] / "stability_cells.csv" for k in ("GPU", "CPU")))
         out.append(row)
     return out
+
+
+def _cells_agree(gpu: Path, cpu: Path) -> dict:
+    """How many cells the GPU's map has, and in how many the CPU's same cell (map, dt, v0 or
+    a soft contact's stiffness) agrees: the same failure and fraction ok."""
+    key = ["map", "dt_s", "v0_mps", "soft_omega_radps"]
+    a, b = (pd.read_csv(p)[[*key, "failure", "fraction_ok"]] for p in (gpu, cpu))
+    both = a.merge(b, on=key, suffixes=("_gpu", "_cpu"))
+    same = (both.failure_gpu.fillna("") == both.failure_cpu.fillna("")) & (
+        both.fraction_ok_gpu == both.fraction_ok_cpu)
+    return {"cells": len(a), "cells_agree": int(same.sum())}
 
 
 def profile(table: pd.DataFrame) -> list[dict]:
@@ -140,9 +184,24 @@ def _options(p: argparse.ArgumentParser) -> None:
 
 
 def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
-    if not _runs(args.runs):
-        p.error(f"--runs {args.runs}: no run directory (one with a run.json) in it; allowed: "
-                "a folder of the runs a GPU machine made")
+    """Every run under --runs, and the committed tables read beside them, checked before any
+    work; at least one run with GPU rows."""
+    try:
+        runs = _runs(args.runs)
+        gpu_rows = any(throughput.kind(d) == "GPU" for r in runs
+                       if (r / "bench_batches.csv").is_file()
+                       for d in pd.read_csv(r / "bench_batches.csv").device)
+        if (RESULTS / "bench_batches.csv").exists():
+            inputs.table(RESULTS / "bench_batches.csv", inputs.THROUGHPUT)
+        inputs.table(RESULTS / "twins.csv", inputs.TWINS)
+        if (args.runs / "session.json").exists():
+            inputs.json_object(args.runs / "session.json", "the session's session.json (a JSON "
+                               "object saying what ran)", {})
+    except BadInput as err:
+        p.error(f"--runs: {err}")
+    if not gpu_rows:
+        p.error(f"--runs {args.runs}: no run directory (one with a run.json) holding a "
+                "bench_batches.csv with GPU rows in it; allowed: " + RUNS_ALLOWED)
 
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:

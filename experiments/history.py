@@ -8,8 +8,10 @@ in its own cached environment (``experiments.core.releases``) and judged there b
 checkout's code (``experiments.parts.history_probe``): the still, swing and hinged grids at the
 reference profile, the swing at the engine's defaults, the conformance suite (the friction wall
 among its checks), the defaults read back. A release that does not exist or has no wheel for
-this Python is a row that says so (``not_installable``); one whose API the adapter does not drive
-is ``unsupported``, with the reason.
+this Python is a row that says so (``not_installable``), as is one that could not be fetched
+because the package index could not be reached (``index_unreachable``); one whose API the
+adapter does not drive is ``unsupported``, with the reason. An environment found damaged in the
+cache (its python or a distribution gone) is made again.
 
 Between each release and the one before it, whatever moved is listed: a verdict lost or won, an
 error that moved by more than its tolerance, a check that changed, a default that changed.
@@ -34,23 +36,29 @@ from pathlib import Path
 
 import adapters
 
-from .core import cli, releases, runs
+from .core import cli, inputs, releases, runs
 from .core.cli import Command
 from .core.io import ROOT
 from .core.judge import Status
+from .errors import BadInput
 from .parts import history_report
 
+#: A release's state when uv could not reach the package index: nothing known of it.
+UNREACHABLE = "index_unreachable"
 #: One release's probe: its grids (a few seconds each) and the conformance suite.
 PROBE_TIMEOUT_S = 900
 VERSION = re.compile(r"^[0-9][0-9A-Za-z.+!-]*$")
 
 
 def versions_arg(value: str) -> tuple[str, ...]:
+    """Comma-separated versions, or paths of wheels (each checked: ``inputs.wheel``)."""
     picked = tuple(v.strip() for v in value.split(",") if v.strip())
     for v in picked:
         if v.endswith(".whl"):
-            if not Path(v).is_file():
-                raise argparse.ArgumentTypeError(f"--versions {v!r}: no such wheel file")
+            try:
+                inputs.wheel(Path(v))
+            except BadInput as err:
+                raise argparse.ArgumentTypeError(str(err)) from None
         elif not VERSION.match(v):
             raise argparse.ArgumentTypeError(
                 f"--versions {v!r} is not a version; allowed: versions like 3.2.7 or 4.1.0rc1, "
@@ -60,13 +68,27 @@ def versions_arg(value: str) -> tuple[str, ...]:
     return picked
 
 
+def against_arg(value: str) -> str:
+    """One version, or the path of a wheel: the release a candidate is checked against."""
+    picked = versions_arg(value)
+    if len(picked) != 1:
+        raise argparse.ArgumentTypeError(
+            f"--against {value!r} names {len(picked)} versions; allowed: one version (or a "
+            "wheel's path), the release the candidate is checked against")
+    return picked[0]
+
+
+CACHE = "a directory for the release environments (made if absent) that you can write to"
+
+
 def _options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--versions", type=versions_arg, default=None, metavar="V[,V...]|WHEEL",
                    help="these releases (or a local wheel) instead of each record's spread; the "
                         "last is checked against the one before (exit 1 on a regression)")
-    p.add_argument("--against", type=versions_arg, default=None, metavar="V",
-                   help="with --versions: the release the candidate is checked against (default: "
-                        "the version named before it, or the newest of the engine's spread)")
+    p.add_argument("--against", type=against_arg, default=None, metavar="V",
+                   help="with --versions: the one release the candidate is checked against "
+                        "(default: the version named before it, or the newest of the engine's "
+                        "spread)")
     p.add_argument("--cache", type=Path, default=releases.DEFAULT_CACHE, metavar="DIR",
                    help=f"where the environments are kept (default {releases.DEFAULT_CACHE})")
 
@@ -81,7 +103,13 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
                 "against (Install.history); allowed: add --against V, or name two versions")
     if args.against and not args.versions:
         p.error("--against checks the candidate --versions names; allowed: add --versions")
-    if not args.versions:
+    try:
+        inputs.writable_directory(args.cache, CACHE)
+    except BadInput as err:
+        p.error(f"--cache: {err}")
+    if args.versions:
+        _check_wheels(p, args)
+    else:
         bare = [n for n in args.engine if not adapters.record(n).install.history]
         args.engine = tuple(n for n in args.engine if n not in bare)
         for name in bare if args.engine else ():
@@ -91,13 +119,23 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
                     "--versions")
 
 
+def _check_wheels(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """Each wheel named must be one of the engine's package."""
+    package = adapters.record(args.engine[0]).install.package
+    for v in (*args.versions, *([args.against] if args.against else [])):
+        held = inputs.wheel(Path(v)) if v.endswith(".whl") else None
+        if held is not None and held != inputs.distribution(package):
+            p.error(f"--versions: {v!r} is a wheel of {held}; allowed: a wheel of {package}, "
+                    f"which {args.engine[0]} runs on")
+
+
 def plan(args: argparse.Namespace) -> tuple[list[tuple[str, str]], tuple[str, str] | None]:
     """The (engine, release) pairs to fire, and the (reference, candidate) to check, if any."""
     if not args.versions:
         return [(n, v) for n in args.engine for v in adapters.record(n).install.history], None
     name, listed = args.engine[0], list(args.versions)
     candidate = listed[-1]
-    reference = (args.against[0] if args.against else listed[-2] if len(listed) > 1
+    reference = (args.against if args.against else listed[-2] if len(listed) > 1
                  else adapters.record(name).install.history[-1])
     if reference not in listed:
         listed.insert(0, reference)
@@ -130,6 +168,8 @@ def _fire(release: releases.Release, cache: Path) -> dict:
     engine, head = release.engine, {"engine": release.engine, "release": release.version}
     try:
         python = releases.environment(release, cache)
+    except releases.IndexUnreachable as err:
+        return {**head, "state": UNREACHABLE, "reason": str(err)}
     except releases.NotInstallable as err:
         return {**head, "state": "not_installable", "reason": str(err)}
     with tempfile.TemporaryDirectory() as tmp:
@@ -142,11 +182,17 @@ def _fire(release: releases.Release, cache: Path) -> dict:
         except subprocess.TimeoutExpired:
             return {**head, "state": "probe_failed",
                     "reason": f"the probe ran past {PROBE_TIMEOUT_S} s"}
+        except OSError as err:  # its python went since the environment was checked
+            return {**head, "state": "probe_failed",
+                    "reason": f"{python} could not be started ({err.strerror or err})"}
         if done.returncode or not out.exists():
             tail = (done.stderr or done.stdout).strip().splitlines()[-1:] or ["no output"]
             return {**head, "state": "probe_failed",
                     "reason": f"exit {done.returncode}: {tail[0][:300]}"}
-        result = json.loads(out.read_text())
+        try:
+            result = json.loads(out.read_text())
+        except (ValueError, OSError) as err:  # (UnicodeDecodeError is a ValueError)
+            return {**head, "state": "probe_failed", "reason": f"its result is garbled ({err})"}
     # a release whose API the adapter does not drive is unsupported, as an impact it cannot fire
     state = Status.UNSUPPORTED.value if "not_driven" in result else "judged"
     return {**head, **result, "state": state, "reason": result.get("not_driven", "")}
@@ -162,9 +208,12 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str, int]:
     code, verdict = 0, ""
     if candidate:
         lost = report.regressions(args.engine[0], *candidate)
-        code = 1 if lost else 0
+        offline = [r["reason"] for r in results if r["release"] in candidate
+                   and r["state"] == UNREACHABLE]
+        code = 1 if lost or offline else 0
         verdict = (f"\n{args.engine[0]} {candidate[1]} against {candidate[0]}: "
-                   + (f"{len(lost)} regressions\n" + "\n".join(f"  {c}" for c in lost)
+                   + (f"not checked: {offline[0]}" if offline else
+                      f"{len(lost)} regressions\n" + "\n".join(f"  {c}" for c in lost)
                       if lost else "no regression"))
     return report.files(), report.text() + verdict, code
 

@@ -27,7 +27,7 @@ from analytic.ball import LAWS
 from analytic.dynamics import HingedSwing
 from analytic.model import WOOD_DENSITY_KGM3
 
-from .core import carry, cli, estimate, judge, runs, tables
+from .core import boundary, carry, cli, estimate, judge, runs, tables
 from .core.estimate import duration
 from .core.fire import Job
 from .core.io import json_bytes, provenance
@@ -93,6 +93,9 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     cases = firing.cases()  # every impact validated before anything runs
     dt = {} if args.dt is None else {"dt_s": args.dt}
     settings = {n: adapters.settings_for(n, args.profile, **dt) for n in args.engine}
+    if swing is not None:
+        _check_swing_steps(swing, bat, settings, args)
+    tables.analytic_marks(firing, budget_s(settings))  # the marks too (cached for the run)
     need = max(min_dt_s(c, st) for c in cases for st in settings.values())
     if not all(st.dt_s > need for st in settings.values()):
         step = (f"--dt {args.dt:g} s" if args.dt is not None else
@@ -120,6 +123,11 @@ def _bat(args: argparse.Namespace) -> Bat:
         flag = "--" + given[0].replace("_", "-")
         raise ValueError(f"{flag} {getattr(args, given[0])!r} without --corked does nothing; "
                          "allowed: add --corked, or leave the hole options out")
+    if args.corked and bat in presets.HOLLOW:
+        raise ValueError(f"--corked with --bat {args.bat}: a hollow metal shell has no wood in "
+                         "its barrel to drill and fill; allowed: --corked with a wood bat ("
+                         + ", ".join(n for n, b in presets.BATS.items()
+                                     if b not in presets.HOLLOW) + ")")
     if args.corked:
         bat = bat.corked(**{field: default if getattr(args, k) is None else getattr(args, k)
                             for k, (field, default) in HOLE.items()})
@@ -134,6 +142,10 @@ def _swing(args: argparse.Namespace, bat: Bat) -> tuple[HingedSwing | None, floa
                          f"<= --hands < {hands_max:g} m from the knob ("
                          + ("the hands must be on the knob side of the COM to swing it)"
                             if args.swing else "on the bat)"))
+    if args.hands == bat.com_from_knob_m:  # the hand point's change is -P/M wherever it hits
+        raise ValueError(f"--hands {args.hands!r} m is the COM of '{bat.name}', which has no "
+                         f"centre of percussion; allowed: 0 <= --hands < {hands_max:g} m from "
+                         f"the knob, != {bat.com_from_knob_m:g} m")
     if not args.swing:
         return None, args.u0
     if args.u0 != presets.PAPER_SWING.u0_mps:
@@ -147,12 +159,34 @@ def _swing(args: argparse.Namespace, bat: Bat) -> tuple[HingedSwing | None, floa
     return swing, args.omega0 * swing.arm_m(bat)
 
 
+def _check_swing_steps(swing: HingedSwing, bat: Bat, settings: Mapping[str, adapters.Settings],
+                       args: argparse.Namespace) -> None:
+    """Refuse a swing shorter than a time step: t = 2 theta / omega0 under dt is stepped as
+    one whole step (``placement.swing_case``), which releases the bat at tau dt / I_p, not at
+    --omega0 (at 1e-6 rad and 32 rad/s, 160 times faster: an impact no case allows)."""
+    dt = max(st.dt_s for st in settings.values())
+    lasts = swing.duration_s(bat)
+    if lasts < dt:
+        raise ValueError(f"--swing-angle {args.swing_angle:g} rad: the swing to --omega0 "
+                         f"{args.omega0:g} rad/s lasts {lasts:.3g} s, under one time step "
+                         f"({dt:g} s), so it cannot be stepped; allowed: --swing-angle >= "
+                         f"{args.omega0 * dt / 2:.3g} rad (2 theta / omega0 >= dt), or a "
+                         "smaller --dt")
+
+
+def budget_s(settings: Mapping[str, adapters.Settings]) -> float:
+    """How long the rigid episode behind the analytic marks is followed (s): as long as the
+    engines follow theirs (``max_contact_s``; the shortest, should they differ), as their rows'
+    answers are (``judge.rigid``)."""
+    return min(st.max_contact_s for st in settings.values())
+
+
 def check_cost(sweep: Sweep, budget_h: float, locate: bool = True) -> float:
     """The run's estimated wall time (s, ``core.estimate``: the impacts, then with ``locate``
     the searches for each engine's sweet spot and COP); ValueError if over ``budget_h``."""
     per_engine = estimate.run_s(sweep.jobs())
     if locate:  # a search near each analytic mark on the bat, per engine
-        marks = tables.analytic_marks(sweep.firing)
+        marks = tables.analytic_marks(sweep.firing, budget_s(sweep.settings))
         at = [s for s in (marks["sweet_spot_m"], marks["cop_m"]) if math.isfinite(s)
               and sweep.firing.bat.s_min_m <= s <= sweep.firing.bat.s_max_m]
         near = [Job(engine=n, settings=sweep.settings[n], case=sweep.firing.case(s),
@@ -183,7 +217,7 @@ def run(sweep: Sweep, runner: Runner | None = None, *, locate: bool = True,
     if sweep.law:
         table = with_compliant(table, sweep.firing, sweep.law)
     elapsed = time.perf_counter() - t0
-    marks = tables.analytic_marks(sweep.firing)
+    marks = tables.analytic_marks(sweep.firing, budget_s(settings))
     summary = {n: _summarize(table[table.engine == n]) for n in sweep.engines}
     located = _locate(runner, sweep.firing, settings, table, marks) if locate else lambda: {}
     meta = {"analytic": marks, "engines": summary, "fire_s": elapsed}
@@ -275,6 +309,7 @@ def files(table: pd.DataFrame, meta: dict, sweep: Sweep, stem: str = "sweep") ->
     }
 
 
+@boundary.entry
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)

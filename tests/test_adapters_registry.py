@@ -163,12 +163,13 @@ def test_a_plugin_takes_its_entry_points_name_and_its_own_style(tmp_path, monkey
 
 
 def test_plugin_may_not_shadow_a_builtin(tmp_path, monkeypatch):
+    # left out, with the reason; the built-in of that name is untouched
     monkeypatch.syspath_prepend(str(_install_plugin(tmp_path / "site", ENGINES[0], ENGINES[0])))
     adapters.reload_plugins()
     try:
-        with pytest.raises(adapters.PluginConflict,
-                           match=f"plug-in engine '{ENGINES[0]}' .* shadows the built-in"):
-            adapters.names()
+        assert adapters.names() == ENGINES
+        assert "shadows the built-in engine" in adapters.broken()[ENGINES[0]]
+        assert adapters.record(ENGINES[0]).adapter.startswith(f"adapters.{ENGINES[0]}.")
     finally:
         monkeypatch.undo()
         sys.modules.pop("batsim_test_plugin", None)

@@ -9,6 +9,7 @@ coordinates. Quadrature is asked for ~1e-13 relative accuracy; QUAD_REL leaves r
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -82,3 +83,65 @@ def test_lighter_fill_moves_com_to_the_knob_and_lowers_inertia():
     assert corked.com_from_knob_m < R161.com_from_knob_m
     assert corked.inertia_cm_kgm2 < R161.inertia_cm_kgm2
     assert corked.inertia_knob_kgm2 < R161.inertia_knob_kgm2
+
+
+# -- a hole must leave the bat a wall and a bottom ----------------------------------------------
+
+def _wall(bat, depth_m: float) -> float:
+    """The least radius (m) over the drilled span [L - h, L], read off the bat's profile at a
+    fine grid (independent of Hole.wall_radius_m's stations), and its capsule's radius."""
+    from analytic.beam import r161_profile
+
+    x = np.linspace(bat.length_m - depth_m, bat.length_m, 20_001)
+    return min(bat.radius_m, float(r161_profile()[0].radius_m(x).min()))
+
+
+@pytest.mark.parametrize("depth_m", [0.254, 0.5, 0.7, 0.83])
+def test_a_hole_as_wide_as_the_bat_where_it_is_drilled_is_refused(depth_m):
+    # A hole of radius r >= the bat's radius where it is drilled leaves no wood around it: the
+    # R161's profile (knob 21.5 mm, handle 14.4 mm, barrel 31.75 mm; its capsule 30 mm) bounds
+    # r over the span [L - h, L] (a 10 in hole stays in the barrel: 30 mm; 0.5 m reaches the
+    # taper, 0.7 m and more the handle). Just under the wall is a bat; at the wall it is not.
+    wall = _wall(R161, depth_m)
+    corked_bat(R161, hole_radius_m=wall * (1 - 1e-9), hole_depth_m=depth_m)
+    for r in (wall, 1.5 * wall):
+        with pytest.raises(ValueError, match=r"hole_radius_m=.* leaves no wall.*allowed: 0 < "
+                                             r"hole_radius_m <") as err:
+            corked_bat(R161, hole_radius_m=r, hole_depth_m=depth_m)
+        assert "\n" not in str(err.value) and f"hole_depth_m={depth_m:g}" in str(err.value)
+        with pytest.raises(ValueError, match="leaves no wall"):
+            corked_bat_paper(R161, hole_radius_m=r, hole_depth_m=depth_m)
+
+
+def test_a_hole_through_the_bat_is_refused():
+    # depth >= L drills out the knob: no bottom, so no corked bat (it was allowed at L).
+    for depth in (R161.length_m, R161.length_m + 0.1):
+        with pytest.raises(ValueError, match=r"hole_depth_m=.*allowed: 0 < hole_depth_m < 0.84"):
+            corked_bat(R161, hole_radius_m=0.005, hole_depth_m=depth)
+
+
+def test_a_bat_without_a_profile_is_bounded_by_its_capsule():
+    # Only the capsule's radius is known of a bat built by hand: it is the wall.
+    bat = replace(R161, name="plain")
+    corked_bat(bat, hole_radius_m=0.02, hole_depth_m=0.7)  # the R161's handle would refuse
+    with pytest.raises(ValueError, match="leaves no wall, 'plain' being 0.03 m in radius"):
+        corked_bat(bat, hole_radius_m=0.03, hole_depth_m=0.254)
+
+
+def test_a_hollow_metal_bat_is_not_corked():
+    with pytest.raises(ValueError, match=r"bat 'easton31' is a hollow metal shell.*allowed"):
+        presets.EASTON31.corked()
+
+
+@pytest.mark.parametrize("field,kw", [
+    ("hole_radius_m", {"radius_m": 0.0}), ("hole_depth_m", {"depth_m": -0.1}),
+    ("fill_density_kgm3", {"fill_density_kgm3": math.nan}),
+    ("wood_density_kgm3", {"wood_density_kgm3": 50.0}),
+])
+def test_a_hole_made_directly_is_checked(field, kw):
+    from analytic import Hole
+
+    good = dict(radius_m=0.0127, depth_m=0.254, fill_density_kgm3=200.0,
+                wood_density_kgm3=600.0)
+    with pytest.raises(ValueError, match=rf"{field}=.*allowed"):
+        Hole(**{**good, **kw})

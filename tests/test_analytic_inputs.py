@@ -102,10 +102,40 @@ def test_cork_rejects(field, value):
 
 
 def test_cork_that_removes_the_whole_bat_is_rejected():
-    # The densest wood in a hole nearly the bat's size makes dM < -M: negative mass.
+    # The densest wood in a hole nearly the bat's size makes dM < -M: negative mass. (The
+    # R161's own profile refuses such a hole first, by its 14.4 mm handle: a bat known only by
+    # its 33 mm capsule gets this far.)
     with pytest.raises(ValueError, match="corked mass"):
-        R161.corked(hole_radius_m=0.03, hole_depth_m=0.8, fill_density_kgm3=0.0,
-                    wood_density_kgm3=1400.0)
+        Bat(**BAT).corked(hole_radius_m=0.0329, hole_depth_m=0.8, fill_density_kgm3=0.0,
+                          wood_density_kgm3=1400.0)
+
+
+@pytest.mark.parametrize("field,value,depth", [
+    ("hole_radius_m", 0.03, 0.254),  # the capsule's radius: no wall left in the barrel
+    ("hole_radius_m", 0.02, 0.7),    # narrower than the barrel, wider than the handle
+    ("hole_depth_m", 0.84, 0.84),    # the bat's length: no bottom left
+])
+def test_cork_that_leaves_no_wall_or_bottom_is_rejected(field, value, depth):
+    kw = {"hole_radius_m": 0.0127, "hole_depth_m": depth, field: value}
+    _raises(field, value, R161.corked, **kw)
+    _raises(field, value, corked_bat_paper, R161, **kw)
+
+
+def test_a_sweet_spot_needs_something_to_approach():
+    # omega0 = 0 and v0 cos(theta) + u0 cos(phi) <= 0: no point of the bat approaches the ball
+    _raises("omega0_radps", 0.0, sweet_spot, R161, BALL, 0.0, 0.0, 0.0)
+    _raises("omega0_radps", 0.0, sweet_spot, R161, BALL, 0.0, -2.0, 0.0)
+
+
+def test_episode_marks_refuse_bad_input():
+    from analytic import EpisodeMark, ImpactCase, episode_cop_mark, episode_sweet_spot_mark
+
+    case = ImpactCase(**GOOD)
+    for fn in (episode_cop_mark, episode_sweet_spot_mark):
+        _raises("max_episode_s", -1.0, fn, case, max_episode_s=-1.0)
+        _raises("points", 2, fn, replace(case, e=0.0), points=2)
+        _raises("case", R161, fn, R161)
+    _raises("reference", "closed form", EpisodeMark, s_m=0.1, reference="closed form")
 
 
 def test_replace_revalidates():

@@ -3,11 +3,13 @@ parser (its options, with values in range, out of range, of the wrong kind, empt
 repeated or unknown; flags; files that are not tables), a command either refuses with exit 2
 and one line before any work, or checks everything and starts the work; never a traceback.
 The work is where every command hands its body to ``cli.main_guard``: the test stops it there
-(compare, which only reads its two files, runs whole)."""
+(compare, which only reads its two files, runs whole: a column dropped or added is a change)."""
 
 from __future__ import annotations
 
 import argparse
+import csv
+import io
 
 import pytest
 from hypothesis import HealthCheck, event, given, settings
@@ -113,16 +115,38 @@ def test_a_command_refuses_in_one_line_or_starts(name, tmp_path, monkeypatch, ca
     check()
 
 
+#: Names a column added to a table may have: any, and those a comparison's merge makes.
+ADDED = ["extra", "status_old", "status_new", "_merge", "s_m_new", "row_old", "side"]
+
+
+def _columns(good: str, drop: int | None, add: str | None) -> bytes:
+    """The table with column ``drop`` removed, or a column named ``add`` added (all 1)."""
+    rows = list(csv.reader(io.StringIO(good)))
+    for i, row in enumerate(rows):
+        if drop is not None:
+            del row[drop]
+        if add is not None:
+            row.append(add if i == 0 else "1")
+    out = io.StringIO()
+    csv.writer(out, lineterminator="\n").writerows(rows)
+    return out.getvalue().encode()
+
+
 @st.composite
 def tables(draw, good: str) -> tuple[bytes, str, int]:
     """A sweep table's bytes, damaged or not, and how: cut mid-row, a value blanked or made
-    text or NaN, a row repeated, binary junk after the header, or nothing at all."""
+    text or NaN, a row repeated, binary junk after the header, nothing at all, a column dropped
+    or one added (named as the comparison's own, maybe)."""
     lines = good.splitlines(keepends=True)
     how = draw(st.sampled_from(["same", "cut", "blank", "text", "nan", "repeat", "junk",
-                                "empty"]))
+                                "empty", "drop column", "add column"]))
     row = draw(st.integers(1, len(lines) - 1))
     cells = lines[row].rstrip("\n").split(",")
     col = draw(st.integers(0, len(cells) - 1))
+    if how == "drop column":
+        return _columns(good, col, None), how, col
+    if how == "add column":
+        return _columns(good, None, draw(st.sampled_from(ADDED))), how, 0
     if how == "cut":
         return "".join(lines[:row]).encode() + lines[row][:len(lines[row]) // 2].encode(), how, 0
     if how in ("blank", "text", "nan"):
@@ -155,6 +179,10 @@ def test_compare_judges_any_pair_of_files(tmp_path, capsys):
             assert code == 2 and err.count("\n") == 1, (how, err)
         elif how == "same":
             assert code == 0, err
+        elif how == "drop column" and col in compare.KEYS + ["status", "v1_abs_err_mps"]:
+            assert code == 2 and f"no column {col!r}" in err, (how, col, err)
+        elif how in ("drop column", "add column"):  # a change unless it is timing's
+            assert code == (0 if col in TIMING_COLUMNS else 1), (how, col, err)
         elif col not in TIMING_COLUMNS:  # damage anywhere but a timing column: 1 or 2
             assert code in (1, 2), (how, col, err)
 

@@ -17,7 +17,7 @@ import pytest
 
 from analytic import presets
 from experiments import bench_engines, gpu
-from experiments.core import Job, tables
+from experiments.core import Job, inputs, tables
 from experiments.core.fire import Jobs, fire_jobs, runs
 from experiments.parts import throughput
 
@@ -50,11 +50,12 @@ def test_merged_keeps_only_the_other_kind():
 @pytest.mark.xdist_group(BATCHED)
 def test_a_cpu_benchmark_keeps_the_committed_gpu_rows(tmp_path):
     """bench_engines --batches-only on this CPU: its rows, then the committed GPU rows as they
-    were (no GPU needed to keep them)."""
+    were (no GPU needed to keep them); the table is one that --keep-rows accepts."""
     name = BATCHED
     assert bench_engines.main(["--quick", "--batches-only", "--engine", name, "--batches", "1",
                                "--out", str(tmp_path)]) == 0
-    table = pd.read_csv(next(tmp_path.rglob("bench_batches.csv")))
+    written = next(tmp_path.rglob("bench_batches.csv"))
+    table = inputs.table(written, inputs.THROUGHPUT)  # what --keep-rows and gpu accept
     committed = pd.read_csv(COMMITTED)
     assert set(_kind(table, "CPU").engine) == {name}
     pd.testing.assert_frame_equal(_kind(table, "GPU")[list(committed.columns)],
@@ -64,9 +65,8 @@ def test_a_cpu_benchmark_keeps_the_committed_gpu_rows(tmp_path):
 @pytest.fixture(scope="module")
 def gathered(tmp_path_factory):
     out = tmp_path_factory.mktemp("gpu")
-    assert gpu.main(["--out", str(out)]) == 0
-    (run,) = out.iterdir()
-    return run
+    assert gpu.main(["--out", str(out), "--name", "g"]) == 0
+    return out / "g"
 
 
 def test_gathered_rows_are_the_runs_and_the_committed_cpu(gathered):

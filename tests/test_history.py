@@ -1,16 +1,18 @@
-"""``experiments.history``: release environments made once and reused (an interrupted one made
-again), the engine's own pins freed, a candidate that loses a verdict or lets an error grow past
-its tolerance exits 1 (all without installing); then, in the full tier, the README's lines as a
-user runs them: two releases installed on a cold cache and judged, and a version that does not
-exist is a row that says so."""
+"""``experiments.history``: release environments made once and reused (an interrupted or a
+damaged one made again), the engine's own pins freed, a candidate that loses a verdict or lets
+an error grow past its tolerance exits 1 (all without installing); then, in the full tier, the
+README's lines as a user runs them: two releases installed on a cold cache and judged, and a
+version that does not exist is a row that says so."""
 
 from __future__ import annotations
 
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -34,13 +36,26 @@ def _release(version: str = "1.0") -> releases.Release:
     return releases.Release(engine=cheapest(batched=False), version=version)
 
 
+def fake_environment(target, installed: dict) -> dict:
+    """What an install leaves (``releases.fault`` finds it whole): a python, pyvenv.cfg and a
+    dist-info per distribution installed; ``installed``, as an installer returns it."""
+    (target / "bin").mkdir(parents=True)
+    (target / "bin" / "python").write_text("#!/bin/sh\n")
+    (target / "bin" / "python").chmod(0o755)
+    (target / "pyvenv.cfg").write_text("home = /usr/bin\n")
+    site = target / "lib" / f"python{sys.version_info.major}.{sys.version_info.minor}"
+    for name, version in installed.items():
+        (site / "site-packages" / f"{name.replace('-', '_')}-{version}.dist-info").mkdir(
+            parents=True)
+    return installed
+
+
 def test_an_environment_is_made_once_then_reused(tmp_path):
     made = []
 
     def installer(release, target):
         made.append(release.version)
-        (target / "bin").mkdir(parents=True)
-        return {"made": release.version}
+        return fake_environment(target, {"made": release.version})
 
     first = releases.environment(_release(), tmp_path, installer)
     again = releases.environment(_release(), tmp_path, installer)
@@ -60,6 +75,39 @@ def test_an_interrupted_install_is_made_again(tmp_path):
     made = []
     releases.environment(_release(), tmp_path, lambda r, t: made.append(t) or {})
     assert len(made) == 1
+
+
+def _made(tmp_path: Path) -> tuple[releases.Release, Path]:
+    """A release's environment made in a scratch cache, whole, by a stand-in installer."""
+    release = releases.Release(engine=cheapest(batched=False), version="1.0")
+    python = releases.environment(release, tmp_path,
+                                  lambda r, t: fake_environment(t, {"numpy": "2.0", "b-c": "1"}))
+    return release, python.parent.parent
+
+
+BREAK = {
+    "its python deleted": lambda env: (env / "bin" / "python").unlink(),
+    "its python a link to nothing": lambda env: ((env / "bin" / "python").unlink(),
+                                                 (env / "bin" / "python").symlink_to(env / "x")),
+    "half deleted": lambda env: shutil.rmtree(env / "lib"),
+    "a distribution gone": lambda env: shutil.rmtree(next(env.rglob("b_c-1.dist-info"))),
+    "no pyvenv.cfg": lambda env: (env / "pyvenv.cfg").unlink(),
+    "ready.json garbled": lambda env: (env / releases.READY).write_text("{"),
+}
+
+
+@pytest.mark.parametrize("how", list(BREAK))
+def test_a_damaged_environment_is_made_again(how, tmp_path, capsys):
+    release, env = _made(tmp_path)
+    assert releases.fault(env) is None
+    BREAK[how](env)
+    assert releases.fault(env) is not None
+    made = []
+    releases.environment(release, tmp_path, lambda r, t: made.append(t) or fake_environment(
+        t, {"numpy": "2.0"}))
+    assert made == [env] and releases.fault(env) is None
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{env} is broken" in err and "made again" in err
 
 
 def test_the_engines_own_pins_are_freed_and_the_harness_pins_kept():

@@ -3,6 +3,7 @@ reproducible."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -17,7 +18,7 @@ from experiments.core import Runner, runs, tables
 from experiments.core.io import ROOT
 from experiments.parts import sweep_chart
 
-from .conftest import cheapest
+from .conftest import cheapest, run_command, runs_in
 
 
 def _run(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
@@ -58,7 +59,7 @@ def test_interrupted_run_leaves_previous_results(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_chart, "plot", interrupted)  # dies after the CSV was prepared
     assert sweep.main([*args, "--force"]) == 130
     assert {p.name: p.read_bytes() for p in (tmp_path / "t").iterdir()} == before
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["t"]  # no temporary left behind
+    assert runs_in(tmp_path) == ["t"]  # no temporary left behind
 
 
 @pytest.fixture(scope="module")
@@ -137,3 +138,78 @@ def test_compliant_reference_beside_the_rigid_one(tmp_path):
         return sweep.sweep_from_args(args).law
 
     assert (law_of(), law_of("--law", "hertz")) == ("ball", "hertz")
+
+
+# -- physics the sweep refuses before any work --------------------------------------------------
+
+def _refused(out: Path, *options: str) -> str:
+    """The one line on stderr of a sweep refused with exit 2 (no traceback: run_command), and
+    nothing written."""
+    res = run_command(["-m", "experiments.sweep", "--engine", cheapest(batched=False),
+                       "--points", "3", "--no-locate", "--out", str(out), *options], code=2)
+    assert res.stderr.count("\n") == 1 and not res.stdout, res.stderr
+    assert not out.exists() or not any(out.iterdir())
+    return res.stderr
+
+
+@pytest.mark.parametrize("options, said", [
+    # a hole as wide as the barrel (the R161's capsule, 30 mm) leaves no wall
+    (["--corked", "--hole-radius", "0.03"], "--hole-radius=0.03 is out of range: it leaves no "
+     "wall, 'r161' being 0.03 m in radius where a --hole-depth=0.254 hole is drilled"),
+    # 0.7 m deep, the hole reaches the 14.4 mm handle of the R161's profile
+    (["--corked", "--hole-radius", "0.02", "--hole-depth", "0.7"],
+     "allowed: 0 < --hole-radius < 0.0144469 (or a shallower hole)"),
+    # as deep as the bat is long: no bottom
+    (["--corked", "--hole-depth", "0.84"], "--hole-depth=0.84 is out of range; allowed: 0 < "
+     "--hole-depth < 0.84"),
+    # an aluminium shell has no wood to drill
+    (["--bat", "easton31", "--corked"], "--corked with --bat easton31: a hollow metal shell"),
+    # the hands at the COM: the hand point changes by -P/M wherever the ball hits, no COP
+    (["--hands", "0.56"], "--hands 0.56 m is the COM of 'r161', which has no centre of "
+     "percussion; allowed: 0 <= --hands < 0.84 m from the knob, != 0.56 m"),
+    # a swing over 1e-6 rad lasts 2 theta / omega0 = 62.5 ns, under a step: it would be
+    # stepped as a whole step and release the bat 160 times faster than --omega0
+    (["--swing", "--swing-angle", "1e-6"], "--swing-angle 1e-06 rad: the swing to --omega0 32 "
+     "rad/s lasts 6.25e-08 s, under one time step"),
+], ids=["hole as wide as the barrel", "hole through the handle", "hole through the bat",
+        "corked metal bat", "hands at the COM", "swing shorter than a step"])
+def test_physics_without_meaning_is_refused_in_one_line(options, said, tmp_path):
+    assert said in _refused(tmp_path / "out", *options)
+
+
+def test_a_bat_turning_into_a_ball_at_rest_is_swept(tmp_path):
+    # v0 = u0 = 0, omega0 = 32 rad/s on the barrel (where the bat approaches the ball): was an
+    # internal error (the closed-form sweet spot asked for v0 + u0 > 0); its sweet spot lies
+    # past the barrel end, and the episode (the bat catching the ball up again and again) has
+    # no COP on the bat, said so.
+    res = run_command(["-m", "experiments.sweep", "--engine", cheapest(batched=False),
+                       "--points", "3", "--no-locate", "--v0", "0", "--u0", "0",
+                       "--s-range", "0.01", "0.25", "--out", str(tmp_path)])
+    assert "off the bat's cylinder: the best point on it is its end" in res.stdout, res.stdout
+    assert "COP: none (the rigid episode's hand-point velocity change does not cross zero" \
+        in res.stdout, res.stdout
+
+
+def test_a_plastic_cop_is_located_on_the_whole_episode(tmp_path):
+    # At e = 0 the rows are judged against the whole rigid episode (the ball rides the turning
+    # bat), so the analytic COP is that episode's, located as the engine's is (the root of
+    # hand_dv = du + domega d along the bat), and said so; the single impulse's J / (M d) is
+    # 3.9 mm away and was the printed reference before.
+    engine = cheapest(batched=False)
+    res = run_command(["-m", "experiments.sweep", "--engine", engine, "--e", "0",
+                       "--s-range", "0.05", "0.099", "--points", "8", "--out", str(tmp_path),
+                       "--name", "p"])
+    meta = json.loads((tmp_path / "p" / "sweep.json").read_text())
+    marks, located = meta["analytic"], meta["engines"][engine]["cop_engine_m"]
+    assert marks["cop_reference"] == "whole episode" and "COP: whole episode" in res.stdout
+    # Tolerance: the engine's root s_e has hand_dv_engine(s_e) = 0, so theory's there is minus
+    # the engine's hand_dv error, and |s_e - s_ref| <= |error| / |d hand_dv / ds|. The rows
+    # measure that error at 8 points of the span; it varies with where the contact falls in
+    # a step, not smoothly, so the bound is its largest over the rows (not an interpolation),
+    # and the slope the smallest secant between rows; plus the engine's search tolerance.
+    rows = pd.read_csv(tmp_path / "p" / "sweep.csv")
+    error = (rows.hand_dv_engine_mps - rows.hand_dv_analytic_mps).abs().max()
+    slope = (rows.hand_dv_analytic_mps.diff() / rows.s_m.diff()).abs().min()
+    tol = error / slope + 1e-9
+    assert abs(located - marks["cop_m"]) <= tol, (located, marks["cop_m"], tol)
+    assert abs(located - marks["cop_single_impulse_m"]) > 100 * tol  # the wrong reference

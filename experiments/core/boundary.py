@@ -4,7 +4,7 @@ exit code, and nothing half-made replaces what was there.
     @boundary.entry
     def main(argv=None) -> int: ...
 
-- an expected failure (``errors.UserError``, a full disk, a memory limit, a closed pipe) is one
+- an expected failure (``UserError``, a full disk, a memory limit, a closed pipe) is one
   line on stderr and exit 1 (2 for a bad input, found before any work); a bug too, with its
   traceback only under ``--debug`` or BATSIM_DEBUG=1;
 - Ctrl-C exits 130, SIGTERM 143 and SIGHUP 129 (``stopping``): the run's files are published as
@@ -28,7 +28,15 @@ import sys
 import threading
 from collections.abc import Callable, Iterator
 
-from .. import errors
+from ..errors import (
+    DEBUG_VALUES,
+    OutputLost,
+    Terminated,
+    UserError,
+    debug_asked,
+    report,
+    report_stop,
+)
 
 #: The signals that stop a run, each as its own exit code (128 + the signal's number).
 STOPPING = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
@@ -55,7 +63,7 @@ STOP = Stop()
 
 
 def _raised(signum: int) -> BaseException:
-    return KeyboardInterrupt() if signum == signal.SIGINT else errors.Terminated(signum)
+    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
 
 
 def entry(main: Callable[[list[str] | None], int], prog: str | None = None
@@ -67,7 +75,7 @@ def entry(main: Callable[[list[str] | None], int], prog: str | None = None
     @functools.wraps(main)
     def guarded(argv: list[str] | None = None) -> int:
         prepare_streams()
-        debug = errors.debug_asked(argv)
+        debug = debug_asked(argv)
         stdout = sys.stdout
         sys.stdout = _Stdout(stdout)
         try:
@@ -75,19 +83,19 @@ def entry(main: Callable[[list[str] | None], int], prog: str | None = None
         except SystemExit:
             raise
         except KeyboardInterrupt:
-            errors.report_stop("interrupted", 130)
+            report_stop("interrupted", 130)
             return 130
-        except errors.Terminated as stop:
-            errors.report_stop(f"stopped by {signal.Signals(stop.signum).name}", 128 + stop.signum)
+        except Terminated as stop:
+            report_stop(f"stopped by {signal.Signals(stop.signum).name}", 128 + stop.signum)
             return 128 + stop.signum
-        except errors.OutputLost as err:
+        except OutputLost as err:
             _drop_stdout(stdout)
             if err.errno != errno.EPIPE:  # a closed pipe (| head) is the reader's choice
-                errors.report(err, prog, debug)
+                report(err, prog, debug)
             return 1
         except Exception as err:  # noqa: BLE001 - the boundary: every failure is told in one line
-            errors.report(err, prog, debug)
-            return err.code if isinstance(err, errors.UserError) else 1
+            report(err, prog, debug)
+            return err.code if isinstance(err, UserError) else 1
         finally:
             sys.stdout = stdout
 
@@ -95,7 +103,7 @@ def entry(main: Callable[[list[str] | None], int], prog: str | None = None
 
 
 class _Stdout:
-    """stdout, whose failures to write are ``errors.OutputLost`` (told apart from a file's)."""
+    """stdout, whose failures to write are ``OutputLost`` (told apart from a file's)."""
 
     def __init__(self, stream) -> None:
         self._stream = stream
@@ -104,13 +112,13 @@ class _Stdout:
         try:
             return self._stream.write(text)
         except OSError as err:
-            raise errors.OutputLost(err) from None
+            raise OutputLost(err) from None
 
     def flush(self) -> None:
         try:
             self._stream.flush()
         except OSError as err:
-            raise errors.OutputLost(err) from None
+            raise OutputLost(err) from None
 
     def __getattr__(self, name: str):
         return getattr(self._stream, name)
@@ -149,7 +157,7 @@ def environment_error() -> str | None:
     and MPLBACKEND's (a name matplotlib does not know; any known one is replaced by Agg, since
     every chart goes to a file)."""
     raw = os.environ.get("BATSIM_DEBUG", "")
-    if raw.strip().lower() not in errors.DEBUG_VALUES:
+    if raw.strip().lower() not in DEBUG_VALUES:
         return (f"BATSIM_DEBUG={raw!r} is not allowed; allowed: 1, true or yes (tracebacks), "
                 "0, false, no or empty")
     backend = os.environ.pop("MPLBACKEND", None)
@@ -170,7 +178,7 @@ def environment_error() -> str | None:
 
 @contextlib.contextmanager
 def stopping() -> Iterator[None]:
-    """Ctrl-C raises KeyboardInterrupt and SIGTERM or SIGHUP ``errors.Terminated`` where they
+    """Ctrl-C raises KeyboardInterrupt and SIGTERM or SIGHUP ``Terminated`` where they
     land (in the main thread), and ``STOP`` keeps which came: the run stops, its workers with
     it (``runner``), and nothing is published."""
     STOP.clear()

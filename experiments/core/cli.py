@@ -151,8 +151,14 @@ def engines_arg(value: str) -> tuple[str, ...]:
     if value == "all":
         for hint in adapters.missing().values():
             print(f"skipped: {hint}", file=sys.stderr)
+        for name, why in adapters.broken().items():
+            print(f"skipped: broken plug-in {name!r}: {why}", file=sys.stderr)
         return adapters.available()
     picked = tuple(dict.fromkeys(v.strip() for v in value.split(",") if v.strip()))
+    for name in picked:
+        if name in adapters.broken() and name not in known:
+            raise argparse.ArgumentTypeError(f"{name!r} is a broken plug-in: "
+                                             f"{adapters.broken()[name]}")
     bad = [v for v in picked if v not in known]
     if bad or not picked:
         raise argparse.ArgumentTypeError(
@@ -230,10 +236,12 @@ def scheduler_arg(value: str) -> str:
 
 def add_engine(p: argparse.ArgumentParser, default: str = "all") -> None:
     # a str default is converted by engines_arg only when --engine is not given
+    broken = "".join(f"; broken plug-in {n!r} left out ({why})"
+                     for n, why in adapters.broken().items())
     p.add_argument("--engine", type=engines_arg, default=default,
                    metavar="NAME[,NAME...]|all",
                    help=f"engines to run (default {default}); registered: "
-                        f"{', '.join(adapters.names())}")
+                        f"{', '.join(adapters.names())}{broken.replace('%', '%%')}")
 
 
 def add_runner(p: argparse.ArgumentParser) -> None:

@@ -21,6 +21,8 @@ from typing import Any
 
 import numpy as np
 
+import adapters
+
 ROOT = Path(__file__).resolve().parents[2]  #: the project root
 
 
@@ -124,8 +126,6 @@ def versions() -> dict[str, str]:
     """Installed versions of the libraries whose behaviour the results depend on: the
     scientific stack and every registered engine's package (read from the installed metadata,
     no engine imported: the engines may have run in worker processes)."""
-    import adapters
-
     engines = sorted({adapters.record(n).install.package for n in adapters.names()})
     out = {"python": platform.python_version()}
     for name in (*PACKAGES, *engines):
@@ -155,5 +155,6 @@ def provenance(**extra: Any) -> dict[str, Any]:
         "machine": {"platform": platform.platform(), "processor": platform.machine(),
                     "cpus": os.cpu_count()},
         "versions": versions(),
+        "broken_plugins": dict(adapters.broken()),
         **extra,
     }

@@ -5,7 +5,8 @@ one release of one engine (``package==version``, or a local wheel), resolved by 
 whatever else the release asks for is not pinned. It is made once, under
 ``<cache>/py<X.Y>/<package>-<version>-<hash of the pins>``, and reused: a ``ready.json``
 written last (what uv installed) marks it complete, so an install that was interrupted is made
-again, and a lock file keeps two processes (two Dask workers) from making the same one at once.
+again, as is one damaged since (``fault``: its python or a distribution gone), and a lock file
+keeps two processes (two Dask workers) from making the same one at once.
 The harness's code is not installed there: it runs from this checkout (``PYTHONPATH``), so that
 every release is judged by the same code.
 """
@@ -39,6 +40,16 @@ READY = "ready.json"
 
 class NotInstallable(RuntimeError):
     """uv could not install the release: it does not exist, or has no wheel for this Python."""
+
+
+class IndexUnreachable(NotInstallable):
+    """uv could not reach the package index (no network, a proxy, DNS, UV_OFFLINE with an
+    empty cache): nothing is known of the release."""
+
+
+#: What uv says when the index cannot be reached (as opposed to a release it does not have).
+UNREACHABLE = re.compile(r"Failed to fetch|Request failed after|network was disabled|"
+                         r"dns error|Connection refused|tcp connect error", re.I)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -141,8 +152,17 @@ def uv() -> str:
 
 
 def _uv(args: list[str]) -> None:
-    done = subprocess.run([uv(), *args], capture_output=True, text=True,
-                          timeout=INSTALL_TIMEOUT_S)
+    try:
+        done = subprocess.run([uv(), *args], capture_output=True, text=True,
+                              timeout=INSTALL_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        raise NotInstallable(f"uv did not finish within {INSTALL_TIMEOUT_S} s (a slow network "
+                             "or index?)") from None
+    if done.returncode and UNREACHABLE.search(done.stderr):
+        fetch = re.search(r"Failed to fetch:?\s*(\S+)", done.stderr)
+        where = f" at {fetch.group(1).strip('`')}" if fetch else ""
+        raise IndexUnreachable(f"the package index could not be reached{where} "
+                               f"({_why(done.stderr)})")
     if done.returncode:
         raise NotInstallable(_why(done.stderr))
 
@@ -169,14 +189,22 @@ def install(release: Release, target: Path) -> dict:
     return dict(ln.split("==", 1) for ln in frozen.splitlines() if "==" in ln)
 
 
+def place(release: Release, cache: Path = DEFAULT_CACHE) -> Path:
+    """The folder of the release's environment in ``cache``, made or not."""
+    pins = hashlib.sha256("\n".join([*harness_requirements(), constraints(release)]).encode())
+    return cache / python_tag() / f"{release.key}-{pins.hexdigest()[:8]}"
+
+
 def environment(release: Release, cache: Path = DEFAULT_CACHE, installer=install) -> Path:
     """The Python of the release's environment, made now if the cache has none complete;
     NotInstallable (uv's reason) if the release cannot be installed for this Python."""
-    pins = hashlib.sha256("\n".join([*harness_requirements(), constraints(release)]).encode())
-    folder = cache / python_tag() / f"{release.key}-{pins.hexdigest()[:8]}"
+    folder = place(release, cache)
     folder.parent.mkdir(parents=True, exist_ok=True)
     with FileLock(str(folder) + ".lock"):
-        if not (folder / READY).exists():
+        if (why := fault(folder)) is not None:
+            if (folder / READY).exists():  # made once, since damaged: a cache, made again
+                print(f"history: the environment {folder} is broken ({why}): made again",
+                      file=sys.stderr)
             shutil.rmtree(folder, ignore_errors=True)
             try:
                 installed = installer(release, folder)
@@ -185,6 +213,30 @@ def environment(release: Release, cache: Path = DEFAULT_CACHE, installer=install
                 raise
             atomic_write_bytes(folder / READY, json.dumps(installed, indent=1).encode())
     return folder / "bin" / "python"
+
+
+def fault(folder: Path) -> str | None:
+    """Why the environment at ``folder`` cannot be used as it is (None if it can): not made
+    to the end (no ready.json), or damaged since (its ready.json, python or pyvenv.cfg gone
+    or garbled, a distribution that ready.json lists gone from its site-packages)."""
+    try:
+        listed = json.loads((folder / READY).read_text())
+    except FileNotFoundError:
+        return f"no {READY}: its install did not finish"
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
+        return f"its {READY} cannot be read ({type(err).__name__})"
+    python = folder / "bin" / "python"
+    if not isinstance(listed, dict):
+        return f"its {READY} is not an object"
+    if not (python.is_file() and os.access(python, os.X_OK)):  # a link to a python gone too
+        return "its bin/python is missing"
+    if not (folder / "pyvenv.cfg").is_file():
+        return "its pyvenv.cfg is missing"
+    site = folder / "lib" / f"python{sys.version_info.major}.{sys.version_info.minor}"
+    held = {_name(p.stem.split("-", 1)[0]) for p in site.glob("site-packages/*.dist-info")}
+    lost = sorted(n for n in map(_name, listed) if n not in held)
+    return f"{len(lost)} of its distributions are missing ({', '.join(lost[:3])})" if lost \
+        else None
 
 
 def installed(python: Path) -> dict:

@@ -233,6 +233,7 @@ def manifest(files: dict[str, bytes]) -> bytes:
         "date_utc": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "files": {name: hashlib.sha256(data).hexdigest() for name, data in sorted(files.items())},
         "library_messages": library_messages(),
+        "broken_plugins": dict(adapters.broken()),
     }, indent=1).encode()
 
 

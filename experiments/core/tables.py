@@ -19,14 +19,18 @@ from scipy import optimize
 import adapters
 from analytic import (
     Bat,
+    EpisodeMark,
     ImpactCase,
     center_of_percussion,
-    episode_sweet_spot,
+    episode_cop_mark,
+    episode_sweet_spot_mark,
     predict_arrays,
     presets,
     sweet_spot,
 )
+from analytic.collide import MAX_EPISODE_S
 from analytic.dynamics import HingedSwing
+from analytic.marks import SINGLE_IMPULSE
 
 from . import friction_judge, judge
 from .fire import Fired, Job, Jobs, fire_jobs
@@ -297,10 +301,16 @@ def locate_sweet_spot(name: str, settings: adapters.Settings, firing: Firing,
     """
     if adapters.record(name).batched:
         return _refine(name, settings, firing, bracket, "v1_mps", xatol_m, "max")
-    res = optimize.minimize_scalar(
-        lambda s: -_engine_value(name, settings, firing, s, "v1_mps"), bounds=bracket,
-        method="bounded", options={"xatol": xatol_m})
-    return float(res.x) if math.isfinite(res.fun) else math.nan
+    failed = []  # a NaN steers the bounded search anywhere: any one voids the result
+
+    def minus_v1(s: float) -> float:
+        v = _engine_value(name, settings, firing, s, "v1_mps")
+        failed.extend([s] if not math.isfinite(v) else [])
+        return -v
+
+    res = optimize.minimize_scalar(minus_v1, bounds=bracket, method="bounded",
+                                   options={"xatol": xatol_m})
+    return float(res.x) if math.isfinite(res.fun) and not failed else math.nan
 
 
 def locate_cop(name: str, settings: adapters.Settings, firing: Firing,
@@ -324,20 +334,48 @@ def locate_cop(name: str, settings: adapters.Settings, firing: Firing,
         return math.nan
 
 
-def analytic_marks(firing: Firing) -> dict[str, float]:
-    """The analytic sweet spot and COP (s in m from the COM) for a firing. The sweet spot is
-    that of the answer its rows are judged against: the whole rigid episode's (judge.rigid;
-    at e = 0 a sustained contact moves it) for a frictionless planar firing, else the single
-    impulse's closed form. A sweet spot beyond the cylinder's ends is flagged by the best
-    point the bat offers, ``sweet_spot_hittable_m``, the nearer end."""
+def analytic_marks(firing: Firing, max_episode_s: float = MAX_EPISODE_S) -> dict:
+    """The analytic sweet spot and COP (s in m from the COM) for a firing, each that of the
+    answer its rows are judged against (``analytic.marks``): for a frictionless planar firing
+    the whole rigid episode's (``judge.rigid``, followed for ``max_episode_s``, the engines'
+    ``max_contact_s``; at e = 0 a sustained contact moves both), located on ``collide`` as an
+    engine's are on its own outcomes, or the single impulse's closed form where the episode at
+    it is that impulse; else the single impulse's closed form. ``*_reference`` says which:
+    'single impulse', 'whole episode', or 'none' (the mark NaN, ``*_why`` saying why: the
+    episode there is still in contact at the budget, say; with friction, what the frictionless
+    closed form leaves out), and ``*_single_impulse_m`` gives the closed form beside it. A
+    sweet spot beyond the cylinder's ends is flagged by the best point the bat offers,
+    ``sweet_spot_hittable_m``, the nearer end; ``cylinder_s_min_m`` and ``cylinder_s_max_m``
+    are the cylinder's ends (s, m). Cached: the sweep asks twice."""
+    return dict(_marks(firing, float(max_episode_s)))
+
+
+@functools.lru_cache(maxsize=16)
+def _marks(firing: Firing, max_episode_s: float) -> tuple:
     bat = firing.bat
-    s_star = sweet_spot(bat, presets.BASEBALL, firing.v0_mps, firing.u0_mps,
-                        firing.omega0_radps, theta_rad=firing.theta_rad)
-    case = firing.case(min(max(s_star, bat.s_min_m), bat.s_max_m))
+    single = {"sweet_spot": sweet_spot(bat, presets.BASEBALL, firing.v0_mps, firing.u0_mps,
+                                       firing.omega0_radps, theta_rad=firing.theta_rad),
+              "cop": center_of_percussion(bat, firing.hands_from_knob_m)}
+    case = firing.case(firing.s_m[0])  # its speeds: the marks' searches set their own s
+    # with friction or out of the swing plane the rows' answer is a frictional impulse
+    # (judge.rigid), on which nothing is located: the frictionless closed forms, said so
+    left_out = "frictionless and in the swing plane: the firing's friction or tilt is not in it"
+    found = {k: EpisodeMark(s_m=v, reference=SINGLE_IMPULSE, why=left_out)
+             for k, v in single.items()}
     if case.frictionless_planar:
-        s_star = episode_sweet_spot(case)
-    return {"sweet_spot_m": s_star, "cop_m": center_of_percussion(bat, firing.hands_from_knob_m),
-            "sweet_spot_hittable_m": min(max(s_star, bat.s_min_m), bat.s_max_m)}
+        found = {"sweet_spot": episode_sweet_spot_mark(case, max_episode_s=max_episode_s),
+                 "cop": episode_cop_mark(case, max_episode_s=max_episode_s)}
+    out: dict = {}
+    for k, mark in found.items():
+        out.update({f"{k}_m": mark.s_m, f"{k}_reference": mark.reference,
+                    f"{k}_single_impulse_m": single[k]})
+        if mark.why:
+            out[f"{k}_why"] = mark.why
+    s_star = out["sweet_spot_m"]
+    out["sweet_spot_hittable_m"] = (min(max(s_star, bat.s_min_m), bat.s_max_m)
+                                    if math.isfinite(s_star) else math.nan)
+    out.update(cylinder_s_min_m=bat.s_min_m, cylinder_s_max_m=bat.s_max_m)
+    return tuple(out.items())
 
 
 def bracket_around(s: Iterable[float], values: Iterable[float],

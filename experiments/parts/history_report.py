@@ -22,6 +22,12 @@ STEPPED = tuple(str(s) for s in Status if s not in (Status.UNSUPPORTED, Status.E
 LACKING = rf"in this release|\b{Status.UNSUPPORTED}\b|^not run"
 
 
+#: history.csv's columns: a release's, then a grid's (blank for a release not judged).
+SUMMARY = ["engine", "release", "state", "version", "numpy", "extras", "python", "checks_passed",
+           "checks_failed", "checks_not_run", "grid", "impacts", "ok", "statuses", "max_err_mps",
+           "cost_us_per_impact", "reason"]
+
+
 @dataclass(frozen=True, kw_only=True)
 class Change:
     """What moved between two releases of an engine: ``regression`` when the later one lost
@@ -85,7 +91,7 @@ class Report:
                             "max_err_mps": measured.err_mps.max() if len(measured) else math.nan,
                             "cost_us_per_impact": g[g.status.isin(STEPPED)].wall_s.median() * 1e6,
                             "reason": _reason(r, g)})
-        return pd.DataFrame(out)
+        return pd.DataFrame(out, columns=SUMMARY)  # every column, if no release was judged
 
     def changes(self, engine: str, before: str, after: str) -> list[Change]:
         """Everything that moved from ``before`` to ``after`` (a row each)."""

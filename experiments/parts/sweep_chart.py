@@ -111,15 +111,18 @@ def _engine(top, strip, bottom, row: int, rec, df: pd.DataFrame) -> bool:
 def _marks(fig, axes, sweep, marks: dict) -> None:
     """The sweet spot and COP on every panel, the labels and the figure's title."""
     f, top = sweep.firing, axes[0]
-    for ax in axes:
-        ax.axvline(marks["sweet_spot_m"], color="tab:red", ls="--", lw=1)
-        ax.axvline(marks["cop_m"], color="tab:purple", ls=":", lw=1.2)
-    top.annotate(f"sweet spot {marks['sweet_spot_m'] * 1e3:.1f} mm", (marks["sweet_spot_m"], 0.3),
-                 xycoords=("data", "axes fraction"), rotation=90, color="tab:red", fontsize=8,
-                 ha="right")
-    top.annotate(f"COP (hands {f.hands_from_knob_m} m) {marks['cop_m'] * 1e3:.1f} mm",
-                 (marks["cop_m"], 0.3), xycoords=("data", "axes fraction"), rotation=90,
-                 color="tab:purple", fontsize=8, ha="left")
+    for key, label, color, ls, ha in (
+            ("sweet_spot", "sweet spot", "tab:red", "--", "right"),
+            ("cop", f"COP (hands {f.hands_from_knob_m} m)", "tab:purple", ":", "left")):
+        s = marks[f"{key}_m"]
+        if not math.isfinite(s):  # no reference applies (tables.analytic_marks says why)
+            continue
+        for ax in axes:
+            ax.axvline(s, color=color, ls=ls, lw=1.1)
+        ref = marks.get(f"{key}_reference", "single impulse")
+        top.annotate(f"{label} {s * 1e3:.1f} mm ({ref})", (s, 0.03),
+                     xycoords=("data", "axes fraction"), rotation=90, color=color, fontsize=8,
+                     ha=ha, va="bottom")
     top.set_ylabel("batted-ball speed v1 (m/s)")
     fig.suptitle(f"{f.bat.name}: v0 = {f.v0_mps:g} m/s, u0 = {f.u0_mps:.4g} m/s, "
                  f"omega0 = {f.omega0_radps:g} rad/s, e = {f.e:g}; profile {sweep.profile}"
@@ -145,27 +148,60 @@ def print_compliant(table: pd.DataFrame, law: str) -> None:
 
 
 def print_summary(meta: dict, table: pd.DataFrame | None = None) -> None:
-    """Per engine: errors, statuses, sweet spot and COP from engine data vs analytic (mm); with
-    the ``table``, each status other than ok, counted, with the first such row's reason."""
+    """Per engine: errors, statuses, sweet spot and COP from engine data vs analytic (mm); the
+    analytic marks and what each is located on (``tables.analytic_marks``: the single impulse,
+    or the whole rigid episode where that impulse is not all of it; 'no ref' where neither
+    applies); with the ``table``, each status other than ok, counted, with the first such
+    row's reason."""
     marks = meta["analytic"]
     print(f"{'engine':9} {'ok':>7} {'max |dv1| m/s':>14} {'median':>10} {'max rel':>9} "
           f"{'sweet spot mm':>18} {'COP mm':>18} {'us/impact':>9}")
     for name, s in meta["engines"].items():
         ok = s["status_counts"].get(Status.OK, 0)
-
-        def mm(x, ref):
-            return "n/a" if not math.isfinite(x) else f"{x * 1e3:.4f} ({(x - ref) * 1e3:+.1e})"
-
         print(f"{name:9} {ok:>3}/{s['impacts']:<3} {s['v1_abs_err_max_mps']:>14.3e} "
               f"{s['v1_abs_err_median_mps']:>10.2e} {s['v1_rel_err_max']:>9.2e} "
-              f"{mm(s['sweet_spot_engine_m'], marks['sweet_spot_m']):>18} "
-              f"{mm(s['cop_engine_m'], marks['cop_m']):>18} "
+              f"{_offset(s['sweet_spot_engine_m'], marks['sweet_spot_m']):>18} "
+              f"{_offset(s['cop_engine_m'], marks['cop_m']):>18} "
               f"{s['wall_per_impact_median_s'] * 1e6:>9.1f}")
     best = marks.get("sweet_spot_hittable_m", marks["sweet_spot_m"])
-    off = "" if best == marks["sweet_spot_m"] else \
+    off = "" if best == marks["sweet_spot_m"] or not math.isfinite(best) else \
         f" (off the bat's cylinder: the best point on it is its end, {best * 1e3:.4f} mm)"
-    print(f"analytic: sweet spot {marks['sweet_spot_m'] * 1e3:.4f} mm{off}, "
-          f"COP {marks['cop_m'] * 1e3:.4f} mm from the COM")
+    print(f"analytic: sweet spot {_mm(marks['sweet_spot_m'])}{off}, "
+          f"COP {_mm(marks['cop_m'])} from the COM")
+    print("  located on: " + "; ".join(_reference(marks, k, label)
+                                       for k, label in (("sweet_spot", "sweet spot"),
+                                                        ("cop", "COP"))))
     if table is not None:
         for (name, status), rows in table[table.status != Status.OK].groupby(["engine", "status"]):
             print(f"{name}: {len(rows)} {status} ({rows.episode_end.iloc[0]})")
+
+
+def _mm(x: float) -> str:
+    return f"{x * 1e3:.4f} mm" if math.isfinite(x) else "n/a"
+
+
+def _offset(x: float, ref: float) -> str:
+    """An engine's mark (mm) and its offset from the analytic one; 'no ref' where there is
+    none to compare with."""
+    if not math.isfinite(x):
+        return "n/a"
+    if not math.isfinite(ref):
+        return f"{x * 1e3:.4f} (no ref)"
+    return f"{x * 1e3:.4f} ({(x - ref) * 1e3:+.1e})"
+
+
+def _reference(marks: dict, key: str, label: str) -> str:
+    """What the analytic ``key`` mark is located on, with the single impulse's beside it where
+    that is not the reference (marks from before the references were recorded: the single
+    impulse's COP, the sweet spot unsaid)."""
+    ref = marks.get(f"{key}_reference", "single impulse" if key == "cop" else "unrecorded")
+    single = marks.get(f"{key}_single_impulse_m", math.nan)
+    text = f"{label}: {ref}"
+    if ref == "none" or f"{key}_why" in marks:
+        text += f" ({marks.get(f'{key}_why', 'no reference')})"
+    if ref != "single impulse" and math.isfinite(single):
+        text += f" (the single impulse's, which does not apply here: {single * 1e3:.4f} mm)"
+    lo, hi = marks.get("cylinder_s_min_m", -math.inf), marks.get("cylinder_s_max_m", math.inf)
+    if key == "cop" and not lo <= marks["cop_m"] <= hi and math.isfinite(marks["cop_m"]):
+        text += " (off the bat's cylinder: no engine can locate it)"
+    return text
