@@ -143,12 +143,16 @@ class Cost:
     engine: ``EngineRecord.batched`` says which), and ``start_s`` what each new batch size
     first costs in a process (s: JAX's trace and compile, Warp's module load).
     ``coast_step_cost_s``: a step with the bodies apart (the approach, a hinged swing's steps),
-    where it costs much less than a contact step (None: ``step_cost_s``)."""
+    where it costs much less than a contact step (None: ``step_cost_s``).
+    ``impact_limit_s``: the longest one impact may take on the wall clock before it is a
+    ``timeout`` (s; a batch of a batched engine's worlds, stepped together, as long, plus
+    ``start_s``); None: derived from the costs above (``experiments.core.watchdog``)."""
 
     step_cost_s: float = 1e-5
     world_step_cost_s: float | None = None
     start_s: float = 0.0
     coast_step_cost_s: float | None = None
+    impact_limit_s: float | None = None
 
     @property
     def coast_s(self) -> float:
@@ -162,6 +166,8 @@ class Cost:
         if self.world_step_cost_s is not None:
             checks.positive("world_step_cost_s", self.world_step_cost_s)
         checks.non_negative("start_s", self.start_s)
+        if self.impact_limit_s is not None:
+            checks.positive("impact_limit_s", self.impact_limit_s)
 
 
 @dataclass(frozen=True, kw_only=True)

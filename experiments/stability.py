@@ -56,7 +56,8 @@ BUDGET_S = 0.02
 SOUND = (Status.OK, Status.UNJUDGED)
 LETTERS = {Status.TUNNELLED: "T", Status.NON_FINITE: "N", Status.ENERGY_GAINED: "E",
            Status.PENETRATION: "P", Status.INACCURATE: "I", Status.NO_SEPARATION: "S",
-           Status.NO_CONTACT: "C", Status.UNSUPPORTED: "U", Status.ERROR: "X"}
+           Status.NO_CONTACT: "C", Status.UNSUPPORTED: "U", Status.ERROR: "X",
+           Status.TIMEOUT: "L"}
 
 
 def theory_fraction_caught(v_mps: float, dt_s: float, k: int, overlap_m: float = 1e-9,

@@ -37,7 +37,7 @@ from analytic.dynamics import Drive, motion, state_array
 
 from .core import cli
 from .core.cli import Command
-from .core.fire import run_motion
+from .core.drive import run_motion
 from .core.io import figure_png, json_bytes, provenance
 from .core.runner import Runner
 

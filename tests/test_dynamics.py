@@ -30,7 +30,7 @@ import adapters
 from analytic import compliant, predict, presets
 from analytic.dynamics import Drive, HingedSwing, motion, motion_integrated, state_array
 from experiments.core import Job, fire_jobs, judge
-from experiments.core.fire import run_motion
+from experiments.core.drive import run_motion
 from experiments.core.placement import swing_case
 from experiments.core.terms import HINGE_K
 

@@ -20,7 +20,7 @@ import pytest
 import adapters
 from analytic import ImpactCase, presets
 from experiments.core import Job, Status, judge, tables, terms
-from experiments.core.fire import fire_group
+from experiments.core.fire import guarded
 from experiments.core.hosting import Hosted
 from experiments.core.placement import min_dt_s
 
@@ -98,7 +98,7 @@ def test_no_false_tunnelled_or_ok_from_1e12_to_1_s(name, profile):
         host.adapter = Recorder(host.adapter)
         try:
             for case in CASES:
-                row = tables.table(fire_group(host, [Job(engine=name, settings=st, case=case)]),
+                row = tables.table(guarded(host, [Job(engine=name, settings=st, case=case)]),
                                    profile).iloc[0]
                 _judge_row(row, host.adapter, dt)
                 # first seen deeper than r_ball + r_bat: the tunnelling bound
@@ -143,7 +143,7 @@ def test_a_contact_between_two_readings_is_judged_not_missed(name):
             host = Hosted(name, st)
             host.adapter = Recorder(host.adapter)
             try:
-                row = tables.table(fire_group(host, [Job(engine=name, settings=st, case=case)]),
+                row = tables.table(guarded(host, [Job(engine=name, settings=st, case=case)]),
                                    "reference").iloc[0]
                 _judge_row(row, host.adapter, dt)
                 # seen at most phase v dt + overlap_m = 37 mm deep, inside the 66.6 mm reach:

@@ -25,6 +25,9 @@ class Ending(enum.IntEnum):
     BUDGET = 5
     LEFT_CYLINDER = 6
     SEPARATED = 7
+    #: the adapter said the bodies touch while its own state had them apart by more than
+    #: ``terms.FLAG_REACHES`` reaches: its contact flag is wrong, nothing it measures is sound
+    CONTACT_FLAG = 8
 
 
 #: Each ending's label ('' for NONE), as Python strings, indexed by code: ``LABELS[codes]`` is
@@ -38,6 +41,7 @@ def classify(xp, ended, first, peak_m, side_m, reach_m: float, ke0, ke1, allowan
     rule that holds. ``allowance``: the relative energy gain that is rounding
     (``judge.energy_allowance``)."""
     rules = (((ended == Ending.NON_FINITE) | (ended == Ending.JUMPED), Status.NON_FINITE),
+             (ended == Ending.CONTACT_FLAG, Status.ERROR),
              ((ended == Ending.PASSED) | ((ended == Ending.BUDGET) & (first < 0)),
               Status.TUNNELLED),
              (ended == Ending.MISSED, Status.NO_CONTACT),

@@ -6,6 +6,8 @@ Every episode the harness steps, of any kind of world, runs through one loop,
 ``run_episode``; what it is for (when it is over, what it measures) is its task's: the
 impact's (``_Stepper``), the segmented bat's (``chain``), a swing's or a drive's (``Coast``).
 
+The worlds it steps are the engine seen as a batch (``worlds``).
+
 An impact's episode ends as ``analytic.collide`` ends the rigid one: the bodies apart with no
 contact to come in free flight (``analytic.collide.free_flight``), the ball off the cylinder's
 span, or ``max_contact_s`` of episode spent (the budget). How it ended (``ended``) decides the
@@ -14,7 +16,9 @@ moved more than its speeds allow: a silent reset) are ``non_finite``; 'passed' (
 when due, the ball's centre beyond the bat's axis) is ``tunnelled``; 'missed' (no contact seen
 when due, the ball still on its side, its velocity as it was) is ``no_contact``; a ball
 deflected between two readings had its contact then (``terms.DEFLECTED``); 'budget' is
-``no_separation`` (or ``tunnelled`` without a contact); after 'separated' or 'left_cylinder' the
+``no_separation`` (or ``tunnelled`` without a contact); 'contact_flag' (the adapter said the
+bodies touch while its own state has them a contact reach apart: ``terms.FLAG_REACHES``) is
+``error``; after 'separated' or 'left_cylinder' the
 final state is checked: beyond the bat's axis ``tunnelled``, deeper than r_ball + r_bat at any
 step ``penetration``, more kinetic energy than before ``energy_gained``, else ``ok`` (the judge
 may still find it inaccurate).
@@ -23,20 +27,16 @@ may still find it inaccurate).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
-from itertools import chain
 from typing import Protocol
 
-import numpy as np
-
-from adapters import Hands, Settings, State
+from adapters import Settings
 from analytic import Ball, Bat, Outcome
 
 from . import geometry as g
 from .endings import Ending
 from .judge import Status
-from .terms import DEFLECTED, JUMP_REACHES, OFF_SPAN_STEPS
+from .terms import DEFLECTED, FLAG_REACHES, JUMP_REACHES, OFF_SPAN_STEPS
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -73,104 +73,6 @@ class SimOutcome(Outcome):
     def ok(self) -> bool:
         """True when the outcome is physically sound (status ok)."""
         return self.status is Status.OK
-
-
-class OneWorld:
-    """A single-world engine (``adapters.Engine``) as a batch of one, in Python floats."""
-
-    xp = g.SCALARS
-    n = 1
-
-    def __init__(self, engine) -> None:
-        self.engine = engine
-
-    def set_state(self, state: State) -> None:
-        self.engine.set_state(state)
-
-    def step(self) -> None:
-        self.engine.step()
-
-    def any_contact(self) -> bool:
-        return self.engine.in_contact()
-
-    def in_contact(self) -> bool:
-        return self.engine.in_contact()
-
-    def read(self) -> State:
-        return self.engine.read()
-
-    def failed(self) -> bool:
-        return self.engine.failed()
-
-    def set_drive(self, hands: Sequence[Hands] | None) -> None:
-        self.engine.set_drive(None if hands is None else hands[0])
-
-
-class EngineWorlds:
-    """Several single-world engines (``adapters.Engine``), one world each, stepped in turn and
-    seen as one batch in numpy arrays: the harness's work on a step is done once for them all."""
-
-    xp = g.ARRAYS
-
-    def __init__(self, engines: Sequence) -> None:
-        self.engines, self.n = engines, len(engines)
-
-    def set_state(self, states: np.ndarray) -> None:
-        for engine, row in zip(self.engines, states.tolist()):
-            engine.set_state(State(*row))
-
-    def step(self) -> None:
-        for engine in self.engines:
-            engine.step()
-
-    def any_contact(self) -> bool:
-        return any(engine.in_contact() for engine in self.engines)
-
-    def in_contact(self) -> np.ndarray:
-        return np.fromiter((engine.in_contact() for engine in self.engines), bool, self.n)
-
-    def read(self) -> np.ndarray:
-        states = [engine.read() for engine in self.engines]
-        flat = np.fromiter(chain.from_iterable(states), float, self.n * len(states[0]))
-        return g.padded(flat.reshape(self.n, -1))
-
-    def failed(self) -> np.ndarray:
-        return np.array([engine.failed() for engine in self.engines], dtype=bool)
-
-    def set_drive(self, hands: Sequence[Hands] | None) -> None:
-        for i, engine in enumerate(self.engines):
-            engine.set_drive(None if hands is None else hands[i])
-
-
-class ManyWorlds:
-    """A batched engine (``adapters.BatchedEngine``) over ``n`` worlds, in numpy arrays."""
-
-    xp = g.ARRAYS
-
-    def __init__(self, engine, n: int) -> None:
-        self.engine, self.n = engine, n
-
-    def set_state(self, states: np.ndarray) -> None:
-        self.engine.set_state(states)
-
-    def step(self) -> None:
-        self.engine.step()
-
-    def any_contact(self) -> bool:
-        return bool(np.any(self.engine.in_contact()))
-
-    def in_contact(self) -> np.ndarray:
-        return np.asarray(self.engine.in_contact(), dtype=bool)
-
-    def read(self) -> np.ndarray:
-        return g.padded(np.asarray(self.engine.read(), dtype=float))
-
-    def failed(self) -> np.ndarray:
-        got = self.engine.failed()
-        return np.zeros(self.n, dtype=bool) if got is None else np.asarray(got, dtype=bool)
-
-    def set_drive(self, hands: Sequence[Hands] | None) -> None:
-        self.engine.set_drive(hands)
 
 
 @dataclass
@@ -252,6 +154,7 @@ class _Stepper:
         # collide; a soft one may be milliseconds long and slide past it within one impact
         self.rigid = rigid
         self.limit_m = JUMP_REACHES * (bat.radius_m + ball.radius_m)
+        self.flag_gap_m = FLAG_REACHES * (bat.radius_m + ball.radius_m)
         self.first, self.last = xp.full(n, -1), xp.full(n, -1)
         self.peak, self.off_steps = xp.full(n, -math.inf), xp.full(n, 0)
         self.active, self.prev_step = xp.full(n, True), xp.full(n, 0)
@@ -336,6 +239,7 @@ class _Stepper:
         pen, apart, off_span, side = self.geometry(xp, self.bat, self.ball, S,
                                                    self.came_from)
         self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
+        self.finish(ok & touching & (pen < -self.flag_gap_m), Ending.CONTACT_FLAG, step, S, side)
         # a contact that began and ended between two readings shows in the ball's velocity
         vx0, vy0, limit2 = self.ball_v0
         dvx, dvy = S[g.BALL_VX] - vx0, S[g.BALL_VY] - vy0

@@ -11,9 +11,10 @@ run is the runner's business (``experiments.core.runner``).
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from itertools import compress, pairwise
 from operator import attrgetter, ne
@@ -22,28 +23,38 @@ from types import SimpleNamespace
 import numpy as np
 
 import adapters
-from adapters import ContactReference, Scene, Settings, State
+from adapters import ContactReference, Scene, Settings
 from analytic import ImpactCase
-from analytic.dynamics import HingedSwing, MotionState
+from analytic.dynamics import HingedSwing
 
 from . import geometry as g
+from . import watchdog
 from .boundary import STOP
+from .drive import swing_into_place
 from .endings import LABELS, classify
-from .episode import Coast, OneWorld, SimOutcome, run_episode, step_episodes
-from .fired import Fired, FiredBlock, FiredSeq, nan_release, outcome
+from .episode import step_episodes
+from .fired import (
+    Fired,
+    FiredBlock,
+    FiredSeq,
+    NotFired,
+    analytic_release,
+    nan_release,
+    outcome,
+    unmeasured,
+)
 from .hosting import Hosted, SceneMismatch, engine_settings, hosted
 from .judge import Status, energy_allowance
 from .placement import (
-    PARKED_BALL_Y_M,
     SwingPlan,
     case_columns,
     check_placements,
     distinct_cases,
-    hands_for,
     start_states,
     swing_case,
     take_rows,
 )
+from .worlds import OneWorld
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -101,12 +112,13 @@ class Jobs(Sequence):
 def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> FiredSeq:
     """Fire jobs in this process, in order: each run of consecutive jobs sharing engine,
     settings, scene and swing as one batch on a batched engine, and on a single-world one in
-    batches of as many engines as the run repays (``Hosted.pool_size``; one under a swing)."""
+    batches of as many engines as the run repays (``Hosted.pool_size``; one under a swing).
+    An engine that fails (raises, exits, hangs, holds another scene) fails its batch's rows,
+    not the run (``guarded``)."""
     parts: list[Sequence[Fired]] = []
+    seen: set[int] = set()  # hosts met in this firing: their timeouts counted from here
     for run in runs(jobs):
-        host = hosted(run[0].engine, run[0].settings)
-        for group, placed in _groups(host, run):
-            fired = fire_group(host, group, placed)
+        for group, fired in _fired_batches(run, seen):
             if isinstance(fired, FiredBlock) or not parts or isinstance(parts[-1], FiredBlock):
                 parts.append(fired)
             else:
@@ -115,6 +127,79 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
             if tick is not None:
                 tick(len(group))
     return FiredSeq(parts)
+
+
+def _fired_batches(run: Sequence[Job], seen: set[int]):
+    """Each batch of a run with what it gave (``guarded``); every job's row an error where
+    the engine's adapter cannot even be made. ``seen``: the hosts this firing met already
+    (one met first has its timeouts in a row counted anew)."""
+    try:
+        host = hosted(run[0].engine, run[0].settings)
+    except (Exception, SystemExit) as err:  # noqa: BLE001 - any failure of the engine's
+        yield run, _unmeasured(run, NotFired(Status.ERROR, _why(err)), 0.0)
+        return
+    if id(host) not in seen:
+        seen.add(id(host))
+        host.timeouts = 0
+    for group, placed in _groups(host, run):
+        yield group, guarded(host, group, placed)
+
+
+#: After this many timeouts in a row in one firing, an engine's further batches in it are not
+#: fired: each would wait out its whole limit.
+TIMEOUTS_IN_A_ROW = 2
+
+
+def guarded(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
+            ) -> Sequence[Fired]:
+    """``fire_group`` within the engine's wall-clock limit (``watchdog``), whatever the engine
+    does: past the limit its batch's rows are 'timeout'; where it raised, called sys.exit or
+    holds mass properties other than the scene's, 'error' (``ended`` says which), and its
+    adapters are made anew for the next batch; where it cannot fire them, 'unsupported'."""
+    t0 = time.perf_counter()
+    limit = watchdog.limit_s(host.record, host.settings, len(jobs), _swing_steps(host, jobs))
+    try:
+        if host.timeouts >= TIMEOUTS_IN_A_ROW:
+            raise NotFired(Status.TIMEOUT, f"not fired: {host.name} timed out {host.timeouts} "
+                                           "times in a row")
+        with watchdog.limited(limit):
+            host.renew_if_failed()
+            fired = fire_group(host, jobs, placed)
+        host.timeouts = 0
+        return fired
+    except NotFired as err:
+        failure = err
+    except CaseError:
+        raise
+    except watchdog.TimedOut:
+        host.failed(timed_out=True)
+        failure = NotFired(Status.TIMEOUT, f"timeout: no result within {limit:.3g} s")
+    except (Exception, SystemExit) as err:  # noqa: BLE001 - any failure of the engine's
+        host.failed()
+        failure = NotFired(Status.ERROR, _why(err))
+    return _unmeasured(jobs, failure, time.perf_counter() - t0)
+
+
+def _why(err: BaseException) -> str:
+    """What an engine's failure was, for its rows' ``ended``."""
+    if isinstance(err, SystemExit):
+        return f"error: the engine called sys.exit({err.code!r})"
+    if isinstance(err, SceneMismatch):
+        return f"error: scene mismatch: {err}"[:200]
+    return f"error: {err!r}"[:200]
+
+
+def _swing_steps(host: Hosted, jobs: Sequence[Job]) -> int:
+    swing = jobs[0].swing
+    return 0 if swing is None else math.ceil(swing.duration_s(jobs[0].case.bat)
+                                             / host.settings.dt_s)
+
+
+def _unmeasured(jobs: Sequence[Job], failure: NotFired, wall_s: float) -> list[Fired]:
+    """The rows of a batch that ``failure`` stopped (its re-planned cases, where it has them)."""
+    cases, each, _ = _cases(jobs)
+    return unmeasured(jobs[0].engine, failure.cases or cases, each, failure.plans,
+                      failure.status, failure.why, wall_s / len(cases))
 
 
 def _groups(host: Hosted, run: Sequence[Job]):
@@ -206,10 +291,11 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
     plans: list[SwingPlan] | None = None
     cases, each, distinct = _cases(jobs)
     if jobs[0].swing is not None:
-        planned = [swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
-                              swing=jobs[0].swing, settings=k, mu=c.mu,
-                              undercut_m=c.undercut_m, spin_radps=c.spin_radps)
-                   for c, k in zip(cases, each)]
+        with _harness():
+            planned = [swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
+                                  swing=jobs[0].swing, settings=k, mu=c.mu,
+                                  undercut_m=c.undercut_m, spin_radps=c.spin_radps)
+                       for c, k in zip(cases, each)]
         cases, plans = [p[0] for p in planned], [p[1] for p in planned]
     bat, ball = cases[0].bat, cases[0].ball
     xp = g.ARRAYS if host.batched or len(cases) > 1 else g.SCALARS
@@ -225,37 +311,53 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
                                             | (t.spin_y != 0.0)))
     lacking = _lacking(host.record, cases[0].mu, spatial)
     if lacking:
-        return _failed(host, cases, each, plans, Status.UNSUPPORTED, lacking, t0)
+        raise NotFired(Status.UNSUPPORTED, lacking, cases, plans)
     try:
         batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e, mu=cases[0].mu), len(cases))
     except adapters.MissingFeature as err:  # an older release of the engine (history)
-        return _failed(host, cases, each, plans, Status.UNSUPPORTED, str(err)[:200], t0)
-    check_placements(xp, cases, cc, each)
-    starts = start_states(xp, bat, ball, cc, st)[0] if placed is None else placed.starts
+        raise NotFired(Status.UNSUPPORTED, str(err)[:200], cases, plans) from None
+    with _harness():
+        check_placements(xp, cases, cc, each)
+        starts = start_states(xp, bat, ball, cc, st)[0] if placed is None else placed.starts
     release = xp.full(len(cases), math.nan), xp.full(len(cases), math.nan)
     try:
         if plans is not None:
-            starts, release = _swing_into_place(batch, plans, starts, bat)
+            starts, release = swing_into_place(batch, plans, starts, bat)
         rigid = host.record.errors.contact_reference(st) is ContactReference.RIGID_IMPULSE
         episodes = step_episodes(batch, bat, ball, st, starts, spatial, rigid)
     except NotImplementedError:  # an engine that cannot drive the bat
-        return _failed(host, cases, each, plans, Status.UNSUPPORTED, "no set_drive", t0)
-    except (KeyboardInterrupt, SceneMismatch):
-        raise
+        raise NotFired(Status.UNSUPPORTED, "no set_drive", cases, plans) from None
     except Exception as err:  # the engine raised while stepping: a failure, not a crash
-        return _failed(host, cases, each, plans, Status.ERROR, f"error: {err!r}"[:200], t0)
+        raise NotFired(Status.ERROR, f"error: {err!r}"[:200], cases, plans) from err
     cols = _measure(xp, host, cc, starts, episodes, bat, ball, spatial)
     cols["release_omega_radps"], cols["release_angle_rad"] = release
     cols["steps"] = cols["steps"] + (plans[0].steps if plans else 0)
     wall = (time.perf_counter() - t0) / len(cases)
     if isinstance(batch, OneWorld):
         return [Fired(cases[0], outcome(cols, None, engine=host.name, settings=st, wall_s=wall),
-                      *_analytic_release(plans[0] if plans else None))]
+                      *analytic_release(plans[0] if plans else None))]
     cols.update(nan_release(len(cases)) if plans is None else {
         "release_omega_analytic_radps": np.array([p.omega_release_radps for p in plans]),
         "release_angle_analytic_rad": np.array([p.angle_release_rad for p in plans])})
     return FiredBlock(cases, cols, engine=host.name, settings=each, wall_s=wall,
                       distinct=distinct)
+
+
+class CaseError(ValueError):
+    """An impact the harness cannot plan or place: the caller's input, not the engine's doing
+    (raised, never made a row)."""
+
+
+@contextlib.contextmanager
+def _harness() -> Iterator[None]:
+    """The harness's own part of a batch (planning a swing, placing the worlds): a ValueError
+    there is a ``CaseError``."""
+    try:
+        yield
+    except CaseError:
+        raise
+    except ValueError as err:
+        raise CaseError(str(err)) from err
 
 
 def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:
@@ -292,67 +394,3 @@ def _lacking(record: adapters.EngineRecord, mu: float, spatial: bool) -> str:
     if mu > 0.0 and record.can.friction_rule is None:
         return "no friction in the adapter"
     return ""
-
-
-def _swing_into_place(batch, plans: list[SwingPlan], starts, bat):
-    """Swing every world's bat from rest about the hands and release it (the ball parked far
-    away); returns the start states with the engine's bats, and each release's omega and
-    angle (rad/s, rad) as columns."""
-    if len({p.steps for p in plans}) != 1:
-        raise ValueError("swings of one batch must last the same number of steps")
-    xp = batch.xp
-    batch.set_state(xp.stack([p.bat_start for p in plans]))
-    batch.set_drive([p.hands(bat) for p in plans])
-    run_episode(batch, Coast(), plans[0].steps)
-    batch.set_drive(None)
-    swung = batch.read()
-    cols = xp.cols(swung)
-    return xp.with_bat(starts, swung), (cols[g.BAT_W], cols[g.BAT_ANGLE])
-
-
-def _analytic_release(plan: SwingPlan | None) -> tuple[float, float]:
-    return (math.nan, math.nan) if plan is None else (plan.omega_release_radps,
-                                                      plan.angle_release_rad)
-
-
-def _failed(host: Hosted, cases, each: list[Settings], plans, status: Status, why: str,
-            t0: float) -> list[Fired]:
-    """Every job of a batch with no measurement: ``status``, NaN numbers, ``ended`` = why."""
-    wall = (time.perf_counter() - t0) / len(cases)
-    nan = math.nan
-    out = []
-    for case, settings, plan in zip(cases, each, plans or [None] * len(cases)):
-        o = SimOutcome(v1_mps=nan, u1_mps=nan, omega1_radps=nan, impulse_ns=nan, q=nan,
-                       closing_speed_mps=case.closing_speed_mps, hand_dv_mps=nan,
-                       ke_before_j=nan, ke_after_j=nan, v1_t_mps=nan, u1_t_mps=nan,
-                       engine=host.name, status=status, contact_duration_s=0.0,
-                       peak_penetration_m=nan, steps=0, wall_s=wall, settings=settings,
-                       ended=why, ball_side_m=nan)
-        out.append(Fired(case, o, *_analytic_release(plan)))
-    return out
-
-
-def run_motion(name: str, settings: Settings, bat, drive, t_s: float,
-               angle_rad: float = 0.0) -> MotionState:
-    """Drive the bat alone (the ball parked far away) from rest at ``angle_rad`` for
-    round(t/dt) steps under ``drive`` (an ``analytic.dynamics.Drive``), hinged at the world's
-    origin if the drive has a pivot; the bat's state at the end, as ``analytic.dynamics``
-    gives it."""
-    from analytic import presets
-    from analytic.dynamics import start_state as motion_start
-
-    host = hosted(name, settings)
-    batch = host.batch(Scene(bat=bat, ball=presets.BASEBALL, e=presets.E_WOOD), 1)
-    s0 = motion_start(bat, drive, angle_rad)
-    rest = State(ball_x_m=0.0, ball_y_m=PARKED_BALL_Y_M, ball_vx_mps=0.0, ball_vy_mps=0.0,
-                 ball_omega_radps=0.0, bat_x_m=s0.x_m, bat_y_m=s0.y_m, bat_angle_rad=angle_rad,
-                 bat_vx_mps=0.0, bat_vy_mps=0.0, bat_omega_radps=0.0)
-    batch.set_state(batch.xp.stack([rest]))
-    steps = round(t_s / settings.dt_s)
-    batch.set_drive([hands_for(drive, bat)])
-    run_episode(batch, Coast(), steps)
-    batch.set_drive(None)
-    r = [float(v) for v in batch.xp.row(batch.read(), 0)]
-    return MotionState(t_s=steps * settings.dt_s, x_m=r[g.BAT_X], y_m=r[g.BAT_Y],
-                       angle_rad=r[g.BAT_ANGLE], vx_mps=r[g.BAT_VX], vy_mps=r[g.BAT_VY],
-                       omega_radps=r[g.BAT_W])

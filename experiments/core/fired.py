@@ -76,6 +76,40 @@ class FiredBlock(Sequence):
                      float(self.cols["release_angle_analytic_rad"][i]))
 
 
+class NotFired(Exception):
+    """A batch the engine did not fire to the end: each impact's row has ``status`` and
+    ``why`` as how its episode ended, and no measurement; ``cases`` and ``plans``: the cases as
+    the batch re-planned them under a swing, and their swing plans, where it did."""
+
+    def __init__(self, status: Status, why: str, cases: Sequence[ImpactCase] | None = None,
+                 plans: Sequence | None = None) -> None:
+        super().__init__(why)
+        self.status, self.why, self.cases, self.plans = status, why, cases, plans
+
+
+def unmeasured(engine: str, cases: Sequence[ImpactCase], each: Sequence[Settings], plans,
+               status: Status, why: str, wall_s: float) -> list[Fired]:
+    """Every job of a batch with no measurement: ``status``, NaN numbers, ``ended`` = why;
+    ``plans``: their swing plans (``placement.SwingPlan``), or None."""
+    nan = math.nan
+    out = []
+    for case, settings, plan in zip(cases, each, plans or [None] * len(cases)):
+        o = SimOutcome(v1_mps=nan, u1_mps=nan, omega1_radps=nan, impulse_ns=nan, q=nan,
+                       closing_speed_mps=case.closing_speed_mps, hand_dv_mps=nan,
+                       ke_before_j=nan, ke_after_j=nan, v1_t_mps=nan, u1_t_mps=nan,
+                       engine=engine, status=status, contact_duration_s=0.0,
+                       peak_penetration_m=nan, steps=0, wall_s=wall_s, settings=settings,
+                       ended=why, ball_side_m=nan)
+        out.append(Fired(case, o, *analytic_release(plan)))
+    return out
+
+
+def analytic_release(plan) -> tuple[float, float]:
+    """A swing plan's analytic omega and angle at release (rad/s, rad); NaN without one."""
+    return (math.nan, math.nan) if plan is None else (plan.omega_release_radps,
+                                                      plan.angle_release_rad)
+
+
 def nan_release(n: int) -> dict[str, np.ndarray]:
     """The analytic release columns of a batch fired without a swing."""
     return {"release_omega_analytic_radps": np.full(n, math.nan),

@@ -7,6 +7,7 @@ its record names one (``Capabilities.pool_adapter``), one adapter holding the ru
 from __future__ import annotations
 
 import atexit
+import contextlib
 import gc
 import math
 import time
@@ -16,8 +17,8 @@ from dataclasses import replace
 import adapters
 from adapters import BatchedEngine, MassProperties, Scene, Settings
 
-from .episode import EngineWorlds, ManyWorlds, OneWorld
 from .judge import mass_allowance
+from .worlds import EngineWorlds, ManyWorlds, OneWorld
 
 #: Engines kept alive per process (one per engine and settings), oldest closed first.
 ENGINE_CACHE = 8
@@ -56,6 +57,25 @@ class Hosted:
         # scene and world count as built, and the most worlds it was built with (it keeps
         # what holds them)
         self.pool, self.pool_scene, self.pool_n, self.pool_worlds = None, None, 0, 0
+        # its batches that timed out in a row, and whether its adapters failed (``failed``)
+        self.timeouts, self.broken = 0, False
+
+    def failed(self, timed_out: bool = False) -> None:
+        """The engine failed a batch (raised, exited, timed out): its adapters, in whatever
+        state that left them, are made anew before the next (``renew_if_failed``)."""
+        self.broken = True
+        self.timeouts += timed_out
+
+    def renew_if_failed(self) -> None:
+        """After a failure: close every adapter (whatever it says, it is not used again) and
+        make the first one anew."""
+        if not self.broken:
+            return
+        with contextlib.suppress(Exception):
+            self.close()
+        self.engines, self.scenes, self.scene, self.worlds = [], [], None, 0
+        self.adapter = adapters.create(self.name, self.settings)
+        self.engines, self.scenes, self.broken = [self.adapter], [None], False
 
     def held(self) -> int:
         """How many worlds this host holds: its single-world adapters', or its pool's."""

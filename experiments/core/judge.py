@@ -65,7 +65,10 @@ class Status(StrEnum):
     PENETRATION = "penetration"      #: deeper than r_ball + r_bat at some step
     NO_SEPARATION = "no_separation"  #: the episode outlasted the settings' max_contact_s
     UNSUPPORTED = "unsupported"      #: the engine cannot do what the impact needs (a swing)
-    ERROR = "error"                  #: the engine raised; ``episode_end`` names the exception
+    #: the engine raised, exited, or its adapter broke its contract (a contact flag its own
+    #: geometry denies, a state of the wrong shape); ``ended`` says which
+    ERROR = "error"
+    TIMEOUT = "timeout"  #: the engine gave no result within its wall-clock limit (a hang)
     INACCURATE = "inaccurate"  #: sound, but v1 misses the answer that applies (by > its tol)
     #: Sound, but no answer applies that the harness can judge it against (a soft contact
     #: beyond its law's single contact, or stepped too coarsely for the law's bound)

@@ -19,6 +19,7 @@ MASS_CHECK_ULPS = 8
 ENERGY_GAIN_REL = 1e-6
 ENERGY_GAIN_ULPS = 1000
 JUMP_REACHES = 2.0
+FLAG_REACHES = 1.0
 DEFLECTED = 0.01
 LAW_SAFETY = 2.0
 LAW_MAX_REL_ERROR = 0.05
@@ -59,6 +60,10 @@ WHY = {
                     "readings beyond twice k dt its larger speed: a position correction "
                     "pushes apart by less than one reach, a reset of the state (MuJoCo puts a "
                     "blown-up world back at its model's pose) moves the ball ~1 m",
+    "FLAG_REACHES": "contact reaches (r_ball + r_bat) of gap between the surfaces beyond which "
+                    "an adapter's contact flag contradicts the geometry it reads (a passive "
+                    "check, as Gymnasium's env checker): no engine's contact margin is near it "
+                    "(PyBullet's and PhysX's are millimetres; a soft contact overlaps)",
     "DEFLECTED": "share of its approach speed by which a ball's velocity changed when it met "
                  "the bat, whether or not a contact was seen (a contact shorter than a step "
                  "can fall between two readings: Drake's 0.65 ms at dt = 1.5 ms); free flight "

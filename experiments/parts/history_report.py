@@ -16,7 +16,8 @@ from ..core.judge import Status
 from ..parts.history_probe import GRIDS
 
 #: Statuses of impacts the engine stepped (not refused before a step): their wall time is a cost.
-STEPPED = tuple(str(s) for s in Status if s not in (Status.UNSUPPORTED, Status.ERROR))
+STEPPED = tuple(str(s) for s in Status
+                if s not in (Status.UNSUPPORTED, Status.ERROR, Status.TIMEOUT))
 #: A check that did not run: the release lacks a feature the reference profile needs (its
 #: impacts said so), or the check was not run for that reason.
 LACKING = rf"in this release|\b{Status.UNSUPPORTED}\b|^not run"

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -178,3 +179,59 @@ class Diverges(ToyEngine):
 
 #: A twin whose every impact raises mid-episode: a row each, never a crash.
 BROKEN = dataclasses.replace(RECORD, name="toyengine_broken", adapter="toy_engine:Diverges")
+
+
+# -- adapters that break the interface, each a twin under its own name (a test registers it):
+# every one of them must become rows that say what it did, never the end of a run
+
+
+class Exits(ToyEngine):
+    """Calls sys.exit(0) once the ball touches the bat."""
+
+    def step(self) -> None:
+        super().step()
+        if self.touching.any():
+            raise SystemExit(0)
+
+
+class Hangs(ToyEngine):
+    """Never returns once the ball touches the bat."""
+
+    def step(self) -> None:
+        super().step()
+        if self.touching.any():
+            time.sleep(3600)
+
+
+class StuckFlag(ToyEngine):
+    """Says the bodies touch at every step, whatever its state."""
+
+    def in_contact(self) -> np.ndarray:
+        return np.ones(self.n, dtype=bool)
+
+
+class WrongShape(ToyEngine):
+    """Reads back five columns a world."""
+
+    def read(self) -> np.ndarray:
+        return self.s[:, :5].copy()
+
+
+class HeavyBall(ToyEngine):
+    """Holds a ball 10% heavier than the scene's."""
+
+    def mass_properties(self) -> MassProperties:
+        return dataclasses.replace(super().mass_properties(),
+                                   ball_mass_kg=1.1 * float(self.mass[0]))
+
+
+MISBEHAVING = {
+    name: dataclasses.replace(RECORD, name=f"toyengine_{name}", adapter=f"toy_engine:{cls}",
+                              cost=Cost(step_cost_s=2e-5, impact_limit_s=limit))
+    for name, cls, limit in (("exits", "Exits", None), ("hangs", "Hangs", 1.0),
+                             ("stuckflag", "StuckFlag", None), ("wrongshape", "WrongShape", None),
+                             ("heavyball", "HeavyBall", None))}
+#: The twins one by one, for entry points ("toy_engine:MISBEHAVING_HANGS").
+MISBEHAVING_EXITS, MISBEHAVING_HANGS, MISBEHAVING_STUCKFLAG, MISBEHAVING_WRONGSHAPE, \
+    MISBEHAVING_HEAVYBALL = (MISBEHAVING[k] for k in ("exits", "hangs", "stuckflag",
+                                                      "wrongshape", "heavyball"))

@@ -1,0 +1,103 @@
+"""An adapter that breaks the interface fails its own rows, with a status that says what it did,
+and never the run: one that raises, calls sys.exit, hangs (past its record's wall-clock limit:
+``timeout``), says the bodies touch while its state has them apart (the passive check of its
+contact flag), reads back the wrong shape, or holds another ball than the scene's. Beside it, in
+the same run, another engine's rows are as they would be alone. The twins of the toy plug-in
+(``tests/plugin/toy_engine.py``) are registered in this process, as an adapter under
+development is."""
+
+from __future__ import annotations
+
+import shutil
+import sys
+import time
+
+import pandas as pd
+import pytest
+
+import adapters
+from analytic import ImpactCase, presets
+from experiments.core import Job, Status, fire_jobs
+from experiments.core.fire import TIMEOUTS_IN_A_ROW
+
+from .conftest import PLUGIN, cheapest, run_command
+
+sys.path.insert(0, str(PLUGIN.parent))
+import toy_engine  # noqa: E402 - the plug-in's module, from its own folder
+
+#: The engine fired after a twin, in the same firing: its rows must be as alone.
+ENGINE = cheapest(batched=False)
+#: twin -> (status, a word its rows' ``ended`` must hold)
+EXPECTED = {"exits": (Status.ERROR, "sys.exit(0)"), "hangs": (Status.TIMEOUT, "timeout"),
+            "stuckflag": (Status.ERROR, "contact_flag"), "wrongshape": (Status.ERROR, "shape"),
+            "heavyball": (Status.ERROR, "scene mismatch: toyengine_heavyball: ball_mass_kg")}
+
+
+@pytest.fixture(scope="module")
+def twins():
+    for rec in toy_engine.MISBEHAVING.values():
+        adapters.register(rec)
+    yield {k: rec.name for k, rec in toy_engine.MISBEHAVING.items()}
+    for rec in toy_engine.MISBEHAVING.values():
+        adapters.unregister(rec.name)
+
+
+def _jobs(name: str, es=(0.5,)) -> list[Job]:
+    """Three impacts on the R161's barrel for each e (one batch per e: its scene)."""
+    settings = adapters.settings_for(name)
+    return [Job(engine=name, settings=settings,
+                case=ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=40.0,
+                                u0_mps=10.0, omega0_radps=20.0, e=e))
+            for e in es for s in (0.05, 0.1, 0.15)]
+
+
+@pytest.mark.parametrize("twin", sorted(EXPECTED))
+def test_a_misbehaving_adapter_fails_its_rows_not_the_run(twins, twin):
+    status, word = EXPECTED[twin]
+    t0 = time.perf_counter()
+    fired = fire_jobs(_jobs("toyengine_" + twin) + _jobs(ENGINE))
+    elapsed = time.perf_counter() - t0
+    theirs, ours = fired[:3], fired[3:]
+    for f in theirs:
+        assert f.outcome.status is status and word in f.outcome.ended, f.outcome.ended
+    # the well-behaved engine after it, in the same firing: sound, as alone
+    assert all(f.outcome.status is Status.OK for f in ours), [f.outcome.ended for f in ours]
+    # a hang costs its limit (1 s, the twin's record) and no more than a second over it
+    assert elapsed < 30.0 if twin != "hangs" else 1.0 <= elapsed < 5.0, elapsed
+
+
+def test_an_engine_that_times_out_twice_in_a_row_is_not_fired_again(twins):
+    # Three scenes (e), so three batches: two wait out their limit, the third is not fired.
+    t0 = time.perf_counter()
+    fired = fire_jobs(_jobs(twins["hangs"], es=(0.3, 0.5, 0.7)))
+    assert time.perf_counter() - t0 < TIMEOUTS_IN_A_ROW * 1.0 + 5.0
+    assert all(f.outcome.status is Status.TIMEOUT for f in fired)
+    assert [f.outcome.ended.startswith("not fired") for f in fired] == [False] * 6 + [True] * 3
+
+
+@pytest.fixture(scope="module")
+def twins_site(tmp_path_factory):
+    """The toy plug-in installed with its misbehaving twins as entry points."""
+    site = tmp_path_factory.mktemp("twins-site")
+    shutil.copy(PLUGIN, site / "toy_engine.py")
+    info = site / "batsim_toy_twins-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: batsim-toy-twins\n"
+                                   "Version: 0.1\n")
+    (info / "entry_points.txt").write_text(
+        f"[{adapters.ENTRY_POINT_GROUP}]\n" + "".join(
+            f"toyengine_{k} = toy_engine:MISBEHAVING_{k.upper()}\n" for k in EXPECTED))
+    return site
+
+
+def test_a_sweep_with_a_hanging_and_an_exiting_plugin_ends_with_their_rows(twins_site, tmp_path):
+    # As a user runs it: the run ends (exit 0) and its table holds every engine's rows, the
+    # twins' saying what they did.
+    engines = f"{ENGINE},toyengine_hangs,toyengine_exits"
+    run_command(["-m", "experiments.sweep", "--engine", engines, "--points", "3",
+                 "--no-locate", "--out", str(tmp_path), "--name", "r"],
+                env={"PYTHONPATH": str(twins_site)})
+    table = pd.read_csv(tmp_path / "r" / "sweep.csv")
+    by = table.groupby("engine").status.agg(set).to_dict()
+    assert by == {ENGINE: {"ok"}, "toyengine_hangs": {"timeout"},
+                  "toyengine_exits": {"error"}}, by
