@@ -21,6 +21,8 @@ import argparse
 import math
 import sys
 
+import adapters
+
 from . import (
     bench_analytic,
     bench_engines,
@@ -178,10 +180,30 @@ def update_readme() -> None:
     print("README.md: engines table from results/")
 
 
+def whole_suite(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """Refuse (exit 2) a run on some engines only of parts that fire engines: their files in
+    results/ hold every registered engine's rows (summary.md, thresholds.json, defaults.json
+    ...), and a part rewrites them whole, so another engine's rows would be lost."""
+    firing = [part for part in args.only if part == "sweeps" or "engine" in {
+        a.dest for a in STUDIES[part].COMMAND.parser()._actions}] if args.only else []
+    left = [n for n in adapters.names() if n not in args.engine]
+    if not firing or not left:
+        return
+    missing = [n for n in left if n in adapters.missing()]
+    why = (f"{', '.join(missing)} not installed here ({adapters.missing()[missing[0]]})"
+           if missing else f"--engine leaves out {', '.join(left)}")
+    p.error(f"--only {','.join(firing)} rewrites whole-suite files in results/ (every "
+            f"registered engine's rows), and {why}: their rows would be lost; allowed: every "
+            "engine (--engine all, each installed), or the command itself into runs/ "
+            f"(python -m experiments.{'sweep' if firing[0] == 'sweeps' else firing[0]} "
+            f"--engine {','.join(args.engine)})")
+
+
 @boundary.entry
 def main(argv: list[str] | None = None) -> int:
     p = build_parser()
     args = p.parse_args(argv)
+    whole_suite(p, args)
 
     def body() -> int:
         for part in args.only:

@@ -125,6 +125,11 @@ def _bad_studies(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
         ("swing", ["--engine", "nope"], "--engine"),
         ("swing", ["--quick", "--name", "x/y"], "--name"),
         ("baselines", ["--only", "nothing"], "--only"),
+        # one engine's run would drop the other engines' rows from whole-suite files
+        ("baselines", ["--only", "sweeps,report", "--engine", adapters.names()[0]],
+         "rewrites whole-suite files"),
+        ("baselines", ["--only", "defaults", "--engine", adapters.names()[-1]],
+         f"leaves out {adapters.names()[0]}"),
         ("bench_engines", ["--points", "1"], "--points"),
         ("bench_engines", ["--repeats", "0"], "--repeats"),
         ("bench_analytic", ["--points", "0"], "--points"),

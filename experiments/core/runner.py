@@ -23,9 +23,12 @@ from typing import Any
 
 import adapters
 
+from . import watchdog
 from .fire import Fired, Job, Jobs, fire_jobs
-from .fired import FiredSeq
-from .hosting import close_engines, forget_engines
+from .fired import FiredSeq, unmeasured
+from .hosting import close_engines
+from .judge import Status
+from .workers import dask_results, pool_results, worker_start
 
 #: Below this much estimated work (s) the rest of a run stays in this process: starting workers
 #: and shipping the work costs more than it saves.
@@ -72,14 +75,13 @@ class Runner:
     def __enter__(self) -> Runner:
         return self
 
-    def __exit__(self, *exc) -> None:
-        self.close()
+    def __exit__(self, kind, *exc) -> None:
+        self.close(abort=kind is not None)
 
-    def close(self) -> None:
-        """Stop the workers (if any) and close this process's engines."""
-        if self._pool is not None:
-            self._pool.shutdown(cancel_futures=True)
-            self._pool = None
+    def close(self, abort: bool = False) -> None:
+        """Stop the workers (if any; with ``abort``, at once: a run stopped or failed waits
+        for no impact) and close this process's engines."""
+        self._stop_pool(abort)
         if self._client is not None:
             self._client.close()
             self._client = None
@@ -88,15 +90,35 @@ class Runner:
             self._cluster = None
         close_engines()
 
-    def _map_remote(self, fn: Callable, items: list) -> Iterable:
-        """Results of fn over items from the workers, in order, as they come."""
+    def _stop_pool(self, abort: bool) -> None:
+        if self._pool is None:
+            return
+        pool, self._pool = self._pool, None
+        workers = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=not abort, cancel_futures=True)
+        for process in workers if abort else ():
+            process.terminate()
+            process.join(timeout=5.0)
+
+    def _map_remote(self, fn: Callable, items: list, lost: Callable | None = None,
+                    limit_s: Callable | None = None) -> Iterable:
+        """Results of fn over items from the workers, in order, as they come (``workers``:
+        a worker lost, or an item past ``limit_s(item)``, gives ``lost(item, status, why)``)."""
         if self.scheduler is None:
-            if self._pool is None:
-                self._pool = ProcessPoolExecutor(self.workers, mp_context=_pool_context(),
-                                                 initializer=forget_engines)
-            return self._pool.map(fn, items)
-        futures = self._dask().map(fn, items, pure=False)
-        return (f.result() for f in futures)
+            return pool_results(self, fn, items, lost, limit_s)
+        return dask_results(self._dask(), fn, items, lost, limit_s)
+
+    def pool(self) -> ProcessPoolExecutor:
+        """The local worker processes, started if need be (each dies with this process)."""
+        if self._pool is None:
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=_pool_context(),
+                                             initializer=worker_start)
+        return self._pool
+
+    def renew_pool(self) -> ProcessPoolExecutor:
+        """New worker processes in place of a broken (or stopped) pool's."""
+        self._stop_pool(abort=True)
+        return self.pool()
 
     def _dask(self):
         if self._client is None:
@@ -169,7 +191,8 @@ class Runner:
         size = max(1, min(round(CHUNK_S / max(per_job, 1e-9)),
                           math.ceil(len(there) / (4 * max(self.workers, 1)))))
         parts = self._map_remote(fire_jobs, [[jobs[i] for i in there[k:k + size]]
-                                             for k in range(0, len(there), size)])
+                                             for k in range(0, len(there), size)],
+                                 lost=_lost_chunk, limit_s=_chunk_limit_s)
         out: list = [None] * len(jobs)
         out[p] = probe[0]
         remote = iter(there)
@@ -186,6 +209,20 @@ class Runner:
     def _tick(self, n: int) -> None:
         if self.progress is not None:
             self.progress(n)
+
+
+def _lost_chunk(chunk: list[Job], status: Status, why: str) -> list[Fired]:
+    """The rows of a chunk of impacts its worker never gave back (``workers``)."""
+    return [unmeasured(j.engine, [j.case], [j.settings], None, status, why, 0.0)[0]
+            for j in chunk]
+
+
+def _chunk_limit_s(chunk: list[Job]) -> float:
+    """How long a worker may take over a chunk before it is taken for hung (s): each impact's
+    limit (``watchdog.limit_s``, no floor each) and one floor for the chunk. A hang in Python
+    is caught in the worker, by its own limit per batch: this is for one in compiled code."""
+    return watchdog.FLOOR_S + sum(
+        watchdog.limit_s(adapters.record(j.engine), j.settings, 1, floor_s=0.0) for j in chunk)
 
 
 def _pool_context():

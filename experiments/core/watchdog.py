@@ -40,10 +40,10 @@ class TimedOut(BaseException):
 
 
 def limit_s(record: adapters.EngineRecord, settings: adapters.Settings, worlds: int,
-            swing_steps: int = 0) -> float:
+            swing_steps: int = 0, floor_s: float = FLOOR_S) -> float:
     """How long a batch of ``worlds`` impacts on this engine may take (s): the record's own
     ``Cost.impact_limit_s`` per impact where it sets one, else SLACK times the worst case (at
-    least FLOOR_S), plus the engine's start-up."""
+    least ``floor_s``), plus the engine's start-up."""
     cost = record.cost
     per_world = worlds if cost.world_step_cost_s is None else 1
     if cost.impact_limit_s is not None:
@@ -51,7 +51,7 @@ def limit_s(record: adapters.EngineRecord, settings: adapters.Settings, worlds: 
     steps = (settings.approach_steps + math.ceil(settings.max_contact_s / settings.dt_s) + 2
              + swing_steps)
     step = cost.step_cost_s * per_world + (cost.world_step_cost_s or 0.0) * worlds
-    return cost.start_s + max(FLOOR_S, SLACK * steps * step)
+    return cost.start_s + max(floor_s, SLACK * steps * step)
 
 
 @contextlib.contextmanager

@@ -1,0 +1,145 @@
+"""The runner's workers, and what happens when one is lost.
+
+A local worker (``worker_start``) dies with the process that started it, however that one ends
+(SIGTERM, SIGHUP, SIGKILL: Linux's parent-death signal), and leaves Ctrl-C to it. A worker
+lost mid-run (killed, out of memory) or an item that never comes back (a hang inside compiled
+code, past its limit) is not the end of the run:
+
+- ``pool_results``: the items a broken pool still owed are sent once more to new workers; an
+  item lost twice, or past its limit, is answered by ``lost(item, status, why)`` (the impacts'
+  rows) or, where the caller has no rows to give, a one-line ``UserError``;
+- ``dask_results``: the same on a Dask cluster (which already retries a task whose worker
+  died, ``distributed.scheduler.allowed-failures`` times, before it gives up on it).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import signal
+import sys
+from collections.abc import Callable, Iterator
+from concurrent.futures import Future
+from concurrent.futures import TimeoutError as FutureTimeout
+from concurrent.futures.process import BrokenProcessPool
+
+from ..errors import UserError
+from .hosting import forget_engines
+from .judge import Status
+
+#: Linux's prctl option that sends a signal to a process when its parent dies.
+PR_SET_PDEATHSIG = 1
+#: A worker lost is tried again this many times before its items are lost.
+RETRIES = 1
+
+
+def worker_start() -> None:
+    """In a new local worker: drop the parent's engines (``forget_engines``), die with the
+    parent (SIGTERM on its death, where Linux offers it), and leave Ctrl-C and SIGHUP to the
+    parent, which stops its workers itself."""
+    forget_engines()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, int(signal.SIGTERM))
+
+
+def _give_up(item, status: Status, why: str):
+    raise UserError(f"{why}; allowed: fewer --workers, or more memory")
+
+
+def pool_results(runner, fn: Callable, items: list, lost: Callable | None,
+                 limit_s: Callable | None) -> Iterator:
+    """``fn`` over ``items`` on the runner's local workers, all sent now, their results in
+    order as they come (module docstring). ``limit_s(item)``: how long one may take once
+    waited for (None: no limit)."""
+    futures: list[Future] = [runner.pool().submit(fn, item) for item in items]
+    return _collected(runner, fn, items, futures, lost or _give_up, limit_s)
+
+
+def _collected(runner, fn: Callable, items: list, futures: list[Future], lost: Callable,
+               limit_s: Callable | None) -> Iterator:
+    tries = [0] * len(items)
+    i = 0
+    while i < len(items):
+        limit = limit_s(items[i]) if limit_s else None
+        try:
+            result = futures[i].result(timeout=limit)
+        except BrokenProcessPool:
+            cause = death(runner.pool())
+            if tries[i] < RETRIES:
+                tries[i] += 1
+                _send_again(runner, fn, items, futures, i)
+                continue
+            result = lost(items[i], Status.ERROR, f"error: its worker process died ({cause}), "
+                                                  f"{tries[i] + 1} times")
+            _send_again(runner, fn, items, futures, i + 1)
+        except FutureTimeout:
+            result = lost(items[i], Status.TIMEOUT, f"timeout: its worker gave no result "
+                                                    f"within {limit:.3g} s and was stopped")
+            _send_again(runner, fn, items, futures, i + 1)
+        yield result
+        i += 1
+
+
+def _send_again(runner, fn: Callable, items: list, futures: list[Future], start: int) -> None:
+    """New workers in place of the pool's, and the items from ``start`` on that it still
+    owed sent to them."""
+    pool = runner.renew_pool()
+    for k in range(start, len(items)):
+        f = futures[k]
+        if not f.done() or f.cancelled() or isinstance(f.exception(), BrokenProcessPool):
+            futures[k] = pool.submit(fn, items[k])
+
+
+def death(pool) -> str:
+    """How a broken pool's workers died: the signal or exit code of each that ended on its
+    own (the pool stops the others with SIGTERM)."""
+    said = []
+    for process in (getattr(pool, "_processes", None) or {}).values():
+        code = process.exitcode
+        if code is None or code == -signal.SIGTERM:
+            continue
+        said.append(f"killed by {signal.Signals(-code).name}" if code < 0
+                    else f"exited with code {code}")
+    return ", ".join(dict.fromkeys(said)) or "it ended"
+
+
+def _dask_losses() -> tuple[type[BaseException], ...]:
+    """What a Dask future raises when its worker, not its task, failed."""
+    from distributed import KilledWorker
+    from distributed.comm.core import CommClosedError
+
+    return (KilledWorker, CommClosedError)
+
+
+def dask_results(client, fn: Callable, items: list, lost: Callable | None,
+                 limit_s: Callable | None) -> Iterator:
+    """``fn`` over ``items`` on a Dask cluster, all sent now, their results in order as they
+    come (module docstring)."""
+    futures = client.map(fn, items, pure=False)
+    return _dask_collected(client, fn, items, futures, lost or _give_up, limit_s)
+
+
+def _dask_collected(client, fn: Callable, items: list, futures: list, lost: Callable,
+                    limit_s: Callable | None) -> Iterator:
+    losses = _dask_losses()
+    for item, future in zip(items, futures):
+        limit = limit_s(item) if limit_s else None
+        for attempt in range(RETRIES + 1):
+            try:
+                yield future.result(timeout=limit)
+                break
+            except losses as err:
+                if attempt < RETRIES:
+                    future = client.submit(fn, item, pure=False)
+                    continue
+                yield lost(item, Status.ERROR, f"error: its Dask worker was lost "
+                                               f"({type(err).__name__}: {err})"[:200])
+            except TimeoutError:
+                future.cancel()
+                yield lost(item, Status.TIMEOUT, f"timeout: its Dask worker gave no result "
+                                                 f"within {limit:.3g} s")
+                break

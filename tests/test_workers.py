@@ -1,0 +1,92 @@
+"""Workers die with their parent and a lost worker is not the end of a run: a ``--workers 2``
+sweep stopped by SIGTERM or SIGHUP exits 143 or 129 with no process left behind (none
+re-parented, none holding its output pipe open); a worker killed mid-run has its impacts sent
+again once to a new worker, and lost twice they are rows that say so; a worker that never
+answers (a hang in compiled code, which its own limit cannot reach) is stopped at the chunk's
+limit, its impacts ``timeout`` rows."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import psutil
+import pytest
+
+from experiments.core import Status
+from experiments.core.runner import Runner
+from experiments.core.workers import pool_results
+
+from .conftest import ROOT, cheapest
+
+ENGINE = cheapest(batched=False)
+
+
+def _die_once(marker: str) -> str:
+    """Kill this worker the first time (SIGKILL, as the kernel's OOM killer does)."""
+    if not Path(marker).exists():
+        Path(marker).write_text("died")
+        os.kill(os.getpid(), signal.SIGKILL)
+    return "done"
+
+
+def _die(_: str) -> str:
+    os.kill(os.getpid(), signal.SIGKILL)
+    return "never"
+
+
+def _hang(_: str) -> str:
+    time.sleep(3600)  # no watchdog around it here: as a hang in compiled code looks
+    return "never"
+
+
+def _lost(item, status, why):
+    return (item, status, why)
+
+
+def test_a_killed_worker_is_replaced_and_its_item_sent_again(tmp_path):
+    items = [str(tmp_path / "a"), str(tmp_path / "b"), str(tmp_path / "c")]
+    with Runner(workers=2) as runner:
+        got = list(pool_results(runner, _die_once, items, _lost, None))
+    assert got == ["done"] * 3
+
+
+def test_an_item_that_kills_its_worker_twice_is_a_row_naming_the_signal():
+    with Runner(workers=2) as runner:
+        (item, status, why), = list(pool_results(runner, _die, ["x"], _lost, None))
+    assert status is Status.ERROR and "killed by SIGKILL" in why and "2 times" in why, why
+
+
+def test_a_worker_that_never_answers_is_stopped_at_its_limit():
+    t0 = time.perf_counter()
+    with Runner(workers=2) as runner:
+        (item, status, why), = list(pool_results(runner, _hang, ["x"], _lost, lambda i: 1.0))
+    assert status is Status.TIMEOUT and "within 1 s" in why, why
+    assert time.perf_counter() - t0 < 20.0
+
+
+@pytest.mark.parametrize("sig,code", [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
+def test_a_stopped_sweep_leaves_no_worker_behind(sig, code, tmp_path):
+    # 600 swings: many seconds on two workers, stopped once its workers are up
+    proc = subprocess.Popen([sys.executable, "-m", "experiments.sweep", "--engine", ENGINE,
+                             "--points", "600", "--swing", "--no-locate", "--workers", "2",
+                             "--budget-h", "100", "--out", str(tmp_path), "--name", "r"],
+                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "BATSIM_QUIET": "1"})
+    parent = psutil.Process(proc.pid)
+    deadline = time.monotonic() + 60.0
+    while len(parent.children()) < 2 and time.monotonic() < deadline:
+        time.sleep(0.2)
+    workers = parent.children(recursive=True)
+    assert len(workers) >= 2, "the workers never started"
+    proc.send_signal(sig)
+    out, err = proc.communicate(timeout=60)  # the pipes close: no worker holds them
+    assert proc.returncode == code, err
+    assert err.count("\n") == 1 and "nothing written" in err, err
+    gone, alive = psutil.wait_procs(workers, timeout=10)
+    assert not alive, [p.pid for p in alive]
+    assert not (tmp_path / "r").exists()
