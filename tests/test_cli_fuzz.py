@@ -10,6 +10,8 @@ from __future__ import annotations
 import argparse
 import csv
 import io
+import shutil
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, event, given, settings
@@ -98,6 +100,10 @@ def test_a_command_refuses_in_one_line_or_starts(name, tmp_path, monkeypatch, ca
     monkeypatch.chdir(tmp_path)  # a relative --out drawn (a run's folder is made) lands here
     parser = _parser(name)
     has_out = any("--out" in a.option_strings for a in parser._actions)
+    for mine in (".mydata.old-2019", ".photos.ab12cd34.tmp"):  # a user's, named like ours
+        (tmp_path / mine).mkdir()
+        (tmp_path / mine / "keep.txt").write_text("the user's")
+    kept = _snapshot(tmp_path, ROOT / "results")
 
     @settings(max_examples=examples(100), deadline=None, derandomize=False,
               suppress_health_check=[HealthCheck.function_scoped_fixture])
@@ -111,6 +117,8 @@ def test_a_command_refuses_in_one_line_or_starts(name, tmp_path, monkeypatch, ca
         assert "Traceback" not in err, (argv, err)
         if code == 2:  # one line, the command's
             assert err.count("\n") == 1 and err.startswith(parser.prog), (argv, err)
+        now = _snapshot(tmp_path, ROOT / "results")  # what was there is as it was
+        assert {p: now.get(p) for p in kept} == kept, argv
 
     check()
 
@@ -185,5 +193,93 @@ def test_compare_judges_any_pair_of_files(tmp_path, capsys):
             assert code == (0 if col in TIMING_COLUMNS else 1), (how, col, err)
         elif col not in TIMING_COLUMNS:  # damage anywhere but a timing column: 1 or 2
             assert code in (1, 2), (how, col, err)
+
+    check()
+
+
+def _snapshot(*roots: Path) -> dict[Path, bytes]:
+    """Every file under ``roots`` with its bytes (what a command must leave as it was)."""
+    return {p: p.read_bytes() for r in roots for p in sorted(r.rglob("*")) if p.is_file()}
+
+
+@pytest.mark.parametrize("name,option,good", [
+    ("bench_engines", "--keep-rows", "bench_batches.csv"),
+    ("gpu", "--runs", "gpu_runs/bench_newton_1/bench_batches.csv"),
+    ("gpu", "--runs", "gpu_runs/bench_newton_1/run.json")])
+def test_a_damaged_file_handed_in_is_refused_in_one_line(name, option, good, tmp_path,
+                                                          monkeypatch, capsys):
+    # Files from the generator of damaged tables (and a run.json cut, emptied, made junk),
+    # handed to the command that reads them: it refuses in one line (exit 2) before any work,
+    # or, for a file still whole, starts; the file and everything beside it is left as it was.
+    monkeypatch.setattr(cli, "main_guard", lambda body: (_ for _ in ()).throw(Started()))
+    monkeypatch.setenv("BATSIM_QUIET", "1")
+    source = ROOT / "results" / good
+    text = source.read_text()
+    mine = tmp_path / "mine.txt"
+    mine.write_text("the user's")
+
+    @settings(max_examples=examples(60), deadline=None,
+              suppress_health_check=[HealthCheck.function_scoped_fixture])
+    @given(damaged=tables(text) if good.endswith(".csv") else
+           st.sampled_from([text[: len(text) // 2], "", "\x00\xff", "[1, 2]",
+                            text.replace('"date_utc"', '"date"'), text]).map(
+               lambda t: (t.encode(), "json", 0)))
+    def check(damaged):
+        folder = tmp_path / "in"
+        shutil.rmtree(folder, ignore_errors=True)
+        if option == "--runs":  # a copy of the run folder, one file of it damaged
+            shutil.copytree(source.parent, folder / source.parent.name)
+            target, handed = folder / source.parent.name / source.name, folder
+        else:
+            folder.mkdir()
+            target = handed = folder / source.name
+        target.write_bytes(damaged[0])
+        before = _snapshot(tmp_path)
+        code, err = _outcome(COMMANDS[name].main, [option, str(handed), "--out",
+                                                   str(tmp_path / "out")], capsys)
+        event(f"{damaged[1]}: exit {code}")
+        assert code in ("started", 2), (damaged[1], code, err)
+        assert "Traceback" not in err
+        after = _snapshot(tmp_path)
+        if code == 2:  # refused before any work: nothing made either
+            assert err.count("\n") == 1 and str(target.name) in err, (damaged[1], err)
+            assert after == before
+        assert {p: after.get(p) for p in before} == before
+
+    check()
+
+
+#: Environment variables a user may have set, and values for them.
+ENVIRONMENT = {"BATSIM_QUIET": ["1", "0", "", " yes ", "2", "quiet", "\u00e9"],
+               "BATSIM_DEBUG": ["1", "0", "", "TRUE", "verbose", "-1"],
+               "MPLBACKEND": ["agg", "Agg", "tkagg", "nope", "", "module://nowhere"],
+               "PYTHONIOENCODING": ["ascii", "utf-8", "latin-1"]}
+
+
+@pytest.mark.parametrize("name", ["sweep", "stability", "check_engine", "report"])
+def test_the_environment_is_refused_in_one_line_or_used(name, tmp_path, monkeypatch, capsys):
+    # Any mix of these variables: the command refuses in one line naming the variable (exit
+    # 2) before any work, or starts.
+    monkeypatch.setattr(cli, "main_guard", lambda body: (_ for _ in ()).throw(Started()))
+    monkeypatch.chdir(tmp_path)
+
+    @settings(max_examples=examples(60), deadline=None,
+              suppress_health_check=[HealthCheck.function_scoped_fixture])
+    @given(env=st.dictionaries(st.sampled_from(sorted(ENVIRONMENT)),
+                               st.sampled_from(range(7)), max_size=4))
+    def check(env):
+        chosen = {k: ENVIRONMENT[k][i % len(ENVIRONMENT[k])] for k, i in env.items()}
+        with pytest.MonkeyPatch.context() as mp:
+            for key in ENVIRONMENT:
+                mp.delenv(key, raising=False)
+            for key, value in chosen.items():
+                mp.setenv(key, value)
+            argv = ["--out", str(tmp_path)] if name != "check_engine" else []
+            code, err = _outcome(COMMANDS[name].main, argv, capsys)
+        event(f"exit {code}")
+        assert code in ("started", 2), (chosen, code, err)
+        assert "Traceback" not in err
+        if code == 2:
+            assert err.count("\n") == 1 and any(k in err for k in chosen), (chosen, err)
 
     check()
