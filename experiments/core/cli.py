@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import math
+import os
 import re
 import shutil
 import sys
@@ -174,7 +175,7 @@ def stem_arg(value: str) -> str:
     """A plain file stem: letters, digits and ._=+,- only, no path."""
     if not STEM.match(value) or value in (".", ".."):
         raise argparse.ArgumentTypeError(
-            f"{value!r} is not a plain name; allowed: letters, digits and . _ = + , - (no "
+            f"{value!r} is not a plain name; allowed: ASCII letters, digits and . _ = + , - (no "
             "slashes, at most 100 characters, not starting with a dot)")
     return value
 
@@ -190,9 +191,9 @@ def resolved_path(value: str) -> Path:
     except (RuntimeError, OSError) as err:  # ~nosuchuser, a loop of links
         raise argparse.ArgumentTypeError(f"{value!r} cannot be resolved ({err}); allowed: a "
                                          "directory's path") from None
-    long = [part for part in path.parts if len(part.encode()) > NAME_MAX]
+    long = [part for part in path.parts if len(os.fsencode(part)) > NAME_MAX]
     if long:
-        raise argparse.ArgumentTypeError(f"{value!r}: a name of {len(long[0].encode())} bytes; "
+        raise argparse.ArgumentTypeError(f"{value!r}: a name of {len(os.fsencode(long[0]))} bytes; "
                                          f"allowed: names of at most {NAME_MAX} bytes")
     return path
 
