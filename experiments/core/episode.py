@@ -239,7 +239,7 @@ class _Stepper:
         pen, apart, off_span, side = self.geometry(xp, self.bat, self.ball, S,
                                                    self.came_from)
         self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
-        self.finish(ok & touching & (pen < -self.flag_gap_m), Ending.CONTACT_FLAG, step, S, side)
+        self.flag_check(ok & touching & (pen < -self.flag_gap_m), step, S, pen, side)
         # a contact that began and ended between two readings shows in the ball's velocity
         vx0, vy0, limit2 = self.ball_v0
         dvx, dvy = S[g.BALL_VX] - vx0, S[g.BALL_VY] - vy0
@@ -255,6 +255,20 @@ class _Stepper:
         due = ok & no(touching) & (self.first < 0) & (step > st.approach_steps + 1)
         self.finish(due & (side <= 0.0), Ending.PASSED, step, S, side)
         self.finish(due & (side > 0.0), Ending.MISSED, step, S, side)
+
+    def flag_check(self, far, step: int, S, pen, side) -> None:
+        """The passive check of the adapter's contact flag: a contact it reports (``far``)
+        while its own state has the surfaces a contact reach apart (``terms.FLAG_REACHES``) and
+        more than twice as far as they can move apart in a step (its flag may be the step's
+        start's, its state the end's) ends the episode as 'contact_flag'."""
+        xp = self.xp
+        if not xp.any(far):
+            return
+        arm = max(abs(self.bat.s_min_m), abs(self.bat.s_max_m)) + self.bat.radius_m
+        speeds = (xp.hypot(S[g.BALL_VX], S[g.BALL_VY]) + xp.hypot(S[g.BAT_VX], S[g.BAT_VY])
+                  + abs(S[g.BALL_VZ]) + abs(S[g.BAT_VZ]) + abs(S[g.BAT_W]) * arm)
+        moved = 2.0 * self.st.dt_s * speeds
+        self.finish(far & (pen < -(self.flag_gap_m + moved)), Ending.CONTACT_FLAG, step, S, side)
 
     def flight_end(self, after, step: int, S, apart, off_span, side) -> None:
         """After contact, the worlds whose bodies do not touch: the episode ends as
