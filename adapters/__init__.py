@@ -33,6 +33,7 @@ from importlib import metadata
 from pathlib import Path
 from types import MappingProxyType
 
+from . import clock
 from .interface import (
     PLANAR_FIELDS,
     SPATIAL_FIELDS,
@@ -111,13 +112,25 @@ def _registry() -> tuple[MappingProxyType, MappingProxyType]:
             MappingProxyType(broken))
 
 
+#: How long a plug-in's record may take to import (s): a module that imports no engine takes
+#: milliseconds; one that blocks would hang every command, --help too.
+IMPORT_LIMIT_S = 20.0
+
+
 def _plugin_record(name: str, target: str) -> EngineRecord:
-    """A plug-in's record, loaded (its module imports no engine); whatever goes wrong, an
-    exception (a SystemExit at its import too)."""
+    """A plug-in's record, loaded (its module imports no engine) within IMPORT_LIMIT_S;
+    whatever goes wrong, an exception (an exit, a block, a KeyboardInterrupt at its import
+    too: no Ctrl-C lands in these milliseconds but by chance)."""
     try:
-        rec = _load_target(name, target)
-    except SystemExit as stop:
-        raise RuntimeError(f"its import called sys.exit({stop.code!r})") from None
+        with clock.limited(IMPORT_LIMIT_S), clock.exits_raise():
+            rec = _load_target(name, target)
+    except (SystemExit, clock.ProcessExit) as stop:
+        call = "sys.exit" if isinstance(stop, SystemExit) else "os._exit"
+        raise RuntimeError(f"its import called {call}({stop.code!r})") from None
+    except clock.TimedOut:
+        raise RuntimeError(f"its import did not end within {IMPORT_LIMIT_S:g} s") from None
+    except KeyboardInterrupt:
+        raise RuntimeError("its import raised KeyboardInterrupt") from None
     if not isinstance(rec, EngineRecord):
         raise TypeError(f"{target} is a {type(rec).__name__}, not an adapters.EngineRecord")
     return rec

@@ -87,4 +87,5 @@ def test_check_engine_reports_them(installed):
     env = {"PYTHONPATH": str(installed)}
     one = run_command(["-m", "experiments.check_engine", "--engine", ENGINE, "--check",
                        "mass_read_back"], env=env)
-    assert "broken plug-in left out" in one.stdout and "'noattr'" in one.stdout
+    assert "a broken plug-in, not checked" in one.stdout and "'noattr'" in one.stdout
+    assert "FAILED" not in one.stdout  # (pymunk passes; the plug-ins are not what was asked)

@@ -19,6 +19,7 @@ import adapters
 from analytic import ImpactCase, presets
 from experiments.core import Job, Status, fire_jobs
 from experiments.core.fire import TIMEOUTS_IN_A_ROW
+from experiments.core.hosting import close_engines
 
 from .conftest import PLUGIN, cheapest, run_command
 
@@ -30,7 +31,20 @@ ENGINE = cheapest(batched=False)
 #: twin -> (status, a word its rows' ``ended`` must hold)
 EXPECTED = {"exits": (Status.ERROR, "sys.exit(0)"), "hangs": (Status.TIMEOUT, "timeout"),
             "stuckflag": (Status.ERROR, "contact_flag"), "wrongshape": (Status.ERROR, "shape"),
-            "heavyball": (Status.ERROR, "scene mismatch: toyengine_heavyball: ball_mass_kg")}
+            "heavyball": (Status.ERROR, "scene mismatch: toyengine_heavyball: ball_mass_kg"),
+            "exitshard": (Status.ERROR, "os._exit(3)"), "strings": (Status.ERROR, "<U"),
+            "integers": (Status.ERROR, "int64")}
+#: Twins whose failure only a command sees as theirs: a KeyboardInterrupt no Ctrl-C sent (a
+#: library user's Ctrl-C stops the firing), a close that never returns (after the rows).
+IN_A_COMMAND = {"interrupts": "error", "closehangs": "ok"}
+
+
+@pytest.fixture(autouse=True)
+def fresh_engines():
+    """Each test meets its engines anew (a host keeps its timeouts in a row)."""
+    close_engines()
+    yield
+    close_engines()
 
 
 @pytest.fixture(scope="module")
@@ -67,12 +81,15 @@ def test_a_misbehaving_adapter_fails_its_rows_not_the_run(twins, twin):
 
 
 def test_an_engine_that_times_out_twice_in_a_row_is_not_fired_again(twins):
-    # Three scenes (e), so three batches: two wait out their limit, the third is not fired.
+    # Three scenes (e), so three batches: two wait out their limit, the third is not fired,
+    # nor is a later firing in this process (a check after a check, a sweep's searches).
     t0 = time.perf_counter()
     fired = fire_jobs(_jobs(twins["hangs"], es=(0.3, 0.5, 0.7)))
+    again = fire_jobs(_jobs(twins["hangs"]))
     assert time.perf_counter() - t0 < TIMEOUTS_IN_A_ROW * 1.0 + 5.0
-    assert all(f.outcome.status is Status.TIMEOUT for f in fired)
-    assert [f.outcome.ended.startswith("not fired") for f in fired] == [False] * 6 + [True] * 3
+    assert all(f.outcome.status is Status.TIMEOUT for f in [*fired, *again])
+    assert [f.outcome.ended.startswith("not fired") for f in [*fired, *again]] == \
+        [False] * 6 + [True] * 6
 
 
 @pytest.fixture(scope="module")
@@ -86,18 +103,36 @@ def twins_site(tmp_path_factory):
                                    "Version: 0.1\n")
     (info / "entry_points.txt").write_text(
         f"[{adapters.ENTRY_POINT_GROUP}]\n" + "".join(
-            f"toyengine_{k} = toy_engine:MISBEHAVING_{k.upper()}\n" for k in EXPECTED))
+            f"toyengine_{k} = toy_engine:MISBEHAVING_{k.upper()}\n"
+            for k in [*EXPECTED, *IN_A_COMMAND]))
     return site
 
 
-def test_a_sweep_with_a_hanging_and_an_exiting_plugin_ends_with_their_rows(twins_site, tmp_path):
-    # As a user runs it: the run ends (exit 0) and its table holds every engine's rows, the
-    # twins' saying what they did.
-    engines = f"{ENGINE},toyengine_hangs,toyengine_exits"
+def test_a_sweep_with_misbehaving_plugins_ends_with_their_rows(twins_site, tmp_path):
+    # As a user runs it: the run ends (exit 0, in seconds: the close that hangs is left after
+    # hosting.CLOSE_LIMIT_S) and its table holds every engine's rows, the twins' saying what
+    # they did.
+    twins = ["hangs", "exits", "exitshard", *IN_A_COMMAND]
+    engines = ",".join([ENGINE, *(f"toyengine_{t}" for t in twins)])
+    t0 = time.perf_counter()
     run_command(["-m", "experiments.sweep", "--engine", engines, "--points", "3",
                  "--no-locate", "--out", str(tmp_path), "--name", "r"],
                 env={"PYTHONPATH": str(twins_site)})
+    assert time.perf_counter() - t0 < 60.0
     table = pd.read_csv(tmp_path / "r" / "sweep.csv")
     by = table.groupby("engine").status.agg(set).to_dict()
-    assert by == {ENGINE: {"ok"}, "toyengine_hangs": {"timeout"},
-                  "toyengine_exits": {"error"}}, by
+    want = {f"toyengine_{t}": {str(EXPECTED[t][0]) if t in EXPECTED else IN_A_COMMAND[t]}
+            for t in twins}
+    assert by == {ENGINE: {"ok"}, **want}, by
+    ended = table[table.engine == "toyengine_interrupts"].episode_end.iloc[0]
+    assert "KeyboardInterrupt (no Ctrl-C was pressed)" in ended, ended
+
+
+def test_check_engine_fails_a_hanging_adapter_in_seconds(twins_site):
+    # Its first two batches wait out their limit (its record's 1 s); the checks after them
+    # find it timed out twice in a row and fail at once, each saying so.
+    t0 = time.perf_counter()
+    res = run_command(["-m", "experiments.check_engine", "--engine", "toyengine_hangs"],
+                      env={"PYTHONPATH": str(twins_site)}, code=1)
+    assert time.perf_counter() - t0 < 60.0
+    assert "FAILED" in res.stdout and "timeout" in res.stdout, res.stdout

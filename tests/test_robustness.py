@@ -59,14 +59,22 @@ def test_a_name_another_run_holds_is_refused(tmp_path):
     assert not target.exists()
 
 
-@pytest.mark.parametrize("kind", ["foreign folder", "plain file"])
+@pytest.mark.parametrize("kind", ["foreign folder", "plain file", "a run.json of its own",
+                                  "a run with a file added"])
 def test_force_replaces_only_a_run(tmp_path, kind):
+    # a run is its run.json and exactly the files it lists: replacing anything else would
+    # delete what a user put there
     target = tmp_path / "mine"
     if kind == "plain file":
         target.write_text("notes")
+    elif kind == "a run with a file added":
+        assert _sweep("--out", str(tmp_path), "--name", "mine").returncode == 0
+        (target / "thesis.tex").write_text("notes")
     else:
         target.mkdir()
         (target / "thesis.tex").write_text("notes")
+        if kind == "a run.json of its own":
+            (target / "run.json").write_text("hello")
     res = _sweep("--out", str(tmp_path), "--name", "mine", "--force")
     assert res.returncode == 2, res.stderr
     assert ("is not a run" in res.stderr) or ("is a file" in res.stderr), res.stderr

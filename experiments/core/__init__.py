@@ -23,7 +23,8 @@ From the theory (``analytic``) and the engine interface (``adapters``) up:
 - ``cli``, ``io``: the command-line convention, run directories, atomic files, provenance.
 """
 
-from .check import CheckReport, check_engine
+from .check import check_engine
+from .check_report import CheckReport
 from .episode import SimOutcome
 from .fire import Fired, Job, fire_jobs
 from .hosting import SceneMismatch

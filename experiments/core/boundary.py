@@ -10,7 +10,8 @@ exit code, and nothing half-made replaces what was there.
 - Ctrl-C exits 130, SIGTERM 143 and SIGHUP 129 (``stopping``): the run's files are published as
   a whole or not at all (``runs.publish``), so every earlier file is left as it was;
 - a closed stdout (``| head -1``) is handled as Python's documentation advises (the rest of the
-  output goes to /dev/null, exit 1); a missing stdout or stderr (``2>&-``) is /dev/null, and
+  output goes to /dev/null), exit 141 as a shell says; a missing stdout or stderr (``2>&-``) is
+  /dev/null, a stderr that cannot be written (``2>/dev/full``) is ignored, and
   text the terminal's encoding cannot show (a non-UTF-8 path, PYTHONIOENCODING=ascii) is
   shown escaped, never a failure;
 - charts are drawn to files with matplotlib's Agg, whatever MPLBACKEND says (a name matplotlib
@@ -22,10 +23,12 @@ from __future__ import annotations
 import contextlib
 import errno
 import functools
+import logging
 import os
 import signal
 import sys
 import threading
+import warnings
 from collections.abc import Callable, Iterator
 
 from ..errors import (
@@ -38,8 +41,9 @@ from ..errors import (
     report_stop,
 )
 
-#: The signals that stop a run, each as its own exit code (128 + the signal's number).
-STOPPING = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+#: The signals that stop a run, each as its own exit code (128 + the signal's number): Ctrl-C,
+#: a kill, a closed terminal, a CPU-time limit reached (``ulimit -t``).
+STOPPING = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGXCPU)
 
 
 class Stop:
@@ -49,6 +53,9 @@ class Stop:
 
     def __init__(self) -> None:
         self.signum: int | None = None
+        #: whether a command's handlers are in place (``stopping``): a KeyboardInterrupt
+        #: with no signal come is then an engine's own, not the user's
+        self.active = False
 
     def clear(self) -> None:
         self.signum = None
@@ -74,51 +81,67 @@ def entry(main: Callable[[list[str] | None], int], prog: str | None = None
 
     @functools.wraps(main)
     def guarded(argv: list[str] | None = None) -> int:
-        prepare_streams()
         debug = debug_asked(argv)
-        stdout = sys.stdout
-        sys.stdout = _Stdout(stdout)
-        try:
-            return main(argv)
-        except SystemExit:
-            raise
-        except KeyboardInterrupt:
-            report_stop("interrupted", 130)
-            return 130
-        except Terminated as stop:
-            report_stop(f"stopped by {signal.Signals(stop.signum).name}", 128 + stop.signum)
-            return 128 + stop.signum
-        except OutputLost as err:
-            _drop_stdout(stdout)
-            if err.errno != errno.EPIPE:  # a closed pipe (| head) is the reader's choice
+        with _streams() as stdout, warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a run keeps them (``cli.library_messages_kept``)
+            try:
+                return main(argv)
+            except SystemExit:
+                raise
+            except KeyboardInterrupt:
+                report_stop("interrupted", 130)
+                return 130
+            except Terminated as stop:
+                report_stop(f"stopped by {signal.Signals(stop.signum).name}",
+                            128 + stop.signum)
+                return 128 + stop.signum
+            except OutputLost as err:
+                _drop_stdout(stdout)
+                if err.errno == errno.EPIPE:  # a closed pipe (| head): the reader's choice,
+                    return 128 + signal.SIGPIPE  # told as a shell tells it (not 1: a verdict)
                 report(err, prog, debug)
-            return 1
-        except Exception as err:  # noqa: BLE001 - the boundary: every failure is told in one line
-            report(err, prog, debug)
-            return err.code if isinstance(err, UserError) else 1
-        finally:
-            sys.stdout = stdout
+                return 1
+            except Exception as err:  # noqa: BLE001 - the boundary: any failure in one line
+                report(err, prog, debug)
+                return err.code if isinstance(err, UserError) else 1
 
     return guarded
 
 
-class _Stdout:
-    """stdout, whose failures to write are ``OutputLost`` (told apart from a file's)."""
+@contextlib.contextmanager
+def _streams() -> Iterator:
+    """stdout and stderr for a command (``prepare_streams``): stdout's failures to write are
+    ``OutputLost``, told apart from a file's; stderr's are dropped (progress and messages
+    that cannot be shown must not stop a run). Yields the stdout it wrapped."""
+    prepare_streams()
+    stdout, stderr = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = _Stream(stdout, OutputLost), _Stream(stderr, None)
+    try:
+        yield stdout
+    finally:
+        sys.stdout, sys.stderr = stdout, stderr
 
-    def __init__(self, stream) -> None:
-        self._stream = stream
+
+class _Stream:
+    """A text stream whose OSErrors become ``failure(err)`` (None: the text is dropped)."""
+
+    def __init__(self, stream, failure) -> None:
+        self._stream, self._failure = stream, failure
 
     def write(self, text: str) -> int:
         try:
             return self._stream.write(text)
         except OSError as err:
-            raise OutputLost(err) from None
+            if self._failure is None:
+                return len(text)
+            raise self._failure(err) from None
 
     def flush(self) -> None:
         try:
             self._stream.flush()
         except OSError as err:
-            raise OutputLost(err) from None
+            if self._failure is not None:
+                raise self._failure(err) from None
 
     def __getattr__(self, name: str):
         return getattr(self._stream, name)
@@ -161,6 +184,9 @@ def environment_error() -> str | None:
         return (f"BATSIM_DEBUG={raw!r} is not allowed; allowed: 1, true or yes (tracebacks), "
                 "0, false, no or empty")
     backend = os.environ.pop("MPLBACKEND", None)
+    # what matplotlib says of its own cache (unwritable: it makes a temporary one) is not the
+    # run's business: its errors only
+    logging.getLogger("matplotlib").setLevel(logging.ERROR)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -191,8 +217,10 @@ def stopping() -> Iterator[None]:
         raise _raised(signum)
 
     previous = {s: signal.signal(s, stop) for s in STOPPING}
+    STOP.active = True
     try:
         yield
     finally:
+        STOP.active = False
         for s, handler in previous.items():
             signal.signal(s, handler)

@@ -23,11 +23,12 @@ import numpy as np
 from scipy import optimize
 
 import adapters
-from adapters import ContactReference, Scene
+from adapters import ContactReference, Scene, clock
 from analytic import ImpactCase, center_of_percussion, predict, presets
 from analytic.dynamics import HingedSwing
 
 from . import friction_judge, judge
+from .check_report import CheckFailed, CheckReport, CheckResult
 from .fire import Job, fire_jobs, guarded
 from .hosting import Hosted, SceneMismatch, check_mass_properties, hosted
 from .judge import Status
@@ -36,48 +37,9 @@ from .tables import table
 R161, BALL = presets.R161, presets.BASEBALL
 S_GRID = tuple(float(s) for s in np.linspace(-0.2, 0.25, 10))
 SWING = dict(v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0)
-
-
-class CheckFailed(AssertionError):
-    """A check found the engine off its bound; the message says where and by how much."""
-
-
-@dataclass(frozen=True, kw_only=True)
-class CheckResult:
-    """One check's outcome: its name, whether it passed, what it saw, how long it took (s)."""
-
-    name: str
-    passed: bool
-    detail: str
-    seconds: float
-
-
-@dataclass(frozen=True, kw_only=True)
-class CheckReport:
-    """Every check run on one engine."""
-
-    engine: str
-    results: tuple[CheckResult, ...]
-
-    @property
-    def passed(self) -> bool:
-        return all(r.passed for r in self.results)
-
-    @property
-    def failures(self) -> tuple[CheckResult, ...]:
-        return tuple(r for r in self.results if not r.passed)
-
-    def raise_if_failed(self) -> None:
-        if not self.passed:
-            raise CheckFailed(str(self))
-
-    def __str__(self) -> str:
-        width = max(len(r.name) for r in self.results)
-        lines = [f"check_engine({self.engine!r}): {sum(r.passed for r in self.results)} of "
-                 f"{len(self.results)} checks passed"]
-        lines += [f"  {'ok' if r.passed else 'FAILED':6} {r.name:{width}}  {r.detail}"
-                  for r in self.results]
-        return "\n".join(lines)
+#: The longest a check may take (s): minutes for the slowest engine's (a batched one compiling
+#: on a CPU); a hang within an impact is a timeout sooner (``fire.guarded``).
+CHECK_LIMIT_S = 600.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -283,10 +245,12 @@ def stateless(ctx: Ctx) -> str:
         jobs.append(replace(jobs[0], swing=HingedSwing.for_omega(R161, 32.0, angle_rad=0.1)))
     used = fire_jobs(jobs + jobs)
     for i, job in enumerate(jobs):
+        _expect(used[i].outcome.status is Status.OK, f"impact {i}: {used[i].outcome.status} "
+                                                     f"({used[i].outcome.ended}): nothing sound")
         fresh = Hosted(ctx.name, ctx.settings)  # a new adapter, outside the process's cache
         want = guarded(fresh, [job])[0].outcome
         fresh.close()
-        _expect(want.status is Status.OK, f"impact {i} on a fresh adapter: {want.status.value} "
+        _expect(want.status is Status.OK, f"impact {i} on a fresh adapter: {want.status} "
                                           f"({want.ended}): nothing sound to compare")
         for out in (used[i].outcome, used[i + len(jobs)].outcome):
             got = (out.v1_mps, out.u1_mps, out.omega1_radps, out.steps)
@@ -386,9 +350,10 @@ def run_check(name: str, check: str) -> CheckResult:
     ctx = _context(name)
     t0 = time.perf_counter()
     try:
-        detail, passed = CHECKS[check][0](ctx), True
-    except (Exception, SystemExit) as err:  # noqa: BLE001 - an adapter's failure fails it
-        detail, passed = f"{type(err).__name__}: {err}", False
+        with clock.limited(CHECK_LIMIT_S), clock.exits_raise():
+            detail, passed = CHECKS[check][0](ctx), True
+    except (Exception, SystemExit, clock.TimedOut, clock.ProcessExit) as err:  # noqa: BLE001
+        detail, passed = f"{type(err).__name__}: {err}", False  # the adapter's failure fails it
     return CheckResult(name=check, passed=passed, detail=detail,
                        seconds=time.perf_counter() - t0)
 

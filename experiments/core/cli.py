@@ -74,7 +74,8 @@ class Parser(argparse.ArgumentParser):
 #: What every command's exit code means (its --help ends with it).
 EXIT_CODES = ("exit codes: 0 done; 1 a failure, told in one line (--debug: its traceback); 2 a "
               "bad option or input file, refused before any work; 130 interrupted (Ctrl-C), "
-              "143 or 129 stopped (SIGTERM, SIGHUP): earlier files left as they were")
+              "143, 129 or 152 stopped (SIGTERM, SIGHUP, SIGXCPU): earlier files left as they "
+              "were; 141 its output pipe closed")
 
 
 def summary(doc: str) -> str:

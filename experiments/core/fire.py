@@ -23,7 +23,7 @@ from types import SimpleNamespace
 import numpy as np
 
 import adapters
-from adapters import ContactReference, Scene, Settings
+from adapters import ContactReference, Scene, Settings, clock
 from analytic import ImpactCase
 from analytic.dynamics import HingedSwing
 
@@ -43,7 +43,7 @@ from .fired import (
     outcome,
     unmeasured,
 )
-from .hosting import Hosted, SceneMismatch, engine_settings, hosted
+from .hosting import TIMEOUTS, Hosted, SceneMismatch, engine_settings, hosted
 from .judge import Status, energy_allowance
 from .placement import (
     SwingPlan,
@@ -116,9 +116,8 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
     An engine that fails (raises, exits, hangs, holds another scene) fails its batch's rows,
     not the run (``guarded``)."""
     parts: list[Sequence[Fired]] = []
-    seen: set[int] = set()  # hosts met in this firing: their timeouts counted from here
     for run in runs(jobs):
-        for group, fired in _fired_batches(run, seen):
+        for group, fired in _fired_batches(run):
             if isinstance(fired, FiredBlock) or not parts or isinstance(parts[-1], FiredBlock):
                 parts.append(fired)
             else:
@@ -129,24 +128,20 @@ def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) ->
     return FiredSeq(parts)
 
 
-def _fired_batches(run: Sequence[Job], seen: set[int]):
+def _fired_batches(run: Sequence[Job]):
     """Each batch of a run with what it gave (``guarded``); every job's row an error where
-    the engine's adapter cannot even be made. ``seen``: the hosts this firing met already
-    (one met first has its timeouts in a row counted anew)."""
+    the engine's adapter cannot even be made."""
     try:
         host = hosted(run[0].engine, run[0].settings)
     except (Exception, SystemExit) as err:  # noqa: BLE001 - any failure of the engine's
         yield run, _unmeasured(run, NotFired(Status.ERROR, _why(err)), 0.0)
         return
-    if id(host) not in seen:
-        seen.add(id(host))
-        host.timeouts = 0
     for group, placed in _groups(host, run):
         yield group, guarded(host, group, placed)
 
 
-#: After this many timeouts in a row in one firing, an engine's further batches in it are not
-#: fired: each would wait out its whole limit.
+#: After this many timeouts in a row (in this process, ``hosting.TIMEOUTS``), an engine's
+#: further batches are not fired: each would wait out its whole limit.
 TIMEOUTS_IN_A_ROW = 2
 
 
@@ -157,24 +152,30 @@ def guarded(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
     holds mass properties other than the scene's, 'error' (``ended`` says which), and its
     adapters are made anew for the next batch; where it cannot fire them, 'unsupported'."""
     t0 = time.perf_counter()
-    limit = watchdog.limit_s(host.record, host.settings, len(jobs), _swing_steps(host, jobs))
+    limit = watchdog.limit_s(host.record, host.settings, len(jobs), _swing_steps(host, jobs),
+                             batched=host.batched)
     try:
-        if host.timeouts >= TIMEOUTS_IN_A_ROW:
-            raise NotFired(Status.TIMEOUT, f"not fired: {host.name} timed out {host.timeouts} "
+        if (timeouts := TIMEOUTS.get(host.name, 0)) >= TIMEOUTS_IN_A_ROW:
+            raise NotFired(Status.TIMEOUT, f"not fired: {host.name} timed out {timeouts} "
                                            "times in a row")
-        with watchdog.limited(limit):
+        with clock.limited(limit), clock.exits_raise():
             host.renew_if_failed()
             fired = fire_group(host, jobs, placed)
-        host.timeouts = 0
+        host.succeeded()
         return fired
     except NotFired as err:
         failure = err
     except CaseError:
         raise
-    except watchdog.TimedOut:
+    except clock.TimedOut:
         host.failed(timed_out=True)
         failure = NotFired(Status.TIMEOUT, f"timeout: no result within {limit:.3g} s")
-    except (Exception, SystemExit) as err:  # noqa: BLE001 - any failure of the engine's
+    except KeyboardInterrupt as err:  # the user's Ctrl-C stops the run; the engine's own is
+        if not STOP.active or STOP.signum is not None:  # its failure
+            raise
+        host.failed()
+        failure = NotFired(Status.ERROR, _why(err))
+    except (Exception, SystemExit, clock.ProcessExit) as err:  # noqa: BLE001 - any failure
         host.failed()
         failure = NotFired(Status.ERROR, _why(err))
     return _unmeasured(jobs, failure, time.perf_counter() - t0)
@@ -182,8 +183,11 @@ def guarded(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
 
 def _why(err: BaseException) -> str:
     """What an engine's failure was, for its rows' ``ended``."""
-    if isinstance(err, SystemExit):
-        return f"error: the engine called sys.exit({err.code!r})"
+    if isinstance(err, SystemExit | clock.ProcessExit):
+        call = "sys.exit" if isinstance(err, SystemExit) else "os._exit"
+        return f"error: the engine called {call}({err.code!r})"
+    if isinstance(err, KeyboardInterrupt):
+        return "error: the engine raised KeyboardInterrupt (no Ctrl-C was pressed)"
     if isinstance(err, SceneMismatch):
         return f"error: scene mismatch: {err}"[:200]
     return f"error: {err!r}"[:200]

@@ -15,7 +15,7 @@ from collections import OrderedDict
 from dataclasses import replace
 
 import adapters
-from adapters import BatchedEngine, MassProperties, Scene, Settings
+from adapters import BatchedEngine, MassProperties, Scene, Settings, clock
 
 from .judge import mass_allowance
 from .worlds import EngineWorlds, ManyWorlds, OneWorld
@@ -57,22 +57,25 @@ class Hosted:
         # scene and world count as built, and the most worlds it was built with (it keeps
         # what holds them)
         self.pool, self.pool_scene, self.pool_n, self.pool_worlds = None, None, 0, 0
-        # its batches that timed out in a row, and whether its adapters failed (``failed``)
-        self.timeouts, self.broken = 0, False
+        self.broken = False  # whether its adapters failed (``failed``)
 
     def failed(self, timed_out: bool = False) -> None:
         """The engine failed a batch (raised, exited, timed out): its adapters, in whatever
-        state that left them, are made anew before the next (``renew_if_failed``)."""
+        state that left them, are made anew before the next (``renew_if_failed``); a timeout
+        counts towards the engine's ``TIMEOUTS`` in a row."""
         self.broken = True
-        self.timeouts += timed_out
+        TIMEOUTS[self.name] = TIMEOUTS.get(self.name, 0) + timed_out
+
+    def succeeded(self) -> None:
+        """The engine fired a batch: its timeouts in a row start again from none."""
+        TIMEOUTS.pop(self.name, None)
 
     def renew_if_failed(self) -> None:
         """After a failure: close every adapter (whatever it says, it is not used again) and
         make the first one anew."""
         if not self.broken:
             return
-        with contextlib.suppress(Exception):
-            self.close()
+        self.close()
         self.engines, self.scenes, self.scene, self.worlds = [], [], None, 0
         self.adapter = adapters.create(self.name, self.settings)
         self.engines, self.scenes, self.broken = [self.adapter], [None], False
@@ -102,10 +105,10 @@ class Hosted:
     def shrink(self) -> None:
         """Close every engine but the first (a pool given back)."""
         for engine in self.engines[1:]:
-            engine.close()
+            _close(engine)
         del self.engines[1:], self.scenes[1:]
         if self.pool is not None:
-            self.pool.close()
+            _close(self.pool)
             self.pool, self.pool_scene, self.pool_n, self.pool_worlds = None, None, 0, 0
 
     def batch(self, scene: Scene, n: int):
@@ -154,12 +157,25 @@ class Hosted:
         check_mass_properties(self.name, adapter.mass_properties(), scene, self.record.eps)
 
     def close(self) -> None:
+        """Close every adapter it holds (``_close``: whatever each does, it is not used again)."""
         self.scene, self.scenes = None, [None] * len(self.engines)
         for engine in self.engines:
-            engine.close()
+            _close(engine)
         if self.pool is not None:
-            self.pool.close()
+            _close(self.pool)
             self.pool, self.pool_scene, self.pool_n, self.pool_worlds = None, None, 0, 0
+
+
+#: How long an adapter's close may take (s) before it is left as it is.
+CLOSE_LIMIT_S = 10.0
+
+
+def _close(adapter) -> None:
+    """Close an adapter within CLOSE_LIMIT_S, whatever it does: one that raises, exits or hangs
+    there is left to the process's end (its results are in already)."""
+    with contextlib.suppress(Exception, SystemExit, clock.TimedOut, clock.ProcessExit), \
+            clock.limited(CLOSE_LIMIT_S), clock.exits_raise():
+        adapter.close()
 
 
 def _room(host: Hosted) -> int:
@@ -187,6 +203,9 @@ def check_mass_properties(name: str, got: MassProperties, scene: Scene, eps: flo
 
 
 _HOSTED: OrderedDict[tuple[str, Settings], Hosted] = OrderedDict()
+#: Engine name -> its batches that timed out in a row in this process, whatever their
+#: settings: a hung engine hangs at any.
+TIMEOUTS: dict[str, int] = {}
 
 
 def engine_settings(name: str, settings: Settings) -> Settings:
@@ -216,6 +235,7 @@ def close_engines() -> None:
     in reference cycles, freed at exit after their library, would complain)."""
     while _HOSTED:
         _HOSTED.popitem()[1].close()
+    TIMEOUTS.clear()
     gc.collect()
 
 

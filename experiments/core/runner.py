@@ -13,11 +13,14 @@ workers stay balanced.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import multiprocessing
+import signal
 import sys
+import threading
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
@@ -244,8 +247,11 @@ def _dask_client(scheduler: str, workers: int):
         logging.getLogger("distributed").setLevel(logging.ERROR)
         # The workers' sampling profiler takes the GIL every 10 ms from the impacts, and with
         # queuing a worker waits a round trip to the scheduler for its next chunk.
+        # Its processes start with Ctrl-C ignored (inherited): the run stops them itself, and
+        # each would print its own traceback for the terminal's SIGINT.
         with dask.config.set({"distributed.worker.profile.enabled": False,
-                              "distributed.scheduler.worker-saturation": math.inf}):
+                              "distributed.scheduler.worker-saturation": math.inf}), \
+                _ignoring(signal.SIGINT):
             cluster = LocalCluster(n_workers=max(workers, 1), threads_per_worker=1,
                                    processes=True, dashboard_address=None,
                                    silence_logs=logging.ERROR)
@@ -253,6 +259,20 @@ def _dask_client(scheduler: str, workers: int):
         client._batsim_cluster = cluster
         return client
     return connect(scheduler)
+
+
+@contextlib.contextmanager
+def _ignoring(signum: int) -> Iterator[None]:
+    """``signum`` ignored in this process meanwhile (in the main thread), and so in the
+    processes it starts meanwhile."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signum, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signum, previous)
 
 
 def connect(address: str, timeout_s: float = CONNECT_TIMEOUT_S):

@@ -92,14 +92,14 @@ def run_dir(p: argparse.ArgumentParser, args: argparse.Namespace, experiment: st
             release(target)
             p.error(f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
                     "another --name")
-        if target.exists() and not (target / MANIFEST).is_file():
+        if target.exists() and (foreign := not_a_run(target)):
             release(target)
-            p.error(f"--force --name {args.name!r}: {target} is not a run (no {MANIFEST}); "
+            p.error(f"--force --name {args.name!r}: {target} is not a run ({foreign}); "
                     "allowed: another --name (--force replaces only a run)")
         return target
     base = args.out / run_name(p, args, experiment)
     if args.force and reserve(base):
-        if not base.exists() or (base / MANIFEST).is_file():
+        if not base.exists() or not not_a_run(base):
             return base
         release(base)
     n = 1
@@ -171,6 +171,21 @@ def release(target: Path) -> None:
     lock = _HELD.pop(target, None)
     if lock is not None:
         lock.release()
+
+
+def not_a_run(path: Path) -> str:
+    """Why ``path`` is not a run that --force may replace ('' if it is one): a run is a
+    directory holding its MANIFEST and exactly the files the MANIFEST lists, so that replacing
+    it deletes nothing a user put there."""
+    if path.is_symlink() or not path.is_dir():
+        return "not a directory"
+    try:
+        listed = json.loads((path / MANIFEST).read_text())["files"]
+        held = {p.name for p in path.iterdir()}
+    except (OSError, ValueError, KeyError, TypeError) as err:
+        return f"no readable {MANIFEST} ({type(err).__name__})"
+    extra = sorted(held - set(listed) - {MANIFEST})
+    return f"it holds {', '.join(extra[:3])}, which its {MANIFEST} does not list" if extra else ""
 
 
 def sweep_stale(out: Path) -> None:

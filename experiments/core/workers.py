@@ -98,7 +98,8 @@ def death(pool) -> str:
     """How a broken pool's workers died: the signal or exit code of each that ended on its
     own (the pool stops the others with SIGTERM)."""
     said = []
-    for process in (getattr(pool, "_processes", None) or {}).values():
+    for process in list((getattr(pool, "_processes", None) or {}).values()):
+        process.join(timeout=2.0)  # (the pool stops the others meanwhile, in its own thread)
         code = process.exitcode
         if code is None or code == -signal.SIGTERM:
             continue

@@ -29,7 +29,7 @@ class OneWorld:
     n = 1
 
     def __init__(self, engine) -> None:
-        self.engine = engine
+        self.engine, self.checked = engine, False
 
     def set_state(self, state: State) -> None:
         self.engine.set_state(state)
@@ -44,7 +44,11 @@ class OneWorld:
         return self.engine.in_contact()
 
     def read(self) -> State:
-        return self.engine.read()
+        state = self.engine.read()
+        if not self.checked:  # its first read: what every later one will be
+            check_state(state)
+            self.checked = True
+        return state
 
     def failed(self) -> bool:
         return self.engine.failed()
@@ -60,7 +64,7 @@ class EngineWorlds:
     xp = g.ARRAYS
 
     def __init__(self, engines: Sequence) -> None:
-        self.engines, self.n = engines, len(engines)
+        self.engines, self.n, self.checked = engines, len(engines), False
 
     def set_state(self, states: np.ndarray) -> None:
         for engine, row in zip(self.engines, states.tolist()):
@@ -78,6 +82,9 @@ class EngineWorlds:
 
     def read(self) -> np.ndarray:
         states = [engine.read() for engine in self.engines]
+        if not self.checked:  # the first read: what every later one will be
+            check_state(states[0])
+            self.checked = True
         flat = np.fromiter(chain.from_iterable(states), float, self.n * len(states[0]))
         return g.padded(flat.reshape(self.n, -1))
 
@@ -110,12 +117,13 @@ class ManyWorlds:
         return np.asarray(self.engine.in_contact(), dtype=bool)
 
     def read(self) -> np.ndarray:
-        states = np.asarray(self.engine.read(), dtype=float)
-        if states.ndim != 2 or states.shape[0] != self.n or states.shape[1] not in WIDTHS:
-            raise ValueError(f"read() gave an array of shape {states.shape}; allowed: "
-                             f"({self.n}, {' or '.join(map(str, WIDTHS))}): a row of "
-                             "adapters.STATE_FIELDS (or PLANAR_FIELDS) per world")
-        return g.padded(states)
+        states = np.asarray(self.engine.read())
+        if states.ndim != 2 or states.shape[0] != self.n or states.shape[1] not in WIDTHS \
+                or states.dtype.kind != "f":
+            raise ValueError(f"read() gave an array of {states.dtype} of shape {states.shape}; "
+                             f"allowed: floats, ({self.n}, {' or '.join(map(str, WIDTHS))}): a "
+                             "row of adapters.STATE_FIELDS (or PLANAR_FIELDS) per world")
+        return g.padded(states.astype(float, copy=False))
 
     def failed(self) -> np.ndarray:
         got = self.engine.failed()
@@ -123,3 +131,12 @@ class ManyWorlds:
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
         self.engine.set_drive(hands)
+
+
+def check_state(state) -> None:
+    """ValueError unless ``state`` is what a single-world engine's read gives: an
+    ``adapters.State`` of floats."""
+    if not isinstance(state, State) or not all(isinstance(v, float) for v in state):
+        kinds = sorted({type(v).__name__ for v in state}) if isinstance(state, tuple) else []
+        raise ValueError(f"read() gave a {type(state).__name__} of {', '.join(kinds) or '?'}; "
+                         "allowed: an adapters.State of floats")

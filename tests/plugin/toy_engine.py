@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import time
 from dataclasses import dataclass
 
@@ -217,6 +218,45 @@ class WrongShape(ToyEngine):
         return self.s[:, :5].copy()
 
 
+class ExitsHard(ToyEngine):
+    """Ends its process with os._exit(3) once the ball touches the bat."""
+
+    def step(self) -> None:
+        super().step()
+        if self.touching.any():
+            os._exit(3)
+
+
+class Interrupts(ToyEngine):
+    """Raises KeyboardInterrupt once the ball touches the bat (no Ctrl-C was pressed)."""
+
+    def step(self) -> None:
+        super().step()
+        if self.touching.any():
+            raise KeyboardInterrupt
+
+
+class Strings(ToyEngine):
+    """Reads back its state as text."""
+
+    def read(self) -> np.ndarray:
+        return self.s.astype(str)
+
+
+class Integers(ToyEngine):
+    """Reads back its state rounded to integers."""
+
+    def read(self) -> np.ndarray:
+        return self.s.astype(np.int64)
+
+
+class CloseHangs(ToyEngine):
+    """Never returns from close."""
+
+    def close(self) -> None:
+        time.sleep(3600)
+
+
 class HeavyBall(ToyEngine):
     """Holds a ball 10% heavier than the scene's."""
 
@@ -230,8 +270,8 @@ MISBEHAVING = {
                               cost=Cost(step_cost_s=2e-5, impact_limit_s=limit))
     for name, cls, limit in (("exits", "Exits", None), ("hangs", "Hangs", 1.0),
                              ("stuckflag", "StuckFlag", None), ("wrongshape", "WrongShape", None),
-                             ("heavyball", "HeavyBall", None))}
+                             ("heavyball", "HeavyBall", None), ("exitshard", "ExitsHard", None),
+                             ("interrupts", "Interrupts", None), ("strings", "Strings", None),
+                             ("integers", "Integers", None), ("closehangs", "CloseHangs", None))}
 #: The twins one by one, for entry points ("toy_engine:MISBEHAVING_HANGS").
-MISBEHAVING_EXITS, MISBEHAVING_HANGS, MISBEHAVING_STUCKFLAG, MISBEHAVING_WRONGSHAPE, \
-    MISBEHAVING_HEAVYBALL = (MISBEHAVING[k] for k in ("exits", "hangs", "stuckflag",
-                                                      "wrongshape", "heavyball"))
+globals().update({f"MISBEHAVING_{k.upper()}": rec for k, rec in MISBEHAVING.items()})
