@@ -30,6 +30,10 @@ from .model import MAX_SPIN_RADPS, Ball
 RPM_RADPS = 2.0 * math.pi / 60.0
 MPH_MPS = 0.44704
 FT_M = 0.3048
+#: The fastest launch the flight model takes (m/s): its drag and lift are measured on balls
+#: up to about 50 m/s (Nathan, AJP 76, 119 (2008)); beyond a few times that, past any bat's,
+#: a carry would be the model's extrapolation, not an answer.
+MAX_SPEED_MPS = 200.0
 #: Standard gravity (m/s^2; CGPM 1901).
 G_MPS2 = 9.80665
 #: Distance from the front of the pitching rubber to the point of home plate: 60 ft 6 in
@@ -135,7 +139,7 @@ class Launch:
     direction_rad: float = 0.0
 
     def __post_init__(self) -> None:
-        checks.in_range("speed_mps", self.speed_mps, 0.0, 200.0, lo_open=True)
+        checks.in_range("speed_mps", self.speed_mps, 0.0, MAX_SPEED_MPS, lo_open=True)
         checks.in_range("launch_rad", self.launch_rad, -math.pi / 2, math.pi / 2,
                         lo_open=True, hi_open=True)
         checks.in_range("backspin_radps", self.backspin_radps, -MAX_SPIN_RADPS, MAX_SPIN_RADPS)
@@ -311,7 +315,7 @@ def time_to_travel(speed_mps: float, distance_m: float = RELEASE_TO_PLATE_M, *,
     lifts): the time until it has covered ``distance_m`` horizontally, its speed then, and its
     drop. Gravity acts (g_mps2 = 0 turns it off); the ground does not stop it. Default distance:
     release to the point of home plate (``RELEASE_TO_PLATE_M``)."""
-    checks.in_range("speed_mps", speed_mps, 0.0, 200.0, lo_open=True)
+    checks.in_range("speed_mps", speed_mps, 0.0, MAX_SPEED_MPS, lo_open=True)
     checks.in_range("distance_m", distance_m, 0.0, 1e3, lo_open=True)
     checks.finite("backspin_radps", backspin_radps)
     checks.non_negative("g_mps2", g_mps2)

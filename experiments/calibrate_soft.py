@@ -51,9 +51,11 @@ def jobs(engine: str, steps_s: tuple[float, ...] = STEPS_S) -> list[Job]:
 
 
 def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
-    if not soft_engines(args.engine):
-        p.error(f"--engine: none of {', '.join(args.engine)} has a soft contact; allowed: "
-                + ", ".join(soft_engines(adapters.names())))
+    hard = [n for n in args.engine if n not in soft_engines(args.engine)]
+    if not soft_engines(args.engine) or (hard and args.engine != adapters.available()):
+        # every engine (the default): those with a soft contact; a list names only such
+        p.error(f"--engine: {', '.join(hard)} {'has' if len(hard) == 1 else 'have'} no soft "
+                "contact; allowed: " + ", ".join(soft_engines(adapters.names())))
 
 def soft_engines(engines: tuple[str, ...]) -> list[str]:
     """The engines among these whose record declares a soft contact."""

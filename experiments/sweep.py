@@ -22,7 +22,7 @@ from pathlib import Path
 import pandas as pd
 
 import adapters
-from analytic import Bat, compliant, predict, presets
+from analytic import Bat, compliant, flight, predict, presets
 from analytic.ball import LAWS
 from analytic.dynamics import HingedSwing
 from analytic.model import WOOD_DENSITY_KGM3
@@ -95,6 +95,8 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     settings = {n: adapters.settings_for(n, args.profile, **dt) for n in args.engine}
     if swing is not None:
         _check_swing_steps(swing, bat, settings, args)
+    if args.flight:
+        _check_flight(cases)
     tables.analytic_marks(firing, budget_s(settings))  # the marks too (cached for the run)
     need = max(min_dt_s(c, st) for c in cases for st in settings.values())
     if not all(st.dt_s > need for st in settings.values()):
@@ -172,6 +174,17 @@ def _check_swing_steps(swing: HingedSwing, bat: Bat, settings: Mapping[str, adap
                          f"({dt:g} s), so it cannot be stepped; allowed: --swing-angle >= "
                          f"{args.omega0 * dt / 2:.3g} rad (2 theta / omega0 >= dt), or a "
                          "smaller --dt")
+
+
+def _check_flight(cases) -> None:
+    """Refuse a --flight whose batted balls (the single impulse's) would leave faster than the
+    flight model holds (``analytic.flight.MAX_SPEED_MPS``): their carry is no answer."""
+    fastest = max(cases, key=lambda c: abs(predict(c).v1_mps))
+    v1 = abs(predict(fastest).v1_mps)
+    if v1 > flight.MAX_SPEED_MPS:
+        raise ValueError(f"--flight: the ball would leave at {v1:.4g} m/s (s = {fastest.s_m:.3g} "
+                         f"m), over the {flight.MAX_SPEED_MPS:g} m/s the flight model's drag and "
+                         "lift hold to; allowed: slower --v0, --u0, --omega0, or no --flight")
 
 
 def budget_s(settings: Mapping[str, adapters.Settings]) -> float:

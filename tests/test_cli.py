@@ -4,6 +4,7 @@ the option, the value and what is allowed, before anything runs or any file is t
 
 from __future__ import annotations
 
+import argparse
 import os
 import subprocess
 import sys
@@ -13,7 +14,7 @@ import pytest
 
 import adapters
 from experiments import sweep
-from experiments.core import runs
+from experiments.core import cli, runs
 from experiments.core.io import ROOT
 
 from .conftest import COMMANDS, runs_in
@@ -27,8 +28,12 @@ def _bad_inputs(tmp: Path) -> list[tuple[str, list[str], str]]:
     existing = tmp / "taken"
     existing.mkdir()
     cases = [*_bad_sweeps(tmp, a_file), *_bad_studies(tmp, a_file)]
+    soft = [n for n in adapters.names() if n not in NOT_SOFT]
     if NOT_SOFT:
-        cases.append(("calibrate_soft", ["--engine", NOT_SOFT[0]], "has a soft contact"))
+        cases.append(("calibrate_soft", ["--engine", NOT_SOFT[0]], "has no soft contact"))
+    if NOT_SOFT and soft:  # named beside a soft one, it would be dropped without a word
+        cases.append(("calibrate_soft", ["--engine", f"{soft[0]},{NOT_SOFT[0]}"],
+                      f"{NOT_SOFT[0]} has no soft contact"))
     return cases
 
 
@@ -109,6 +114,9 @@ def _bad_sweep_runs(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]
         ("sweep", ["--omega0", "-900", "--u0", "0"], "comes from --v0, --u0, --omega0"),
         ("sweep", ["--e", "0.5", "--e", "0.6"], "--e given 2 times"),
         ("sweep", ["--eng", "mujoco"], "unrecognized arguments: --eng"),
+        # the flight model's drag and lift hold to 200 m/s: a faster ball has no carry
+        ("sweep", ["--flight", "--v0", "1000", "--u0", "1000", "--omega0", "1000"],
+         "over the 200 m/s"),
         ("sweep", ["--compare", str(a_file), str(a_file), "--friction", "0.5"],
          "--compare with --friction"),
     ]
@@ -295,3 +303,15 @@ def test_help_is_whole(command, capsys):
     for line, after in zip(options, [*options[1:], ""]):
         if line.startswith("  -") and "  " not in line.strip():
             assert after.startswith(" " * 20) and not after.strip().startswith("-"), line
+
+
+@pytest.mark.parametrize("text,value", [("1000", 1000), ("1e3", 1000), ("1.0e2", 100),
+                                        ("1.5", None), ("1e9", None), ("nan", None)])
+def test_an_integer_option_takes_what_its_help_writes(text, value):
+    # bench_analytic's --help writes its range as 1..1e8: 1e3 is an integer written so
+    parse = cli.integer(1, 10**8)
+    if value is None:
+        with pytest.raises(argparse.ArgumentTypeError, match="an integer 1..100000000"):
+            parse(text)
+    else:
+        assert parse(text) == value

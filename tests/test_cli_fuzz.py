@@ -253,7 +253,8 @@ def test_a_damaged_file_handed_in_is_refused_in_one_line(name, option, good, tmp
 ENVIRONMENT = {"BATSIM_QUIET": ["1", "0", "", " yes ", "2", "quiet", "\u00e9"],
                "BATSIM_DEBUG": ["1", "0", "", "TRUE", "verbose", "-1"],
                "MPLBACKEND": ["agg", "Agg", "tkagg", "nope", "", "module://nowhere"],
-               "PYTHONIOENCODING": ["ascii", "utf-8", "latin-1"]}
+               "PYTHONIOENCODING": ["ascii", "utf-8", "latin-1"],
+               "BATSIM_WARP_DEVICE": ["cpu", "cuda:0", "bogus", "cuda:x", ""]}
 
 
 @pytest.mark.parametrize("name", ["sweep", "stability", "check_engine", "report"])

@@ -122,6 +122,14 @@ def test_a_run_deletes_nothing_it_did_not_make(tmp_path):
     assert (foreign / runs.STAGING / "x.abcd1234.tmp").read_text() == "mine"
 
 
+def test_a_file_where_the_staging_folder_goes_is_named(tmp_path):
+    (tmp_path / runs.STAGING).write_text("mine")
+    res = _sweep("--out", str(tmp_path))
+    assert res.returncode == 1 and res.stderr.count("\n") == 1, res.stderr
+    assert "is a file, not the harness's staging folder" in res.stderr
+    assert (tmp_path / runs.STAGING).read_text() == "mine"
+
+
 def test_the_run_lock_is_beside_the_runs_whatever_tmpdir_says(tmp_path):
     # Two runs of one --name started together, each with its own TMPDIR: they see one lock
     # (in the staging folder of --out), so one writes and the other is refused.

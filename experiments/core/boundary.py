@@ -25,6 +25,7 @@ import errno
 import functools
 import logging
 import os
+import re
 import signal
 import sys
 import threading
@@ -41,6 +42,8 @@ from ..errors import (
     report_stop,
 )
 
+#: What BATSIM_WARP_DEVICE may name (the engines on Warp read it): Warp's device names.
+WARP_DEVICE = re.compile(r"^(cpu|cuda(:[0-9]+)?)$")
 #: The signals that stop a run, each as its own exit code (128 + the signal's number): Ctrl-C,
 #: a kill, a closed terminal, a CPU-time limit reached (``ulimit -t``).
 STOPPING = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGXCPU)
@@ -183,6 +186,10 @@ def environment_error() -> str | None:
     if raw.strip().lower() not in DEBUG_VALUES:
         return (f"BATSIM_DEBUG={raw!r} is not allowed; allowed: 1, true or yes (tracebacks), "
                 "0, false, no or empty")
+    device = os.environ.get("BATSIM_WARP_DEVICE", "")
+    if device and not WARP_DEVICE.match(device):
+        return (f"BATSIM_WARP_DEVICE={device!r} is not a Warp device; allowed: cpu, cuda or "
+                "cuda:N (N a GPU's number), or unset (the CPU)")
     backend = os.environ.pop("MPLBACKEND", None)
     # what matplotlib says of its own cache (unwritable: it makes a temporary one) is not the
     # run's business: its errors only

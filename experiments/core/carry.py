@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 
 from analytic import flight
+from analytic.model import MAX_SPIN_RADPS
 
 #: The columns ``with_flight`` adds, per side (analytic, engine): launch angle (deg), carry
 #: (m) and hang time (s); and |carry engine - carry analytic| (m).
@@ -24,8 +25,11 @@ FLIGHT_COLUMNS = ("launch_analytic_deg", "launch_engine_deg", "carry_analytic_m"
 
 def _fly(v, w, height_m: float) -> tuple[float, float, float]:
     """(launch angle deg, carry m, hang s) of a ball leaving with v and w (impact frame); NaN
-    for a ball that does not fly out (non-finite, or not moving toward the outfield)."""
-    if not (np.isfinite(v).all() and np.isfinite(w).all()) or not v[1] > 0.0:
+    for a ball that does not fly out (non-finite, or not moving toward the outfield) or that
+    the flight model does not hold (faster than ``flight.MAX_SPEED_MPS``, spinning faster than
+    ``MAX_SPIN_RADPS``: an engine's blow-up)."""
+    if not (np.isfinite(v).all() and np.isfinite(w).all()) or not v[1] > 0.0 \
+            or np.linalg.norm(v) > flight.MAX_SPEED_MPS or np.abs(w).max() > MAX_SPIN_RADPS:
         return math.nan, math.nan, math.nan
     launch = flight.batted_ball_launch(v, w, height_m=height_m)
     if launch.launch_rad <= 0.0 and height_m <= 0.0:

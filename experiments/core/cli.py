@@ -133,12 +133,17 @@ def number(lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False
 
 
 def integer(lo: int, hi: int) -> Callable[[str], int]:
-    """An integer in [lo, hi]."""
+    """An integer in [lo, hi], written as one (42) or as a whole number in a float's way (1e3,
+    as the help writes large ranges)."""
     def parse(text: str) -> int:
         try:
             n = int(text)
         except ValueError:
-            n = None
+            try:
+                x = float(text)
+            except ValueError:
+                x = math.nan
+            n = int(x) if math.isfinite(x) and x.is_integer() else None
         if n is None or not lo <= n <= hi:
             raise argparse.ArgumentTypeError(f"{text!r} is not allowed; allowed: an integer "
                                              f"{lo}..{hi}")

@@ -130,6 +130,9 @@ def staging(out: Path) -> Path:
     """``out``'s staging folder (``STAGING``), made if need be; UserError if it cannot be, or
     if a folder of that name there is not the harness's."""
     folder = out / STAGING
+    if folder.exists() and not folder.is_dir():
+        raise UserError(f"{folder} is a file, not the harness's staging folder; allowed: move "
+                        "it away, or choose another --out")
     try:
         folder.mkdir(parents=True, exist_ok=True)
         mark = folder / STAGING_MARK
