@@ -154,19 +154,24 @@ def cheapest(batched: bool) -> str:
                key=lambda n: adapters.record(n).cost.step_cost_s)
 
 
+def plugin_site(site: Path, dist: str, entries: dict[str, str]) -> Path:
+    """``site`` (a folder) holding the toy plug-in's module and a distribution ``dist`` (a
+    dist-info) declaring these engines (name -> "module:RECORD"): on sys.path or PYTHONPATH,
+    it registers them."""
+    shutil.copy(PLUGIN, site / "toy_engine.py")
+    info = site / f"{dist.replace('-', '_')}-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {dist}\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text(
+        f"[{adapters.ENTRY_POINT_GROUP}]\n" + "".join(f"{n} = {t}\n" for n, t in entries.items()))
+    return site
+
+
 @pytest.fixture(scope="session")
 def toy_site(tmp_path_factory) -> Path:
-    """A site directory holding the toy plug-in as an installed distribution (a dist-info with
-    its entry point): on sys.path or PYTHONPATH, it registers the engine ``toyengine``."""
-    site = tmp_path_factory.mktemp("site")
-    shutil.copy(PLUGIN, site / "toy_engine.py")
-    info = site / "batsim_toy_engine-0.1.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: batsim-toy-engine\n"
-                                   "Version: 0.1\n")
-    (info / "entry_points.txt").write_text(
-        f"[{adapters.ENTRY_POINT_GROUP}]\ntoyengine = toy_engine:RECORD\n")
-    return site
+    """The toy plug-in installed: the engine ``toyengine``."""
+    return plugin_site(tmp_path_factory.mktemp("site"), "batsim-toy-engine",
+                       {"toyengine": "toy_engine:RECORD"})
 
 
 #: The engines of ``findings_run``: the cheapest single-world one and the toy plug-in.

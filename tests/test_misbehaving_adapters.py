@@ -8,7 +8,6 @@ development is."""
 
 from __future__ import annotations
 
-import shutil
 import sys
 import time
 
@@ -21,7 +20,7 @@ from experiments.core import Job, Status, fire_jobs
 from experiments.core.fire import TIMEOUTS_IN_A_ROW
 from experiments.core.hosting import close_engines
 
-from .conftest import PLUGIN, cheapest, run_command
+from .conftest import PLUGIN, cheapest, plugin_site, run_command
 
 sys.path.insert(0, str(PLUGIN.parent))
 import toy_engine  # noqa: E402 - the plug-in's module, from its own folder
@@ -95,17 +94,9 @@ def test_an_engine_that_times_out_twice_in_a_row_is_not_fired_again(twins):
 @pytest.fixture(scope="module")
 def twins_site(tmp_path_factory):
     """The toy plug-in installed with its misbehaving twins as entry points."""
-    site = tmp_path_factory.mktemp("twins-site")
-    shutil.copy(PLUGIN, site / "toy_engine.py")
-    info = site / "batsim_toy_twins-0.1.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: batsim-toy-twins\n"
-                                   "Version: 0.1\n")
-    (info / "entry_points.txt").write_text(
-        f"[{adapters.ENTRY_POINT_GROUP}]\n" + "".join(
-            f"toyengine_{k} = toy_engine:MISBEHAVING_{k.upper()}\n"
-            for k in [*EXPECTED, *IN_A_COMMAND]))
-    return site
+    return plugin_site(tmp_path_factory.mktemp("twins-site"), "batsim-toy-twins",
+                       {f"toyengine_{k}": f"toy_engine:MISBEHAVING_{k.upper()}"
+                        for k in [*EXPECTED, *IN_A_COMMAND]})
 
 
 def test_a_sweep_with_misbehaving_plugins_ends_with_their_rows(twins_site, tmp_path):
