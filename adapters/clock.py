@@ -41,10 +41,13 @@ class ProcessExit(BaseException):
 @contextlib.contextmanager
 def exits_raise() -> Iterator[None]:
     """``os._exit`` raises ``ProcessExit`` meanwhile, instead of ending the process with no
-    word and no file written: a plug-in's own exit is its failure, not the run's end."""
-    real = os._exit
+    word and no file written: a plug-in's own exit is its failure, not the run's end. (A
+    process forked meanwhile exits as it asks: its ``os._exit`` is how a child ends.)"""
+    real, pid = os._exit, os.getpid()
 
     def refuse(code: int) -> None:
+        if os.getpid() != pid:
+            real(code)
         raise ProcessExit(code)
 
     os._exit = refuse
