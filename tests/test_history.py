@@ -1,11 +1,13 @@
 """``experiments.history``: release environments made once and reused (an interrupted or a
-damaged one made again), the engine's own pins freed, a candidate that loses a verdict or lets
-an error grow past its tolerance exits 1 (all without installing); then, in the full tier, the
-README's lines as a user runs them: two releases installed on a cold cache and judged, and a
-version that does not exist is a row that says so."""
+damaged one made again, offline: a row that says so), the engine's own pins freed, a candidate
+that loses a verdict or lets an error grow past its tolerance exits 1, as does one checked
+against a release that was not judged (a probe failed, hung, garbled), with no install (stand-in
+environments); then, in the full tier, the README's lines as a user runs them: two releases
+installed on a cold cache and judged, and a version that does not exist is a row that says so."""
 
 from __future__ import annotations
 
+import json
 import re
 import shlex
 import shutil
@@ -21,9 +23,13 @@ import adapters
 from experiments import history
 from experiments.core import releases
 from experiments.core.judge import Status
+from experiments.parts import history_probe
 
 from .conftest import ROOT, cheapest, run_command
 
+#: uv pointed at an index that cannot be reached, at once: nothing is downloaded.
+OFFLINE = {"UV_DEFAULT_INDEX": "http://127.0.0.1:1/simple", "UV_INDEX_URL":
+           "http://127.0.0.1:1/simple", "UV_NO_CONFIG": "1", "UV_HTTP_RETRIES": "0"}
 README = (ROOT / "README.md").read_text()
 #: The README's history lines: the spread of two releases, and a candidate checked.
 LINES = [shlex.split(m.group(0)) for lang, text in re.findall(r"```(\w+)\n(.*?)```", README, re.S)
@@ -133,7 +139,9 @@ def _result(version: str, err_mps: float, status: str = "ok") -> dict:
     (_result("2", 1e-9), 0),                       # within 1e-6 m/s of the reference's error
     (_result("2", 5e-6), 1),                       # grew past its tolerance
     (_result("2", 1e-9, status="inaccurate"), 1),  # a verdict lost
-], ids=["unchanged", "error grew", "verdict lost"])
+    ({**_result("2", 1e-9), "rows": []}, 1),       # every grid raised, the checks ran
+    ({**_result("2", 1e-9), "rows": [], "checks": []}, 1),  # nothing judged: not checked
+], ids=["unchanged", "error grew", "verdict lost", "no grid fired", "nothing judged"])
 def test_a_candidate_exits_1_on_a_regression(monkeypatch, tmp_path, candidate, code):
     # |err candidate - err reference| > tol is a moved error; a grown one regresses
     results = {"1": _result("1", 1e-9), "2": candidate}
@@ -145,6 +153,19 @@ def test_a_candidate_exits_1_on_a_regression(monkeypatch, tmp_path, candidate, c
     page = (out / "h" / "history.md").read_text()
     assert ("(regression)" in page) == bool(code)
     assert len(pd.read_csv(out / "h" / "history.csv")) == 2
+
+
+def test_a_spread_that_judged_nothing_fails(monkeypatch, tmp_path, capsys):
+    # no --versions: every release of the record's spread failed its probe: exit 1, one line
+    monkeypatch.setattr(history, "fire_release", lambda e, v, cache: {
+        "engine": e, "release": v, "state": "probe_failed", "reason": "exit 3: boom"})
+    name = cheapest(batched=False)
+    first = adapters.record(name).install.history[0]
+    assert history.main(["--engine", name, "--cache", str(tmp_path), "--out",
+                         str(tmp_path / "out")]) == 1
+    assert capsys.readouterr().err == (
+        f"history: no release could be judged ({name} {first}: probe_failed: exit 3: boom); "
+        "history.csv has each release's reason\n")
 
 
 def test_a_release_that_imports_what_it_does_not_declare_is_judged_with_it(monkeypatch):
@@ -223,3 +244,156 @@ def test_each_records_oldest_release_is_the_first_the_history_judged():
             judged = rows[rows.state == "judged"].release
             assert judged.iloc[0] == install.oldest, (name, install.oldest)
 
+
+# -- a candidate check that judged nothing, the cache, a probe that hangs (no install) ---------
+
+#: What a release's stand-in python does when probed (a shell script, given the probe's argv),
+#: and why the release could not be judged.
+GARBLED = "probe_failed: its result is not the probe's: "
+PROBES = {
+    "exits 3": ("echo 'no such module' >&2; exit 3", "probe_failed: exit 3: no such module"),
+    "writes a list": ('printf "[1,2,3]" > "$OUT"', GARBLED + "a JSON list, not an object"),
+    "writes an empty object": ('printf "{}" > "$OUT"',
+                               GARBLED + "an object with neither 'rows' nor 'not_driven'"),
+    "judges nothing": ('printf \'{"rows": [], "errors": {"still": "ValueError: boom"}}\' > "$OUT"',
+                       "its probe judged no impact and no check (ValueError: boom)"),
+    "hangs": ('sleep 600 & echo $! >> "$PIDS"; wait', "probe_failed: the probe ran past 2 s"),
+}
+
+
+def fake_release(cache: Path, version: str, probe: str) -> Path:
+    """A release's environment in ``cache``, whole, whose python runs ``probe`` (a shell
+    script: $OUT is the file the probe writes, $PIDS where it may leave its children's)."""
+    env = releases.place(_release(version), cache)
+    fake_environment(env, {"numpy": "2.0"})
+    (env / releases.READY).write_text('{"numpy": "2.0"}')
+    (env / "bin" / "python").write_text(
+        '#!/bin/sh\nwhile [ "$1" != "--out" ]; do shift; done\nOUT="$2"\n'
+        f'PIDS="{cache}/pids"\n{probe}\n')
+    return env
+
+
+def _candidate(tmp_path: Path, capsys, probe: str) -> tuple[int, list[str], pd.DataFrame]:
+    """``history --versions 1.0,2.0`` in-process, each release probed as ``probe`` says: its
+    exit code, stderr's lines and history.csv."""
+    for version in ("1.0", "2.0"):
+        fake_release(tmp_path / "cache", version, PROBES[probe][0])
+    code = history.main(["--engine", cheapest(batched=False), "--versions", "1.0,2.0",
+                         "--cache", str(tmp_path / "cache"), "--out", str(tmp_path / "out"),
+                         "--name", "h"])
+    table = pd.read_csv(tmp_path / "out" / "h" / "history.csv", dtype={"release": str})
+    return code, capsys.readouterr().err.splitlines(), table
+
+
+def _not_checked(probe: str) -> str:
+    return (f"history: {cheapest(batched=False)} 2.0 against 1.0: not checked: the reference "
+            f"1.0 could not be judged ({PROBES[probe][1]}); history.csv has each release's reason")
+
+
+@pytest.mark.parametrize("probe", [p for p in PROBES if p != "hangs"])
+def test_a_candidate_check_that_judged_nothing_fails(probe, tmp_path, capsys):
+    # the reference could not be judged: the check is not made (exit 1), in one line that
+    # says which release and why; a garbled result is a row that says so, never a crash
+    code, err, table = _candidate(tmp_path, capsys, probe)
+    assert code == 1 and err == [_not_checked(probe)], err
+    judged = probe == "judges nothing"  # (its errors: in history.json)
+    assert list(table.state) == ["judged" if judged else "probe_failed"] * 2
+    assert judged or (PROBES[probe][1].split(": ", 1)[1] == table.reason).all(), table.reason
+
+
+def test_a_probe_that_hangs_is_said_once_and_stopped_whole(monkeypatch, tmp_path, capsys):
+    monkeypatch.setattr(history, "PROBE_NOTICE_S", 0.5)
+    monkeypatch.setattr(history, "PROBE_TIMEOUT_S", 2.0)
+    t0 = time.perf_counter()
+    code, err, table = _candidate(tmp_path, capsys, "hangs")
+    assert code == 1 and time.perf_counter() - t0 < 20 and err[-1] == _not_checked("hangs")
+    name, slowest = cheapest(batched=False), f"{history.PROBE_SLOWEST_S:g}"
+    assert err[:-1] == [f"history: the probe of {name} {v} has run 0.5 s and is still running; "
+                        f"it is stopped at 2 s (the slowest release's takes about {slowest} s)"
+                        for v in ("1.0", "2.0")], err
+    left = [int(p) for p in (tmp_path / "cache" / "pids").read_text().split()]
+    assert len(left) == 2 and not any(map(_running, left)), "the probe's child outlived it"
+
+
+def _running(pid: int) -> bool:
+    """Whether process ``pid`` runs 5 s on (a zombie, killed and not reaped yet, does not)."""
+    for _ in range(100):
+        try:
+            if Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] in "ZX":
+                return False
+        except FileNotFoundError:
+            return False
+        time.sleep(0.05)
+    return True
+
+
+@pytest.mark.parametrize("result, said", [
+    ([1, 2], "a JSON list, not an object"),
+    ({"version": "1"}, "neither 'rows' nor 'not_driven'"),
+    ({"rows": "x"}, "its 'rows' is a JSON string, not list"),
+    ({"rows": [{"grid": "swing"}]}, "its rows item 1 is not an object with grid, s_m"),
+    ({"rows": [], "checks": [1]}, "its checks item 1 is not an object with check"),
+    ({"not_driven": "ImportError: x"}, None),
+    ({"rows": [], "checks": [], "defaults": {}}, None),
+], ids=["a list", "no rows", "rows a string", "a row without keys", "a check a number",
+        "not driven", "nothing fired"])
+def test_a_probes_result_is_read_only_if_it_is_the_probes(result, said):
+    found = history_probe.fault(result)
+    assert found == said if said is None else said in found
+    assert history.PROBE_NOTICE_S < history.PROBE_SLOWEST_S * 10 == history.PROBE_TIMEOUT_S
+
+
+def test_a_relative_cache_is_the_cwds(tmp_path):
+    # the probe starts in a folder of its own: a relative --cache is resolved at once
+    name = cheapest(batched=False)
+    result = json.dumps({"engine": name, "version": "x", "rows": [
+        {"grid": "swing", "s_m": 0.1, "status": Status.OK.value, "err_mps": 1e-9,
+         "tol_mps": 1e-6, "wall_s": 1e-4}], "checks": [], "defaults": {}})
+    for version in ("1.0", "2.0"):
+        fake_release(tmp_path / "cache", version, f"printf '%s' '{result}' > \"$OUT\"")
+    res = run_command(["-m", "experiments.history", "--engine", name, "--versions", "1.0,2.0",
+                       "--cache", "cache", "--out", "out", "--name", "h"], cwd=tmp_path)
+    assert f"{name} 2.0 against 1.0: no regression" in res.stdout, res.stdout
+    table = pd.read_csv(tmp_path / "out" / "h" / "history.csv")
+    assert list(table.state) == ["judged"] * 2
+
+
+NEWEST = adapters.record(cheapest(batched=False)).install.history[-1]
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--versions", "2.0", "--against", "2.0"], "--versions 2.0 would be checked against itself"),
+    (["--versions", NEWEST], f"--versions {NEWEST} would be checked against itself"),
+    (["--versions", "2.0,2.0"], "--versions names '2.0' twice"),
+    (["--versions", "3.0", "--against", "1.0,2.0"], "--against '1.0,2.0' names 2 versions"),
+], ids=["against itself", "the newest alone", "named twice", "against two"])
+def test_a_release_is_not_checked_against_itself(argv, said, tmp_path, capsys):
+    with pytest.raises(SystemExit) as stop:
+        history.main(["--engine", cheapest(batched=False), *argv, "--cache", str(tmp_path),
+                      "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.count("\n") == 1 and said in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_offline_with_a_damaged_environment_as_a_user_runs_it(tmp_path):
+    """The cache holds the first release's environment without its python, and the index
+    cannot be reached: the environment is said broken and made again, which fails; every
+    release is a row saying the index could not be reached, and the candidate is not
+    checked (exit 1). No traceback, nothing downloaded."""
+    name = cheapest(batched=False)
+    first, second = adapters.record(name).install.history[-2:]
+    cache = tmp_path / "cache"
+    env = releases.place(releases.Release(engine=name, version=first), cache)
+    fake_environment(env, {"numpy": "2.0"})
+    (env / releases.READY).write_text("{}")
+    (env / "bin" / "python").unlink()
+    res = run_command(["-m", "experiments.history", "--engine", name, "--versions",
+                       f"{first},{second}", "--cache", str(cache), "--out", str(tmp_path / "out"),
+                       "--name", "h"], env=OFFLINE, code=1)
+    assert f"{env} is broken (its bin/python is missing): made again" in res.stderr
+    assert f"not checked: the reference {first} could not be judged ({history.UNREACHABLE}: " \
+        "the package index could not be reached" in res.stdout
+    table = pd.read_csv(tmp_path / "out" / "h" / "history.csv", dtype={"release": str})
+    assert list(table.state) == [history.UNREACHABLE] * 2, table
+    assert (tmp_path / "out" / "h" / f"history_{name}.png").is_file()

@@ -2,10 +2,10 @@
 (``experiments.core.inputs``): a damaged one (missing, a directory, empty, binary, cut mid-line,
 of another kind, text where numbers belong) is refused in one line naming it, what is wrong and
 what is allowed, exit 2, nothing written; never a traceback, never read as data. Tried as a user
-would: compare's sweep tables (a column added, dropped or renamed is a change, exit 1),
-bench_engines' --keep-rows, gpu's --runs, history's --cache, --against and wheels, and the
-history's cached environments (a damaged one is made again; an index that cannot be reached is
-a row that says so). Nothing here downloads: the index history is given cannot be reached."""
+would: compare's sweep tables (a column added, dropped or renamed is a change, exit 1; a whole
+one without its last newline is read), bench_engines' --keep-rows (a device of an unknown kind
+or a row twice is refused), gpu's --runs, history's --cache (outside results/), --against and
+wheels. Nothing here downloads."""
 
 from __future__ import annotations
 
@@ -21,20 +21,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import adapters
 from experiments import bench_engines, compare, gpu, history, sweep
 from experiments.core import inputs, releases
 
 from .conftest import COMMAND_TIMEOUT_S, ROOT, cheapest, run_command
-from .test_history import fake_environment
 
 GOOD = ROOT / "results" / "sweep_all_reference_r161_still.csv"
 THROUGHPUT = ROOT / "results" / "bench_batches.csv"
 GPU_RUNS = ROOT / "results" / "gpu_runs"
 ENGINE = cheapest(batched=False)
-#: uv pointed at an index that cannot be reached, at once: nothing is downloaded.
-OFFLINE = {"UV_DEFAULT_INDEX": "http://127.0.0.1:1/simple", "UV_INDEX_URL":
-           "http://127.0.0.1:1/simple", "UV_NO_CONFIG": "1", "UV_HTTP_RETRIES": "0"}
 
 
 def _code(main, argv: list[str]) -> int:
@@ -75,13 +70,16 @@ def _bytes(how: str) -> bytes:
         return frames[how].to_csv(index=False).encode()
     return {"empty": b"", "blank": b"\n\n", "binary": bytes(range(256)) * 4,
             "cut mid-line": "".join(lines[:5]).encode() + lines[5][:len(lines[5]) // 2].encode(),
-            "cut mid-field": text.rstrip("\n")[:-1].encode(),
+            "cut before its last field": text.rstrip("\n").rsplit(",", 1)[0].encode(),
+            "cut mid-number": _good().assign(wall_s=2e-05).to_csv(index=False).rstrip()[:-2]
+            .encode(),
             "a NUL": text.replace("\n", "\n\0", 3).encode(),
             "a throughput table": THROUGHPUT.read_bytes(),
             "header only": lines[0].encode()}[how]
 
 
-@pytest.mark.parametrize("how", ["empty", "blank", "binary", "cut mid-line", "cut mid-field",
+@pytest.mark.parametrize("how", ["empty", "blank", "binary", "cut mid-line",
+                                 "cut before its last field", "cut mid-number",
                                  "a NUL", "a throughput table", "header only", "engine blank",
                                  "engine numeric", "engine blank on a row", "text in s_m",
                                  "a column named twice"])
@@ -92,12 +90,24 @@ def test_compare_refuses_a_damaged_table(how, tmp_path, capsys):
     assert sorted(tmp_path.iterdir()) == [bad]
 
 
-@pytest.mark.parametrize("what", ["missing", "directory"])
-def test_compare_refuses_what_is_not_a_file(what, tmp_path, capsys):
-    path = tmp_path / "nope.csv" if what == "missing" else tmp_path
+@pytest.mark.parametrize("what, said", [
+    ("missing", "it does not exist"), ("directory", "it is a directory"),
+    ("a link loop", "it is a symbolic link loop"),
+    ("a link to nothing", "it is a symbolic link to '")])
+def test_compare_refuses_what_is_not_a_file(what, said, tmp_path, capsys):
+    path = tmp_path if what == "directory" else tmp_path / "nope.csv"
+    if what.startswith("a link"):  # (a link to itself: a loop)
+        path.symlink_to(path if what == "a link loop" else tmp_path / "gone.csv")
     err = _refused(compare.main, [str(path), str(GOOD)], capsys, path, "a sweep table")
-    assert f"is not a file: {'it does not exist' if what == 'missing' else 'it is a directory'}" \
-        in err
+    assert f"is not a file: {said}" in err, err
+
+
+def test_a_whole_table_without_its_last_newline_is_compared(tmp_path, capsys):
+    # written by another hand: its last line is as wide as its header and its numbers read
+    (tmp_path / "new.csv").write_text(GOOD.read_text().rstrip("\n"))
+    assert _code(compare.main, [str(GOOD), str(tmp_path / "new.csv")]) == 0
+    said = capsys.readouterr()
+    assert not said.err and said.out.endswith("no change apart from timing\n"), said
 
 
 def test_compare_refuses_in_one_line_as_a_user_runs_it(tmp_path):
@@ -188,7 +198,9 @@ def _throughput(how: str, path: Path) -> Path:
     damaged = {
         "sweep table": GOOD.read_text(), "empty": "", "binary": bytes(range(256)),
         "cut mid-line": "".join(lines[:3]) + lines[3][:20],
-        "cut mid-field": text.rstrip("\n")[:-1],
+        "cut before its last field": text.rstrip("\n").rsplit(",", 1)[0],
+        "unknown device": text.replace(",cpu,", ",tpu,"),
+        "a row twice": text + "".join(lines[1:3]),
         "unregistered engine": text.replace(lines[1].split(",")[0] + ",", "noengine,", 1),
         "text in batch": pd.read_csv(THROUGHPUT).astype({"batch": str}).assign(
             batch=lambda t: t.batch.mask(t.index == 1, "ten")).to_csv(index=False)}.get(how)
@@ -200,12 +212,16 @@ def _throughput(how: str, path: Path) -> Path:
 
 
 @pytest.mark.parametrize("how", ["missing", "directory", "sweep table", "binary", "empty",
-                                 "cut mid-line", "cut mid-field", "unregistered engine",
-                                 "text in batch"])
+                                 "cut mid-line", "cut before its last field",
+                                 "unregistered engine", "text in batch", "unknown device",
+                                 "a row twice"])
 def test_keep_rows_must_be_a_throughput_table(how, tmp_path, capsys):
     bad = _throughput(how, tmp_path / "keep.csv")
     out = tmp_path / "out"
-    _refused(bench_engines.main, _bench(bad, out), capsys, bad, "a throughput table")
+    err = _refused(bench_engines.main, _bench(bad, out), capsys, bad, "a throughput table")
+    rows = len(THROUGHPUT.read_text().splitlines())
+    assert {"unknown device": "has device 'tpu' on row ", "a row twice":
+            f"has row {rows} the same as row 1 (engine "}.get(how, "") in err, err
     assert not out.exists()
 
 
@@ -251,8 +267,6 @@ DAMAGE = {  # what to break in a copy of results/gpu_runs: the file broken
                                            lambda d: {**d, "date_utc": "yesterday"}),
     "bench_batches.csv cut mid-line": lambda r: _cut(r / "bench_newton_2" / "bench_batches.csv",
                                                      0.8),
-    "bench_batches.csv cut mid-field": lambda r: _cut(r / "bench_newton_2" / "bench_batches.csv",
-                                                      0.9999),
     "bench_batches.csv with text": lambda r: _text_in(r / "bench_mjx_2" / "bench_batches.csv"),
     "twins.csv of another kind": lambda r: shutil.copy(GOOD, r / "twins_mjx" / "twins.csv"),
     "stability_cells.csv gone": lambda r: _gone(r / "stability_warp" / "stability_cells.csv"),
@@ -311,19 +325,32 @@ def _history(tmp_path: Path, *argv: str) -> list[str]:
     return ["--engine", ENGINE, *argv, "--out", str(tmp_path / "out")]
 
 
-def test_against_takes_one_version():
-    res = run_command(["-m", "experiments.history", "--engine", ENGINE, "--versions", "3.0",
-                       "--against", "1.0,2.0"], code=2)
-    assert "--against '1.0,2.0' names 2 versions; allowed: one version" in res.stderr
-
-
-@pytest.mark.parametrize("what", ["a file", "under a file", "unwritable"])
+@pytest.mark.parametrize("what", ["a file", "under a file", "unwritable", "empty", "results/",
+                                  "under results/", "a link into results/", "its python's a file"])
 def test_the_cache_must_be_a_directory_one_can_write_to(what, tmp_path, capsys):
+    # one that holds this Python's environments, made by history, outside the committed results/
     (tmp_path / "file").write_text("x\n")
+    (tmp_path / "link").symlink_to(ROOT / "results")
+    (tmp_path / releases.python_tag()).write_text("x\n")
     cache = {"a file": tmp_path / "file", "under a file": tmp_path / "file" / "cache",
-             "unwritable": Path("/proc/batsim-cache")}[what]
-    _refused(history.main, _history(tmp_path, "--versions", "1.0,2.0", "--cache", str(cache)),
-             capsys, cache, "a directory for the release environments")
+             "unwritable": Path("/proc/batsim-cache"), "empty": "", "results/": ROOT / "results",
+             "under results/": ROOT / "results" / "x" / ".." / "cache",
+             "a link into results/": tmp_path / "link" / "cache",
+             "its python's a file": tmp_path}[what]
+    err = _refused(history.main, _history(tmp_path, "--versions", "1.0,2.0", "--cache",
+                                          str(cache)), capsys, cache,
+                   "a directory for the release environments")
+    assert "results/" not in what or "is inside results/" in err
+    assert not (ROOT / "results" / "cache").exists()
+
+
+def test_a_file_where_an_environment_goes_is_said_and_left(tmp_path):
+    release = releases.Release(engine=ENGINE, version="1.0")
+    (env := releases.place(release, tmp_path)).parent.mkdir(parents=True)
+    env.write_text("mine\n")
+    with pytest.raises(releases.NotInstallable, match="is a file .*: move it away"):
+        releases.environment(release, tmp_path, lambda r, t: {})
+    assert env.read_text() == "mine\n"
 
 
 #: Root writes into a read-only directory; without these capabilities it does not.
@@ -368,24 +395,3 @@ def test_a_wheel_must_be_one_of_the_engines_package(what, tmp_path, capsys):
     allowed = "a wheel of" if what == "another package's" else "the path of a wheel"
     _refused(history.main, _history(tmp_path, "--versions", str(path), "--against", "1.0",
                                     "--cache", str(tmp_path / "cache")), capsys, path, allowed)
-
-
-def test_offline_with_a_damaged_environment_as_a_user_runs_it(tmp_path):
-    """The cache holds the first release's environment without its python, and the index
-    cannot be reached: the environment is said broken and made again, which fails; every
-    release is a row saying the index could not be reached, and the candidate is not
-    checked (exit 1). No traceback, nothing downloaded."""
-    first, second = adapters.record(ENGINE).install.history[-2:]
-    cache = tmp_path / "cache"
-    env = releases.place(releases.Release(engine=ENGINE, version=first), cache)
-    fake_environment(env, {"numpy": "2.0"})
-    (env / releases.READY).write_text("{}")
-    (env / "bin" / "python").unlink()
-    res = run_command(["-m", "experiments.history", "--engine", ENGINE, "--versions",
-                       f"{first},{second}", "--cache", str(cache), "--out", str(tmp_path / "out"),
-                       "--name", "h"], env=OFFLINE, code=1)
-    assert f"{env} is broken (its bin/python is missing): made again" in res.stderr
-    assert "not checked: the package index could not be reached" in res.stdout
-    table = pd.read_csv(tmp_path / "out" / "h" / "history.csv", dtype={"release": str})
-    assert list(table.state) == [history.UNREACHABLE] * 2, table
-    assert (tmp_path / "out" / "h" / f"history_{ENGINE}.png").is_file()

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import csv
 import datetime
+import errno
 import io
 import json
 import re
@@ -45,6 +46,10 @@ class Schema:
     others: tuple[str, ...] = ()
     #: the column whose values must be registered engines (``adapters.names()``), if any
     engines: str | None = None
+    #: the column whose values must name a kind of device the harness knows (``device_kind``)
+    devices: str | None = None
+    #: the columns that name a row: no two rows alike on them
+    unique: tuple[str, ...] = ()
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -64,12 +69,19 @@ THROUGHPUT = Schema(
              "harness_us_per_impact", "max_abs_err_mps"),
     maybe_numbers=("step_us_per_impact", "read_us_per_impact", "steps_median", "repeats", "ok",
                    "judged"),
-    others=("batched",), engines="engine")
+    others=("batched",), engines="engine", devices="device",
+    unique=("engine", "batch", "device"))
 #: A twins run's table (twins.csv); on a GPU machine it adds the device.
 TWINS = Schema(kind="a twins table (twins.csv of a twins run)", names=("engine", "step"),
                maybe_numbers=("max_abs_diff_mps", "median_abs_diff_mps"), others=("statuses",))
 TWINS_ON_DEVICE = Schema(kind=TWINS.kind, names=(*TWINS.names, "device"),
-                         maybe_numbers=TWINS.maybe_numbers, others=TWINS.others)
+                         maybe_numbers=TWINS.maybe_numbers, others=TWINS.others,
+                         devices="device")
+#: The kind of device a row's ``device`` names, by its platform (the text before its first
+#: colon): what adapters' ``device()`` write (Warp's ``cpu``, ``cuda:N: name``; JAX's
+#: ``cpu: cpu``, ``gpu: name``, ``rocm`` for AMD). The benchmarks' charts and the GPU runs'
+#: gathering sort rows into these two kinds; a row of another (a TPU's) belongs to neither.
+DEVICE_KINDS = {"cpu": "CPU", "cuda": "GPU", "gpu": "GPU", "rocm": "GPU"}
 #: A stability run's tables: every impact, and the map's cells.
 STABILITY = Schema(kind="a stability table (stability.csv of a stability run)",
                    names=("map",), others=("status",))
@@ -77,6 +89,12 @@ STABILITY_CELLS = Schema(kind="a stability map's cells (stability_cells.csv of a
                          names=("map",), numbers=("dt_s",),
                          maybe_numbers=("v0_mps", "soft_omega_radps", "fraction_ok"),
                          others=("failure",))
+
+
+def device_kind(device: str) -> str | None:
+    """'CPU' or 'GPU': the kind of device ``device`` names (``DEVICE_KINDS``), None if it
+    names none the harness knows."""
+    return DEVICE_KINDS.get(str(device).split(":", 1)[0].strip().lower())
 
 
 def bad(path: Path, wrong: str, allowed: str) -> BadInput:
@@ -97,7 +115,7 @@ def existing_file(path: Path, allowed: str) -> bytes:
     """The bytes of ``path``: a regular file, not empty."""
     path = Path(path)
     if not _exists(path, allowed):
-        raise bad(path, "is not a file: it does not exist", allowed)
+        raise bad(path, f"is not a file: {_absent(path)}", allowed)
     if path.is_dir():
         raise bad(path, "is not a file: it is a directory", allowed)
     if not path.is_file():
@@ -110,6 +128,19 @@ def existing_file(path: Path, allowed: str) -> bytes:
     if not data.strip():
         raise bad(path, "is empty", allowed)
     return data
+
+
+def _absent(path: Path) -> str:
+    """Why a path that does not exist as a file does not: a link to nothing, a loop of
+    links, or nothing there at all."""
+    if not path.is_symlink():
+        return "it does not exist"
+    try:
+        path.stat()
+    except OSError as err:
+        if err.errno == errno.ELOOP:
+            return "it is a symbolic link loop (a link that leads back to itself)"
+    return f"it is a symbolic link to {str(path.readlink())!r}, which does not exist"
 
 
 def text_file(path: Path, allowed: str) -> str:
@@ -127,25 +158,54 @@ def text_file(path: Path, allowed: str) -> str:
 
 
 def _rows(path: Path, text: str, allowed: str) -> None:
-    """Every row as wide as the header, whose names are given once each; the last line ended
-    (the harness ends every table with a newline: one without was cut)."""
-    if not text.endswith(("\n", "\r")):
-        raise bad(path, "ends mid-line (the file was cut short?)", allowed)
+    """Every row as wide as the header, whose names are given once each. A last line without
+    its newline (the harness ends every table with one) is a cut file where it is narrower or
+    wider than the header or holds text where its column's other rows hold numbers; else a
+    complete table written by another hand."""
     try:
-        rows = csv.reader(io.StringIO(text, newline=""), strict=True)
-        header = next(rows)
-        for n, row in enumerate(rows, start=2):
-            if row and len(row) != len(header):  # (pandas skips blank lines too)
-                raise bad(path, f"is not a CSV table: line {n} has {len(row)} fields, its "
-                                f"header {len(header)} (a damaged or cut file?)", allowed)
+        rows = list(csv.reader(io.StringIO(text, newline=""), strict=True))
     except csv.Error as err:
         raise bad(path, f"is not a CSV table ({err})", allowed) from None
+    header = rows[0]
+    if not text.endswith(("\n", "\r")) and len(rows) > 1:
+        _last_row(path, rows, allowed)
+    for n, row in enumerate(rows[1:], start=2):
+        if row and len(row) != len(header):  # (pandas skips blank lines too)
+            raise bad(path, f"is not a CSV table: line {n} has {len(row)} fields, its "
+                            f"header {len(header)} (a damaged or cut file?)", allowed)
     blank = [i for i, name in enumerate(header, start=1) if not name.strip()]
     if blank:
         raise bad(path, f"has a header without a name in column {blank[0]}", allowed)
     twice = sorted({name for name in header if header.count(name) > 1})
     if twice:
         raise bad(path, f"names column {twice[0]!r} twice in its header", allowed)
+
+
+def _last_row(path: Path, rows: list[list[str]], allowed: str) -> None:
+    """A last line left without its newline: as wide as the header, and a number (or blank)
+    in every column whose other rows all hold numbers; else the file was cut short."""
+    header, last, above = rows[0], rows[-1], [r for r in rows[1:-1] if len(r) == len(rows[0])]
+    if len(last) != len(header):
+        raise bad(path, f"ends mid-line: its last line has {len(last)} fields, its header "
+                        f"{len(header)} (the file was cut short?)", allowed)
+    for i, value in enumerate(last):
+        numeric = above and all(_number(r[i]) for r in above if r[i].strip())
+        if numeric and value.strip() and not _number(value):
+            raise bad(path, f"ends mid-line: its last line's {header[i]!r} is {value!r}, not a "
+                            "number as above it (the file was cut short?)", allowed)
+
+
+def _plain(value):
+    """A table's value as Python holds it (1, not np.int64(1)), for a message."""
+    return value.item() if hasattr(value, "item") else value
+
+
+def _number(value: str) -> bool:
+    try:
+        float(value)
+    except ValueError:
+        return False
+    return True
 
 
 def table(path: Path, schema: Schema) -> pd.DataFrame:
@@ -172,7 +232,28 @@ def table(path: Path, schema: Schema) -> pd.DataFrame:
         if unknown:
             raise bad(path, f"names engine {unknown[0]!r}, which is not registered",
                       f"{schema.kind}, of the engines {', '.join(adapters.names())}")
+    _devices_and_keys(path, df, schema)
     return df
+
+
+def _devices_and_keys(path: Path, df: pd.DataFrame, schema: Schema) -> None:
+    """Each device of a kind the harness knows; no two rows alike on ``schema.unique``."""
+    if schema.devices:
+        unknown = [device_kind(d) is None for d in df[schema.devices]]
+        if any(unknown):
+            at = unknown.index(True)
+            raise bad(path, f"has device {df[schema.devices].iloc[at]!r} on row {at + 1}, a "
+                            "kind of device the harness does not know",
+                      f"{schema.kind}, its devices a CPU (cpu) or a GPU (cuda:N, gpu, rocm)")
+    if schema.unique:
+        twice = df.duplicated(list(schema.unique))
+        if twice.any():
+            at = int(twice.argmax())
+            first = int((df[list(schema.unique)] == df[list(schema.unique)].iloc[at])
+                        .all(axis=1).argmax())
+            said = ", ".join(f"{c} {_plain(df[c].iloc[at])!r}" for c in schema.unique)
+            raise bad(path, f"has row {at + 1} the same as row {first + 1} ({said})",
+                      f"{schema.kind}, one row per {', '.join(schema.unique)}")
 
 
 def _listed(names: Sequence[str], most: int = 6) -> str:
@@ -251,7 +332,8 @@ def directory(path: Path, allowed: str) -> Path:
     """``path``: a directory that exists."""
     path = Path(path)
     if not _exists(path, allowed):
-        raise bad(path, "does not exist", allowed)
+        raise bad(path, f"is not a directory: {_absent(path)}" if path.is_symlink()
+                  else "does not exist", allowed)
     if not path.is_dir():
         raise bad(path, "is not a directory", allowed)
     return path

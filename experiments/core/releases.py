@@ -31,8 +31,10 @@ import adapters
 
 from .io import ROOT, atomic_write_bytes
 
-#: Where environments live unless --cache says otherwise.
-DEFAULT_CACHE = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "batsim"
+#: Where environments live unless --cache says otherwise: XDG_CACHE_HOME's, where it is set to
+#: an absolute path (the XDG spec ignores any other), else ~/.cache's.
+_XDG = os.environ.get("XDG_CACHE_HOME", "")
+DEFAULT_CACHE = (Path(_XDG) if Path(_XDG).is_absolute() else Path.home() / ".cache") / "batsim"
 #: uv's resolve and install of one release, downloads included (a cold cache: about 60 MB).
 INSTALL_TIMEOUT_S = 900
 READY = "ready.json"
@@ -199,6 +201,9 @@ def environment(release: Release, cache: Path = DEFAULT_CACHE, installer=install
     """The Python of the release's environment, made now if the cache has none complete;
     NotInstallable (uv's reason) if the release cannot be installed for this Python."""
     folder = place(release, cache)
+    if (folder.exists() or folder.is_symlink()) and not folder.is_dir():  # not the harness's
+        raise NotInstallable(f"{folder} is a file (or a link to none), not an environment: "
+                             "move it away to have the environment made there")
     folder.parent.mkdir(parents=True, exist_ok=True)
     with FileLock(str(folder) + ".lock"):
         if (why := fault(folder)) is not None:

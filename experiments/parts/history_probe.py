@@ -122,6 +122,36 @@ def probe(name: str) -> dict:
     return out
 
 
+#: The keys of what ``probe`` writes, by what they hold (JSON's own kinds).
+SHAPE = {"rows": list, "checks": list, "defaults": dict, "errors": dict, "not_driven": str}
+#: The keys of each of its rows, and of each check.
+ROW_KEYS, CHECK_KEYS = ("grid", *COLUMNS), ("check", "passed", "detail")
+
+
+def fault(result: object) -> str | None:
+    """Why ``result`` is not what ``probe`` writes (None if it is): not a JSON object, neither
+    rows nor ``not_driven``, a key of another kind, a row or check without its keys. The
+    history reads a release's result through this, so that a garbled one is a row that says
+    so, never a crash."""
+    if not isinstance(result, dict):
+        return f"a JSON {_json_kind(result)}, not an object"
+    if "rows" not in result and "not_driven" not in result:
+        return "an object with neither 'rows' nor 'not_driven'"
+    for key, kind in SHAPE.items():
+        if key in result and not isinstance(result[key], kind):
+            return f"its {key!r} is a JSON {_json_kind(result[key])}, not {_json_kind(kind())}"
+    for key, keys in (("rows", ROW_KEYS), ("checks", CHECK_KEYS)):
+        for i, item in enumerate(result.get(key, [])):
+            if not isinstance(item, dict) or not set(keys) <= set(item):
+                return f"its {key} item {i + 1} is not an object with {', '.join(keys)}"
+    return None
+
+
+def _json_kind(value: object) -> str:
+    return {dict: "object", list: "list", str: "string", bool: "true/false", int: "number",
+            float: "number", type(None): "null"}.get(type(value), type(value).__name__)
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m experiments.parts.history_probe")
     p.add_argument("--engine", required=True, choices=adapters.names())

@@ -124,8 +124,8 @@ class Report:
         regression if it grew)."""
         ra = self.rows[(self.rows.engine == engine) & (self.rows.release == before)]
         rb = self.rows[(self.rows.engine == engine) & (self.rows.release == after)]
-        if rb.empty:  # nothing fired: the change of state says why
-            return []
+        if rb.empty and self._result(engine, after)["state"] != "judged":
+            return []  # nothing fired: the change of state says why
         both = ra.merge(rb, on=["grid", "s_m"], how="left", suffixes=("_a", "_b"))
         both["status_b"] = both.status_b.fillna("not fired")
         both["moved"] = (abs(both.err_mps_b - both.err_mps_a)
@@ -144,6 +144,31 @@ class Report:
 
     def regressions(self, engine: str, reference: str, candidate: str) -> list[str]:
         return [c.text for c in self.changes(engine, reference, candidate) if c.regression]
+
+    def verdict(self, engine: str, reference: str, candidate: str) -> tuple[int, str, str]:
+        """The candidate checked against the reference: the exit code, the verdict's text, and
+        why the check could not be made ('' if it was). It is made only where both were
+        judged (a candidate the adapter cannot drive is judged: a regression, if the
+        reference was driven); one that judged nothing never passes."""
+        head = f"\n{engine} {candidate} against {reference}: "
+        for release, role in ((reference, "the reference"), (candidate, "the candidate")):
+            result = self._result(engine, release)
+            why = unjudged(result)
+            if why and not (role == "the candidate" and result["state"] == Status.UNSUPPORTED):
+                said = f"not checked: {role} {release} could not be judged ({why})"
+                return 1, head + said, f"{engine} {candidate} against {reference}: {said}"
+        lost = self.regressions(engine, reference, candidate)
+        if not lost:
+            return 0, head + "no regression", ""
+        return 1, head + f"{len(lost)} regressions\n" + "\n".join(f"  {c}" for c in lost), ""
+
+    def nothing_judged(self) -> str:
+        """Why no release at all could be judged ('' if one was): the first one's reason."""
+        whys = [(r, unjudged(r)) for r in self.results]
+        if not whys or any(why is None for _, why in whys):
+            return ""
+        first, why = whys[0]
+        return f"no release could be judged ({first['engine']} {first['release']}: {why})"
 
     def all_changes(self) -> list[Change]:
         return [c for engine, listed in self.order.items()
@@ -170,6 +195,19 @@ class Report:
         cols = [c for c in ("engine", "release", "state", "grid", "ok", "impacts", "max_err_mps",
                             "cost_us_per_impact", "checks_passed", "checks_failed") if c in s]
         return s[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}")
+
+
+def unjudged(result: dict) -> str | None:
+    """Why a release was not judged, in a line (None if it was): no environment, a probe
+    that failed, a release the adapter does not drive, or a probe that judged no impact and
+    no check (each grid and the suite raised: its last error's last line)."""
+    if result["state"] != "judged":
+        return f"{result['state']}: {result.get('reason', '')}"[:300]
+    if result.get("rows") or result.get("checks"):
+        return None
+    last = [ln for e in (result.get("errors") or {}).values() for ln in str(e).splitlines()
+            if ln.strip()][-1:]
+    return "its probe judged no impact and no check" + (f" ({last[0][:200]})" if last else "")
 
 
 def _outcome(check: dict) -> str:
@@ -308,4 +346,4 @@ def chart(summary: pd.DataFrame, changes: list[Change]) -> bytes:
     return buf.getvalue()
 
 
-__all__ = ["Change", "Report", "chart", "page"]
+__all__ = ["Change", "Report", "chart", "page", "unjudged"]

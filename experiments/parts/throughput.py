@@ -31,7 +31,7 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
-from ..core import tables
+from ..core import inputs, tables
 from ..core.fire import Jobs, fire_jobs
 from ..core.hosting import close_engines, hosted
 from ..core.judge import Status
@@ -212,8 +212,9 @@ def device(name: str, settings) -> str:
 
 
 def kind(device: str) -> str:
-    """'GPU' or 'CPU': the kind of device a row's ``device`` names."""
-    return "CPU" if "cpu" in device.lower() else "GPU"
+    """'GPU' or 'CPU': the kind of device a row's ``device`` names (``inputs.device_kind``;
+    an accelerator it does not know of is a GPU here)."""
+    return inputs.device_kind(device) or "GPU"
 
 
 def merged(measured: pd.DataFrame, kept: pd.DataFrame | None) -> pd.DataFrame:
