@@ -5,9 +5,10 @@ A local worker (``worker_start``) dies with the process that started it, however
 lost mid-run (killed, out of memory) or an item that never comes back (a hang inside compiled
 code, past its limit) is not the end of the run:
 
-- ``pool_results``: the items a broken pool still owed are sent once more to new workers; an
-  item lost twice, or past its limit, is answered by ``lost(item, status, why)`` (the impacts'
-  rows) or, where the caller has no rows to give, a one-line ``UserError``;
+- ``pool_results``: the items a broken pool still owed are sent once more to new workers; if
+  it breaks again, they run one at a time, and the one whose worker dies then, or an item past
+  its limit, is answered by ``lost(item, status, why)`` (the impacts' rows) or, where the
+  caller has no rows to give, a one-line ``UserError``;
 - ``dask_results``: the same on a Dask cluster (which already retries a task whose worker
   died, ``distributed.scheduler.allowed-failures`` times, before it gives up on it).
 """
@@ -29,7 +30,8 @@ from .judge import Status
 
 #: Linux's prctl option that sends a signal to a process when its parent dies.
 PR_SET_PDEATHSIG = 1
-#: A worker lost is tried again this many times before its items are lost.
+#: A pool that breaks has what it owed sent again, together, this many times; after that,
+#: one at a time, so that the item that kills its worker is told from the others.
 RETRIES = 1
 
 
@@ -59,39 +61,49 @@ def pool_results(runner, fn: Callable, items: list, lost: Callable | None,
     return _collected(runner, fn, items, futures, lost or _give_up, limit_s)
 
 
-def _collected(runner, fn: Callable, items: list, futures: list[Future], lost: Callable,
+def _collected(runner, fn: Callable, items: list, futures: list[Future | None], lost: Callable,
                limit_s: Callable | None) -> Iterator:
-    tries = [0] * len(items)
+    """The results in order. A pool that breaks has what it owed sent again to new workers,
+    together, RETRIES times; after that, one at a time (``alone``): an item whose worker dies
+    while it runs alone is the one that kills them, and it alone is lost, once it has done so
+    RETRIES + 1 times (an out-of-memory kill may not come again)."""
+    breaks, alone, tries = 0, False, 0
     i = 0
     while i < len(items):
+        if futures[i] is None:  # one at a time, from here on
+            futures[i] = runner.pool().submit(fn, items[i])
         limit = limit_s(items[i]) if limit_s else None
         try:
             result = futures[i].result(timeout=limit)
         except BrokenProcessPool:
             cause = death(runner.pool())
-            if tries[i] < RETRIES:
-                tries[i] += 1
-                _send_again(runner, fn, items, futures, i)
+            tries += alone
+            if tries <= RETRIES:
+                breaks += 1
+                alone = breaks > RETRIES
+                _send_again(runner, fn, items, futures, i, alone)
                 continue
             result = lost(items[i], Status.ERROR, f"error: its worker process died ({cause}), "
-                                                  f"{tries[i] + 1} times")
-            _send_again(runner, fn, items, futures, i + 1)
+                                                  f"{tries} times while it ran alone")
+            _send_again(runner, fn, items, futures, i + 1, alone)
         except FutureTimeout:
             result = lost(items[i], Status.TIMEOUT, f"timeout: its worker gave no result "
                                                     f"within {limit:.3g} s and was stopped")
-            _send_again(runner, fn, items, futures, i + 1)
+            _send_again(runner, fn, items, futures, i + 1, alone)
         yield result
-        i += 1
+        i, tries = i + 1, 0
 
 
-def _send_again(runner, fn: Callable, items: list, futures: list[Future], start: int) -> None:
+def _send_again(runner, fn: Callable, items: list, futures: list[Future | None], start: int,
+                alone: bool) -> None:
     """New workers in place of the pool's, and the items from ``start`` on that it still
-    owed sent to them."""
+    owed sent to them (``alone``: each when its turn comes)."""
     pool = runner.renew_pool()
     for k in range(start, len(items)):
         f = futures[k]
-        if not f.done() or f.cancelled() or isinstance(f.exception(), BrokenProcessPool):
-            futures[k] = pool.submit(fn, items[k])
+        if f is None or not f.done() or f.cancelled() \
+                or isinstance(f.exception(), BrokenProcessPool):
+            futures[k] = None if alone else pool.submit(fn, items[k])
 
 
 def death(pool) -> str:
