@@ -45,7 +45,8 @@ from .interface import (
     Scene,
     State,
 )
-from .record import (
+from .loading import import_engine
+from .records import (
     PROFILES,
     Capabilities,
     ContactReference,
@@ -64,7 +65,6 @@ from .record import (
     Settings,
     Studies,
     TwinStep,
-    import_engine,
 )
 
 ENTRY_POINT_GROUP = "batsim.engines"

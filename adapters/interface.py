@@ -3,7 +3,7 @@
 An engine is two things, kept apart so that the harness can read about an engine without
 importing it (``--engine`` validation, charts, tolerances):
 
-- a **record** (``adapters.record.EngineRecord``, in a module that imports no engine): its
+- a **record** (``adapters.EngineRecord``, in a module that imports no engine): its
   name, ``adapter = "module:Class"`` (where the adapter lives), ``install`` (its package),
   ``profiles`` (instances of its ``Settings`` subclass) and ``can`` (what it can do); the
   other parts have defaults (``adapters.parts``: error model, cost, presentation, studies);
@@ -17,13 +17,20 @@ and reads. It holds no state from one impact to the next that could change the n
 
 **Single-world form** (``Engine``): one world at a time; the harness loops over impacts. Seven
 members: ``record``, ``build``, ``mass_properties``, ``set_state``, ``step``, ``read`` and
-``in_contact`` (plus ``__init__(settings)``, inherited). Optional: ``set_drive`` (the hands:
-without it the engine sits out the swing studies), ``failed``, ``set_body_restitution``,
-``close`` and ``read_back_defaults``.
+``in_contact`` (plus ``__init__(settings)``, inherited). Six optional: ``set_drive`` (the
+hands: without it the engine sits out the swing studies), ``failed``, ``set_body_restitution``,
+``set_body_friction``, ``close`` and ``read_back_defaults``.
 
 **Batched form** (``BatchedEngine``): the same members over ``n`` independent worlds at once,
-arrays in and arrays out, one row per world in ``STATE_FIELDS`` order; optional
-``derivative``, the engine's own automatic differentiation through an impact.
+arrays of floats in and out, one row per world in ``STATE_FIELDS`` order (a planar engine may
+leave the out-of-plane columns out), but ``set_body_restitution``; two optional more:
+``derivative``, the engine's own automatic differentiation through an impact, and ``device``,
+where its worlds live.
+
+What the harness holds an adapter to, whatever it does (``experiments.core.fire.guarded``): a
+read of the wrong shape or kind, a contact flag its own state denies, an exception, an exit or
+a hang past the record's ``cost.impact_limit_s`` each fails its own impacts' rows (``error``,
+``timeout``), never the run.
 
 Frame and units: the world frame is the contact frame at the contact instant: x along the bat
 (knob to barrel), y from the bat toward the ball, z = x cross y. A frictionless impact in the
@@ -50,7 +57,7 @@ if TYPE_CHECKING:
 
     from analytic import Ball, Bat
 
-    from .record import EngineRecord, Settings
+    from .records import EngineRecord, Settings
 
 
 class State(NamedTuple):
@@ -140,7 +147,7 @@ class Hands:
 class Engine(abc.ABC):
     """An engine that steps one world at a time (the single-world form)."""
 
-    #: Everything the harness knows about the engine (``adapters.record.EngineRecord``).
+    #: Everything the harness knows about the engine (``adapters.EngineRecord``).
     record: ClassVar[EngineRecord]
 
     def __init__(self, settings: Settings) -> None:

@@ -1,4 +1,4 @@
-"""The parts of an engine's record (``adapters.record.EngineRecord``), each read by one kind of
+"""The parts of an engine's record (``adapters.EngineRecord``), each read by one kind of
 reader: where the engine comes from (``Install``) and what it can do (``Capabilities``), what
 an adapter author declares; what it gets wrong and in which float type (``ErrorModel``, in
 ``adapters.errors``), what the judge reads; what a step costs (``Cost``), for the estimates;
@@ -174,7 +174,7 @@ class Cost:
 class Presentation:
     """How the engine is shown: ``label`` the name as prose spells it ('' for the name),
     ``color``/``marker`` its plot style (None: one from the registry's palette), ``notes`` what
-    the report says of it (``adapters.record.ReportNotes``)."""
+    the report says of it (``adapters.ReportNotes``)."""
 
     label: str = ""
     color: str | None = None

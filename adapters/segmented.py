@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from analytic import Ball
     from analytic.chain import Chain
 
-    from .record import EngineRecord, Settings
+    from .records import EngineRecord, Settings
 
 #: Columns of one segment's row: COM position, angle, COM velocity, angular velocity.
 SEGMENT_FIELDS = ("x_m", "y_m", "angle_rad", "vx_mps", "vy_mps", "omega_radps")
@@ -55,7 +55,7 @@ class ChainScene:
 class ChainEngine(abc.ABC):
     """An engine that builds a segmented bat and a ball, one world at a time."""
 
-    #: The engine's record (``adapters.record.EngineRecord``), the same as its bat adapter's.
+    #: The engine's record (``adapters.EngineRecord``), the same as its bat adapter's.
     record: ClassVar[EngineRecord]
 
     def __init__(self, settings: Settings) -> None:

@@ -44,7 +44,7 @@ import math
 
 import numpy as np
 
-from ..record import import_engine
+from ..loading import import_engine
 from ..segmented import ChainEngine, ChainScene
 from . import RECORD
 from .adapter import _rot, make_world

@@ -84,7 +84,7 @@ from analytic.compliant import (
     hunt_crossley_dissipation,
 )
 
-from ..record import (
+from ..records import (
     Capabilities,
     ContactReference,
     Cost,

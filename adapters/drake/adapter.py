@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..interface import Engine, Hands, MassProperties, Scene, State
-from ..record import import_engine
+from ..loading import import_engine
 from . import RECORD, dissipation_spm
 
 pydrake = import_engine(RECORD)

@@ -42,7 +42,7 @@ import math
 
 import numpy as np
 
-from ..record import import_engine
+from ..loading import import_engine
 from ..segmented import ChainEngine, ChainScene
 from . import RECORD, dissipation_spm
 from .adapter import DrakeEngine

@@ -53,7 +53,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings
-from ..record import (
+from ..records import (
     Capabilities,
     Cost,
     EngineRecord,

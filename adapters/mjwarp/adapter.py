@@ -17,15 +17,15 @@ import numpy as np
 
 from ..frames import in_plane, mujoco_coordinates, mujoco_rows
 from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene
+from ..loading import import_engine, stdout_silenced
 from ..mujoco.model import port_model
-from ..record import _stdout_silenced, import_engine
 from . import INTEGRATORS, RECORD
 
 mjw = import_engine(RECORD)
 import warp as wp  # noqa: E402  (mujoco_warp brings Warp; imported after the install check)
 
 wp.config.log_level = wp.LOG_WARNING  # no banner, no line per loaded module on stdout
-with _stdout_silenced():  # Warp's native init warns on stderr where no CUDA driver is found
+with stdout_silenced():  # Warp's native init warns on stderr where no CUDA driver is found
     wp.init()
 
 #: Overflows that lose contacts or constraints: the worlds' results are then wrong. The solver's

@@ -41,7 +41,7 @@ import dataclasses
 from dataclasses import dataclass
 
 from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings
-from ..record import (
+from ..records import (
     Capabilities,
     Cost,
     EngineRecord,

@@ -21,8 +21,8 @@ import numpy as np
 
 from ..frames import in_plane, mujoco_coordinates, mujoco_rows
 from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene
+from ..loading import import_engine
 from ..mujoco.model import port_model
-from ..record import import_engine
 from . import INTEGRATORS, RECORD, RECORD_64
 
 # XLA's CPU runtime, with its concurrency-optimised scheduler, never returned from the second

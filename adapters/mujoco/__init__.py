@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from analytic import checks
 from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
-from ..record import (
+from ..records import (
     Capabilities,
     ContactReference,
     Cost,

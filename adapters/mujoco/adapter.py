@@ -10,7 +10,7 @@ import numpy as np
 
 from ..frames import angle_and_tilt, bat_quaternion, in_the_plane, rotate
 from ..interface import Engine, Hands, MassProperties, Scene, State
-from ..record import feature, import_engine
+from ..loading import feature, import_engine
 from . import INTEGRATORS, RECORD
 from .model import contact_parameters, mjcf, pair_parameters
 

@@ -95,7 +95,7 @@ from scipy import optimize
 from analytic import checks
 from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
-from ..record import (
+from ..records import (
     Capabilities,
     ContactReference,
     Cost,

@@ -9,8 +9,8 @@ import warnings
 import numpy as np
 
 from ..interface import Scene
+from ..loading import import_engine, stdout_silenced
 from ..mujoco.model import contact_parameters
-from ..record import _stdout_silenced, import_engine
 from . import PENALTY_SOLVERS, RECORD, NewtonSettings
 
 newton = import_engine(RECORD)
@@ -18,7 +18,7 @@ newton = import_engine(RECORD)
 import warp as wp  # noqa: E402  (after Newton, which it comes with)
 
 wp.config.log_level = wp.LOG_WARNING  # no banner, no line per compiled module on stdout
-with _stdout_silenced():  # Warp's CUDA probe writes to stderr when there is no driver
+with stdout_silenced():  # Warp's CUDA probe writes to stderr when there is no driver
     wp.init()
 #: Warp's device for every model: the CPU unless the environment's BATSIM_WARP_DEVICE names
 #: another ("cuda:0"), as for MuJoCo Warp.

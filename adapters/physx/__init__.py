@@ -74,7 +74,7 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import (
+from ..records import (
     Capabilities,
     Cost,
     EngineRecord,

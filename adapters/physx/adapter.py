@@ -9,7 +9,7 @@ from collections.abc import Iterator
 
 from ..frames import angle_and_tilt, bat_quaternion, in_the_plane
 from ..interface import Engine, Hands, MassProperties, Scene, State
-from ..record import feature, import_engine
+from ..loading import feature, import_engine
 from . import RECORD, PhysxSettings
 
 with warnings.catch_warnings():  # SAPIEN warns that it uses its own Vulkan: we never render

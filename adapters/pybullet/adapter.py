@@ -9,7 +9,7 @@ from analytic import Ball, Bat
 
 from ..frames import angle_and_tilt, bat_quaternion, in_the_plane
 from ..interface import Engine, Hands, MassProperties, Scene, State
-from ..record import import_engine
+from ..loading import import_engine
 from . import ENGINE_PARAMETERS, RECORD
 
 pb = import_engine(RECORD)

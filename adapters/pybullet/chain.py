@@ -38,7 +38,7 @@ import math
 
 import numpy as np
 
-from ..record import import_engine
+from ..loading import import_engine
 from ..segmented import ChainEngine, ChainScene
 from . import ENGINE_PARAMETERS, RECORD, PybulletSettings
 from .adapter import PybulletEngine

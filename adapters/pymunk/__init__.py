@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 from analytic import checks
 
-from ..record import (
+from ..records import (
     Capabilities,
     Cost,
     EngineRecord,

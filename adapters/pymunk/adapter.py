@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from ..interface import Engine, Hands, MassProperties, Scene, State
-from ..record import import_engine
+from ..loading import import_engine
 from . import RECORD
 
 pymunk = import_engine(RECORD)

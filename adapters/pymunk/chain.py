@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..record import import_engine
+from ..loading import import_engine
 from ..segmented import ChainEngine, ChainScene
 from . import RECORD
 from .adapter import make_space

@@ -6,7 +6,7 @@ import math
 
 from ..frames import angle_and_tilt, bat_quaternion, in_the_plane
 from ..interface import Engine, Hands, MassProperties, Scene, State
-from ..record import import_engine
+from ..loading import import_engine
 from . import FRICTION_MODELS, RECORD
 
 rapier = import_engine(RECORD)

@@ -48,7 +48,7 @@ import numpy as np
 from analytic import checks
 
 from ..interface import Scene
-from ..record import import_engine
+from ..loading import import_engine
 from ..segmented import ChainEngine, ChainScene
 from . import RECORD
 from .adapter import RapierEngine

@@ -31,7 +31,7 @@ from adapters import (
     Scene,
     Studies,
 )
-from adapters.record import EngineRecord, KnobFamily, RestitutionRule, Settings
+from adapters.records import EngineRecord, KnobFamily, RestitutionRule, Settings
 
 BX, BY, BVX, BVY, BW, CX, CY, CA, CVX, CVY, CW = range(11)
 

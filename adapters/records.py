@@ -11,15 +11,11 @@ error model, ``adapters.errors``).
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
-import importlib
-import os
-import sys
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import metadata
-from types import MappingProxyType, ModuleType
+from types import MappingProxyType
 from typing import Any
 
 from analytic import checks
@@ -42,7 +38,7 @@ from .rules import FrictionRule, RestitutionRule
 __all__ = ["PROFILES", "Capabilities", "ContactReference", "Cost", "EngineNotInstalled",
            "EngineRecord", "ErrorModel", "FrictionRule", "Install", "Integrator", "KnobFamily",
            "MissingFeature", "Presentation", "ReportNotes", "RestitutionRule", "Settings",
-           "Studies", "TwinStep", "feature", "import_engine"]
+           "Studies", "TwinStep"]
 
 #: Profiles every engine must offer: tuned for fidelity, and the engine's own defaults.
 PROFILES = ("reference", "default")
@@ -55,16 +51,6 @@ class EngineNotInstalled(ImportError):
 class MissingFeature(NotImplementedError):
     """The installed release of the engine lacks what these settings ask of it (an older
     release, met by ``experiments.history``): its impacts are ``unsupported``, and say why."""
-
-
-def feature(owner: object, attribute: str, setting: str) -> Any:
-    """``owner.attribute`` of the engine's module, or MissingFeature naming the setting that
-    needs it: adapters span releases by what a release has, not by its version string."""
-    try:
-        return getattr(owner, attribute)
-    except AttributeError:
-        raise MissingFeature(f"{getattr(owner, '__name__', owner)} has no {attribute} in this "
-                             f"release ({setting} needs it)") from None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -166,52 +152,3 @@ class EngineRecord:
     def version(self) -> str:
         """The installed version of the engine's package."""
         return metadata.version(self.install.package)
-
-
-def import_engine(record: EngineRecord) -> ModuleType:
-    """Import the engine's module, or raise EngineNotInstalled with the install hint. Whatever
-    the engine prints to the process's stdout while it loads (PyBullet's build-time banner) is
-    dropped, so that it never mixes with a command's own output."""
-    try:
-        with _stdout_silenced():
-            for name in record.install.requires:
-                importlib.import_module(name)
-            return importlib.import_module(record.install.import_name)
-    except ModuleNotFoundError as err:
-        tops = {m.split(".")[0] for m in (record.install.import_name, *record.install.requires)}
-        if err.name is None or err.name.split(".")[0] not in tops:
-            raise
-        raise EngineNotInstalled(record.install_hint) from err
-
-
-@contextlib.contextmanager
-def _stdout_silenced() -> Iterator[None]:
-    """Point file descriptors 1 and 2 at /dev/null for the block (C libraries print there
-    directly); an import error still arrives as a Python exception."""
-    streams = []
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            streams.append(stream.fileno())
-            stream.flush()
-        except (AttributeError, OSError, ValueError):  # no real stream (captured by pytest)
-            continue
-    saved = [os.dup(fd) for fd in streams]
-    try:
-        with open(os.devnull, "wb") as null:
-            for fd in streams:
-                os.dup2(null.fileno(), fd)
-        yield
-    finally:
-        _flush_c_stdio()  # C's buffered output would otherwise reach the real streams later
-        for fd, copy in zip(streams, saved):
-            os.dup2(copy, fd)
-            os.close(copy)
-
-
-def _flush_c_stdio() -> None:
-    import ctypes
-
-    try:
-        ctypes.CDLL(None).fflush(None)
-    except (OSError, AttributeError):
-        pass
