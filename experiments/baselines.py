@@ -89,7 +89,7 @@ def parts_arg(value: str) -> tuple[str, ...]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = cli.Parser(prog="python -m experiments.baselines", description=__doc__.splitlines()[0],
+    p = cli.Parser(prog="python -m experiments.baselines", description=cli.summary(__doc__),
                    epilog=cli.EXIT_CODES)
     p.add_argument("--only", type=parts_arg, default=PARTS, metavar="PART[,PART...]",
                    help=f"what to regenerate (default all): {', '.join(PARTS)}")

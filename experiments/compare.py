@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .core import boundary, inputs
+from .core import boundary, cli, inputs
 from .core.judge import Status
 from .core.tables import TIMING_COLUMNS
 from .errors import BadInput
@@ -151,9 +151,7 @@ def _column_change(engine: str, a: pd.DataFrame, b: pd.DataFrame, col: str, out)
 
 @boundary.entry
 def main(argv: list[str] | None = None) -> int:
-    from .core.cli import Parser
-
-    p = Parser(prog="python -m experiments.compare", description=__doc__.splitlines()[0],
+    p = cli.Parser(prog="python -m experiments.compare", description=cli.summary(__doc__),
                epilog="exit codes: 0 nothing but timing changed; 1 something else changed; 2 a "
                       "file that is not a sweep table")
     p.add_argument("old", type=Path, help="the earlier sweep table (a run's sweep.csv)")

@@ -40,10 +40,11 @@ class OutputLost(UserError):
     """stdout could not take what the command printed (a full device, a closed pipe): the
     run's files are whole, what was left to print is lost."""
 
-    def __init__(self, err: OSError) -> None:
-        super().__init__(f"stdout could not be written ({err.strerror or err}); what was left "
-                         "to print is lost, the run's files are whole")
-        self.errno = err.errno
+    def __init__(self, err: OSError | ValueError) -> None:
+        why = getattr(err, "strerror", None) or err
+        super().__init__(f"stdout could not be written ({why}); what was left to print is "
+                         "lost, the run's files are whole")
+        self.errno = getattr(err, "errno", None)
 
 
 class Terminated(BaseException):

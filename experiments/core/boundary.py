@@ -134,7 +134,7 @@ class _Stream:
     def write(self, text: str) -> int:
         try:
             return self._stream.write(text)
-        except OSError as err:
+        except (OSError, ValueError) as err:  # (ValueError: closed, by an engine, say)
             if self._failure is None:
                 return len(text)
             raise self._failure(err) from None
@@ -142,7 +142,7 @@ class _Stream:
     def flush(self) -> None:
         try:
             self._stream.flush()
-        except OSError as err:
+        except (OSError, ValueError) as err:
             if self._failure is not None:
                 raise self._failure(err) from None
 

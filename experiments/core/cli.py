@@ -78,9 +78,10 @@ EXIT_CODES = ("exit codes: 0 done; 1 a failure, told in one line (--debug: its t
               "were; 141 its output pipe closed")
 
 
-def summary(doc: str) -> str:
-    """A docstring's first paragraph, in one line (a command's --help description)."""
-    return " ".join(doc.strip().split("\n\n")[0].split())
+def summary(doc: str | None) -> str:
+    """A docstring's first paragraph, in one line (a command's --help description); '' where
+    Python dropped its docstrings (PYTHONOPTIMIZE=2)."""
+    return " ".join((doc or "").strip().split("\n\n")[0].split())
 
 
 def _join_negative_values(parser: argparse.ArgumentParser, argv):
@@ -316,7 +317,7 @@ class Command:
     """
 
     name: str
-    doc: str
+    doc: str | None
     produce: Callable[[argparse.Namespace], tuple]
     options: Callable[[argparse.ArgumentParser], None] | None = None
     check: Callable[[argparse.ArgumentParser, argparse.Namespace], None] | None = None

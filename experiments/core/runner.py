@@ -26,6 +26,7 @@ from typing import Any
 
 import adapters
 
+from ..errors import UserError
 from . import watchdog
 from .fire import Fired, Job, Jobs, fire_jobs
 from .fired import FiredSeq, unmeasured
@@ -249,12 +250,18 @@ def _dask_client(scheduler: str, workers: int):
         # queuing a worker waits a round trip to the scheduler for its next chunk.
         # Its processes start with Ctrl-C ignored (inherited): the run stops them itself, and
         # each would print its own traceback for the terminal's SIGINT.
-        with dask.config.set({"distributed.worker.profile.enabled": False,
-                              "distributed.scheduler.worker-saturation": math.inf}), \
-                _ignoring(signal.SIGINT):
-            cluster = LocalCluster(n_workers=max(workers, 1), threads_per_worker=1,
-                                   processes=True, dashboard_address=None,
-                                   silence_logs=logging.ERROR)
+        try:
+            with dask.config.set({"distributed.worker.profile.enabled": False,
+                                  "distributed.scheduler.worker-saturation": math.inf}), \
+                    _ignoring(signal.SIGINT):
+                cluster = LocalCluster(n_workers=max(workers, 1), threads_per_worker=1,
+                                       processes=True, dashboard_address=None,
+                                       silence_logs=logging.ERROR)
+        except (OSError, RuntimeError, TimeoutError) as err:
+            raise UserError(f"a local Dask cluster of {workers} workers could not start "
+                            f"({type(err).__name__}: {' '.join(str(err).split())[:200]}); "
+                            "allowed: fewer --workers, a higher ulimit -n, or --workers "
+                            "without --scheduler") from None
         client = Client(cluster)
         client._batsim_cluster = cluster
         return client
