@@ -7,6 +7,7 @@ limit, its impacts ``timeout`` rows."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -18,6 +19,7 @@ import psutil
 import pytest
 
 from experiments.core import Status
+from experiments.core.boundary import STOP, stopping
 from experiments.core.runner import Runner
 from experiments.core.workers import pool_results
 
@@ -79,6 +81,39 @@ def test_a_worker_that_never_answers_is_stopped_at_its_limit():
     assert time.perf_counter() - t0 < 20.0
 
 
+def test_a_worker_stopped_before_it_starts_dies_of_the_signal():
+    # forked inside a section that holds signals back (the pool starting its workers), before
+    # its own handlers are set: the parent's handler, inherited, must not swallow a SIGTERM
+    # (the pool's clean-up would then wait for it forever)
+    with stopping(), STOP.deferred():
+        pid = os.fork()
+        if pid == 0:
+            time.sleep(30.0)
+            os._exit(0)
+        os.kill(pid, signal.SIGTERM)
+        _, status = os.waitpid(pid, 0)
+    assert os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGTERM, status
+
+
+def _ended(proc: subprocess.Popen, workers: list, timeout_s: float) -> tuple[str, str]:
+    """The run's output once its pipes close; if they do not, a failure naming who holds
+    them, with where each such process stands (faulthandler's dump on SIGABRT)."""
+    try:
+        return proc.communicate(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        holders = [proc] if proc.poll() is None else []
+        holders += [w for w in workers if w.is_running() and w.status() != psutil.STATUS_ZOMBIE]
+        for p in holders:
+            p.send_signal(signal.SIGABRT)
+        time.sleep(2.0)
+        for w in workers:
+            with contextlib.suppress(psutil.Error):
+                w.kill()
+        out, err = proc.communicate(timeout=30)
+        pytest.fail(f"not ended within {timeout_s:g} s; still running: "
+                    f"{[(p.pid, 'parent' if p is proc else 'worker') for p in holders]}\n{err}")
+
+
 @pytest.mark.parametrize("sig,code", [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
 def test_a_stopped_sweep_leaves_no_worker_behind(sig, code, tmp_path):
     # 600 swings: many seconds on two workers, stopped once its workers are up
@@ -86,7 +121,7 @@ def test_a_stopped_sweep_leaves_no_worker_behind(sig, code, tmp_path):
                              "--points", "600", "--swing", "--no-locate", "--workers", "2",
                              "--budget-h", "100", "--out", str(tmp_path), "--name", "r"],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env={**os.environ, "BATSIM_QUIET": "1"})
+                            env={**os.environ, "BATSIM_QUIET": "1", "PYTHONFAULTHANDLER": "1"})
     parent = psutil.Process(proc.pid)
     deadline = time.monotonic() + 60.0
     while len(parent.children()) < 2 and time.monotonic() < deadline:
@@ -94,7 +129,7 @@ def test_a_stopped_sweep_leaves_no_worker_behind(sig, code, tmp_path):
     workers = parent.children(recursive=True)
     assert len(workers) >= 2, "the workers never started"
     proc.send_signal(sig)
-    out, err = proc.communicate(timeout=60)  # the pipes close: no worker holds them
+    out, err = _ended(proc, workers, timeout_s=60.0)  # the pipes close: no worker holds them
     assert proc.returncode == code, err
     assert err.count("\n") == 1 and "nothing written" in err, err
     gone, alive = psutil.wait_procs(workers, timeout=10)

@@ -59,9 +59,26 @@ class Stop:
         #: whether a command's handlers are in place (``stopping``): a KeyboardInterrupt
         #: with no signal come is then an engine's own, not the user's
         self.active = False
+        #: inside ``deferred``: a signal is kept (``held``), and raised when the section ends
+        self.deferring = False
+        self.held = False
 
     def clear(self) -> None:
         self.signum = None
+        self.held = False
+
+    @contextlib.contextmanager
+    def deferred(self) -> Iterator[None]:
+        """A section a signal must not cut in two (a worker pool half started, a job half
+        queued, which no clean-up could then find): the signal raises as the section ends."""
+        outer, self.deferring = self.deferring, True
+        try:
+            yield
+        finally:
+            self.deferring = outer
+        if self.held and not outer:
+            self.held = False
+            self.check()
 
     def check(self) -> None:
         """Raise what the signal raises, if one came."""
@@ -219,9 +236,17 @@ def stopping() -> Iterator[None]:
         yield
         return
 
+    owner = os.getpid()
+
     def stop(signum, frame) -> None:
+        if os.getpid() != owner:  # a worker forked here, stopped before it set its own
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
         STOP.signum = signum
-        raise _raised(signum)
+        STOP.held = STOP.deferring
+        if not STOP.deferring:
+            raise _raised(signum)
 
     previous = {s: signal.signal(s, stop) for s in STOPPING}
     STOP.active = True

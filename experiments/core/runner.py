@@ -16,6 +16,7 @@ from __future__ import annotations
 import contextlib
 import math
 import multiprocessing
+import os
 import signal
 import sys
 import threading
@@ -28,6 +29,7 @@ import adapters
 
 from ..errors import UserError
 from . import watchdog
+from .boundary import STOP
 from .fire import Fired, Job, Jobs, fire_jobs
 from .fired import FiredSeq, unmeasured
 from .hosting import close_engines
@@ -97,12 +99,15 @@ class Runner:
     def _stop_pool(self, abort: bool) -> None:
         if self._pool is None:
             return
-        pool, self._pool = self._pool, None
-        workers = list((getattr(pool, "_processes", None) or {}).values())
-        pool.shutdown(wait=not abort, cancel_futures=True)
-        for process in workers if abort else ():
-            process.terminate()
-            process.join(timeout=5.0)
+        with STOP.deferred():  # a second stop must not leave workers running
+            pool, self._pool = self._pool, None
+            workers = list((getattr(pool, "_processes", None) or {}).values())
+            pool.shutdown(wait=not abort, cancel_futures=True)
+            for process in workers if abort else ():
+                process.terminate()
+                process.join(timeout=5.0)
+                if process.is_alive():
+                    process.kill()
 
     def _map_remote(self, fn: Callable, items: list, lost: Callable | None = None,
                     limit_s: Callable | None = None) -> Iterable:
@@ -116,7 +121,8 @@ class Runner:
         """The local worker processes, started if need be (each dies with this process)."""
         if self._pool is None:
             self._pool = ProcessPoolExecutor(self.workers, mp_context=_pool_context(),
-                                             initializer=worker_start)
+                                             initializer=worker_start,
+                                             initargs=(os.getpid(),))
         return self._pool
 
     def renew_pool(self) -> ProcessPoolExecutor:

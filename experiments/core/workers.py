@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import os
 import signal
 import sys
 from collections.abc import Callable, Iterator
@@ -25,6 +26,7 @@ from concurrent.futures import TimeoutError as FutureTimeout
 from concurrent.futures.process import BrokenProcessPool
 
 from ..errors import UserError
+from .boundary import STOP
 from .hosting import forget_engines
 from .judge import Status
 
@@ -35,10 +37,10 @@ PR_SET_PDEATHSIG = 1
 RETRIES = 1
 
 
-def worker_start() -> None:
+def worker_start(parent_pid: int) -> None:
     """In a new local worker: drop the parent's engines (``forget_engines``), die with the
-    parent (SIGTERM on its death, where Linux offers it), and leave Ctrl-C and SIGHUP to the
-    parent, which stops its workers itself."""
+    parent (SIGTERM on its death, where Linux offers it; at once if it died before this ran),
+    and leave Ctrl-C and SIGHUP to the parent, which stops its workers itself."""
     forget_engines()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGHUP, signal.SIG_IGN)
@@ -46,6 +48,8 @@ def worker_start() -> None:
     if sys.platform.startswith("linux"):
         with contextlib.suppress(OSError, AttributeError):
             ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, int(signal.SIGTERM))
+    if os.getppid() != parent_pid:  # the parent died before the death signal was asked for
+        os._exit(128 + signal.SIGTERM)
 
 
 def _give_up(item, status: Status, why: str):
@@ -57,7 +61,8 @@ def pool_results(runner, fn: Callable, items: list, lost: Callable | None,
     """``fn`` over ``items`` on the runner's local workers, all sent now, their results in
     order as they come (module docstring). ``limit_s(item)``: how long one may take once
     waited for (None: no limit)."""
-    futures: list[Future] = [runner.pool().submit(fn, item) for item in items]
+    with STOP.deferred():  # a stop mid-way would leave a worker the pool does not know
+        futures: list[Future] = [runner.pool().submit(fn, item) for item in items]
     return _collected(runner, fn, items, futures, lost or _give_up, limit_s)
 
 
@@ -71,7 +76,8 @@ def _collected(runner, fn: Callable, items: list, futures: list[Future | None], 
     i = 0
     while i < len(items):
         if futures[i] is None:  # one at a time, from here on
-            futures[i] = runner.pool().submit(fn, items[i])
+            with STOP.deferred():
+                futures[i] = runner.pool().submit(fn, items[i])
         limit = limit_s(items[i]) if limit_s else None
         try:
             result = futures[i].result(timeout=limit)
@@ -98,12 +104,13 @@ def _send_again(runner, fn: Callable, items: list, futures: list[Future | None],
                 alone: bool) -> None:
     """New workers in place of the pool's, and the items from ``start`` on that it still
     owed sent to them (``alone``: each when its turn comes)."""
-    pool = runner.renew_pool()
-    for k in range(start, len(items)):
-        f = futures[k]
-        if f is None or not f.done() or f.cancelled() \
-                or isinstance(f.exception(), BrokenProcessPool):
-            futures[k] = None if alone else pool.submit(fn, items[k])
+    with STOP.deferred():
+        pool = runner.renew_pool()
+        for k in range(start, len(items)):
+            f = futures[k]
+            if f is None or not f.done() or f.cancelled() \
+                    or isinstance(f.exception(), BrokenProcessPool):
+                futures[k] = None if alone else pool.submit(fn, items[k])
 
 
 def death(pool) -> str:
