@@ -333,10 +333,12 @@ def _running(pid: int) -> bool:
     ({"rows": "x"}, "its 'rows' is a JSON string, not list"),
     ({"rows": [{"grid": "swing"}]}, "its rows item 1 is not an object with grid, s_m"),
     ({"rows": [], "checks": [1]}, "its checks item 1 is not an object with check"),
+    ({"rows": [{"grid": "swing", "s_m": 0.1, "status": "ok", "err_mps": "abc", "tol_mps": 1e-3,
+                "wall_s": 0.1}]}, "its rows item 1 has err_mps a JSON string, not number"),
     ({"not_driven": "ImportError: x"}, None),
     ({"rows": [], "checks": [], "defaults": {}}, None),
 ], ids=["a list", "no rows", "rows a string", "a row without keys", "a check a number",
-        "not driven", "nothing fired"])
+        "an error a string", "not driven", "nothing fired"])
 def test_a_probes_result_is_read_only_if_it_is_the_probes(result, said):
     found = history_probe.fault(result)
     assert found == said if said is None else said in found

@@ -114,6 +114,17 @@ def test_a_missing_study_is_named_not_fatal(copy):
     assert "## Where methods fail\n\n![status over time step" in text
 
 
+def test_an_infinite_value_is_a_damaged_file_named_not_a_crash(copy):
+    # the commands write NaN for what was not measured, never Infinity: one that is there was
+    # put there by hand, and the sections reading it say so
+    name = "sweep_all_reference_r161_swing.json"
+    path = copy / name
+    path.write_text(re.sub(r'("v1_abs_err_max_mps": )[^,]+', r"\1Infinity", path.read_text(),
+                           count=1))
+    text = report.render(copy)
+    assert f"damaged (Damaged: {name} (a value Infinity, which no command writes))" in text
+
+
 def test_baselines_writes_the_report_last():
     assert baselines.PARTS[-1] == "report"
     assert baselines.parts_arg("report,sweeps") == ("sweeps", "report")

@@ -85,13 +85,21 @@ def test_a_worker_stopped_before_it_starts_dies_of_the_signal():
     # forked inside a section that holds signals back (the pool starting its workers), before
     # its own handlers are set: the parent's handler, inherited, must not swallow a SIGTERM
     # (the pool's clean-up would then wait for it forever)
+    # (signalled once the child is past fork's own fix-up, which drops a signal that comes
+    # before it: the pool's clean-up kills what terminate does not stop)
     with stopping(), STOP.deferred():
+        ready, told = os.pipe()
         pid = os.fork()
         if pid == 0:
-            time.sleep(30.0)
-            os._exit(0)
+            try:
+                os.write(told, b"1")
+                time.sleep(30.0)
+            finally:
+                os._exit(0)
+        os.read(ready, 1)
         os.kill(pid, signal.SIGTERM)
         _, status = os.waitpid(pid, 0)
+        os.close(ready), os.close(told)
     assert os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGTERM, status
 
 

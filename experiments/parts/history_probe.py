@@ -126,6 +126,10 @@ def probe(name: str) -> dict:
 SHAPE = {"rows": list, "checks": list, "defaults": dict, "errors": dict, "not_driven": str}
 #: The keys of each of its rows, and of each check.
 ROW_KEYS, CHECK_KEYS = ("grid", *COLUMNS), ("check", "passed", "detail")
+#: What each of a row's values may be (JSON null: an impact that measured nothing).
+ROW_KINDS = {"grid": (str,), "s_m": (float, int), "status": (str,),
+             "err_mps": (float, int, type(None)), "tol_mps": (float, int, type(None)),
+             "wall_s": (float, int, type(None))}
 
 
 def fault(result: object) -> str | None:
@@ -144,6 +148,11 @@ def fault(result: object) -> str | None:
         for i, item in enumerate(result.get(key, [])):
             if not isinstance(item, dict) or not set(keys) <= set(item):
                 return f"its {key} item {i + 1} is not an object with {', '.join(keys)}"
+    for i, row in enumerate(result.get("rows", [])):
+        for column, kinds in ROW_KINDS.items():
+            if type(row[column]) not in kinds:  # (bool is no number here)
+                return (f"its rows item {i + 1} has {column} a JSON "
+                        f"{_json_kind(row[column])}, not {_json_kind(kinds[0]())}")
     return None
 
 

@@ -27,6 +27,16 @@ class Missing(Exception):
     """A file a section needs is not in the results directory."""
 
 
+class Infinite(ValueError):
+    """A JSON Infinity: the commands write NaN for what was not measured, never infinity."""
+
+
+def _finite_or_nan(constant: str) -> float:
+    if constant != "NaN":
+        raise Infinite(constant)
+    return math.nan
+
+
 class Results:
     """The files of one results directory, each read once; charts checked to exist."""
 
@@ -51,9 +61,12 @@ class Results:
     def json(self, name: str) -> dict:
         if name not in self._cache:
             try:
-                self._cache[name] = json.loads(self.path(name).read_text())
+                self._cache[name] = json.loads(self.path(name).read_text(),
+                                               parse_constant=_finite_or_nan)
             except (json.JSONDecodeError, UnicodeDecodeError) as err:
                 raise Damaged(f"{name} ({type(err).__name__})") from None
+            except Infinite as err:
+                raise Damaged(f"{name} (a value {err}, which no command writes)") from None
         return self._cache[name]
 
     def text(self, name: str) -> str:
