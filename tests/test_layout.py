@@ -1,5 +1,7 @@
-"""The house rules a reader relies on, read from the source itself: no module over 400 lines,
-no function over 60, and imports in one direction only: theory (``analytic``) <- engines
+"""The house rules a reader relies on, read from the source itself: a module reads in one
+sitting (about 400 lines) and a function on one screen (about 60), a guide and not a cap (a
+module is split by responsibility, not at a count: the test fails only half as long again
+past it), and imports in one direction only: theory (``analytic``) <- engines
 (``adapters``) <- harness core (``experiments.core``) <- the commands' parts
 (``experiments.parts``: no command among them) <- commands (``experiments.*``); and a row's
 status is named through ``experiments.core.judge.Status`` outside the judge, not spelled."""
@@ -17,8 +19,10 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("analytic", "adapters", "experiments")
 SOURCES = sorted(p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")) + \
     sorted((ROOT / "tests").rglob("*.py"))
-MAX_MODULE_LINES = 400
-MAX_FUNCTION_LINES = 60
+#: The guide's sizes, and how far past them the test lets a module or function go.
+MODULE_LINES, FUNCTION_LINES, PAST_GUIDE = 400, 60, 1.5
+MAX_MODULE_LINES = int(MODULE_LINES * PAST_GUIDE)
+MAX_FUNCTION_LINES = int(FUNCTION_LINES * PAST_GUIDE)
 #: What each layer may import from the project (the layer names, by module prefix).
 ALLOWED = {
     "analytic": ("analytic",),

@@ -120,9 +120,11 @@ class Runner:
     def pool(self) -> ProcessPoolExecutor:
         """The local worker processes, started if need be (each dies with this process)."""
         if self._pool is None:
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=_pool_context(),
+            context = _pool_context()
+            forked = context.get_start_method() == "fork"  # (else a fork server's children)
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=context,
                                              initializer=worker_start,
-                                             initargs=(os.getpid(),))
+                                             initargs=(os.getpid() if forked else None,))
         return self._pool
 
     def renew_pool(self) -> ProcessPoolExecutor:

@@ -37,10 +37,11 @@ PR_SET_PDEATHSIG = 1
 RETRIES = 1
 
 
-def worker_start(parent_pid: int) -> None:
+def worker_start(parent_pid: int | None) -> None:
     """In a new local worker: drop the parent's engines (``forget_engines``), die with the
-    parent (SIGTERM on its death, where Linux offers it; at once if it died before this ran),
-    and leave Ctrl-C and SIGHUP to the parent, which stops its workers itself."""
+    parent (SIGTERM on its death, where Linux offers it; at once if ``parent_pid``, the process
+    that forked it, died before this ran), and leave Ctrl-C and SIGHUP to the parent, which
+    stops its workers itself."""
     forget_engines()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGHUP, signal.SIG_IGN)
@@ -48,7 +49,7 @@ def worker_start(parent_pid: int) -> None:
     if sys.platform.startswith("linux"):
         with contextlib.suppress(OSError, AttributeError):
             ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, int(signal.SIGTERM))
-    if os.getppid() != parent_pid:  # the parent died before the death signal was asked for
+    if parent_pid is not None and os.getppid() != parent_pid:  # (died before it was asked)
         os._exit(128 + signal.SIGTERM)
 
 
