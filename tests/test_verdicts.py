@@ -19,7 +19,7 @@ from analytic import presets
 from experiments.core import Job, fire_jobs, tables
 from experiments.core.judge import Status
 from experiments.core.terms import ROUND_OPS, SOLVE_SAFETY
-from experiments.core.verdicts import judge
+from experiments.core.verdicts import Reference, judge, judge_columns
 
 #: The cheapest float64 single-world engine (records only: the tests name no engine).
 ENGINE = min((n for n in adapters.available() if not adapters.record(n).batched
@@ -64,3 +64,24 @@ def test_an_outcome_off_by_a_share_of_its_tolerance(fired, share, status):
     tol = judge(fired.case, fired.outcome).v1_tol_mps
     off = dataclasses.replace(fired.outcome, v1_mps=fired.outcome.v1_mps + share * tol)
     assert judge(fired.case, off).status == status
+
+
+def test_the_columns_judge_name_the_answer_each_impact_was_held_to():
+    # frictionless and planar, a rigid float64 engine is held to rigid theory (|v1 - v1_rigid|
+    # within its tolerance); with friction (mu = 0.3), to the frictional impulse it declares;
+    # the verdicts are the table's, which only lays them out
+    base = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, 3),
+                         v0_mps=presets.PAPER_PITCH_MPS, u0_mps=0.0, omega0_radps=0.0,
+                         e=presets.E_WOOD)
+    jobs = [Job(engine=ENGINE, settings=adapters.settings_for(ENGINE), case=c)
+            for firing in (base, dataclasses.replace(base, mu=0.3, theta_rad=0.3))
+            for c in firing.cases()]
+    fired = fire_jobs(jobs)
+    v = judge_columns(fired)
+    rows = tables.table(fired, "")
+    assert list(v.reference) == [Reference.RIGID] * 3 + [Reference.FRICTIONAL] * 3
+    assert list(v.status) == list(rows.status)
+    rigid = v.reference == Reference.RIGID
+    assert np.array_equal(v.err_mps[rigid], rows.v1_abs_err_mps[rigid])
+    assert np.array_equal(v.tol_mps[~rigid], rows.v1_law_tol_mps[~rigid])
+    assert (v.err_mps <= v.tol_mps).all(), (v.err_mps, v.tol_mps)

@@ -15,9 +15,13 @@ From the theory (``analytic``) and the engine interface (``adapters``) up:
 - ``episode``: stepping a batch of worlds until each impact is over, and the status it earns;
 - ``judge``: every tolerance, each with its reason, and the verdict against the answer that
   applies (rigid theory, or the engine's own contact law);
+- ``verdicts``: the one judge over columns, called where a firing ends: every impact's
+  verdict, the answer it was held to, its error and tolerance, as arrays (one impact: the
+  same function on columns of length one);
 - ``fire``: jobs fired in this process (adapters made once, scenes built and checked);
 - ``runner``: the same jobs serially, over local processes or on a Dask cluster;
-- ``tables``: the grid of impact points and the tidy, judged table of fired impacts;
+- ``tables``: the grid of impact points and the tidy table of fired impacts and their
+  verdicts, laid out;
 - ``check``: ``check_engine``, the conformance suite a plug-in author runs;
 - ``estimate``: what a run will cost, before it starts;
 - ``cli``, ``io``: the command-line convention, run directories, atomic files, provenance.

@@ -150,12 +150,13 @@ def tolerances(case: ImpactCase, settings: adapters.Settings,
     return out
 
 
-def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
+def columns(cases, outcomes, errors, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
     """The columns an impact with friction or out of the plane adds: the case's own, then per
     OUTPUTS stem Routh's value (analytic), the one-step law's (law), the engine's, |engine -
     analytic|, |engine - law| and the tolerance on the latter; the impulse's phases under
     Routh and the engine's friction cone. Also v1's law and tolerance (columns of 2), and
-    whether every added output is within its tolerance (True where none is judged)."""
+    whether every added output is within its tolerance (True where none is judged).
+    ``errors``: each outcome's error model."""
     n = len(cases)
     cols: dict[str, list] = {k: [] for k in CASE_COLUMNS}
     for c in cases:
@@ -164,7 +165,6 @@ def columns(cases, outcomes, episodes) -> tuple[dict, np.ndarray, np.ndarray]:
         for axis, w in zip("xyz", c.spin_radps):
             cols[f"spin0_{axis}_radps"].append(w)
     plain = [c.frictionless_planar for c in cases]
-    errors = [judge.errors_of(o) for o in outcomes]
     laws = [ep if p else law(c, o.settings.max_contact_s, err.friction_law(o.settings))
             for c, o, err, ep, p in zip(cases, outcomes, errors, episodes, plain)]
     tols = [dict.fromkeys(("v1", *OUTPUTS), math.nan) if p else tolerances(c, o.settings, err)

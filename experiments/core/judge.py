@@ -38,7 +38,6 @@ reason: the tests import them rather than restate them.
 
 from __future__ import annotations
 
-import contextvars
 import functools
 import math
 from dataclasses import replace
@@ -96,16 +95,11 @@ from .terms import (  # noqa: E402 - the tolerance table (``terms``), read by na
     SOLVE_SAFETY,
 )
 
-#: Error models that stand in for an engine's record's while a ``verdicts.judge`` call lasts.
-ERROR_MODELS: contextvars.ContextVar[dict | None] = contextvars.ContextVar("error_models",
-                                                                          default=None)
 
-
-def errors_of(o) -> adapters.ErrorModel:
-    """The error model an outcome is judged with: the one ``verdicts.judge`` was given, else
-    its engine's record's."""
-    given = ERROR_MODELS.get()
-    return (given or {}).get(o.engine) or adapters.record(o.engine).errors
+def errors_of(o, models=None) -> adapters.ErrorModel:
+    """The error model an outcome is judged with: the one ``models`` gives its engine (a study
+    asking what another precision or contact law would allow), else its engine's record's."""
+    return (models or {}).get(o.engine) or adapters.record(o.engine).errors
 
 
 def mass_allowance(eps: float) -> float:  # relative, between mass properties set and read back
@@ -120,7 +114,7 @@ def energy_allowance(errors: adapters.ErrorModel, settings: adapters.Settings) -
             + 2.0 * SOLVE_SAFETY * errors.solve_conditioning(settings) * eps)
 
 
-def _derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The single impulse's ``field`` at each case's s, its |d/ds| (central difference over
     FD_STEP_M, kept on the cylinder) and |d2/ds2| (over CURVATURE_STEP_M): one vectorized
     prediction per bat and ball for all rows and all five points."""
@@ -213,18 +207,21 @@ def single_impulse_tolerance(case: ImpactCase, settings: adapters.Settings,
             + _lingering(case, st.dt_s, tangential))
 
 
-def tolerances(cases, outcomes, release_omega_radps, rigid_episodes) -> np.ndarray:
-    """Allowed |v1 engine - v1 rigid| per impact (m/s; NaN where not judged)."""
+def tolerances(cases, outcomes, errors_each, release_omega_radps, rigid_episodes,
+               derivatives: tuple | None = None) -> np.ndarray:
+    """Allowed |v1 engine - v1 rigid| per impact (m/s; NaN where not judged), each outcome
+    judged with its error model (``errors_each``); ``derivatives``: the cases' single-impulse
+    v1 and its derivatives (``derivatives``), if already worked out."""
     out = np.full(len(cases), math.nan)
-    v1, slopes, curvatures = _derivatives(cases)
-    for i, (case, o, w_r, ep) in enumerate(zip(cases, outcomes, release_omega_radps,
-                                               rigid_episodes)):
-        st, errors = o.settings, errors_of(o)
+    v1, slopes, curvatures = derivatives or derivatives(cases)
+    for i, (case, o, errors, w_r, ep) in enumerate(zip(cases, outcomes, errors_each,
+                                                       release_omega_radps, rigid_episodes)):
+        st = o.settings
         if (errors.contact_reference(st) is not adapters.ContactReference.RIGID_IMPULSE
                 or not case.frictionless_planar):  # (friction: ``friction_judge``)
             continue
         if ep.impacts > 1 or ep.sustained_contact_s > 0.0:
-            out[i] = _episode_tolerance(case, ep, o, w_r,
+            out[i] = _episode_tolerance(case, ep, st, errors, w_r,
                                         _speed(case) * precision_rel(st, errors, case), v1[i])
             continue
         tol = single_impulse_tolerance(case, st, errors, slopes[i], curvatures[i])
@@ -255,19 +252,20 @@ def output_tolerance(case: ImpactCase, settings: adapters.Settings,
                      errors: adapters.ErrorModel, field: str) -> float:
     """``single_impulse_tolerance`` of one output of ``analytic.predict`` (v1_mps, u1_mps or
     omega1_radps: its rounding scaled to rad/s by 1/L) for a case fired once."""
-    _, slope, curvature = _derivatives([case], field)
+    _, slope, curvature = derivatives([case], field)
     scale = _speed(case) / case.bat.length_m if field == "omega1_radps" else None
     return single_impulse_tolerance(case, settings, errors, slope[0], curvature[0], scale)
 
 
-def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
-                       rounding: float, v1_impulse: float) -> float:
+def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, st: adapters.Settings,
+                       errors: adapters.ErrorModel, w_r: float, rounding: float,
+                       v1_impulse: float) -> float:
     """The tolerance of an episode of more than one impulse. The same sources as for one, but
     the rigid answer's sensitivity is taken from ``collide`` itself (a long slide along the
     turning bat amplifies a shift of the contact point or of the bat's speed far more than the
     single impulse does): v1 of the episode with s moved by the slides, and, after a swing in
     the engine, with omega0 (and u0 with it) and the approach tilted by the swing's errors."""
-    bat, ball, st = case.bat, case.ball, o.settings
+    bat, ball = case.bat, case.ball
     reach = bat.radius_m + ball.radius_m
     v_c = case.closing_speed_mps
     tangential = _tangential(case)
@@ -278,7 +276,7 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, o, w_r: float,
     # the first contact seen at its phase, each later one as late as a whole step
     late = delay(st.contact_phase) + (ep.impacts - 1) * delay(1.0)
     slide = ((reach * abs(case.omega0_radps) + tangential) * late
-             + errors_of(o).collision_slide_m(st, bat))
+             + errors.collision_slide_m(st, bat))
     leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * late
     moved = []
     if math.isfinite(w_r):
@@ -316,7 +314,8 @@ def law_answer(case: ImpactCase, law) -> compliant.CompliantOutcome:
     return compliant.predict(case, law)
 
 
-def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
+def soft_judgement(case: ImpactCase, o,
+                   errors: adapters.ErrorModel | None = None) -> tuple[float, float]:
     """(v1 of the engine's own contact law, allowed |v1 engine - v1 law|) for an engine whose
     contact converges to a continuous law; (NaN, NaN) for a rigid contact; (v1 law, NaN),
     unjudged, where the law's answer or the bound does not apply. The tolerance is the leading
@@ -327,8 +326,9 @@ def soft_judgement(case: ImpactCase, o) -> tuple[float, float]:
     ``analytic.compliant.predict`` follows one contact of an infinite cylinder: where the
     rigid episode at the law's e holds more (re-contacts, a sustained slide), or the ball slides
     past the cylinder's end during the contact, its answer is not the engine's, and the row is
-    unjudged; so is a step whose estimated restitution error exceeds LAW_MAX_REL_ERROR."""
-    errors = errors_of(o)
+    unjudged; so is a step whose estimated restitution error exceeds LAW_MAX_REL_ERROR.
+    ``errors``: the error model to judge with (default its engine's record's)."""
+    errors = errors or errors_of(o)
     law = errors.contact_law(o.settings, case.e)
     if law is None or not case.frictionless_planar:  # the laws are frictionless, planar
         return math.nan, math.nan

@@ -24,7 +24,6 @@ from analytic import (
     center_of_percussion,
     episode_cop_mark,
     episode_sweet_spot_mark,
-    predict_arrays,
     presets,
     sweet_spot,
 )
@@ -32,9 +31,9 @@ from analytic.collide import MAX_EPISODE_S
 from analytic.dynamics import HingedSwing
 from analytic.marks import SINGLE_IMPULSE
 
-from . import friction_judge, judge
+from . import verdicts
 from .fire import Fired, Job, Jobs, fire_jobs
-from .fired import gather
+from .fired import Gathered, gather
 
 #: Columns of a sweep table, in order. Units are in the names.
 COLUMNS = (
@@ -105,127 +104,76 @@ def grid(bat: Bat, points: int, s_min_m: float | None = None,
     return tuple(float(x) for x in np.linspace(lo, hi, points))
 
 
-def _single_impulse_v1(cases: Sequence[ImpactCase]) -> np.ndarray:
-    """v1 of the single-impulse answer for every case (m/s), vectorized per bat and ball."""
-    impulse = np.empty(len(cases))
-    groups: dict[tuple, list[int]] = {}
-    for i, c in enumerate(cases):
-        groups.setdefault((c.bat, c.ball), []).append(i)
-    fields = ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad",
-              "hands_from_knob_m")
-    for (bat, ball), idx in groups.items():
-        arrays = {f: np.array([getattr(cases[i], f) for i in idx]) for f in fields}
-        impulse[idx] = predict_arrays(bat, ball, **arrays)["v1_mps"]
-    return impulse
-
-
-def _with_friction(g, judged, rigid, spin_columns: bool, plain: bool):
-    """With friction or out of the swing plane (or ``spin_columns``): the columns
-    ``friction_judge`` adds to every row of ``g`` (their rigid answers ``rigid``); where a
-    frictional answer applies, v1 judged against the one-step law as against a contact law
-    (rigid tolerance NaN, ``law`` from the one-step law) with Routh's impulse as its single
-    impulse; and whether every added output is within its tolerance. ``judged``: tol, law,
-    impulse, returned as given (and no columns) where every case is ``plain``."""
-    tol, law, impulse = judged
-    if plain and not spin_columns:
-        return {}, tol, law, impulse, np.ones(len(tol), dtype=bool)
-    cases = g.cases
-    extra, v1_law, within = friction_judge.columns(cases, g.outcomes(range(len(cases))),
-                                                   rigid)
-    each = np.array([c.frictionless_planar for c in cases])
-    v1 = np.array([r.v1_mps for r in rigid])
-    return (extra, np.where(each, tol, math.nan), np.where(each[:, None], law, v1_law),
-            np.where(each, impulse, v1), within)
-
-
-def _distinct(g) -> tuple[np.ndarray, np.ndarray]:
-    """The rows of ``g`` judged alike: one per distinct case, settings, engine and analytic
-    release (the judgement depends on nothing else), as (a row of each, each row's index
-    into them). Cases count as one when they are the same object, settings when equal. Each key
-    column is coded by ``np.unique`` and the codes combined column by column (compacted
-    again after each, so that they stay below the row count): no Python loop over rows."""
-    n = len(g.cases)
-    if n == 0:
-        return np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp)
-    release = g.cols["release_omega_analytic_radps"]
-    columns = [np.fromiter(map(id, g.cases), dtype=np.int64, count=n) if g.distinct is None
-               else g.distinct[1]]
-    if g.settings.count(g.settings[0]) < n:  # (equal settings judge alike; C speed)
-        columns.append(np.fromiter(map(id, g.settings), dtype=np.int64, count=n))
-    if g.engines.count(g.engines[0]) < n:
-        columns.append(np.asarray(g.engines))
-    if not np.isnan(release).all():
-        columns.append(release)
-    if len(columns) == 1 and g.distinct is not None:  # (the cases alone: known)
-        return g.distinct
-    key = columns[0]
-    for column in columns[1:]:
-        key = np.unique(key, return_inverse=True)[1].reshape(-1)
-        codes = np.unique(column, return_inverse=True)[1].reshape(-1)
-        key = key * (int(codes.max()) + 1) + codes
-    _, rep, inv = np.unique(key, return_index=True, return_inverse=True)
-    return rep.astype(np.intp), inv.reshape(-1).astype(np.intp)
-
-
-def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False) -> pd.DataFrame:
-    """The tidy table of fired impacts, one row per impact in order: the case, the rigid-body
-    answer (``analytic.collide``'s whole episode, followed as long as the engine's budget; the
-    single impulse beside it), the engine's outcome, their difference and the tolerance it is
-    judged against (``judge``): a sound impact outside it gets the status
-    ``inaccurate``. With a swing (any NaN-free release), the SWING_COLUMNS too; with friction
-    or out of the swing plane (or ``spin_columns``: a flight needs them),
-    ``friction_judge.columns`` (every one of its outputs judged too). The answers and
-    tolerances are worked out once per distinct impact (``_distinct``), not per row."""
+def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False,
+          error_models: verdicts.ErrorModels | None = None) -> pd.DataFrame:
+    """The tidy table of fired impacts, one row per impact in order: the case, the answers it
+    was judged against (``verdicts.judge_columns``: the rigid-body answer, ``analytic.collide``'s
+    whole episode followed as long as the engine's budget, the single impulse beside it, the
+    engine's own contact law), the engine's outcome, their difference, the tolerance and the
+    verdict. With a swing (any NaN-free release), the SWING_COLUMNS too; with friction or out
+    of the swing plane (or ``spin_columns``: a flight needs them), ``friction_judge.columns``.
+    It lays columns out; it judges nothing itself."""
     g = gather(fired)
-    c, n = g.cols, len(g.cases)
-    rep, inv = _distinct(g)
-    cases, outs = [g.cases[i] for i in rep], g.outcomes(rep)
-    rigid = [judge.rigid(k, o.settings.max_contact_s) for k, o in zip(cases, outs)]
-    law = np.array([judge.soft_judgement(k, o) for k, o in zip(cases, outs)]).reshape(-1, 2)
-    judged = (judge.tolerances(cases, outs, c["release_omega_analytic_radps"][rep], rigid),
-              law, _single_impulse_v1(cases))
-    # the friction columns hold the engine's values: judged on every row, where any applies
-    judged = tuple(x[inv] for x in judged)
-    plain = all(k.frictionless_planar for k in cases)
-    extra, tol, law, impulse, within = _with_friction(
-        g, judged, [] if plain and not spin_columns else [rigid[k] for k in inv],
-        spin_columns, plain)
+    v = verdicts.judge_columns(g, error_models, spin_columns)
+    return layout(g, v, profile)
 
+
+def layout(g: Gathered, v: verdicts.Verdicts, profile: str) -> pd.DataFrame:
+    """The table of gathered impacts ``g`` and their verdicts ``v`` (``table``)."""
+    c, n, a = g.cols, len(g.cases), v.answers
+    inv = a["rows"]
     each = functools.partial(_spread, rows=inv)
-
-    ref = {k: each([getattr(r, k) for r in rigid])
-           for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
-    v1 = c["v1_mps"]
-    err, law_err = np.abs(v1 - ref["v1_mps"]), np.abs(v1 - law[:, 0])
-    status = judge.verdict(c["status"], err, tol, law_err, law[:, 1], within)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rel = np.where(ref["v1_mps"] != 0.0, err / np.abs(ref["v1_mps"]), math.inf)
+    rigid = a["rigid_episodes"]
+    cases = [g.cases[i] for i in _firsts(inv, len(rigid))]
     cols = {
         "engine": _texts(g.engines), "profile": _spread([profile], np.zeros(n, dtype=np.intp)),
         "bat": each([k.bat.name for k in cases]),
         **{f: each([getattr(k, f) for k in cases])
            for f in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad")},
-        "v1_analytic_mps": ref["v1_mps"], "v1_engine_mps": v1, "v1_abs_err_mps": err,
-        "v1_rel_err": rel, "v1_tol_mps": tol, "v1_impulse_mps": impulse,
+        "v1_analytic_mps": a["v1_analytic_mps"], "v1_engine_mps": c["v1_mps"],
+        "v1_abs_err_mps": a["v1_abs_err_mps"], "v1_rel_err": _relative(a),
+        "v1_tol_mps": a["v1_tol_mps"], "v1_impulse_mps": a["v1_impulse_mps"],
         "rigid_impacts": each([r.impacts for r in rigid]),
         "rigid_sustained_s": each([r.sustained_contact_s for r in rigid]),
         "rigid_end": each([r.ended for r in rigid]),
-        "v1_law_mps": law[:, 0], "v1_law_err_mps": law_err, "v1_law_tol_mps": law[:, 1],
-        "u1_analytic_mps": ref["u1_mps"], "u1_engine_mps": c["u1_mps"],
-        "omega1_analytic_radps": ref["omega1_radps"], "omega1_engine_radps": c["omega1_radps"],
-        "hand_dv_analytic_mps": ref["hand_dv_mps"], "hand_dv_engine_mps": c["hand_dv_mps"],
+        **{k: a[k] for k in ("v1_law_mps", "v1_law_err_mps", "v1_law_tol_mps")},
+        "u1_analytic_mps": a["u1_analytic_mps"], "u1_engine_mps": c["u1_mps"],
+        "omega1_analytic_radps": a["omega1_analytic_radps"],
+        "omega1_engine_radps": c["omega1_radps"],
+        "hand_dv_analytic_mps": a["hand_dv_analytic_mps"], "hand_dv_engine_mps": c["hand_dv_mps"],
         "ke_before_j": c["ke_before_j"], "ke_after_j": c["ke_after_j"],
-        "status": _text(status), "episode_end": _text(c["ended"]),
+        "status": _text(v.status), "episode_end": _text(c["ended"]),
         "ball_side_end_m": c["ball_side_m"], "contact_duration_s": c["contact_duration_s"],
         "peak_penetration_m": c["peak_penetration_m"], "steps": c["steps"],
         "wall_s": c["wall_s"],
     }
-    cols.update(extra)
+    cols.update({k: x for k, x in a.items() if k not in _LAID_OUT})
     if np.isfinite(c["release_omega_analytic_radps"]).any():
         cols["release_omega_engine_radps"] = c["release_omega_radps"]
         cols["release_omega_analytic_radps"] = c["release_omega_analytic_radps"]
         cols["release_angle_err_rad"] = c["release_angle_rad"] - c["release_angle_analytic_rad"]
     return pd.DataFrame(cols, copy=False)  # (columns made here, not shared)
+
+
+#: The judge's answers laid out above (the rest, friction's, are added as they come).
+_LAID_OUT = frozenset(("v1_analytic_mps", "v1_abs_err_mps", "v1_tol_mps", "v1_impulse_mps",
+                       "rigid_episodes", "rows", "v1_law_mps", "v1_law_err_mps",
+                       "v1_law_tol_mps", "u1_analytic_mps", "omega1_analytic_radps",
+                       "hand_dv_analytic_mps"))
+
+
+def _relative(a: dict) -> np.ndarray:
+    """|v1 engine - v1 rigid| / |v1 rigid| (inf where the rigid v1 is 0)."""
+    ref = a["v1_analytic_mps"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(ref != 0.0, a["v1_abs_err_mps"] / np.abs(ref), math.inf)
+
+
+def _firsts(rows: np.ndarray, k: int) -> np.ndarray:
+    """The first row of each of the ``k`` distinct impacts ``rows`` index."""
+    first = np.full(k, -1, dtype=np.intp)
+    first[rows[::-1]] = np.arange(len(rows) - 1, -1, -1)
+    return first
 
 
 def _spread(values: list, rows: np.ndarray):
