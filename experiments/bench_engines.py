@@ -41,7 +41,7 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
-from .core import cli, inputs, runs, tables
+from .core import cli, firings, inputs, runs, tables
 from .core.cli import Command
 from .core.hosting import hosted
 from .core.io import ROOT, figure_png, json_bytes, provenance
@@ -54,7 +54,7 @@ from .parts import throughput
 KEEP_ROWS = ROOT / "results" / "bench_batches.csv"
 
 
-def per_collision(name: str, firing: tables.Firing, repeats: int) -> dict:
+def per_collision(name: str, firing: firings.Firing, repeats: int) -> dict:
     """Median cost per collision, through the harness and for the bare engine, same steps."""
     settings = adapters.settings_for(name)
     jobs = firing.jobs(name, settings)
@@ -257,7 +257,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         files, lines = batches_files(args)
         return files, "\n".join(lines)
     repeats = 1 if args.quick else args.repeats
-    firing = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, args.points),
+    firing = firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, args.points),
                           v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
                           omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     table = pd.DataFrame([per_collision(n, firing, repeats) for n in args.engine])

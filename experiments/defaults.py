@@ -29,7 +29,7 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from .core import cli, judge, runs, tables
+from .core import cli, firings, judge, runs, tables
 from .core.cli import Command
 from .core.io import json_bytes, provenance
 
@@ -39,8 +39,8 @@ REF_DT_S = 1e-5
 PLACEMENT = ("dt_s", "contact_phase", "overlap_m", "approach_steps", "max_contact_s")
 
 
-def firing() -> tables.Firing:
-    return tables.Firing(bat=presets.R161, s_m=S_M, v0_mps=presets.PAPER_PITCH_MPS,
+def firing() -> firings.Firing:
+    return firings.Firing(bat=presets.R161, s_m=S_M, v0_mps=presets.PAPER_PITCH_MPS,
                         u0_mps=presets.PAPER_SWING.u0_mps,
                         omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
 

@@ -33,7 +33,7 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from .core import cli, runs, tables
+from .core import cli, firings, runs, tables
 from .core.cli import Command
 from .core.fire import Job
 from .core.io import json_bytes, provenance
@@ -77,7 +77,7 @@ def cells(planar: bool, quick: bool) -> list[dict]:
 
 def jobs(name: str, quick: bool) -> list[tuple[str, Job]]:
     """(family, job) for every family, cell and impact point of one engine."""
-    base = tables.Firing(bat=presets.R161, s_m=POINTS_M, v0_mps=presets.PAPER_PITCH_MPS,
+    base = firings.Firing(bat=presets.R161, s_m=POINTS_M, v0_mps=presets.PAPER_PITCH_MPS,
                          u0_mps=presets.PAPER_SWING.u0_mps,
                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     return [(label, job) for label, st in families(name)

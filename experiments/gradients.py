@@ -30,7 +30,7 @@ import adapters
 from analytic import presets
 from analytic.collide import collide
 
-from .core import cli, tables
+from .core import cli, firings
 from .core.cli import Command
 from .core.gradients import INPUTS, finite_differences, gradient_rows, moved
 from .core.io import figure_png, json_bytes, provenance
@@ -45,7 +45,7 @@ EDGE_M = 0.01
 
 def base_case():
     """The paper's swing on the R161, frictionless, at the sweet spot's neighbourhood."""
-    f = tables.Firing(bat=presets.R161, s_m=(0.0,), v0_mps=presets.PAPER_PITCH_MPS,
+    f = firings.Firing(bat=presets.R161, s_m=(0.0,), v0_mps=presets.PAPER_PITCH_MPS,
                       u0_mps=presets.PAPER_SWING.u0_mps,
                       omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     return f.cases()[0]
@@ -56,7 +56,7 @@ def points(n: int) -> list:
     impulse."""
     base = base_case()
     bat = base.bat
-    grid = tables.grid(bat, n, bat.s_min_m + EDGE_M, bat.s_max_m - EDGE_M)
+    grid = firings.grid(bat, n, bat.s_min_m + EDGE_M, bat.s_max_m - EDGE_M)
     cases = [moved(base, "s_m", s) for s in grid]
     return [c for c in cases if collide(c).impacts == 1
             and collide(c).sustained_contact_s == 0.0]

@@ -29,7 +29,7 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from .core import cli, judge, runs, tables
+from .core import cli, firings, judge, runs, tables
 from .core.cli import Command
 from .core.io import figure_png, json_bytes, provenance
 from .core.judge import Status
@@ -274,7 +274,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every setting of every chosen engine over the grid: the files and a summary."""
     repeats = args.repeats or (1 if args.quick else 3)
     s = np.linspace(-0.2, 0.25, 4 if args.quick else GRID_POINTS)
-    firing = tables.Firing(bat=presets.R161, s_m=tuple(s), v0_mps=presets.PAPER_PITCH_MPS,
+    firing = firings.Firing(bat=presets.R161, s_m=tuple(s), v0_mps=presets.PAPER_PITCH_MPS,
                           u0_mps=presets.PAPER_SWING.u0_mps,
                           omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     t0 = time.perf_counter()

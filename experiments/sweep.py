@@ -27,7 +27,8 @@ from analytic.ball import LAWS
 from analytic.dynamics import HingedSwing
 from analytic.model import WOOD_DENSITY_KGM3
 
-from .core import boundary, carry, cli, estimate, judge, runs, tables
+from .core import boundary, carry, cli, estimate, firings, judge, runs, tables
+from .core import locate as locating
 from .core.estimate import duration
 from .core.fire import Job
 from .core.io import json_bytes, provenance
@@ -48,7 +49,7 @@ class Sweep:
     engines: tuple[str, ...]
     profile: str
     dt_s: float | None
-    firing: tables.Firing
+    firing: firings.Firing
     name: str
     #: Each engine's settings: the profile's, with the time step overridden if one is given.
     settings: Mapping[str, adapters.Settings]
@@ -83,10 +84,10 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
         raise ValueError(f"--law {args.law} without --reference compliant does nothing; "
                          "allowed: add --reference compliant, or leave --law out")
     law = (args.law or "ball") if args.reference == "compliant" else None
-    s = tables.grid(bat, args.points, *(args.s_range or (None, None)))
+    s = firings.grid(bat, args.points, *(args.s_range or (None, None)))
     swing, u0 = _swing(args, bat)
     # the pitch's backspin lifts it: about -x for a ball coming along -y (impact frame)
-    firing = tables.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=u0, omega0_radps=args.omega0,
+    firing = firings.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=u0, omega0_radps=args.omega0,
                            e=args.e, theta_rad=args.theta, hands_from_knob_m=args.hands,
                            swing=swing, mu=args.friction, undercut_m=args.undercut,
                            spin_radps=(-args.spin, 0.0, 0.0))
@@ -97,7 +98,7 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
         _check_swing_steps(swing, bat, settings, args)
     if args.flight:
         _check_flight(cases)
-    tables.analytic_marks(firing, budget_s(settings))  # the marks too (cached for the run)
+    locating.analytic_marks(firing, budget_s(settings))  # the marks too (cached for the run)
     need = max(min_dt_s(c, st) for c in cases for st in settings.values())
     if not all(st.dt_s > need for st in settings.values()):
         step = (f"--dt {args.dt:g} s" if args.dt is not None else
@@ -199,7 +200,7 @@ def check_cost(sweep: Sweep, budget_h: float, locate: bool = True) -> float:
     the searches for each engine's sweet spot and COP); ValueError if over ``budget_h``."""
     per_engine = estimate.run_s(sweep.jobs())
     if locate:  # a search near each analytic mark on the bat, per engine
-        marks = tables.analytic_marks(sweep.firing, budget_s(sweep.settings))
+        marks = locating.analytic_marks(sweep.firing, budget_s(sweep.settings))
         at = [s for s in (marks["sweet_spot_m"], marks["cop_m"]) if math.isfinite(s)
               and sweep.firing.bat.s_min_m <= s <= sweep.firing.bat.s_max_m]
         near = [Job(engine=n, settings=sweep.settings[n], case=sweep.firing.case(s),
@@ -230,7 +231,7 @@ def run(sweep: Sweep, runner: Runner | None = None, *, locate: bool = True,
     if sweep.law:
         table = with_compliant(table, sweep.firing, sweep.law)
     elapsed = time.perf_counter() - t0
-    marks = tables.analytic_marks(sweep.firing, budget_s(settings))
+    marks = locating.analytic_marks(sweep.firing, budget_s(settings))
     summary = {n: _summarize(table[table.engine == n]) for n in sweep.engines}
     located = _locate(runner, sweep.firing, settings, table, marks) if locate else lambda: {}
     meta = {"analytic": marks, "engines": summary, "fire_s": elapsed}
@@ -244,7 +245,7 @@ def run(sweep: Sweep, runner: Runner | None = None, *, locate: bool = True,
     return table, meta
 
 
-def with_compliant(table: pd.DataFrame, firing: tables.Firing, law: str) -> pd.DataFrame:
+def with_compliant(table: pd.DataFrame, firing: firings.Firing, law: str) -> pd.DataFrame:
     """The table with the compliant prediction of every impact beside the rigid one:
     v1_compliant_mps, v1_rigid_minus_compliant_mps (m/s), compliant_contact_s (s),
     compliant_peak_force_n (N), compliant_bat_turn_rad (rad): one integration per grid point.
@@ -289,13 +290,13 @@ def _locate(runner, firing, settings, table, marks) -> Callable[[], dict]:
     for name, df in table.groupby("engine", sort=False):
         if not df.status.isin(judge.MEASURED).all():
             continue
-        bracket = tables.bracket_around(df.s_m, df.v1_engine_mps, "max")
+        bracket = locating.bracket_around(df.s_m, df.v1_engine_mps, "max")
         if bracket is not None and bracket[0] < marks["sweet_spot_m"] < bracket[1]:
-            calls.append((tables.locate_sweet_spot, (name, settings[name], firing, bracket)))
+            calls.append((locating.locate_sweet_spot, (name, settings[name], firing, bracket)))
             keys.append((name, "sweet_spot_engine_m"))
-        bracket = tables.bracket_around(df.s_m, df.hand_dv_engine_mps, "root")
+        bracket = locating.bracket_around(df.s_m, df.hand_dv_engine_mps, "root")
         if bracket is not None:
-            calls.append((tables.locate_cop, (name, settings[name], firing, bracket)))
+            calls.append((locating.locate_cop, (name, settings[name], firing, bracket)))
             keys.append((name, "cop_engine_m"))
     cost = estimate.SEARCH_SIMULATIONS * len(calls) * float(table.wall_s.median())
     if not calls:

@@ -26,15 +26,15 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from .core import cli, estimate, runs, tables
+from .core import cli, estimate, firings, runs, tables
 from .core.cli import Command
 from .core.io import json_bytes, provenance
 from .parts import throughput
 
 
-def firing(points: int) -> tables.Firing:
+def firing(points: int) -> firings.Firing:
     """The paper's swing over ``points`` points of the barrel (s from -0.2 to 0.25 m)."""
-    return tables.Firing(bat=presets.R161, s_m=tuple(np.linspace(-0.2, 0.25, points)),
+    return firings.Firing(bat=presets.R161, s_m=tuple(np.linspace(-0.2, 0.25, points)),
                          v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
 
@@ -70,7 +70,7 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
                 f"allowed: {', '.join(twinned(adapters.names())) or 'none registered'}")
 
 
-def _work(args: argparse.Namespace) -> tuple[tables.Firing, list, list]:
+def _work(args: argparse.Namespace) -> tuple[firings.Firing, list, list]:
     """The firing, each (engine, step, its settings, its twin's), and the jobs: per pair, the
     engine's impacts then its twin's."""
     f = firing(args.points)

@@ -15,7 +15,7 @@ import adapters
 from analytic import presets
 from experiments import baselines, bench_engines
 from experiments import sweep as sweep_cmd
-from experiments.core import estimate, tables
+from experiments.core import estimate, firings
 from experiments.core.io import ROOT
 
 from .conftest import cheapest
@@ -44,7 +44,7 @@ def one_world_step_s(name: str) -> float:
     now, by the benchmark's own measurement (bench_engines.per_collision's one_world_step_us).
     The median of nine episodes, not three: one episode lasts about a millisecond, so one
     descheduling by the suite's other worker made a median of three 37x slow on CI (Rapier)."""
-    firing = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, 3),
+    firing = firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, 3),
                            v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
                            omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
     return bench_engines.per_collision(name, firing, REPEATS)["one_world_step_us"] * 1e-6

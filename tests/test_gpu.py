@@ -17,7 +17,7 @@ import pytest
 
 from analytic import presets
 from experiments import bench_engines, gpu
-from experiments.core import Job, inputs, tables
+from experiments.core import Job, firings, inputs, tables
 from experiments.core.fire import Jobs, fire_jobs, runs
 from experiments.parts import throughput
 
@@ -117,8 +117,8 @@ def test_gpu_refuses_a_folder_without_runs(tmp_path, capsys):
     assert "--runs" in capsys.readouterr().err
 
 
-def _firing() -> tables.Firing:
-    return tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, 5), v0_mps=40.0,
+def _firing() -> firings.Firing:
+    return firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, 5), v0_mps=40.0,
                          u0_mps=0.0, omega0_radps=0.0, e=presets.E_WOOD)
 
 

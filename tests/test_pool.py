@@ -11,7 +11,7 @@ import pytest
 
 import adapters
 from analytic import ImpactCase, presets
-from experiments.core import Job, fire_jobs, hosting, tables
+from experiments.core import Job, fire_jobs, firings, hosting, tables
 
 SINGLE = [n for n in adapters.names() if not adapters.record(n).batched]
 
@@ -23,7 +23,7 @@ def _jobs(name: str) -> list[Job]:
     settings = adapters.settings_for(name)
     jobs = []
     for e, points in ((0.5, 21), (0.0, 3)):
-        firing = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, points),
+        firing = firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, points),
                                v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
                                omega0_radps=presets.PAPER_SWING.omega0_radps, e=e)
         jobs += firing.jobs(name, settings)

@@ -16,7 +16,7 @@ import pytest
 
 import adapters
 from analytic import presets
-from experiments.core import Job, fire_jobs, tables
+from experiments.core import Job, fire_jobs, firings, tables
 from experiments.core.judge import Status
 from experiments.core.terms import ROUND_OPS, SOLVE_SAFETY
 from experiments.core.verdicts import Reference, judge, judge_columns
@@ -30,7 +30,7 @@ ENGINE = min((n for n in adapters.available() if not adapters.record(n).batched
 @pytest.fixture(scope="module")
 def fired():
     """The paper's swing at s = 0.1 m, fired once."""
-    case = tables.Firing(bat=presets.R161, s_m=(0.1,), v0_mps=presets.PAPER_PITCH_MPS,
+    case = firings.Firing(bat=presets.R161, s_m=(0.1,), v0_mps=presets.PAPER_PITCH_MPS,
                          u0_mps=presets.PAPER_SWING.u0_mps,
                          omega0_radps=presets.PAPER_SWING.omega0_radps,
                          e=presets.E_WOOD).cases()[0]
@@ -70,7 +70,7 @@ def test_the_columns_judge_name_the_answer_each_impact_was_held_to():
     # frictionless and planar, a rigid float64 engine is held to rigid theory (|v1 - v1_rigid|
     # within its tolerance); with friction (mu = 0.3), to the frictional impulse it declares;
     # the verdicts are the table's, which only lays them out
-    base = tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, 3),
+    base = firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, 3),
                          v0_mps=presets.PAPER_PITCH_MPS, u0_mps=0.0, omega0_radps=0.0,
                          e=presets.E_WOOD)
     jobs = [Job(engine=ENGINE, settings=adapters.settings_for(ENGINE), case=c)

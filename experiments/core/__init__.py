@@ -20,8 +20,9 @@ From the theory (``analytic``) and the engine interface (``adapters``) up:
   same function on columns of length one);
 - ``fire``: jobs fired in this process (adapters made once, scenes built and checked);
 - ``runner``: the same jobs serially, over local processes or on a Dask cluster;
-- ``tables``: the grid of impact points and the tidy table of fired impacts and their
-  verdicts, laid out;
+- ``firings``: what to fire (a bat and ball, a motion, a grid of impact points);
+- ``tables``: the tidy table of fired impacts and their verdicts, laid out;
+- ``locate``: the sweet spot and centre of percussion located on an engine's own data;
 - ``check``: ``check_engine``, the conformance suite a plug-in author runs;
 - ``estimate``: what a run will cost, before it starts;
 - ``cli``, ``io``: the command-line convention, run directories, atomic files, provenance.
@@ -31,11 +32,12 @@ from .check import check_engine
 from .check_report import CheckReport
 from .episode import SimOutcome
 from .fire import Fired, Job, fire_jobs
+from .firings import Firing, grid
 from .hosting import SceneMismatch
 from .judge import MEASURED, Status
 from .placement import SwingPlan, start_state, swing_case
 from .runner import Runner
-from .tables import COLUMNS, Firing, grid, table
+from .tables import COLUMNS, table
 
 __all__ = ["COLUMNS", "CheckReport", "Fired", "Firing", "Job", "MEASURED", "Runner",
            "SceneMismatch", "SimOutcome", "Status", "SwingPlan", "check_engine", "fire_jobs",

@@ -36,7 +36,7 @@ from analytic import (
     swing_for,
 )
 
-from ..core import tables
+from ..core import firings, locate, tables
 from ..core.fire import Job
 from ..core.runner import Runner
 
@@ -336,12 +336,12 @@ def engine_sweet_spots(engines: tuple[str, ...]) -> pd.DataFrame:
     rows = []
     for sc in SCENARIOS:
         s_star = sweet_spot(R161, BALL, sc.v0_mps, sc.swing.u0_mps, sc.swing.omega0_radps)
-        firing = tables.Firing(bat=R161, s_m=(s_star,), v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
+        firing = firings.Firing(bat=R161, s_m=(s_star,), v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
                               omega0_radps=sc.swing.omega0_radps, e=E)
         bracket = (max(R161.s_min_m, s_star - 0.05), min(R161.s_max_m, s_star + 0.05))
         row = {"swing": sc.label, "s* analytic (mm from COM)": s_star * 1e3}
         for n in engines:
-            got = tables.locate_sweet_spot(n, adapters.settings_for(n), firing, bracket)
+            got = locate.locate_sweet_spot(n, adapters.settings_for(n), firing, bracket)
             row[f"{n} - analytic (mm)"] = (got - s_star) * 1e3
         rows.append(row)
     return pd.DataFrame(rows)

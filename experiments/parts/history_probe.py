@@ -28,7 +28,7 @@ import numpy as np
 import adapters
 from analytic import presets
 
-from ..core import tables
+from ..core import firings, tables
 
 #: name -> sweep options: the still, swing and hinged reference grids, and the swing at defaults.
 GRIDS = {"still": ["--u0", "0", "--omega0", "0"], "swing": [], "hinged": ["--swing"],
@@ -38,7 +38,7 @@ POINTS = 11
 COLUMNS = ("s_m", "status", "err_mps", "tol_mps", "wall_s")
 
 
-def firing(grid: str) -> tuple[tables.Firing, str]:
+def firing(grid: str) -> tuple[firings.Firing, str]:
     """The grid's impacts, with the sweep's defaults for what its options leave out, and the
     profile it is fired at."""
     from analytic.dynamics import HingedSwing
@@ -50,7 +50,7 @@ def firing(grid: str) -> tuple[tables.Firing, str]:
     swing = (HingedSwing.for_omega(bat, a.omega0, hands_from_knob_m=a.hands,
                                    angle_rad=a.swing_angle) if a.swing else None)
     u0 = a.omega0 * swing.arm_m(bat) if swing else a.u0
-    return tables.Firing(bat=bat, s_m=tables.grid(bat, POINTS), v0_mps=a.v0, u0_mps=u0,
+    return firings.Firing(bat=bat, s_m=firings.grid(bat, POINTS), v0_mps=a.v0, u0_mps=u0,
                          omega0_radps=a.omega0, e=a.e, hands_from_knob_m=a.hands,
                          swing=swing), a.profile
 

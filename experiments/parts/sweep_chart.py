@@ -115,7 +115,7 @@ def _marks(fig, axes, sweep, marks: dict) -> None:
             ("sweet_spot", "sweet spot", "tab:red", "--", "right"),
             ("cop", f"COP (hands {f.hands_from_knob_m} m)", "tab:purple", ":", "left")):
         s = marks[f"{key}_m"]
-        if not math.isfinite(s):  # no reference applies (tables.analytic_marks says why)
+        if not math.isfinite(s):  # no reference applies (locate.analytic_marks says why)
             continue
         for ax in axes:
             ax.axvline(s, color=color, ls=ls, lw=1.1)
@@ -149,7 +149,7 @@ def print_compliant(table: pd.DataFrame, law: str) -> None:
 
 def print_summary(meta: dict, table: pd.DataFrame | None = None) -> None:
     """Per engine: errors, statuses, sweet spot and COP from engine data vs analytic (mm); the
-    analytic marks and what each is located on (``tables.analytic_marks``: the single impulse,
+    analytic marks and what each is located on (``locate.analytic_marks``: the single impulse,
     or the whole rigid episode where that impulse is not all of it; 'no ref' where neither
     applies); with the ``table``, each status other than ok, counted, with the first such
     row's reason."""

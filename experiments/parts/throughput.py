@@ -31,7 +31,7 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
-from ..core import inputs, tables
+from ..core import firings, inputs, tables
 from ..core.fire import Jobs, fire_jobs
 from ..core.hosting import close_engines, hosted
 from ..core.judge import Status
@@ -41,8 +41,8 @@ GRID = 41
 SIZES = (1, 10, 100, 1_000, 10_000, 100_000)
 
 
-def _firing() -> tables.Firing:
-    return tables.Firing(bat=presets.R161, s_m=tables.grid(presets.R161, GRID),
+def _firing() -> firings.Firing:
+    return firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, GRID),
                          v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
 
