@@ -38,14 +38,17 @@ HYPOTHESIS ?= fast
 PYTEST = $(PY) -m pytest -q -n $(WORKERS) --dist loadgroup --durations=15
 test: check-python $(STAMP)
 	$(PY) -m ruff check .
+	$(PY) -m ruff format --check .
 	$(PYTEST) --hypothesis-profile=$(HYPOTHESIS) -m "not full" $(TESTS)
 
 test-all: check-python $(STAMP)
 	$(PY) -m ruff check .
+	$(PY) -m ruff format --check .
 	$(PYTEST) --hypothesis-profile=ci $(TESTS)
 
 test-full: check-python $(STAMP)
 	$(PY) -m ruff check .
+	$(PY) -m ruff format --check .
 	$(PYTEST) --hypothesis-profile=ci -m full $(TESTS)
 
 sweep: check-python $(STAMP)

@@ -88,28 +88,33 @@ def _registry() -> tuple[MappingProxyType, MappingProxyType]:
     for a plug-in or one registered in this process), built-ins first, by name, then plug-ins,
     then registered ones; and the broken plug-ins' names -> why each is left out."""
     here = Path(__file__).parent
-    builtins = {m.name: f"{__name__}.{m.name}:RECORD"
-                for m in sorted(pkgutil.iter_modules([str(here)]), key=lambda m: m.name)
-                if m.ispkg}
+    builtins = {
+        m.name: f"{__name__}.{m.name}:RECORD"
+        for m in sorted(pkgutil.iter_modules([str(here)]), key=lambda m: m.name)
+        if m.ispkg
+    }
     plugins: dict[str, EngineRecord] = {}
     broken: dict[str, str] = {}
     for ep in sorted(metadata.entry_points(group=ENTRY_POINT_GROUP), key=lambda e: e.name):
         dist = ep.dist.name if ep.dist is not None else "an unknown distribution"
         if ep.name in builtins:
-            broken[ep.name] = (f"plug-in {ep.value} from {dist} shadows the built-in engine "
-                               f"{ep.name!r}; allowed: a name that is not one of "
-                               f"{', '.join(builtins)}")
+            broken[ep.name] = (
+                f"plug-in {ep.value} from {dist} shadows the built-in engine "
+                f"{ep.name!r}; allowed: a name that is not one of "
+                f"{', '.join(builtins)}"
+            )
         elif ep.name in plugins or ep.name in broken:
-            broken[ep.name] = (f"declared twice (the second: {ep.value} from {dist}); allowed: "
-                               "one entry point per name")
+            broken[ep.name] = (
+                f"declared twice (the second: {ep.value} from {dist}); allowed: "
+                "one entry point per name"
+            )
             plugins.pop(ep.name, None)
         else:
             try:
                 plugins[ep.name] = _plugin_record(ep.name, ep.value)
             except Exception as err:  # noqa: BLE001 - a plug-in may fail any way; it is left out
                 broken[ep.name] = f"{ep.value} from {dist} cannot be loaded: {_said(err)}"
-    return (MappingProxyType({**builtins, **plugins, **_REGISTERED}),
-            MappingProxyType(broken))
+    return (MappingProxyType({**builtins, **plugins, **_REGISTERED}), MappingProxyType(broken))
 
 
 #: How long a plug-in's record may take to import (s): a module that imports no engine takes
@@ -158,8 +163,10 @@ def register(rec: EngineRecord) -> None:
     """Register an engine in this process under ``rec.name`` (for an adapter under development;
     a packaged one declares an entry point). Raises PluginConflict for a name already taken."""
     if rec.name in _registry()[0] and _REGISTERED.get(rec.name) is not rec:
-        raise PluginConflict(f"engine {rec.name!r} is registered already; allowed: a name that "
-                             f"is not one of {', '.join(names())}")
+        raise PluginConflict(
+            f"engine {rec.name!r} is registered already; allowed: a name that "
+            f"is not one of {', '.join(names())}"
+        )
     _REGISTERED[rec.name] = rec
     reload_plugins()
 
@@ -205,8 +212,10 @@ def _load_target(name: str, target: str):
     try:
         return getattr(importlib.import_module(module_name), attr)
     except ModuleNotFoundError as err:
-        raise EngineNotInstalled(f"engine {name!r} ({target}) could not be imported: {err}; "
-                                 "allowed: an installed plug-in") from err
+        raise EngineNotInstalled(
+            f"engine {name!r} ({target}) could not be imported: {err}; "
+            "allowed: an installed plug-in"
+        ) from err
 
 
 def _installed(rec: EngineRecord) -> bool:
@@ -241,8 +250,9 @@ def available() -> tuple[str, ...]:
 
 def missing() -> MappingProxyType:
     """Registered engine name -> its install hint, for engines whose package is not installed."""
-    return MappingProxyType({n: record(n).install_hint for n in names()
-                             if not _installed(record(n))})
+    return MappingProxyType(
+        {n: record(n).install_hint for n in names() if not _installed(record(n))}
+    )
 
 
 def engine_class(name: str) -> type[Engine] | type[BatchedEngine]:
@@ -252,8 +262,10 @@ def engine_class(name: str) -> type[Engine] | type[BatchedEngine]:
         raise EngineNotInstalled(rec.install_hint)
     cls = _load_target(name, rec.adapter)
     if not (isinstance(cls, type) and issubclass(cls, (Engine, BatchedEngine))):
-        raise TypeError(f"engine {name!r}: {rec.adapter} is not an adapters.Engine or "
-                        "adapters.BatchedEngine subclass")
+        raise TypeError(
+            f"engine {name!r}: {rec.adapter} is not an adapters.Engine or "
+            "adapters.BatchedEngine subclass"
+        )
     return cls
 
 
@@ -295,8 +307,9 @@ def settings_for(name: str, profile: str = "reference", **overrides) -> Settings
     valid = {f.name for f in dataclasses.fields(base)}
     unknown = sorted(set(overrides) - valid)
     if unknown:
-        raise ValueError(f"setting {unknown[0]!r} is unknown for {name}; allowed: "
-                         f"{', '.join(sorted(valid))}")
+        raise ValueError(
+            f"setting {unknown[0]!r} is unknown for {name}; allowed: {', '.join(sorted(valid))}"
+        )
     return dataclasses.replace(base, **overrides)
 
 
@@ -315,12 +328,51 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
     return create(name, settings_for(name, profile, **overrides))
 
 
-__all__ = ["BatchedEngine", "Capabilities", "ContactReference", "Cost", "ENTRY_POINT_GROUP",
-           "Engine", "EngineNotInstalled", "EngineRecord", "ErrorModel", "FrictionRule", "Hands",
-           "Install", "Integrator", "KnobFamily", "MassProperties", "MissingFeature",
-           "BrokenPlugin", "PLANAR_FIELDS", "PROFILES",
-           "PluginConflict", "Presentation", "ReportNotes", "RestitutionRule", "SPATIAL_FIELDS",
-           "STATE_FIELDS", "Scene", "Settings", "State", "Studies", "TwinStep", "available",
-           "broken", "chain_class", "contact_reference", "create", "engine_class", "import_engine",
-           "is_batched", "load", "missing", "names", "record", "register", "reload_plugins",
-           "settings_for", "unregister"]
+__all__ = [
+    "BatchedEngine",
+    "Capabilities",
+    "ContactReference",
+    "Cost",
+    "ENTRY_POINT_GROUP",
+    "Engine",
+    "EngineNotInstalled",
+    "EngineRecord",
+    "ErrorModel",
+    "FrictionRule",
+    "Hands",
+    "Install",
+    "Integrator",
+    "KnobFamily",
+    "MassProperties",
+    "MissingFeature",
+    "BrokenPlugin",
+    "PLANAR_FIELDS",
+    "PROFILES",
+    "PluginConflict",
+    "Presentation",
+    "ReportNotes",
+    "RestitutionRule",
+    "SPATIAL_FIELDS",
+    "STATE_FIELDS",
+    "Scene",
+    "Settings",
+    "State",
+    "Studies",
+    "TwinStep",
+    "available",
+    "broken",
+    "chain_class",
+    "contact_reference",
+    "create",
+    "engine_class",
+    "import_engine",
+    "is_batched",
+    "load",
+    "missing",
+    "names",
+    "record",
+    "register",
+    "reload_plugins",
+    "settings_for",
+    "unregister",
+]

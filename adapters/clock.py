@@ -106,8 +106,9 @@ def _async(seconds: float) -> Iterator[None]:
         if done.wait(seconds):
             return
         while not done.is_set():
-            ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(target),
-                                                       ctypes.py_object(TimedOut))
+            ctypes.pythonapi.PyThreadState_SetAsyncExc(
+                ctypes.c_ulong(target), ctypes.py_object(TimedOut)
+            )
             done.wait(REPEAT_S)
 
     watcher = threading.Thread(target=watch, daemon=True, name="batsim-watchdog")

@@ -23,15 +23,16 @@ def bat_quaternion(angle_rad: float, tilt_rad: float = 0.0) -> tuple[float, floa
     return ca * cb, sa * sb, -ca * sb, sa * cb
 
 
-def angle_and_tilt(w: float, x: float, y: float, z: float,
-                   planar: bool = False) -> tuple[float, float]:
+def angle_and_tilt(
+    w: float, x: float, y: float, z: float, planar: bool = False
+) -> tuple[float, float]:
     """The bat's yaw and tilt (rad) from its orientation quaternion (any roll about its axis).
     ``planar``: the world was set in the swing plane, so its yaw is read as the planar
     adapters always read it, 2 atan2(z, w), whatever rounding put into x and y (the tilt
     still reports that drift)."""
     if x == 0.0 and y == 0.0:
         return 2.0 * math.atan2(z, w), 0.0
-    ax = 1.0 - 2.0 * (y * y + z * z)   # the body x axis in the world: R e_x
+    ax = 1.0 - 2.0 * (y * y + z * z)  # the body x axis in the world: R e_x
     ay = 2.0 * (x * y + w * z)
     az = 2.0 * (x * z - w * y)
     yaw = 2.0 * math.atan2(z, w) if planar else math.atan2(ay, ax)
@@ -43,9 +44,9 @@ def in_the_plane(state) -> bool:
     return not any(state[11:])
 
 
-
-def rotate(q: tuple[float, float, float, float], v: tuple[float, float, float],
-           inverse: bool = False) -> tuple[float, float, float]:
+def rotate(
+    q: tuple[float, float, float, float], v: tuple[float, float, float], inverse: bool = False
+) -> tuple[float, float, float]:
     """v turned by the rotation of the unit quaternion q = (w, x, y, z) (its inverse if asked):
     an angular velocity from a body's frame to the world's, or back. A rotation about z leaves
     a vector along z as it is (returned unchanged: planar states stay bit for bit)."""
@@ -56,9 +57,12 @@ def rotate(q: tuple[float, float, float, float], v: tuple[float, float, float],
         x, y, z = -x, -y, -z
     # v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z)
     cx, cy, cz = y * v[2] - z * v[1], z * v[0] - x * v[2], x * v[1] - y * v[0]
-    return (v[0] + 2.0 * (w * cx + y * cz - z * cy),
-            v[1] + 2.0 * (w * cy + z * cx - x * cz),
-            v[2] + 2.0 * (w * cz + x * cy - y * cx))
+    return (
+        v[0] + 2.0 * (w * cx + y * cz - z * cy),
+        v[1] + 2.0 * (w * cy + z * cx - x * cz),
+        v[2] + 2.0 * (w * cz + x * cy - y * cx),
+    )
+
 
 # -- over batches (the batched MuJoCo ports and Newton) -----------------------------------------
 # The same over batches: the bat's quaternion from its yaw and tilt, a rotation of
@@ -87,10 +91,17 @@ def bat_quaternions(angle_rad: np.ndarray, tilt_rad: np.ndarray) -> np.ndarray:
     half = 0.5 * angle_rad
     ca, sa = np.cos(half), np.sin(half)
     cb, sb = np.cos(0.5 * tilt_rad), np.sin(0.5 * tilt_rad)
-    flat = (tilt_rad == 0.0)
+    flat = tilt_rad == 0.0
     zero = np.zeros_like(ca)
-    return np.stack([np.where(flat, ca, ca * cb), np.where(flat, zero, sa * sb),
-                     np.where(flat, zero, -ca * sb), np.where(flat, sa, sa * cb)], axis=1)
+    return np.stack(
+        [
+            np.where(flat, ca, ca * cb),
+            np.where(flat, zero, sa * sb),
+            np.where(flat, zero, -ca * sb),
+            np.where(flat, sa, sa * cb),
+        ],
+        axis=1,
+    )
 
 
 def rotate_many(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarray:
@@ -100,9 +111,14 @@ def rotate_many(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarr
     if inverse:
         x, y, z = -x, -y, -z
     cx, cy, cz = y * v[:, 2] - z * v[:, 1], z * v[:, 0] - x * v[:, 2], x * v[:, 1] - y * v[:, 0]
-    out = np.stack([v[:, 0] + 2.0 * (w * cx + y * cz - z * cy),
-                    v[:, 1] + 2.0 * (w * cy + z * cx - x * cz),
-                    v[:, 2] + 2.0 * (w * cz + x * cy - y * cx)], axis=1)
+    out = np.stack(
+        [
+            v[:, 0] + 2.0 * (w * cx + y * cz - z * cy),
+            v[:, 1] + 2.0 * (w * cy + z * cx - x * cz),
+            v[:, 2] + 2.0 * (w * cz + x * cy - y * cx),
+        ],
+        axis=1,
+    )
     keep = (q[:, 1] == 0.0) & (q[:, 2] == 0.0) & (v[:, 0] == 0.0) & (v[:, 1] == 0.0)
     return np.where(keep[:, None], v, out)
 
@@ -128,15 +144,20 @@ def mujoco_coordinates(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     q = bat_quaternions(s[:, 7], s[:, 16])
     zero, one = np.zeros(len(s)), np.ones(len(s))
     w = rotate_many(q, s[:, [18, 19, 10]], inverse=True)
-    qpos = np.stack([s[:, 5], s[:, 6], s[:, 15], *q.T, s[:, 0], s[:, 1], s[:, 11], one, zero,
-                     zero, zero], axis=1)
-    qvel = np.stack([s[:, 8], s[:, 9], s[:, 17], *w.T, s[:, 2], s[:, 3], s[:, 12], s[:, 13],
-                     s[:, 14], s[:, 4]], axis=1)
+    qpos = np.stack(
+        [s[:, 5], s[:, 6], s[:, 15], *q.T, s[:, 0], s[:, 1], s[:, 11], one, zero, zero, zero],
+        axis=1,
+    )
+    qvel = np.stack(
+        [s[:, 8], s[:, 9], s[:, 17], *w.T, s[:, 2], s[:, 3], s[:, 12], s[:, 13], s[:, 14], s[:, 4]],
+        axis=1,
+    )
     return qpos, qvel
 
 
-def mujoco_rows(qpos: np.ndarray, qvel: np.ndarray, planar: np.ndarray,
-                angle_rad: np.ndarray | None = None) -> np.ndarray:
+def mujoco_rows(
+    qpos: np.ndarray, qvel: np.ndarray, planar: np.ndarray, angle_rad: np.ndarray | None = None
+) -> np.ndarray:
     """State rows (n, 20) from MuJoCo's qpos and qvel (float64 copies of the engine's), body-
     frame angular velocities turned into the world's; the rows ``planar`` (set in the plane)
     read as before (module docstring), their yaw ``angle_rad`` where the engine computed it
@@ -147,10 +168,33 @@ def mujoco_rows(qpos: np.ndarray, qvel: np.ndarray, planar: np.ndarray,
     yaw, tilt = angles_and_tilts(q[:, BAT_Q])
     flat_yaw = 2.0 * np.arctan2(q[:, 6], q[:, 3]) if angle_rad is None else angle_rad
     yaw = np.where(planar, flat_yaw, yaw)
-    ball_wz, bat_wz = np.where(planar, v[:, 11], ball_w[:, 2]), np.where(planar, v[:, 5],
-                                                                       bat_w[:, 2])
+    ball_wz, bat_wz = (
+        np.where(planar, v[:, 11], ball_w[:, 2]),
+        np.where(planar, v[:, 5], bat_w[:, 2]),
+    )
     # stacked as 20 rows of n, handed over transposed: its columns contiguous (no copy in the
     # harness, which reads a batch by columns)
-    return np.stack([q[:, 7], q[:, 8], v[:, 6], v[:, 7], ball_wz, q[:, 0], q[:, 1], yaw,
-                     v[:, 0], v[:, 1], bat_wz, q[:, 9], v[:, 8], ball_w[:, 0],
-                     ball_w[:, 1], q[:, 2], tilt, v[:, 2], bat_w[:, 0], bat_w[:, 1]]).T
+    return np.stack(
+        [
+            q[:, 7],
+            q[:, 8],
+            v[:, 6],
+            v[:, 7],
+            ball_wz,
+            q[:, 0],
+            q[:, 1],
+            yaw,
+            v[:, 0],
+            v[:, 1],
+            bat_wz,
+            q[:, 9],
+            v[:, 8],
+            ball_w[:, 0],
+            ball_w[:, 1],
+            q[:, 2],
+            tilt,
+            v[:, 2],
+            bat_w[:, 0],
+            bat_w[:, 1],
+        ]
+    ).T

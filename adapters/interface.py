@@ -257,8 +257,13 @@ class BatchedEngine(abc.ABC):
         """Per world, a numerical failure since the last ``set_state`` (bool (n,)), or None."""
         return None
 
-    def derivative(self, states: np.ndarray, tangents: np.ndarray, steps: int,
-                   inertia_tangent_kgm2: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    def derivative(
+        self,
+        states: np.ndarray,
+        tangents: np.ndarray,
+        steps: int,
+        inertia_tangent_kgm2: float = 0.0,
+    ) -> tuple[np.ndarray, np.ndarray]:
         """The engine's own automatic differentiation through ``steps`` steps from ``states``:
         the end states (n, 11: the ``PLANAR_FIELDS``) and their derivatives along
         ``tangents`` (n, 20: a direction in each start state) with the bat's moment of

@@ -21,8 +21,10 @@ def feature(owner: object, attribute: str, setting: str) -> Any:
     try:
         return getattr(owner, attribute)
     except AttributeError:
-        raise MissingFeature(f"{getattr(owner, '__name__', owner)} has no {attribute} in this "
-                             f"release ({setting} needs it)") from None
+        raise MissingFeature(
+            f"{getattr(owner, '__name__', owner)} has no {attribute} in this "
+            f"release ({setting} needs it)"
+        ) from None
 
 
 def import_engine(record: EngineRecord) -> ModuleType:

@@ -130,8 +130,9 @@ class Capabilities:
 
     def __post_init__(self) -> None:
         if (self.soft_contact is None) != (self.stiffness_setting is None):
-            raise ValueError("soft_contact and stiffness_setting go together; allowed: both "
-                             "or neither")
+            raise ValueError(
+                "soft_contact and stiffness_setting go together; allowed: both or neither"
+            )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -196,5 +197,6 @@ class Studies:
     twin_steps: tuple[TwinStep, ...] = ()
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "friction_rule_overrides",
-                           MappingProxyType(dict(self.friction_rule_overrides)))
+        object.__setattr__(
+            self, "friction_rule_overrides", MappingProxyType(dict(self.friction_rule_overrides))
+        )

@@ -35,10 +35,26 @@ from .parts import (
 from .rules import FrictionRule, RestitutionRule
 
 #: The record's vocabulary, for the engines' record modules: this module and ``parts``.
-__all__ = ["PROFILES", "Capabilities", "ContactReference", "Cost", "EngineNotInstalled",
-           "EngineRecord", "ErrorModel", "FrictionRule", "Install", "Integrator", "KnobFamily",
-           "MissingFeature", "Presentation", "ReportNotes", "RestitutionRule", "Settings",
-           "Studies", "TwinStep"]
+__all__ = [
+    "PROFILES",
+    "Capabilities",
+    "ContactReference",
+    "Cost",
+    "EngineNotInstalled",
+    "EngineRecord",
+    "ErrorModel",
+    "FrictionRule",
+    "Install",
+    "Integrator",
+    "KnobFamily",
+    "MissingFeature",
+    "Presentation",
+    "ReportNotes",
+    "RestitutionRule",
+    "Settings",
+    "Studies",
+    "TwinStep",
+]
 
 #: Profiles every engine must offer: tuned for fidelity, and the engine's own defaults.
 PROFILES = ("reference", "default")
@@ -117,11 +133,15 @@ class EngineRecord:
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]
         if missing:
-            raise ValueError(f"engine {self.name!r} has no {missing[0]!r} profile; allowed: "
-                             f"profiles that include {', '.join(PROFILES)}")
+            raise ValueError(
+                f"engine {self.name!r} has no {missing[0]!r} profile; allowed: "
+                f"profiles that include {', '.join(PROFILES)}"
+            )
         if ":" not in self.adapter:
-            raise ValueError(f"adapter={self.adapter!r} is not 'module:Class'; allowed: the "
-                             "adapter class's module and name, joined by ':'")
+            raise ValueError(
+                f"adapter={self.adapter!r} is not 'module:Class'; allowed: the "
+                "adapter class's module and name, joined by ':'"
+            )
         object.__setattr__(self, "profiles", MappingProxyType(dict(self.profiles)))
         object.__setattr__(self, "engine_defaults", MappingProxyType(dict(self.engine_defaults)))
 
@@ -135,8 +155,10 @@ class EngineRecord:
         """What to run when the engine's package is missing."""
         i = self.install
         target = f"'batsim[{i.extra}]'" if i.extra else i.package
-        return (f"engine {self.name!r} needs the package {i.package!r}: pip install {target}  "
-                "(or `make test`, which installs every engine)")
+        return (
+            f"engine {self.name!r} needs the package {i.package!r}: pip install {target}  "
+            "(or `make test`, which installs every engine)"
+        )
 
     @property
     def batched(self) -> bool:

@@ -63,14 +63,38 @@ class CorPoint:
 
 #: What is published about an MLB ball's COR, by source key.
 COR_DATA = (
-    CorPoint(speed_mps=25.9, cor=0.546, half_width=0.032, kind="ball-wall", source="mlbcor",
-             note="specification: 0.514-0.578 fired at 85 ft/s at northern white ash"),
-    CorPoint(speed_mps=25.9, cor=0.55, half_width=0.005, kind="ball-wall", source="msnbc2003",
-             note="the same test: UMass Lowell's sample mean, given to two digits"),
-    CorPoint(speed_mps=50.0, cor=0.50, half_width=0.05, kind="ball-wall", source="nathan2000",
-             note="'about 0.5' at 40-60 m/s: shown at the middle, read to +-0.05"),
-    CorPoint(speed_mps=60.8, cor=0.50, half_width=0.0, kind="ball-bat", source="ncaa",
-             note="BBCOR's cap at 136 mph on a still bat (its recoil and vibration in it)"),
+    CorPoint(
+        speed_mps=25.9,
+        cor=0.546,
+        half_width=0.032,
+        kind="ball-wall",
+        source="mlbcor",
+        note="specification: 0.514-0.578 fired at 85 ft/s at northern white ash",
+    ),
+    CorPoint(
+        speed_mps=25.9,
+        cor=0.55,
+        half_width=0.005,
+        kind="ball-wall",
+        source="msnbc2003",
+        note="the same test: UMass Lowell's sample mean, given to two digits",
+    ),
+    CorPoint(
+        speed_mps=50.0,
+        cor=0.50,
+        half_width=0.05,
+        kind="ball-wall",
+        source="nathan2000",
+        note="'about 0.5' at 40-60 m/s: shown at the middle, read to +-0.05",
+    ),
+    CorPoint(
+        speed_mps=60.8,
+        cor=0.50,
+        half_width=0.0,
+        kind="ball-bat",
+        source="ncaa",
+        note="BBCOR's cap at 136 mph on a still bat (its recoil and vibration in it)",
+    ),
 )
 
 
@@ -110,14 +134,18 @@ COR_LAW = law_through(0.546, 50.0, 0.50)
 EXPONENT_RANGE = (0.0, 0.25)
 #: The range: MLB's band at 85 ft/s [mlbcor] times EXPONENT_RANGE, as its four corners. e(v)
 #: is monotonic in both, so at every speed its extremes are corners.
-COR_LAWS = tuple(CorLaw(cor_ref=c, speed_ref_mps=SPEED_REF_MPS, exponent=p)
-                 for c in (0.514, 0.578) for p in EXPONENT_RANGE)
+COR_LAWS = tuple(
+    CorLaw(cor_ref=c, speed_ref_mps=SPEED_REF_MPS, exponent=p)
+    for c in (0.514, 0.578)
+    for p in EXPONENT_RANGE
+)
 
 
 def cor_range(speed_mps: float) -> tuple[float, float]:
     """(least, largest) COR (1) of COR_LAWS at ``speed_mps`` (m/s)."""
     cors = [law.cor(speed_mps) for law in COR_LAWS]
     return min(cors), max(cors)
+
 
 @dataclass(frozen=True, kw_only=True)
 class CorBall:
@@ -161,13 +189,22 @@ class HystereticBall(CorBall):
 
     def at_speed(self, speed_mps: float) -> Hysteretic:
         """The hysteretic law of one impact closing at ``speed_mps`` (m/s, > 0)."""
-        return Hysteretic(stiffness=self.stiffness, exponent=self.exponent,
-                          cor=self.cor_law.cor(checks.positive("speed_mps", speed_mps)))
+        return Hysteretic(
+            stiffness=self.stiffness,
+            exponent=self.exponent,
+            cor=self.cor_law.cor(checks.positive("speed_mps", speed_mps)),
+        )
 
 
 #: A wall: so heavy and so hard to turn that the reduced mass is the ball's.
-WALL = Bat(name="wall", length_m=1.0, radius_m=0.03, mass_kg=1e12, com_from_knob_m=0.5,
-           inertia_cm_kgm2=1e12)
+WALL = Bat(
+    name="wall",
+    length_m=1.0,
+    radius_m=0.03,
+    mass_kg=1e12,
+    com_from_knob_m=0.5,
+    inertia_cm_kgm2=1e12,
+)
 
 
 #: The kinds of ball a COR law makes: the rate-dependent (Hunt-Crossley) and the rate-
@@ -175,8 +212,15 @@ WALL = Bat(name="wall", length_m=1.0, radius_m=0.03, mass_kg=1e12, com_from_knob
 BALL_KINDS = {"hunt-crossley": RealisticBall, "hysteretic": HystereticBall}
 
 
-def wall_stiffness(cor_law: CorLaw, ball: Ball, *, duration_s: float, speed_mps: float,
-                   exponent: float = 1.5, kind: str = "hunt-crossley") -> float:
+def wall_stiffness(
+    cor_law: CorLaw,
+    ball: Ball,
+    *,
+    duration_s: float,
+    speed_mps: float,
+    exponent: float = 1.5,
+    kind: str = "hunt-crossley",
+) -> float:
     """The stiffness k (N/m^n) with which ``ball`` (of ``kind``, BALL_KINDS) on a rigid wall at
     ``speed_mps`` stays in contact ``duration_s``. x'' = -(k/m) x^n (1 + d x') scales with
     x* = (m v^2/k)^(1/(n+1)), t* = x*/v, leaving X'' = -X^n (1 + a X'), a = d v (the
@@ -201,8 +245,10 @@ def ball_of(cor_law: CorLaw, kind: str = "hunt-crossley", ball: Ball | None = No
     """A ball of ``kind`` (BALL_KINDS) with ``cor_law``, Hertz's exponent and the stiffness
     for which it stays CONTACT_S on a wall at CONTACT_SPEED_MPS (``wall_stiffness``)."""
     from .presets import BASEBALL
-    k = wall_stiffness(cor_law, ball or BASEBALL, duration_s=CONTACT_S,
-                       speed_mps=CONTACT_SPEED_MPS, kind=kind)
+
+    k = wall_stiffness(
+        cor_law, ball or BASEBALL, duration_s=CONTACT_S, speed_mps=CONTACT_SPEED_MPS, kind=kind
+    )
     return BALL_KINDS[kind](stiffness=k, exponent=1.5, cor_law=cor_law)
 
 
@@ -220,6 +266,21 @@ HYSTERETIC_BALL = HystereticBall(stiffness=16411436.516395548, exponent=1.5, cor
 #: the rate-independent one, and the single-d Hertz law the first supersedes.
 LAWS = {"ball": REALISTIC_BALL, "hysteretic": HYSTERETIC_BALL, "hertz": BASEBALL_HERTZ}
 
-__all__ = ["BALL_KINDS", "COR_DATA", "CorBall", "COR_LAW", "COR_LAWS", "CorLaw", "CorPoint",
-           "HYSTERETIC_BALL", "HystereticBall", "LAWS", "REALISTIC_BALL", "RealisticBall",
-           "ball_of", "cor_range", "law_through", "wall_stiffness"]
+__all__ = [
+    "BALL_KINDS",
+    "COR_DATA",
+    "CorBall",
+    "COR_LAW",
+    "COR_LAWS",
+    "CorLaw",
+    "CorPoint",
+    "HYSTERETIC_BALL",
+    "HystereticBall",
+    "LAWS",
+    "REALISTIC_BALL",
+    "RealisticBall",
+    "ball_of",
+    "cor_range",
+    "law_through",
+    "wall_stiffness",
+]

@@ -15,8 +15,9 @@ import numpy as np
 from .collide import _CHUNK, APEX_M, EPISODE_GAP_RADII, MIN_SAMPLE_FRACTION, _gap
 
 
-def separates_for_good_many(x, *, reach_m: float, ball_radius_m: float,
-                            t_max_s: float) -> np.ndarray:
+def separates_for_good_many(
+    x, *, reach_m: float, ball_radius_m: float, t_max_s: float
+) -> np.ndarray:
     """``separates_for_good`` for many states at once: ``x`` holds arrays (ball x, y, vx, vy,
     bat x, y, vx, vy, angle, omega), in PlanarState's order; one bool per state."""
     bx, by, bvx, bvy, cx, cy, cvx, cvy, angle, w = x
@@ -30,8 +31,12 @@ def separates_for_good_many(x, *, reach_m: float, ball_radius_m: float,
         horizon = 2.0 * end / opening
         v_rel = np.hypot(rvx, rvy)
         bound = 2.0 * np.abs(w) * v_rel + w * w * (np.hypot(dx, dy) + v_rel * horizon)
-        return ((opening > 0.0) & (gap >= 0.0) & (horizon <= t_max_s)
-                & (0.5 * bound * horizon * horizon <= end + gap))
+        return (
+            (opening > 0.0)
+            & (gap >= 0.0)
+            & (horizon <= t_max_s)
+            & (0.5 * bound * horizon * horizon <= end + gap)
+        )
 
 
 #: How ``free_flight_many``'s searches end, by code (Python strings: numpy's are slow to pick).
@@ -51,9 +56,11 @@ def _sample_steps(Y, t0, h_max):
     opening = -rv[0] * s + rv[1] * c - now[9] * (dx * c + dy * s)
     curving = -2 * now[9] * (rv[0] * c + rv[1] * s) - now[9] ** 2 * (dy * c - dx * s)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        return np.where((opening > 0.0) & (-curving * h_max > 0.5 * opening),
-                        np.maximum(0.5 * opening / -curving, MIN_SAMPLE_FRACTION * h_max),
-                        h_max)
+        return np.where(
+            (opening > 0.0) & (-curving * h_max > 0.5 * opening),
+            np.maximum(0.5 * opening / -curving, MIN_SAMPLE_FRACTION * h_max),
+            h_max,
+        )
 
 
 def _samples(Y, t0, h, first: int, count: int, reach_m: float, t_max_s: float):
@@ -71,15 +78,17 @@ def _round(Y, t0, g0, h, ends, reach_m: float, t_max_s: float):
         return _samples(Y, t0, h, 1, _CHUNK, reach_m, t_max_s)
     t, g, ax = (np.zeros((len(t0), _CHUNK)) for _ in range(3))
     t[:, :_HALF], g[:, :_HALF], ax[:, :_HALF] = _samples(Y, t0, h, 1, _HALF, reach_m, t_max_s)
-    prev = np.concatenate((g0[:, None], g[:, :_HALF - 1]), axis=1)
+    prev = np.concatenate((g0[:, None], g[:, : _HALF - 1]), axis=1)
     late = np.flatnonzero(~ends(t[:, :_HALF], g[:, :_HALF], ax[:, :_HALF], prev)[3].any(axis=1))
     t[late, _HALF:], g[late, _HALF:], ax[late, _HALF:] = _samples(
-        Y[:, late], t0[late], h[late], _HALF + 1, _HALF, reach_m, t_max_s)
+        Y[:, late], t0[late], h[late], _HALF + 1, _HALF, reach_m, t_max_s
+    )
     return t, g, ax
 
 
-def free_flight_many(y, *, reach_m: float, ball_radius_m: float, s_min_m: float,
-                     s_max_m: float, t_max_s: float) -> tuple[np.ndarray, np.ndarray]:
+def free_flight_many(
+    y, *, reach_m: float, ball_radius_m: float, s_min_m: float, s_max_m: float, t_max_s: float
+) -> tuple[np.ndarray, np.ndarray]:
     """``free_flight`` for many states at once, ``y`` of shape (10, m) in PlanarState's order,
     sampled as ``_next_contact`` samples one; a contact's time is the sample before it (no
     root is polished). Returns (time, why) arrays."""

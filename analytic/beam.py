@@ -51,8 +51,9 @@ class Wood:
 #: White ash, the R161's wood, at 12% moisture: E_L = 12.0 GPa, specific gravity 0.60 (USDA
 #: Forest Products Laboratory, Wood Handbook, FPL-GTR-190 (2010), table 5-3a); G_LR = 0.080 E_L
 #: (same handbook, table 5-1, the ratio for ash). The density is the R161 fit's (``R161_PROFILE``).
-ASH = Wood(name="ash", youngs_modulus_pa=12.0e9, shear_modulus_pa=0.080 * 12.0e9,
-           density_kgpm3=600.0)
+ASH = Wood(
+    name="ash", youngs_modulus_pa=12.0e9, shear_modulus_pa=0.080 * 12.0e9, density_kgpm3=600.0
+)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -65,8 +66,10 @@ class Profile:
 
     def __post_init__(self) -> None:
         if len(self.stations_m) != len(self.radii_m) or len(self.stations_m) < 2:
-            raise ValueError(f"stations_m and radii_m must pair up, at least two: got "
-                             f"{len(self.stations_m)} and {len(self.radii_m)}")
+            raise ValueError(
+                f"stations_m and radii_m must pair up, at least two: got "
+                f"{len(self.stations_m)} and {len(self.radii_m)}"
+            )
         checks.array_in_range("radii_m", self.radii_m, 0.0)
         if self.stations_m[0] != 0.0 or np.any(np.diff(self.stations_m) <= 0.0):
             raise ValueError(f"stations_m = {self.stations_m}: must start at 0 and increase")
@@ -136,6 +139,7 @@ class Beam:
     def matrices(self) -> tuple[np.ndarray, np.ndarray]:
         """Global stiffness and mass matrices (free-free, DOFs (w, rotation) per node)."""
         from .beam_fe import euler_bernoulli, timoshenko
+
         build = timoshenko if self.shear else euler_bernoulli
         return build(self, *self._quadrature())
 
@@ -157,9 +161,14 @@ class Beam:
         shapes = vec[0::2, elastic].T
         slopes = vec[1::2, elastic].T
         sign = np.sign(shapes[:, -1])  # each shape positive at the barrel end
-        return Modes(frequencies_hz=hz[elastic], nodes_m=self.nodes_m,
-                     shapes=shapes * sign[:, None], slopes=slopes * sign[:, None],
-                     hermite=not self.shear, length_m=self.profile.length_m)
+        return Modes(
+            frequencies_hz=hz[elastic],
+            nodes_m=self.nodes_m,
+            shapes=shapes * sign[:, None],
+            slopes=slopes * sign[:, None],
+            hermite=not self.shear,
+            length_m=self.profile.length_m,
+        )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -178,8 +187,10 @@ class Modes:
     @cached_property
     def _splines(self):
         if self.hermite:
-            return [interpolate.CubicHermiteSpline(self.nodes_m, w, dw)
-                    for w, dw in zip(self.shapes, self.slopes, strict=True)]
+            return [
+                interpolate.CubicHermiteSpline(self.nodes_m, w, dw)
+                for w, dw in zip(self.shapes, self.slopes, strict=True)
+            ]
         return [interpolate.CubicSpline(self.nodes_m, w) for w in self.shapes]
 
     def shape(self, x_m) -> np.ndarray:
@@ -197,9 +208,11 @@ class Modes:
         checks.integer("mode", mode, 0, len(self.frequencies_hz) - 1)
         grid = self.nodes_m
         w = self.shapes[mode]
-        roots = [optimize.brentq(self._splines[mode], a, b, xtol=1e-12)
-                 for a, b, wa, wb in zip(grid[:-1], grid[1:], w[:-1], w[1:], strict=True)
-                 if wa * wb < 0.0]
+        roots = [
+            optimize.brentq(self._splines[mode], a, b, xtol=1e-12)
+            for a, b, wa, wb in zip(grid[:-1], grid[1:], w[:-1], w[1:], strict=True)
+            if wa * wb < 0.0
+        ]
         return np.array(roots)
 
     def barrel_node_from_tip_m(self, mode: int = 0) -> float:
@@ -207,37 +220,52 @@ class Modes:
         return float(self.length_m - self.node_positions_m(mode)[-1])
 
 
-def fit_profile(bat: Bat, *, knob_radius_m: float, knob_length_m: float, handle_end_m: float,
-                barrel_radius_m: float, taper_exponent: float, wood: Wood) -> tuple[Profile, Wood]:
+def fit_profile(
+    bat: Bat,
+    *,
+    knob_radius_m: float,
+    knob_length_m: float,
+    handle_end_m: float,
+    barrel_radius_m: float,
+    taper_exponent: float,
+    wood: Wood,
+) -> tuple[Profile, Wood]:
     """A knob-handle-taper-barrel profile with ``bat``'s mass, COM and J_cm. Given: the knob,
     where the handle ends, the barrel's radius and the taper's shape (r grows as the
     ``taper_exponent`` power of the distance along it: 1 a cone, 2 a flare). Solved for (three
     unknowns for the three conditions): the handle's radius, where the barrel starts and the
     wood's density."""
+
     def build(p):
         x2, r_h, rho = p
         u = np.linspace(0.0, 1.0, 13)
         taper = handle_end_m + (x2 - handle_end_m) * u
         radii = r_h + (barrel_radius_m - r_h) * u**taper_exponent
-        prof = Profile(stations_m=(0.0, knob_length_m, knob_length_m + 1e-3, *taper,
-                                   bat.length_m),
-                       radii_m=(knob_radius_m, knob_radius_m, r_h, *radii, barrel_radius_m))
+        prof = Profile(
+            stations_m=(0.0, knob_length_m, knob_length_m + 1e-3, *taper, bat.length_m),
+            radii_m=(knob_radius_m, knob_radius_m, r_h, *radii, barrel_radius_m),
+        )
         return prof, replace(wood, density_kgpm3=rho)
 
     def residual(p):
         if not handle_end_m + 0.01 < p[0] < bat.length_m - 0.01 and 0.0 < p[1]:
             return [1e3, 1e3, 1e3]
         got = Beam(profile=build(p)[0], wood=build(p)[1], elements=8).rigid
-        return [got["mass_kg"] / bat.mass_kg - 1.0,
-                (got["com_from_knob_m"] - bat.com_from_knob_m) / bat.length_m,
-                got["inertia_cm_kgm2"] / bat.inertia_cm_kgm2 - 1.0]
+        return [
+            got["mass_kg"] / bat.mass_kg - 1.0,
+            (got["com_from_knob_m"] - bat.com_from_knob_m) / bat.length_m,
+            got["inertia_cm_kgm2"] / bat.inertia_cm_kgm2 - 1.0,
+        ]
 
     guess = [0.7 * bat.length_m, 0.5 * barrel_radius_m, wood.density_kgpm3]
-    sol = optimize.least_squares(residual, guess, x_scale=[0.1, 1e-3, 100.0], xtol=1e-15,
-                                 ftol=1e-15, gtol=1e-15)
+    sol = optimize.least_squares(
+        residual, guess, x_scale=[0.1, 1e-3, 100.0], xtol=1e-15, ftol=1e-15, gtol=1e-15
+    )
     if np.max(np.abs(sol.fun)) > 1e-10:
-        raise ValueError(f"no profile of this shape has {bat.name}'s mass properties "
-                         f"(residual {np.max(np.abs(sol.fun)):.1e})")
+        raise ValueError(
+            f"no profile of this shape has {bat.name}'s mass properties "
+            f"(residual {np.max(np.abs(sol.fun)):.1e})"
+        )
     return build(sol.x)
 
 
@@ -251,5 +279,13 @@ def r161_profile(wood: Wood = ASH) -> tuple[Profile, Wood]:
     """The R161's fitted profile and ``wood`` at the fitted density."""
     checks.instance("wood", wood, Wood)
     from .presets import R161
-    return fit_profile(R161, knob_radius_m=0.0215, knob_length_m=0.012, handle_end_m=0.254,
-                       barrel_radius_m=0.03175, taper_exponent=2.0, wood=wood)
+
+    return fit_profile(
+        R161,
+        knob_radius_m=0.0215,
+        knob_length_m=0.012,
+        handle_end_m=0.254,
+        barrel_radius_m=0.03175,
+        taper_exponent=2.0,
+        wood=wood,
+    )

@@ -31,16 +31,36 @@ def euler_bernoulli(beam: _beam.Beam, h, pts, wts, area, second):
     rho = beam.wood.density_kgpm3
     xi = (pts - beam.nodes_m[:-1, None]) / h[:, None]
     hh = h[:, None]
-    n = np.stack([1 - 3 * xi**2 + 2 * xi**3, hh * (xi - 2 * xi**2 + xi**3),
-                  3 * xi**2 - 2 * xi**3, hh * (xi**3 - xi**2)], axis=-1)
-    dn = np.stack([6 * (xi**2 - xi), hh * (1 - 4 * xi + 3 * xi**2), 6 * (xi - xi**2),
-                   hh * (3 * xi**2 - 2 * xi)], axis=-1) / hh[..., None]
-    ddn = np.stack([12 * xi - 6, hh * (6 * xi - 4), 6 - 12 * xi, hh * (6 * xi - 2)],
-                   axis=-1) / (hh**2)[..., None]
+    n = np.stack(
+        [
+            1 - 3 * xi**2 + 2 * xi**3,
+            hh * (xi - 2 * xi**2 + xi**3),
+            3 * xi**2 - 2 * xi**3,
+            hh * (xi**3 - xi**2),
+        ],
+        axis=-1,
+    )
+    dn = (
+        np.stack(
+            [
+                6 * (xi**2 - xi),
+                hh * (1 - 4 * xi + 3 * xi**2),
+                6 * (xi - xi**2),
+                hh * (3 * xi**2 - 2 * xi),
+            ],
+            axis=-1,
+        )
+        / hh[..., None]
+    )
+    ddn = (
+        np.stack([12 * xi - 6, hh * (6 * xi - 4), 6 - 12 * xi, hh * (6 * xi - 2)], axis=-1)
+        / (hh**2)[..., None]
+    )
     outer = np.einsum
     k_e = outer("eg,egi,egj->eij", E * second * wts, ddn, ddn)
-    m_e = (outer("eg,egi,egj->eij", rho * area * wts, n, n)
-           + outer("eg,egi,egj->eij", rho * second * wts, dn, dn))
+    m_e = outer("eg,egi,egj->eij", rho * area * wts, n, n) + outer(
+        "eg,egi,egj->eij", rho * second * wts, dn, dn
+    )
     return _assemble(k_e, m_e, len(h))
 
 
@@ -56,8 +76,9 @@ def timoshenko(beam: _beam.Beam, h, pts, wts, area, second):
     kga = np.sum(_beam.KAPPA_CIRCLE * G * area * wts, axis=1)
     bend = np.array([0.0, -1.0, 0.0, 1.0])
     shear = np.stack([-1 / h, -0.5 * np.ones(count), 1 / h, -0.5 * np.ones(count)], axis=-1)
-    k_e = (ei[:, None, None] * np.outer(bend, bend)[None]
-           + kga[:, None, None] * np.einsum("ei,ej->eij", shear, shear))
+    k_e = ei[:, None, None] * np.outer(bend, bend)[None] + kga[:, None, None] * np.einsum(
+        "ei,ej->eij", shear, shear
+    )
     lin = np.stack([1 - xi, xi], axis=-1)
     mw = np.einsum("eg,egi,egj->eij", rho * area * wts, lin, lin)
     mr = np.einsum("eg,egi,egj->eij", rho * second * wts, lin, lin)

@@ -63,8 +63,9 @@ class Chain:
         checks.array_in_range("dampings_nmsprad", self.dampings_nmsprad, 0.0)
 
     @classmethod
-    def from_beam(cls, beam: Beam, segments: int, *, like: Bat,
-                  damping_nmsprad: float = 0.0) -> Chain:
+    def from_beam(
+        cls, beam: Beam, segments: int, *, like: Bat, damping_nmsprad: float = 0.0
+    ) -> Chain:
         """``segments`` equal slices of ``beam``; ``like`` gives the name and capsule radius."""
         checks.integer("segments", segments, *SEGMENTS_RANGE)
         checks.non_negative("damping_nmsprad", damping_nmsprad)
@@ -78,9 +79,14 @@ class Chain:
             inertias.append(piece["inertia_cm_kgm2"])
         half = length / segments / 2.0
         springs = tuple(1.0 / _bending_compliance(beam, x - half, x + half) for x in cuts[1:-1])
-        return cls(bat=beam.rigid_bat(like), masses_kg=tuple(masses), coms_m=tuple(coms),
-                   inertias_kgm2=tuple(inertias), stiffnesses_nmprad=springs,
-                   dampings_nmsprad=(damping_nmsprad,) * (segments - 1))
+        return cls(
+            bat=beam.rigid_bat(like),
+            masses_kg=tuple(masses),
+            coms_m=tuple(coms),
+            inertias_kgm2=tuple(inertias),
+            stiffnesses_nmprad=springs,
+            dampings_nmsprad=(damping_nmsprad,) * (segments - 1),
+        )
 
     @property
     def segments(self) -> int:
@@ -100,7 +106,7 @@ class Chain:
         i, ell = self.segment_of(x_m), self.segment_length_m
         row = np.zeros(self.segments + 1)
         row[0] = 1.0
-        row[1:i + 1] = ell
+        row[1 : i + 1] = ell
         row[i + 1] = x_m - i * ell
         return row
 
@@ -109,15 +115,17 @@ class Chain:
         """Mass, stiffness and damping matrices in (y0, theta_1 .. theta_N)."""
         n = self.segments
         M, K, C = (np.zeros((n + 1, n + 1)) for _ in range(3))
-        for i, (m, c, J) in enumerate(zip(self.masses_kg, self.coms_m, self.inertias_kgm2,
-                                          strict=True)):
+        for i, (m, c, J) in enumerate(
+            zip(self.masses_kg, self.coms_m, self.inertias_kgm2, strict=True)
+        ):
             b = self.point_row(min(c, self.bat.length_m))
-            b[i + 2:] = 0.0
+            b[i + 2 :] = 0.0
             b[i + 1] = c - i * self.segment_length_m
             M += m * np.outer(b, b)
             M[i + 1, i + 1] += J
-        for j, (k, d) in enumerate(zip(self.stiffnesses_nmprad, self.dampings_nmsprad,
-                                       strict=True)):
+        for j, (k, d) in enumerate(
+            zip(self.stiffnesses_nmprad, self.dampings_nmsprad, strict=True)
+        ):
             diff = np.zeros(n + 1)
             diff[j + 1], diff[j + 2] = -1.0, 1.0
             K += k * np.outer(diff, diff)

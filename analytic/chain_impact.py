@@ -119,8 +119,8 @@ class _Free:
     def advance(self, z: np.ndarray, t: float) -> np.ndarray:
         """The state after a free flight of ``t``: modal closed form without dampers."""
         if self.undamped:
-            eta = self.modal.T @ self.M @ z[:self.n]
-            etad = self.modal.T @ self.M @ z[self.n:]
+            eta = self.modal.T @ self.M @ z[: self.n]
+            etad = self.modal.T @ self.M @ z[self.n :]
             w = self.omega
             safe = np.where(w > 0.0, w, 1.0)
             cos, sin = np.cos(w * t), np.sin(w * t)
@@ -131,17 +131,17 @@ class _Free:
 
     def vibration_j(self, z: np.ndarray) -> float:
         """Energy in the bending modes: the M-projection off the rigid modes."""
-        q, qd = z[:self.n], z[self.n:]
+        q, qd = z[: self.n], z[self.n :]
         qd_b = self.bending @ (self.bending.T @ self.M @ qd)
         return float(0.5 * qd_b @ self.M @ qd_b + 0.5 * q @ self.K @ q)
 
     def rigid_part(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         P = self.rigid @ self.rigid.T @ self.M
-        return P @ z[:self.n], P @ z[self.n:]
+        return P @ z[: self.n], P @ z[self.n :]
 
 
 def _gap(free: _Free, z, ball, reach):
-    return ball[0] - free.row @ z[:free.n] - reach
+    return ball[0] - free.row @ z[: free.n] - reach
 
 
 def _next_contact(free: _Free, z, ball, reach, t_left):
@@ -157,11 +157,13 @@ def _next_contact(free: _Free, z, ball, reach, t_left):
         if rigid_gap > bound and opening >= 0.0:
             return "separated"
         z_next = free.step @ zz
-        g = ball[0] + ball[1] * (t + free.h) - free.row @ z_next[:free.n] - reach
+        g = ball[0] + ball[1] * (t + free.h) - free.row @ z_next[: free.n] - reach
         if g < 0.0:
+
             def gap_at(tau, z0=zz, t0=t):
                 zt = free.advance(z0, tau)
-                return ball[0] + ball[1] * (t0 + tau) - free.row @ zt[:free.n] - reach
+                return ball[0] + ball[1] * (t0 + tau) - free.row @ zt[: free.n] - reach
+
             lo = 0.0
             if g_prev <= 0.0:  # just after a touch: start where the gap has opened
                 taus = free.h * np.arange(1, 64) / 64
@@ -182,9 +184,14 @@ def _episode(impact: ChainImpact, touch, max_s: float) -> ChainOutcome:
     reach = chain.bat.radius_m + impact.ball.radius_m
     z = np.concatenate([np.zeros(free.n), impact.initial_velocities()])
     ball = np.array([reach, -impact.v0_mps])
+
     def energy(z, b):
-        return float(0.5 * m * b[1] ** 2 + 0.5 * z[free.n:] @ free.M @ z[free.n:]
-                                    + 0.5 * z[:free.n] @ free.K @ z[:free.n])
+        return float(
+            0.5 * m * b[1] ** 2
+            + 0.5 * z[free.n :] @ free.M @ z[free.n :]
+            + 0.5 * z[: free.n] @ free.K @ z[: free.n]
+        )
+
     before = energy(z, ball)
     t, contacts, last_release, ended = 0.0, 0, 0.0, "time_limit"
     while t < max_s:
@@ -203,10 +210,17 @@ def _episode(impact: ChainImpact, touch, max_s: float) -> ChainOutcome:
     q_r, qd_r = free.rigid_part(z)
     x_cm = chain.bat.com_from_knob_m
     omega1 = float(qd_r[1])
-    return ChainOutcome(v1_mps=float(ball[1]), u1_mps=float(qd_r[0] + omega1 * x_cm),
-                        omega1_radps=omega1, vibration_j=free.vibration_j(z),
-                        ke_before_j=before, energy_after_j=energy(z, ball), contacts=contacts,
-                        contact_s=last_release, ended=ended)
+    return ChainOutcome(
+        v1_mps=float(ball[1]),
+        u1_mps=float(qd_r[0] + omega1 * x_cm),
+        omega1_radps=omega1,
+        vibration_j=free.vibration_j(z),
+        ke_before_j=before,
+        energy_after_j=energy(z, ball),
+        contacts=contacts,
+        contact_s=last_release,
+        ended=ended,
+    )
 
 
 def impulse_reference(impact: ChainImpact, *, max_s: float = 0.02) -> ChainOutcome:
@@ -214,45 +228,49 @@ def impulse_reference(impact: ChainImpact, *, max_s: float = 0.02) -> ChainOutco
     m = impact.ball.mass_kg
 
     def touch(free, z, ball):
-        v_rel = ball[1] - free.row @ z[free.n:]
+        v_rel = ball[1] - free.row @ z[free.n :]
         if v_rel >= 0.0:
             return z, ball, None
         w = 1.0 / m + free.row @ free.minv @ free.row
         p = -(1.0 + impact.e) * v_rel / w
         z = z.copy()
-        z[free.n:] -= free.minv @ free.row * p
+        z[free.n :] -= free.minv @ free.row * p
         return z, ball + np.array([0.0, p / m]), 0.0
 
     return _episode(impact, touch, max_s)
 
 
-def compliant_reference(impact: ChainImpact, law: ContactLaw | ImpactLaw, *,
-                        max_s: float = 0.02) -> ChainOutcome:
+def compliant_reference(
+    impact: ChainImpact, law: ContactLaw | ImpactLaw, *, max_s: float = 0.02
+) -> ChainOutcome:
     """The episode under a continuous force ``law`` (``analytic.compliant``: soft engines; an
     ``ImpactLaw`` resolved at the first touch's closing speed v0 + b q', kept for re-touches)."""
     m = impact.ball.mass_kg
     row = impact.chain.point_row(impact.x_m)
     law = law_for_impact(law, impact.v0_mps + float(row @ impact.initial_velocities()))
     if isinstance(law, Hysteretic):
-        raise ValueError("law: a hysteretic law needs its deepest overlap carried, which the "
-                         "chain's integration does not; allowed: a rate-dependent law")
+        raise ValueError(
+            "law: a hysteretic law needs its deepest overlap carried, which the "
+            "chain's integration does not; allowed: a rate-dependent law"
+        )
     reach = impact.chain.bat.radius_m + impact.ball.radius_m
     peaks: list[float] = []
     turns: list[float] = []
     hit = impact.chain.segment_of(impact.x_m) + 1  # the struck segment's angle in q
+
     def touch(free, z, ball):
         n = free.n
         m_eff = 1.0 / (1.0 / m + free.row @ free.minv @ free.row)
 
         def contact(y):
             x = reach - (y[-2] - free.row @ y[:n])
-            rate = -(y[-1] - free.row @ y[n:2 * n])
+            rate = -(y[-1] - free.row @ y[n : 2 * n])
             return x, rate
 
         def rhs(t, y):
             x, rate = contact(y)
             f = max(law.force_n(x, rate, m_eff), 0.0) if x > 0.0 or t == 0.0 else 0.0
-            dz = free.A @ y[:2 * n]
+            dz = free.A @ y[: 2 * n]
             dz[n:] -= free.minv @ free.row * f
             return np.concatenate([dz, [y[-1], f / m]])
 
@@ -261,14 +279,23 @@ def compliant_reference(impact: ChainImpact, law: ContactLaw | ImpactLaw, *,
 
         released.terminal, released.direction = True, -1
         y0 = np.concatenate([z, ball])
-        sol = integrate.solve_ivp(rhs, (0.0, 1.0), y0, method="DOP853", rtol=RTOL,
-                                  atol=RTOL * 1e-3 * (np.abs(y0).max() + 1.0),
-                                  events=released)
+        sol = integrate.solve_ivp(
+            rhs,
+            (0.0, 1.0),
+            y0,
+            method="DOP853",
+            rtol=RTOL,
+            atol=RTOL * 1e-3 * (np.abs(y0).max() + 1.0),
+            events=released,
+        )
         y = sol.y[:, -1]
         peaks.append(max(contact(sol.y[:, i])[0] for i in range(sol.y.shape[1])))
         turn = sol.y[hit, :] - sol.y[hit, 0]
         turns.append(float(np.abs(turn).max()))
-        return y[:2 * n], y[2 * n:], float(sol.t[-1])
+        return y[: 2 * n], y[2 * n :], float(sol.t[-1])
 
-    return replace(_episode(impact, touch, max_s), peak_overlap_m=max(peaks, default=0.0),
-                   peak_turn_rad=max(turns, default=0.0))
+    return replace(
+        _episode(impact, touch, max_s),
+        peak_overlap_m=max(peaks, default=0.0),
+        peak_turn_rad=max(turns, default=0.0),
+    )

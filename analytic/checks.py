@@ -11,8 +11,10 @@ def finite(name: str, value: float) -> float:
     """Return ``value`` as a float, or raise ValueError if it is not a finite real number (a
     string such as '0.5' is refused: it would fail later, far from here)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name}={value!r} is not a number ({type(value).__name__}); allowed: "
-                         "a finite real number")
+        raise ValueError(
+            f"{name}={value!r} is not a number ({type(value).__name__}); allowed: "
+            "a finite real number"
+        )
     x = float(value)
     if not math.isfinite(x):
         raise ValueError(f"{name}={value!r} is not finite; allowed: a finite real number")
@@ -24,16 +26,14 @@ def instance(name: str, value: object, kind: type) -> object:
     far from here, or worse, give a number)."""
     if not isinstance(value, kind):
         shown = repr(value) if len(repr(value)) <= 40 else f"{repr(value)[:37]}..."
-        raise ValueError(f"{name}={shown} is a {type(value).__name__}; allowed: a "
-                         f"{kind.__name__}")
+        raise ValueError(f"{name}={shown} is a {type(value).__name__}; allowed: a {kind.__name__}")
     return value
 
 
 def choice(name: str, value: object, allowed) -> object:
     """Return ``value`` if it is one of ``allowed``, else raise naming them."""
     if not isinstance(value, str | int | float) or value not in allowed:
-        raise ValueError(f"{name}={value!r} is unknown; allowed: "
-                         f"{', '.join(map(str, allowed))}")
+        raise ValueError(f"{name}={value!r} is unknown; allowed: {', '.join(map(str, allowed))}")
     return value
 
 
@@ -62,8 +62,10 @@ def in_range(
 def integer(name: str, value: int, lo: int, hi: int) -> int:
     """Return ``value`` if it is an integer within [lo, hi], else raise."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise ValueError(f"{name}={value!r} is not an integer ({type(value).__name__}); allowed: "
-                         f"an integer {lo} <= {name} <= {hi}")
+        raise ValueError(
+            f"{name}={value!r} is not an integer ({type(value).__name__}); allowed: "
+            f"an integer {lo} <= {name} <= {hi}"
+        )
     in_range(name, value, lo, hi)
     return int(value)
 
@@ -87,6 +89,7 @@ def array_in_range(name: str, values, lo: float = -math.inf, hi: float = math.in
     bad = ~np.isfinite(a) | (a < lo) | (a > hi)
     if np.any(bad):
         x = a[bad].flat[0]
-        raise ValueError(f"{name} contains {x!r}; "
-                         f"allowed: finite values with {lo:g} <= {name} <= {hi:g}")
+        raise ValueError(
+            f"{name} contains {x!r}; allowed: finite values with {lo:g} <= {name} <= {hi:g}"
+        )
     return a

@@ -32,9 +32,9 @@ from scipy import integrate, optimize
 from . import checks
 from .model import ImpactCase, Outcome
 
-EPISODE_GAP_RADII = 1.0   #: the episode is over once the gap exceeds this many ball radii
-MAX_EPISODE_S = 1.0       #: longest episode followed (s)
-RTOL = 1e-12              #: solve_ivp tolerance in sustained contact
+EPISODE_GAP_RADII = 1.0  #: the episode is over once the gap exceeds this many ball radii
+MAX_EPISODE_S = 1.0  #: longest episode followed (s)
+RTOL = 1e-12  #: solve_ivp tolerance in sustained contact
 #: After an impulse, a bounce whose gap would peak below this is sustained contact (m): float
 #: positions of ~1 m resolve ~1e-16 m.
 APEX_M = 1e-12
@@ -127,8 +127,9 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
                 impacts += 1
                 v_rel = float((y[2:4] - y[6:8]) @ n) - y[9] * s
             if _stays_on(y, v_rel):  # sustained contact
-                y, dt, why, force = _slide(y, m, M, J, reach, bat.s_min_m, bat.s_max_m,
-                                           max_episode_s - t_now)
+                y, dt, why, force = _slide(
+                    y, m, M, J, reach, bat.s_min_m, bat.s_max_m, max_episode_s - t_now
+                )
                 t_now += dt
                 sustained += dt
                 peak = max(peak, force)
@@ -137,12 +138,17 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
                     break
             in_contact = False
         # free flight to the next contact or the end of the episode
-        if separates_for_good(PlanarState.of(y), reach_m=reach, ball_radius_m=ball.radius_m,
-                              t_max_s=max_episode_s - t_now):
+        if separates_for_good(
+            PlanarState.of(y),
+            reach_m=reach,
+            ball_radius_m=ball.radius_m,
+            t_max_s=max_episode_s - t_now,
+        ):
             ended = "separated"
             break
-        dt, why = _next_contact(y, reach, ball.radius_m, bat.s_min_m, bat.s_max_m,
-                                max_episode_s - t_now)
+        dt, why = _next_contact(
+            y, reach, ball.radius_m, bat.s_min_m, bat.s_max_m, max_episode_s - t_now
+        )
         y = _free(y, dt)
         t_now += dt
         if why == "contact":
@@ -151,17 +157,33 @@ def collide(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S) -> Collis
         ended = why
         break
     return CollisionEpisode(
-        **outcome_fields(case, y0, y), impacts=impacts, sustained_contact_s=sustained,
-        peak_sustained_force_n=peak, episode_s=t_now, ended=ended, end_state=PlanarState.of(y))
+        **outcome_fields(case, y0, y),
+        impacts=impacts,
+        sustained_contact_s=sustained,
+        peak_sustained_force_n=peak,
+        episode_s=t_now,
+        ended=ended,
+        end_state=PlanarState.of(y),
+    )
 
 
 def first_touch(case: ImpactCase) -> np.ndarray:
     """Both bodies at the first touch, contact frame, as the array of PlanarState's fields."""
     reach = case.bat.radius_m + case.ball.radius_m
-    return np.array([case.s_m, reach,
-                     case.v0_mps * math.sin(case.theta_rad), -case.v0n_mps,
-                     0.0, 0.0, case.u0_mps * math.sin(case.phi_rad), case.u0n_mps,
-                     0.0, case.omega0_radps])
+    return np.array(
+        [
+            case.s_m,
+            reach,
+            case.v0_mps * math.sin(case.theta_rad),
+            -case.v0n_mps,
+            0.0,
+            0.0,
+            case.u0_mps * math.sin(case.phi_rad),
+            case.u0n_mps,
+            0.0,
+            case.omega0_radps,
+        ]
+    )
 
 
 def outcome_fields(case: ImpactCase, y0: np.ndarray, y: np.ndarray) -> dict:
@@ -172,16 +194,29 @@ def outcome_fields(case: ImpactCase, y0: np.ndarray, y: np.ndarray) -> dict:
     v1 = float(y[3])
     hands = case.hands_from_knob_m - bat.com_from_knob_m
     return dict(
-        v1_mps=v1, u1_mps=float(y[7]), omega1_radps=float(y[9]),
-        impulse_ns=m * (v1 + case.v0n_mps), q=(v1 - V) / (case.v0n_mps + V),
+        v1_mps=v1,
+        u1_mps=float(y[7]),
+        omega1_radps=float(y[9]),
+        impulse_ns=m * (v1 + case.v0n_mps),
+        q=(v1 - V) / (case.v0n_mps + V),
         closing_speed_mps=case.closing_speed_mps,
         hand_dv_mps=float(y[7] - case.u0n_mps) + float(y[9] - case.omega0_radps) * hands,
-        ke_before_j=_energy(y0, m, M, J), ke_after_j=_energy(y, m, M, J),
-        v1_t_mps=float(y[2]), u1_t_mps=float(y[6]))
+        ke_before_j=_energy(y0, m, M, J),
+        ke_after_j=_energy(y, m, M, J),
+        v1_t_mps=float(y[2]),
+        u1_t_mps=float(y[6]),
+    )
 
 
-def free_flight(state: PlanarState, *, reach_m: float, ball_radius_m: float, s_min_m: float,
-                s_max_m: float, t_max_s: float) -> tuple[float, str]:
+def free_flight(
+    state: PlanarState,
+    *,
+    reach_m: float,
+    ball_radius_m: float,
+    s_min_m: float,
+    s_max_m: float,
+    t_max_s: float,
+) -> tuple[float, str]:
     """Where free flight from ``state`` leads: (time, why), why 'contact' (the gap closes again
     at that time, to float precision), 'separated' (the gap has grown past EPISODE_GAP_RADII
     ball radii first), 'left_cylinder' (the ball is off the span [s_min, s_max] first) or
@@ -234,8 +269,9 @@ def _sample_step(y, h_max: float) -> float:
     return h_max
 
 
-def separates_for_good(state: PlanarState, *, reach_m: float, ball_radius_m: float,
-                       t_max_s: float) -> bool:
+def separates_for_good(
+    state: PlanarState, *, reach_m: float, ball_radius_m: float, t_max_s: float
+) -> bool:
     """A sufficient condition, in a few float operations, for free flight from ``state`` to
     reach the episode's end gap (EPISODE_GAP_RADII ball radii) with no contact before it. In
     free flight g'' = -2 omega (v - V).t - omega^2 d.n, so |g''| <= C = 2 |omega| |v - V|
@@ -292,8 +328,13 @@ def _next_contact(y, reach, r_ball, s_min, s_max, t_max):
             if sunk[k]:
                 return lo, "contact"
             if hit[k]:
-                root = optimize.brentq(lambda x: float(_gap(y, x, reach)[0]), lo, float(t[k]),
-                                       xtol=1e-15, rtol=4 * np.finfo(float).eps)
+                root = optimize.brentq(
+                    lambda x: float(_gap(y, x, reach)[0]),
+                    lo,
+                    float(t[k]),
+                    xtol=1e-15,
+                    rtol=4 * np.finfo(float).eps,
+                )
                 return root, "contact"
             return t_max, "time_limit"
         t0, g0 = float(t[-1]), float(g[-1])
@@ -304,12 +345,16 @@ def _slide(y, m, M, J, reach, s_min, s_max, t_max):
     """Integrate the sustained frictionless contact until the force vanishes or the ball
     leaves the cylinder; returns (state, duration, 'released' or 'left_cylinder', the largest
     force at the solver's steps)."""
+
     def force(z):
         d, tt, n = _geometry(z)
         s = float(d @ tt)
         rel = z[2:4] - z[6:8]
-        return (2 * z[9] * float(rel @ tt) + z[9] ** 2 * float(d @ n)) \
-            / (1 / m + 1 / M + s * s / J), n, s
+        return (
+            (2 * z[9] * float(rel @ tt) + z[9] ** 2 * float(d @ n)) / (1 / m + 1 / M + s * s / J),
+            n,
+            s,
+        )
 
     def rhs(t, z):
         lam, n, s = force(z)
@@ -329,8 +374,15 @@ def _slide(y, m, M, J, reach, s_min, s_max, t_max):
     if force(y)[0] <= 0.0:  # nothing holds the ball on: it leaves at once
         return y, 0.0, "released", 0.0
     scale = np.abs(y).max() + 1.0
-    sol = integrate.solve_ivp(rhs, (0.0, t_max), y, method="DOP853", rtol=RTOL,
-                              atol=RTOL * scale * 1e-3, events=(released, off_end))
+    sol = integrate.solve_ivp(
+        rhs,
+        (0.0, t_max),
+        y,
+        method="DOP853",
+        rtol=RTOL,
+        atol=RTOL * scale * 1e-3,
+        events=(released, off_end),
+    )
     z = sol.y[:, -1]
     why = "left_cylinder" if len(sol.t_events[1]) else "released"
     peak = max(force(sol.y[:, i])[0] for i in range(sol.y.shape[1]))

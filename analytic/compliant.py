@@ -35,8 +35,7 @@ def restitution_of_damping_ratio(zeta: float) -> float:
     """
     if zeta < 1.0:  # atan2 carries the formula through zeta = 1/sqrt 2 (their second case)
         root = math.sqrt(1.0 - zeta * zeta)
-        return math.exp(-zeta / root * (math.pi - math.atan2(2 * zeta * root,
-                                                             1 - 2 * zeta * zeta)))
+        return math.exp(-zeta / root * (math.pi - math.atan2(2 * zeta * root, 1 - 2 * zeta * zeta)))
     if zeta == 1.0:  # critically damped: the limit of both sides
         return math.exp(-2.0)
     s = math.sqrt(zeta * zeta - 1.0)  # overdamped: the same released at zero force
@@ -52,8 +51,13 @@ def damping_ratio_for(e: float) -> float:
     hi = 1.0
     while restitution_of_damping_ratio(hi) > e:
         hi *= 2.0
-    return optimize.brentq(lambda z: restitution_of_damping_ratio(z) - e, 0.0, hi,
-                           xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    return optimize.brentq(
+        lambda z: restitution_of_damping_ratio(z) - e,
+        0.0,
+        hi,
+        xtol=1e-15,
+        rtol=4 * np.finfo(float).eps,
+    )
 
 
 # --- the two bodies under a normal force law -------------------------------------------------
@@ -157,16 +161,18 @@ class Hysteretic:
         checks.in_range("exponent", self.exponent, 1.0, 2.0)
         checks.in_range("cor", self.cor, 0.0, 1.0, lo_open=True)
 
-    def force_n(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
-                peak_m: float = 0.0) -> float:
+    def force_n(
+        self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0, peak_m: float = 0.0
+    ) -> float:
         top = max(peak_m, x_m)
         rest = (1.0 - self.cor**2) * top
         if x_m <= rest:
             return 0.0
-        return self.stiffness * top**self.exponent * ((x_m - rest) / (top - rest))**self.exponent
+        return self.stiffness * top**self.exponent * ((x_m - rest) / (top - rest)) ** self.exponent
 
-    def release_value(self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0,
-                      peak_m: float = 0.0) -> float:
+    def release_value(
+        self, x_m: float, rate_mps: float, m_eff_kg: float = 1.0, peak_m: float = 0.0
+    ) -> float:
         """x - x_r: positive while loading (e^2 x), zero where the force is."""
         return x_m - (1.0 - self.cor**2) * max(peak_m, x_m)
 
@@ -221,8 +227,9 @@ def law_for_impact(law: ContactLaw | ImpactLaw, closing_mps: float) -> ContactLa
 #: specification is 0.546 +- 0.032 at 85 ft/s [mlbcor]) and 0.39 at 60 m/s; a peak force of
 #: 32 kN and a 6.6 mm deformation at 40 m/s. tests/test_analytic_compliant.py re-derives both
 #: calibration figures by integration.
-BASEBALL_HERTZ = HuntCrossley(stiffness=43593574.039150596, exponent=1.5,
-                              dissipation_spm=0.03581876333178441)
+BASEBALL_HERTZ = HuntCrossley(
+    stiffness=43593574.039150596, exponent=1.5, dissipation_spm=0.03581876333178441
+)
 
 
 def __getattr__(name: str):
@@ -245,8 +252,13 @@ def hunt_crossley_restitution(dissipation_spm: float, speed_mps: float) -> float
     lhs = a - math.log1p(a)
     # in u = -ln(1 - e a) > 0: exp(-u) - 1 + u = lhs, one root in [0, lhs + 1] (bracketed to
     # lhs + 2: at lhs + 1 the sign can round away when exp(-u) underflows against 1)
-    u = optimize.brentq(lambda u: math.expm1(-u) + u - lhs, 0.0, lhs + 2.0,
-                        xtol=1e-300, rtol=4 * np.finfo(float).eps)
+    u = optimize.brentq(
+        lambda u: math.expm1(-u) + u - lhs,
+        0.0,
+        lhs + 2.0,
+        xtol=1e-300,
+        rtol=4 * np.finfo(float).eps,
+    )
     return -math.expm1(-u) / a
 
 
@@ -260,8 +272,13 @@ def hunt_crossley_dissipation(e: float, speed_mps: float) -> float:
     if 1.0 - e < 1e-8:  # e = 1 - 2a/3 + O(a^2): exact to float precision here, where e(a) is flat
         return 1.5 * (1.0 - e) / speed_mps
     # e(a) falls from 1 at a = 0 towards 1/a: the root lies below a = 2/e + 1
-    a = optimize.brentq(lambda a: hunt_crossley_restitution(a, 1.0) - e, 0.0, 2.0 / e + 1.0,
-                        xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    a = optimize.brentq(
+        lambda a: hunt_crossley_restitution(a, 1.0) - e,
+        0.0,
+        2.0 / e + 1.0,
+        xtol=1e-15,
+        rtol=4 * np.finfo(float).eps,
+    )
     return a / speed_mps
 
 
@@ -313,8 +330,19 @@ def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
         f, x, n, s, rate = contact(z)
         f = max(f, 0.0) if x > 0.0 or t == 0.0 else 0.0
         a = f * n / m
-        return [z[2], z[3], a[0], a[1], z[6], z[7], -f * n[0] / M, -f * n[1] / M, z[9],
-                -f * s / J, peak_rate(x, rate, z[10])]
+        return [
+            z[2],
+            z[3],
+            a[0],
+            a[1],
+            z[6],
+            z[7],
+            -f * n[0] / M,
+            -f * n[1] / M,
+            z[9],
+            -f * s / J,
+            peak_rate(x, rate, z[10]),
+        ]
 
     def released(t, z):
         if t == 0.0:
@@ -324,9 +352,16 @@ def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
 
     released.terminal, released.direction = True, -1
     # a generous horizon: a Hertz contact of a baseball lasts about a millisecond
-    sol = integrate.solve_ivp(rhs, (0.0, 1.0), y0, method="DOP853", rtol=RTOL,
-                              atol=RTOL * 1e-3 * (np.abs(y0).max() + 1.0), events=released,
-                              dense_output=False)
+    sol = integrate.solve_ivp(
+        rhs,
+        (0.0, 1.0),
+        y0,
+        method="DOP853",
+        rtol=RTOL,
+        atol=RTOL * 1e-3 * (np.abs(y0).max() + 1.0),
+        events=released,
+        dense_output=False,
+    )
     z = sol.y[:, -1]
     forces = [contact(sol.y[:, i]) for i in range(sol.y.shape[1])]
     return CompliantOutcome(
@@ -334,4 +369,5 @@ def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
         contact_duration_s=float(sol.t[-1]),
         peak_force_n=max(max(f for f, *_ in forces), 0.0),
         peak_penetration_m=max(x for _, x, *_ in forces),
-        bat_turn_rad=float(z[8]))
+        bat_turn_rad=float(z[8]),
+    )

@@ -43,10 +43,11 @@ class Hole:
         drilled: ``wall_radius_m``) or no bottom (as deep as the bat is long), or if the bat
         is hollow already (``presets.HOLLOW``)."""
         if any(bat == b for b in presets.HOLLOW):
-            raise ValueError(f"bat '{bat.name}' is a hollow metal shell, with no wood in its "
-                             "barrel to drill and fill; allowed: a solid wood bat (r161)")
-        checks.in_range("hole_depth_m", self.depth_m, 0.0, bat.length_m, lo_open=True,
-                        hi_open=True)
+            raise ValueError(
+                f"bat '{bat.name}' is a hollow metal shell, with no wood in its "
+                "barrel to drill and fill; allowed: a solid wood bat (r161)"
+            )
+        checks.in_range("hole_depth_m", self.depth_m, 0.0, bat.length_m, lo_open=True, hi_open=True)
         wall = self.wall_radius_m(bat)
         if not self.radius_m < wall:
             raise ValueError(
@@ -54,7 +55,8 @@ class Hole:
                 f"'{bat.name}' being {wall:.6g} m in radius where a hole_depth_m="
                 f"{self.depth_m:g} hole is drilled "
                 f"({bat.length_m - self.depth_m:.4g}-{bat.length_m:.4g} m from the knob); "
-                f"allowed: 0 < hole_radius_m < {wall:.6g} (or a shallower hole)")
+                f"allowed: 0 < hole_radius_m < {wall:.6g} (or a shallower hole)"
+            )
 
     def wall_radius_m(self, bat: Bat) -> float:
         """The bat's least radius (m) over the span the hole is drilled through, from the
@@ -80,24 +82,34 @@ class Hole:
 
 
 def _hole(bat: Bat, hole_radius_m, hole_depth_m, fill_density_kgm3, wood_density_kgm3) -> Hole:
-    h = Hole(radius_m=hole_radius_m, depth_m=hole_depth_m, fill_density_kgm3=fill_density_kgm3,
-             wood_density_kgm3=wood_density_kgm3)
+    h = Hole(
+        radius_m=hole_radius_m,
+        depth_m=hole_depth_m,
+        fill_density_kgm3=fill_density_kgm3,
+        wood_density_kgm3=wood_density_kgm3,
+    )
     h.check_fits(bat)
     return h
 
 
 def _check_result(bat: Bat, mass_kg: float, inertia_kgm2: float) -> None:
     if not mass_kg > 0.0:
-        raise ValueError(f"corked mass {mass_kg!r} kg of '{bat.name}' is not positive: the hole "
-                         "removes more wood than the bat has; allowed: a smaller or denser fill")
+        raise ValueError(
+            f"corked mass {mass_kg!r} kg of '{bat.name}' is not positive: the hole "
+            "removes more wood than the bat has; allowed: a smaller or denser fill"
+        )
     if not inertia_kgm2 > 0.0:
-        raise ValueError(f"corked inertia {inertia_kgm2!r} kg m^2 of '{bat.name}' is not "
-                         "positive; allowed: a hole that leaves the bat a positive inertia")
+        raise ValueError(
+            f"corked inertia {inertia_kgm2!r} kg m^2 of '{bat.name}' is not "
+            "positive; allowed: a hole that leaves the bat a positive inertia"
+        )
 
 
 def _label(bat: Bat, h: Hole) -> str:
-    return (f"{bat.name} corked {2 * h.radius_m * 1e3:.1f}x{h.depth_m * 1e3:.0f} mm "
-            f"@ {h.fill_density_kgm3:g} kg/m3")
+    return (
+        f"{bat.name} corked {2 * h.radius_m * 1e3:.1f}x{h.depth_m * 1e3:.0f} mm "
+        f"@ {h.fill_density_kgm3:g} kg/m3"
+    )
 
 
 def corked_bat(
@@ -124,14 +136,23 @@ def corked_bat(
     _check_result(bat, M1, 1.0)
     x1 = (bat.mass_kg * bat.com_from_knob_m + dM * x_c) / M1
     own = h.radius_m**2 / 4 + h.depth_m**2 / 12
-    J1 = (bat.inertia_cm_kgm2 + bat.mass_kg * (bat.com_from_knob_m - x1) ** 2
-          + dM * (own + (x_c - x1) ** 2))
+    J1 = (
+        bat.inertia_cm_kgm2
+        + bat.mass_kg * (bat.com_from_knob_m - x1) ** 2
+        + dM * (own + (x_c - x1) ** 2)
+    )
     _check_result(bat, M1, J1)
     axial = None
     if bat.inertia_axial_kgm2 is not None:
         axial = bat.inertia_axial_kgm2 + dM * h.radius_m**2 / 2
-    return replace(bat, name=_label(bat, h), mass_kg=M1, com_from_knob_m=x1, inertia_cm_kgm2=J1,
-                   inertia_axial_kgm2=axial)
+    return replace(
+        bat,
+        name=_label(bat, h),
+        mass_kg=M1,
+        com_from_knob_m=x1,
+        inertia_cm_kgm2=J1,
+        inertia_axial_kgm2=axial,
+    )
 
 
 def corked_bat_paper(
@@ -162,5 +183,10 @@ def corked_bat_paper(
     R = drho_area * (L0**2 - L**2) / (2 * M1)
     J1 = bat.inertia_cm_kgm2 + M1 * R**2 + drho_area * (L0**3 - L**3) / 3
     _check_result(bat, M1, J1)
-    return replace(bat, name=_label(bat, h) + " (paper)", mass_kg=M1,
-                   com_from_knob_m=bat.com_from_knob_m + R, inertia_cm_kgm2=J1)
+    return replace(
+        bat,
+        name=_label(bat, h) + " (paper)",
+        mass_kg=M1,
+        com_from_knob_m=bat.com_from_knob_m + R,
+        inertia_cm_kgm2=J1,
+    )

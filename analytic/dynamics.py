@@ -59,8 +59,10 @@ class Drive:
             if x is not None:
                 checks.in_range(name, x, 0.0, bat.length_m)
         if self.pivot_from_knob_m is not None and self.pivot_from_knob_m == bat.com_from_knob_m:
-            raise ValueError(f"pivot_from_knob_m={self.pivot_from_knob_m!r} is the COM: a hinge "
-                             "there carries no load; allowed: any other point of the bat")
+            raise ValueError(
+                f"pivot_from_knob_m={self.pivot_from_knob_m!r} is the COM: a hinge "
+                "there carries no load; allowed: any other point of the bat"
+            )
 
     def force_arm_m(self, bat: Bat) -> float:
         """Signed distance of the load point from the COM along the axis (m)."""
@@ -89,17 +91,28 @@ class MotionState:
 def start_state(bat: Bat, drive: Drive, angle_rad: float = 0.0) -> MotionState:
     """At rest at ``angle_rad``; free: COM at the origin; hinged: the pivot at the origin."""
     if drive.pivot_from_knob_m is None:
-        return MotionState(t_s=0.0, x_m=0.0, y_m=0.0, angle_rad=angle_rad, vx_mps=0.0,
-                           vy_mps=0.0, omega_radps=0.0)
+        return MotionState(
+            t_s=0.0, x_m=0.0, y_m=0.0, angle_rad=angle_rad, vx_mps=0.0, vy_mps=0.0, omega_radps=0.0
+        )
     d = bat.com_from_knob_m - drive.pivot_from_knob_m
-    return MotionState(t_s=0.0, x_m=d * math.cos(angle_rad), y_m=d * math.sin(angle_rad),
-                       angle_rad=angle_rad, vx_mps=0.0, vy_mps=0.0, omega_radps=0.0)
+    return MotionState(
+        t_s=0.0,
+        x_m=d * math.cos(angle_rad),
+        y_m=d * math.sin(angle_rad),
+        angle_rad=angle_rad,
+        vx_mps=0.0,
+        vy_mps=0.0,
+        omega_radps=0.0,
+    )
 
 
 def has_closed_form(bat: Bat, drive: Drive) -> bool:
     """Hinged bats always; free bats when the force does not turn (no torque about the COM)."""
-    return (drive.pivot_from_knob_m is not None or drive.force_n == 0.0
-            or drive.torque_about_com_nm(bat) == 0.0)
+    return (
+        drive.pivot_from_knob_m is not None
+        or drive.force_n == 0.0
+        or drive.torque_about_com_nm(bat) == 0.0
+    )
 
 
 def motion(bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0) -> MotionState:
@@ -112,20 +125,34 @@ def motion(bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0) -> Motion
     if drive.pivot_from_knob_m is not None:
         x_p = drive.pivot_from_knob_m
         d = bat.com_from_knob_m - x_p
-        torque = drive.torque_nm + (drive.force_arm_m(bat) + d) * drive.force_n \
-            * math.sin(drive.force_angle_rad)
+        torque = drive.torque_nm + (drive.force_arm_m(bat) + d) * drive.force_n * math.sin(
+            drive.force_angle_rad
+        )
         alpha = torque / bat.inertia_about(x_p)
         th, w = angle_rad + 0.5 * alpha * t_s**2, alpha * t_s
         c, s = math.cos(th), math.sin(th)
-        return MotionState(t_s=t_s, x_m=d * c, y_m=d * s, angle_rad=th, vx_mps=-w * d * s,
-                           vy_mps=w * d * c, omega_radps=w)
+        return MotionState(
+            t_s=t_s,
+            x_m=d * c,
+            y_m=d * s,
+            angle_rad=th,
+            vx_mps=-w * d * s,
+            vy_mps=w * d * c,
+            omega_radps=w,
+        )
     alpha = drive.torque_about_com_nm(bat) / bat.inertia_cm_kgm2
     a = drive.force_n / bat.mass_kg
     direction = angle_rad + drive.force_angle_rad  # the body does not turn when a is non-zero
     ax, ay = a * math.cos(direction), a * math.sin(direction)
-    return MotionState(t_s=t_s, x_m=0.5 * ax * t_s**2, y_m=0.5 * ay * t_s**2,
-                       angle_rad=angle_rad + 0.5 * alpha * t_s**2, vx_mps=ax * t_s,
-                       vy_mps=ay * t_s, omega_radps=alpha * t_s)
+    return MotionState(
+        t_s=t_s,
+        x_m=0.5 * ax * t_s**2,
+        y_m=0.5 * ay * t_s**2,
+        angle_rad=angle_rad + 0.5 * alpha * t_s**2,
+        vx_mps=ax * t_s,
+        vy_mps=ay * t_s,
+        omega_radps=alpha * t_s,
+    )
 
 
 def motion_integrated(bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0) -> MotionState:
@@ -148,19 +175,37 @@ def motion_integrated(bat: Bat, drive: Drive, t_s: float, angle_rad: float = 0.0
         def rhs(t, y):
             return [y[1], torque / inertia]
 
-        sol = integrate.solve_ivp(rhs, (0.0, t_s), [angle_rad, 0.0], method="DOP853",
-                                  rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
+        sol = integrate.solve_ivp(
+            rhs,
+            (0.0, t_s),
+            [angle_rad, 0.0],
+            method="DOP853",
+            rtol=REFERENCE_RTOL,
+            atol=REFERENCE_ATOL,
+        )
         th, w = sol.y[:, -1]
-        return MotionState(t_s=t_s, x_m=d * math.cos(th), y_m=d * math.sin(th), angle_rad=th,
-                           vx_mps=-w * d * math.sin(th), vy_mps=w * d * math.cos(th),
-                           omega_radps=w)
+        return MotionState(
+            t_s=t_s,
+            x_m=d * math.cos(th),
+            y_m=d * math.sin(th),
+            angle_rad=th,
+            vx_mps=-w * d * math.sin(th),
+            vy_mps=w * d * math.cos(th),
+            omega_radps=w,
+        )
     alpha = drive.torque_about_com_nm(bat) / bat.inertia_cm_kgm2
 
     def rhs(t, y):
         return [y[3], y[4], y[5], f * math.cos(y[2] + q) / M, f * math.sin(y[2] + q) / M, alpha]
 
-    sol = integrate.solve_ivp(rhs, (0.0, t_s), [s0.x_m, s0.y_m, angle_rad, 0.0, 0.0, 0.0],
-                              method="DOP853", rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
+    sol = integrate.solve_ivp(
+        rhs,
+        (0.0, t_s),
+        [s0.x_m, s0.y_m, angle_rad, 0.0, 0.0, 0.0],
+        method="DOP853",
+        rtol=REFERENCE_RTOL,
+        atol=REFERENCE_ATOL,
+    )
     x, y, th, vx, vy, w = sol.y[:, -1]
     return MotionState(t_s=t_s, x_m=x, y_m=y, angle_rad=th, vx_mps=vx, vy_mps=vy, omega_radps=w)
 
@@ -190,14 +235,16 @@ class HingedSwing:
 
     def arm_m(self, bat: Bat) -> float:
         """d = x_cm - x_hands (m)."""
-        checks.in_range("hands_from_knob_m", self.hands_from_knob_m, 0.0, bat.com_from_knob_m,
-                         hi_open=True)
+        checks.in_range(
+            "hands_from_knob_m", self.hands_from_knob_m, 0.0, bat.com_from_knob_m, hi_open=True
+        )
         return bat.com_from_knob_m - self.hands_from_knob_m
 
     def duration_s(self, bat: Bat) -> float:
         """t = sqrt(2 theta I_p / tau) (s)."""
-        return math.sqrt(2 * self.angle_rad * bat.inertia_about(self.hands_from_knob_m)
-                         / self.torque_nm)
+        return math.sqrt(
+            2 * self.angle_rad * bat.inertia_about(self.hands_from_knob_m) / self.torque_nm
+        )
 
     def omega_at(self, bat: Bat, t_s: float) -> float:
         """omega = tau t / I_p (rad/s)."""
@@ -208,8 +255,14 @@ class HingedSwing:
         return 0.5 * self.torque_nm * t_s**2 / bat.inertia_about(self.hands_from_knob_m)
 
     @classmethod
-    def for_omega(cls, bat: Bat, omega0_radps: float, *, hands_from_knob_m: float = 0.1,
-                  angle_rad: float = math.pi / 2) -> HingedSwing:
+    def for_omega(
+        cls,
+        bat: Bat,
+        omega0_radps: float,
+        *,
+        hands_from_knob_m: float = 0.1,
+        angle_rad: float = math.pi / 2,
+    ) -> HingedSwing:
         """The torque that brings ``bat`` to omega0 over ``angle_rad``: I_p omega0^2/(2 theta)."""
         checks.positive("omega0_radps", omega0_radps)
         torque = bat.inertia_about(hands_from_knob_m) * omega0_radps**2 / (2 * angle_rad)

@@ -61,8 +61,15 @@ class FlexOutcome(CompliantOutcome):
     touches: int
 
 
-def predict(case: ImpactCase, beam: Beam, law: ContactLaw | ImpactLaw, *,
-            modes: int = MODES, loss_factor: float = 0.0, patch_m: float = 0.0) -> FlexOutcome:
+def predict(
+    case: ImpactCase,
+    beam: Beam,
+    law: ContactLaw | ImpactLaw,
+    *,
+    modes: int = MODES,
+    loss_factor: float = 0.0,
+    patch_m: float = 0.0,
+) -> FlexOutcome:
     """The impact of ``case`` on ``beam``'s flexible bat under the normal force ``law`` (an
     ``ImpactLaw`` resolved at the first touch's closing speed, kept through re-touches; a
     hysteretic law's memory starts afresh at each touch). The case's bat must hold the beam's
@@ -76,8 +83,10 @@ def predict(case: ImpactCase, beam: Beam, law: ContactLaw | ImpactLaw, *,
     rigid = beam.rigid
     for key, value in rigid.items():
         if not math.isclose(getattr(case.bat, key), value, rel_tol=1e-12):
-            raise ValueError(f"bat.{key} = {getattr(case.bat, key)!r}: must be the beam's "
-                             f"{value!r} (use beam.rigid_bat)")
+            raise ValueError(
+                f"bat.{key} = {getattr(case.bat, key)!r}: must be the beam's "
+                f"{value!r} (use beam.rigid_bat)"
+            )
     shapes = beam.modes(modes)
     problem = _Problem(case, law, shapes, patch_m=patch_m)
     problem.damping = loss_factor * np.sqrt(problem.w2)  # 2 zeta omega, zeta = eta / 2
@@ -99,17 +108,23 @@ def predict(case: ImpactCase, beam: Beam, law: ContactLaw | ImpactLaw, *,
     modal = problem.mode_energies(y)
     return FlexOutcome(
         **outcome_fields(case, y0[:10], y[:10]),
-        contact_duration_s=t, peak_force_n=max(p[0] for p in peaks),
-        peak_penetration_m=max(p[1] for p in peaks), bat_turn_rad=float(y[8]),
-        mode_energy_j=tuple(modal), vibration_j=float(sum(modal)),
-        energy_after_j=problem.energy(y), touches=touches)
+        contact_duration_s=t,
+        peak_force_n=max(p[0] for p in peaks),
+        peak_penetration_m=max(p[1] for p in peaks),
+        bat_turn_rad=float(y[8]),
+        mode_energy_j=tuple(modal),
+        vibration_j=float(sum(modal)),
+        energy_after_j=problem.energy(y),
+        touches=touches,
+    )
 
 
 class _Problem:
     """The equations of motion and the contact's geometry."""
 
-    def __init__(self, case: ImpactCase, law: ContactLaw | ImpactLaw, shapes, *,
-                 patch_m: float = 0.0) -> None:
+    def __init__(
+        self, case: ImpactCase, law: ContactLaw | ImpactLaw, shapes, *, patch_m: float = 0.0
+    ) -> None:
         bat, ball = case.bat, case.ball
         self.m, self.M, self.J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
         self.reach = bat.radius_m + ball.radius_m
@@ -118,8 +133,11 @@ class _Problem:
         self.w2 = (2 * math.pi * shapes.frequencies_hz) ** 2
         self.k = len(self.w2)
         nodes = shapes.nodes_m
-        point = (interpolate.CubicHermiteSpline(nodes, shapes.shapes.T, shapes.slopes.T)
-                 if shapes.hermite else interpolate.CubicSpline(nodes, shapes.shapes.T))
+        point = (
+            interpolate.CubicHermiteSpline(nodes, shapes.shapes.T, shapes.slopes.T)
+            if shapes.hermite
+            else interpolate.CubicSpline(nodes, shapes.shapes.T)
+        )
         self.phi = point if patch_m == 0.0 else _patch_mean(point, patch_m)
         self.dphi = self.phi.derivative()
         self.damping = np.zeros(len(self.w2))
@@ -135,13 +153,12 @@ class _Problem:
         s, h = float(d @ tt), float(d @ n)
         x_knob = s + self.x_cm
         phi = self.phi(x_knob)
-        q, qd = z[10:10 + self.k], z[10 + self.k:10 + 2 * self.k]
+        q, qd = z[10 : 10 + self.k], z[10 + self.k : 10 + 2 * self.k]
         slope = float(self.dphi(x_knob) @ q)
         rel = z[2:4] - z[6:8]
         x = self.reach - h + float(phi @ q)
         # x' = dx/dz . z': the same gradient the forces are made of (energy conservation)
-        rate = -float(rel @ n) + z[9] * s + slope * (float(rel @ tt) + z[9] * h) \
-            + float(phi @ qd)
+        rate = -float(rel @ n) + z[9] * s + slope * (float(rel @ tt) + z[9] * h) + float(phi @ qd)
         m_eff = 1.0 / (1 / self.m + 1 / self.M + s * s / self.J)
         return x, rate, m_eff, phi, (s, h, slope), (tt, n)
 
@@ -157,12 +174,20 @@ class _Problem:
         f, x, phi, (s, h, slope), (tt, n), rate = self.force(z, t)
         f = 0.0 if free else f
         k = self.k
-        q, qd = z[10:10 + k], z[10 + k:10 + 2 * k]
+        q, qd = z[10 : 10 + k], z[10 + k : 10 + 2 * k]
         push = f * (n - slope * tt)
-        return np.concatenate([z[2:4], push / self.m, z[6:8], -push / self.M,
-                               [z[9], -f * (s + slope * h) / self.J], qd,
-                               -self.w2 * q - self.damping * qd - f * phi,
-                               [peak_rate(x, rate, z[-1])]])
+        return np.concatenate(
+            [
+                z[2:4],
+                push / self.m,
+                z[6:8],
+                -push / self.M,
+                [z[9], -f * (s + slope * h) / self.J],
+                qd,
+                -self.w2 * q - self.damping * qd - f * phi,
+                [peak_rate(x, rate, z[-1])],
+            ]
+        )
 
     def atol(self, y) -> np.ndarray:
         """Absolute tolerances: the rigid coordinates' as ``analytic.compliant``'s; a mode's
@@ -171,8 +196,7 @@ class _Problem:
         its period)."""
         base = RTOL * 1e-3 * (np.abs(y[:10]).max() + 1.0)
         per_mode = base / self.phi_max
-        return np.concatenate([np.full(10, base), per_mode, per_mode * np.sqrt(self.w2),
-                               [base]])
+        return np.concatenate([np.full(10, base), per_mode, per_mode * np.sqrt(self.w2), [base]])
 
     def contact(self, y):
         def released(t, z):
@@ -182,23 +206,30 @@ class _Problem:
             return release_of(self.law, x, rate, m_eff, z[-1])
 
         released.terminal, released.direction = True, -1
-        return integrate.solve_ivp(self.rhs, (0.0, 1.0), y, method="DOP853", rtol=RTOL,
-                                   atol=self.atol(y),
-                                   events=released, max_step=self.max_step)
+        return integrate.solve_ivp(
+            self.rhs,
+            (0.0, 1.0),
+            y,
+            method="DOP853",
+            rtol=RTOL,
+            atol=self.atol(y),
+            events=released,
+            max_step=self.max_step,
+        )
 
     def free(self, y, t):
         """The states at times ``t`` (array) of free motion from ``y``: uniform rigid motion,
         harmonic modes. Shape (len(t), size)."""
         t = np.asarray(t, dtype=float)[:, None]
         k, w = self.k, np.sqrt(self.w2)
-        q, qd = y[10:10 + k], y[10 + k:10 + 2 * k]
+        q, qd = y[10 : 10 + k], y[10 + k : 10 + 2 * k]
         z = np.repeat(y[None, :], len(t), axis=0)
         z[:, 0:2] += y[2:4] * t
         z[:, 4:6] += y[6:8] * t
         z[:, 8] += y[9] * t[:, 0]
         cos, sin = np.cos(w * t), np.sin(w * t)
-        z[:, 10:10 + k] = q * cos + qd / w * sin
-        z[:, 10 + k:10 + 2 * k] = qd * cos - q * w * sin
+        z[:, 10 : 10 + k] = q * cos + qd / w * sin
+        z[:, 10 + k : 10 + 2 * k] = qd * cos - q * w * sin
         return z
 
     def gaps(self, zs) -> np.ndarray:
@@ -208,7 +239,7 @@ class _Problem:
         n = np.column_stack([-tt[:, 1], tt[:, 0]])
         s = np.sum(d * tt, axis=1)
         phi = self.phi(s + self.x_cm)
-        return self.reach - np.sum(d * n, axis=1) + np.sum(phi * zs[:, 10:10 + self.k], axis=1)
+        return self.reach - np.sum(d * n, axis=1) + np.sum(phi * zs[:, 10 : 10 + self.k], axis=1)
 
     def flight(self, y):
         """(time, state) of the next touch within RECONTACT_PERIODS of the lowest mode, or
@@ -225,8 +256,9 @@ class _Problem:
         if not len(rises):
             return None
         i = rises[0]
-        t = optimize.brentq(lambda t: float(self.gaps(self.free(y, [t]))[0]), times[i],
-                            times[i + 1], xtol=1e-15)
+        t = optimize.brentq(
+            lambda t: float(self.gaps(self.free(y, [t]))[0]), times[i], times[i + 1], xtol=1e-15
+        )
         return t, self.free(y, [t])[0]
 
     def peaks(self, ys) -> tuple[float, float]:
@@ -234,13 +266,16 @@ class _Problem:
         return max(f for f, _ in pairs), max(x for _, x in pairs)
 
     def mode_energies(self, z) -> np.ndarray:
-        q, qd = z[10:10 + self.k], z[10 + self.k:10 + 2 * self.k]
+        q, qd = z[10 : 10 + self.k], z[10 + self.k : 10 + 2 * self.k]
         return 0.5 * (qd * qd + self.w2 * q * q)
 
     def energy(self, z) -> float:
         """Kinetic energy of both bodies plus the bending's."""
-        ke = 0.5 * self.m * float(z[2:4] @ z[2:4]) + 0.5 * self.M * float(z[6:8] @ z[6:8]) \
+        ke = (
+            0.5 * self.m * float(z[2:4] @ z[2:4])
+            + 0.5 * self.M * float(z[6:8] @ z[6:8])
             + 0.5 * self.J * z[9] ** 2
+        )
         return ke + float(self.mode_energies(z).sum())
 
 

@@ -85,13 +85,24 @@ class Aerodynamics:
         ends of a spread (``DRAG_SPREAD``, ``LIFT_SPREAD``) give a range of carries."""
         checks.non_negative("drag", drag)
         checks.non_negative("lift", lift)
-        return Aerodynamics(cd0=self.cd0 * drag, cd_spin_per_radps=self.cd_spin_per_radps * drag,
-                            cl0=self.cl0, cl1=self.cl1, cl2=self.cl2 * lift,
-                            spin_decay_s=self.spin_decay_s)
+        return Aerodynamics(
+            cd0=self.cd0 * drag,
+            cd_spin_per_radps=self.cd_spin_per_radps * drag,
+            cl0=self.cl0,
+            cl1=self.cl1,
+            cl2=self.cl2 * lift,
+            spin_decay_s=self.spin_decay_s,
+        )
 
 
-NATHAN_2008 = Aerodynamics(cd0=0.3008, cd_spin_per_radps=0.0292 / (1000.0 * RPM_RADPS),
-                           cl0=0.583, cl1=2.333, cl2=1.120, spin_decay_s=30.0)
+NATHAN_2008 = Aerodynamics(
+    cd0=0.3008,
+    cd_spin_per_radps=0.0292 / (1000.0 * RPM_RADPS),
+    cl0=0.583,
+    cl1=2.333,
+    cl2=1.120,
+    spin_decay_s=30.0,
+)
 """The coefficients of A. M. Nathan's trajectory calculator (TrajectoryCalculator-new-3D.xlsx,
 baseball.physics.illinois.edu, 2016 onward, fitted to 2015 Statcast fly balls), as re-implemented
 in pybaseball (analysis/trajectories/batted_balls/parameters.py) and in an R transcription of
@@ -140,22 +151,29 @@ class Launch:
 
     def __post_init__(self) -> None:
         checks.in_range("speed_mps", self.speed_mps, 0.0, MAX_SPEED_MPS, lo_open=True)
-        checks.in_range("launch_rad", self.launch_rad, -math.pi / 2, math.pi / 2,
-                        lo_open=True, hi_open=True)
+        checks.in_range(
+            "launch_rad", self.launch_rad, -math.pi / 2, math.pi / 2, lo_open=True, hi_open=True
+        )
         checks.in_range("backspin_radps", self.backspin_radps, -MAX_SPIN_RADPS, MAX_SPIN_RADPS)
         checks.in_range("sidespin_radps", self.sidespin_radps, -MAX_SPIN_RADPS, MAX_SPIN_RADPS)
         checks.in_range("height_m", self.height_m, 0.0, 100.0)
         checks.in_range("direction_rad", self.direction_rad, -math.pi, math.pi)
         if self.height_m == 0.0 and self.launch_rad <= 0.0:
-            raise ValueError(f"launch_rad={self.launch_rad!r} with height_m=0.0: the ball starts "
-                             "on the ground moving down; allowed: launch_rad > 0 or height_m > 0")
+            raise ValueError(
+                f"launch_rad={self.launch_rad!r} with height_m=0.0: the ball starts "
+                "on the ground moving down; allowed: launch_rad > 0 or height_m > 0"
+            )
 
     def velocity_mps(self) -> np.ndarray:
         """The velocity in the field frame (m/s)."""
         c = math.cos(self.launch_rad)
-        return self.speed_mps * np.array([c * math.cos(self.direction_rad),
-                                          c * math.sin(self.direction_rad),
-                                          math.sin(self.launch_rad)])
+        return self.speed_mps * np.array(
+            [
+                c * math.cos(self.direction_rad),
+                c * math.sin(self.direction_rad),
+                math.sin(self.launch_rad),
+            ]
+        )
 
     def spin_radps(self) -> np.ndarray:
         """The spin vector in the field frame (rad/s): backspin along v^ x z^, sidespin along
@@ -226,37 +244,61 @@ def _solve(rhs, y0: np.ndarray, t_max: float, events: list, rtol: float):
     speed = max(float(np.linalg.norm(y0[3:])), 1.0)
     length = max(speed * t_max / 10.0, abs(float(y0[2])), 1.0)
     atol = rtol * np.array([length] * 3 + [speed] * 3)
-    sol = integrate.solve_ivp(rhs, (0.0, t_max), y0, method="DOP853", rtol=rtol, atol=atol,
-                              events=events, dense_output=True)
+    sol = integrate.solve_ivp(
+        rhs,
+        (0.0, t_max),
+        y0,
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+        events=events,
+        dense_output=True,
+    )
     if sol.status != 1:
         raise ArithmeticError(f"the flight did not end within {t_max:g} s")
     return sol
 
 
-def fly_vectors(position_m: ArrayLike, velocity_mps: ArrayLike, spin_radps: ArrayLike, *,
-                ball: Ball = presets.BASEBALL, aero: Aerodynamics = NATHAN_2008,
-                air: Air = Air(), g_mps2: float = G_MPS2, rtol: float = 1e-10,
-                samples: int = 101) -> Flight:
+def fly_vectors(
+    position_m: ArrayLike,
+    velocity_mps: ArrayLike,
+    spin_radps: ArrayLike,
+    *,
+    ball: Ball = presets.BASEBALL,
+    aero: Aerodynamics = NATHAN_2008,
+    air: Air = Air(),
+    g_mps2: float = G_MPS2,
+    rtol: float = 1e-10,
+    samples: int = 101,
+) -> Flight:
     """The flight of a ball from ``position_m`` (z >= 0) with ``velocity_mps`` and
     ``spin_radps`` (3-vectors, field frame) down to the ground z = 0; ``samples`` points of it
     are kept. ``lateral_m`` is measured normal to the horizontal part of the velocity."""
     r0, v0 = _vec3("position_m", position_m), _vec3("velocity_mps", velocity_mps)
-    w0 = checks.array_in_range("spin_radps", _vec3("spin_radps", spin_radps), -MAX_SPIN_RADPS,
-                               MAX_SPIN_RADPS)
+    w0 = checks.array_in_range(
+        "spin_radps", _vec3("spin_radps", spin_radps), -MAX_SPIN_RADPS, MAX_SPIN_RADPS
+    )
     checks.instance("ball", ball, Ball)
     checks.in_range("position_m[2]", r0[2], 0.0, 1e3)
     checks.positive("g_mps2", g_mps2)
     checks.in_range("rtol", rtol, 1e-13, 1e-3)
     samples = checks.integer("samples", samples, 2, 100_000)
     if not (r0[2] > 0.0 or v0[2] > 0.0):
-        raise ValueError(f"velocity_mps[2]={v0[2]!r} at height 0: the ball starts on the "
-                         "ground moving down; allowed: velocity_mps[2] > 0 or position_m[2] > 0")
+        raise ValueError(
+            f"velocity_mps[2]={v0[2]!r} at height 0: the ball starts on the "
+            "ground moving down; allowed: velocity_mps[2] > 0 or position_m[2] > 0"
+        )
     up = max(v0[2], 0.0)
     t_vacuum = (up + math.sqrt(up * up + 2.0 * g_mps2 * r0[2])) / g_mps2
     ground = _event(lambda t, y: y[2], terminal=True, direction=-1.0)
     apex = _event(lambda t, y: y[5], terminal=False, direction=-1.0)
-    sol = _solve(_acceleration(ball, aero, air, g_mps2, w0), np.concatenate([r0, v0]),
-                 10.0 * t_vacuum + 10.0, [ground, apex], rtol)
+    sol = _solve(
+        _acceleration(ball, aero, air, g_mps2, w0),
+        np.concatenate([r0, v0]),
+        10.0 * t_vacuum + 10.0,
+        [ground, apex],
+        rtol,
+    )
     hang = float(sol.t_events[0][0])
     end = sol.y_events[0][0]
     t = np.linspace(0.0, hang, samples)
@@ -267,33 +309,69 @@ def fly_vectors(position_m: ArrayLike, velocity_mps: ArrayLike, spin_radps: Arra
     dx, dy = end[0] - r0[0], end[1] - r0[1]
     h = math.hypot(v0[0], v0[1])
     lateral = (v0[0] * dy - v0[1] * dx) / h if h > 0.0 else 0.0
-    return Flight(carry_m=math.hypot(dx, dy), hang_s=hang, apex_m=max(heights),
-                  landing_speed_mps=float(np.linalg.norm(end[3:])),
-                  landing_angle_rad=math.atan2(-end[5], math.hypot(end[3], end[4])),
-                  lateral_m=lateral, t_s=t, xyz_m=xyz)
+    return Flight(
+        carry_m=math.hypot(dx, dy),
+        hang_s=hang,
+        apex_m=max(heights),
+        landing_speed_mps=float(np.linalg.norm(end[3:])),
+        landing_angle_rad=math.atan2(-end[5], math.hypot(end[3], end[4])),
+        lateral_m=lateral,
+        t_s=t,
+        xyz_m=xyz,
+    )
 
 
-def fly(launch: Launch, *, ball: Ball = presets.BASEBALL, aero: Aerodynamics = NATHAN_2008,
-        air: Air = Air(), g_mps2: float = G_MPS2, rtol: float = 1e-10,
-        samples: int = 101) -> Flight:
+def fly(
+    launch: Launch,
+    *,
+    ball: Ball = presets.BASEBALL,
+    aero: Aerodynamics = NATHAN_2008,
+    air: Air = Air(),
+    g_mps2: float = G_MPS2,
+    rtol: float = 1e-10,
+    samples: int = 101,
+) -> Flight:
     """The flight of a batted ball from its contact point (at x = y = 0) to the ground."""
     checks.instance("launch", launch, Launch)
-    return fly_vectors([0.0, 0.0, launch.height_m], launch.velocity_mps(), launch.spin_radps(),
-                       ball=ball, aero=aero, air=air, g_mps2=g_mps2, rtol=rtol, samples=samples)
+    return fly_vectors(
+        [0.0, 0.0, launch.height_m],
+        launch.velocity_mps(),
+        launch.spin_radps(),
+        ball=ball,
+        aero=aero,
+        air=air,
+        g_mps2=g_mps2,
+        rtol=rtol,
+        samples=samples,
+    )
 
 
-def carry_range_m(launch: Launch, *, drag_spread: float = DRAG_SPREAD,
-                  lift_spread: float = LIFT_SPREAD, ball: Ball = presets.BASEBALL,
-                  aero: Aerodynamics = NATHAN_2008, air: Air = Air(),
-                  g_mps2: float = G_MPS2) -> tuple[float, float]:
+def carry_range_m(
+    launch: Launch,
+    *,
+    drag_spread: float = DRAG_SPREAD,
+    lift_spread: float = LIFT_SPREAD,
+    ball: Ball = presets.BASEBALL,
+    aero: Aerodynamics = NATHAN_2008,
+    air: Air = Air(),
+    g_mps2: float = G_MPS2,
+) -> tuple[float, float]:
     """The least and greatest carry (m) over the four corners C_D (1 +- drag_spread),
     C_L (1 +- lift_spread) of ``aero``: the carry to report as a range."""
     checks.in_range("drag_spread", drag_spread, 0.0, 1.0)
     checks.in_range("lift_spread", lift_spread, 0.0, 1.0)
-    carries = [fly(launch, ball=ball, aero=aero.scaled(drag=1.0 + i * drag_spread,
-                                                      lift=1.0 + j * lift_spread),
-                   air=air, g_mps2=g_mps2, samples=2).carry_m
-               for i in (-1, 1) for j in (-1, 1)]
+    carries = [
+        fly(
+            launch,
+            ball=ball,
+            aero=aero.scaled(drag=1.0 + i * drag_spread, lift=1.0 + j * lift_spread),
+            air=air,
+            g_mps2=g_mps2,
+            samples=2,
+        ).carry_m
+        for i in (-1, 1)
+        for j in (-1, 1)
+    ]
     return min(carries), max(carries)
 
 
@@ -307,10 +385,17 @@ def vacuum_carry_m(launch: Launch, g_mps2: float = G_MPS2) -> tuple[float, float
     return v * math.cos(a) * t, t
 
 
-def time_to_travel(speed_mps: float, distance_m: float = RELEASE_TO_PLATE_M, *,
-                   backspin_radps: float = 0.0, ball: Ball = presets.BASEBALL,
-                   aero: Aerodynamics = NATHAN_2008, air: Air = Air(), g_mps2: float = G_MPS2,
-                   rtol: float = 1e-10) -> Travel:
+def time_to_travel(
+    speed_mps: float,
+    distance_m: float = RELEASE_TO_PLATE_M,
+    *,
+    backspin_radps: float = 0.0,
+    ball: Ball = presets.BASEBALL,
+    aero: Aerodynamics = NATHAN_2008,
+    air: Air = Air(),
+    g_mps2: float = G_MPS2,
+    rtol: float = 1e-10,
+) -> Travel:
     """A pitch released horizontally along +x at ``speed_mps`` with ``backspin_radps`` (> 0
     lifts): the time until it has covered ``distance_m`` horizontally, its speed then, and its
     drop. Gravity acts (g_mps2 = 0 turns it off); the ground does not stop it. Default distance:
@@ -322,11 +407,19 @@ def time_to_travel(speed_mps: float, distance_m: float = RELEASE_TO_PLATE_M, *,
     checks.in_range("rtol", rtol, 1e-13, 1e-3)
     rhs = _acceleration(ball, aero, air, g_mps2, np.array([0.0, -backspin_radps, 0.0]))
     arrive = _event(lambda t, y: y[0] - distance_m, terminal=True, direction=1.0)
-    sol = _solve(rhs, np.array([0.0, 0.0, 0.0, speed_mps, 0.0, 0.0]),
-                 100.0 * distance_m / speed_mps + 10.0, [arrive], rtol)
+    sol = _solve(
+        rhs,
+        np.array([0.0, 0.0, 0.0, speed_mps, 0.0, 0.0]),
+        100.0 * distance_m / speed_mps + 10.0,
+        [arrive],
+        rtol,
+    )
     end = sol.y_events[0][0]
-    return Travel(time_s=float(sol.t_events[0][0]),
-                  arrival_speed_mps=float(np.linalg.norm(end[3:])), drop_m=-float(end[2]))
+    return Travel(
+        time_s=float(sol.t_events[0][0]),
+        arrival_speed_mps=float(np.linalg.norm(end[3:])),
+        drop_m=-float(end[2]),
+    )
 
 
 def impact_to_field(vector: ArrayLike) -> np.ndarray:
@@ -337,8 +430,9 @@ def impact_to_field(vector: ArrayLike) -> np.ndarray:
     return np.array([v[1], -v[0], v[2]])
 
 
-def batted_ball_launch(velocity_mps: ArrayLike, spin_radps: ArrayLike, *,
-                       height_m: float = 0.9) -> Launch:
+def batted_ball_launch(
+    velocity_mps: ArrayLike, spin_radps: ArrayLike, *, height_m: float = 0.9
+) -> Launch:
     """The ``Launch`` of a ball leaving the bat with ``velocity_mps`` and ``spin_radps``
     (impact frame, ``impact_to_field``): speed |v|, launch angle atan2(v_z, hypot(v_x, v_y)),
     spray angle atan2(-v_x, v_y) (toward -x, the knob's side, is +), backspin and sidespin the
@@ -348,12 +442,19 @@ def batted_ball_launch(velocity_mps: ArrayLike, spin_radps: ArrayLike, *,
     v, w = impact_to_field(velocity_mps), impact_to_field(spin_radps)
     horizontal = math.hypot(v[0], v[1])
     if not horizontal > 0.0:
-        raise ValueError(f"velocity_mps={tuple(map(float, velocity_mps))!r} has no horizontal "
-                         "part: no backspin axis; allowed: hypot(v_x, v_y) > 0")
+        raise ValueError(
+            f"velocity_mps={tuple(map(float, velocity_mps))!r} has no horizontal "
+            "part: no backspin axis; allowed: hypot(v_x, v_y) > 0"
+        )
     speed = float(np.linalg.norm(v))
     vhat = v / speed
     back = np.cross(vhat, [0.0, 0.0, 1.0]) * (speed / horizontal)  # unit: |v^ x z^| = h / |v|
     side = np.cross(back, vhat)
-    return Launch(speed_mps=speed, launch_rad=math.atan2(v[2], horizontal),
-                  direction_rad=math.atan2(v[1], v[0]), height_m=height_m,
-                  backspin_radps=float(w @ back), sidespin_radps=float(w @ side))
+    return Launch(
+        speed_mps=speed,
+        launch_rad=math.atan2(v[2], horizontal),
+        direction_rad=math.atan2(v[1], v[0]),
+        height_m=height_m,
+        backspin_radps=float(w @ back),
+        sidespin_radps=float(w @ side),
+    )

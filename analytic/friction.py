@@ -54,9 +54,11 @@ class FrictionalImpulse:
     phases: tuple[tuple[str, float], ...]
 
 
-def collision_matrix(a: RigidBody3D, b: RigidBody3D, r_a: np.ndarray,
-                     r_b: np.ndarray) -> np.ndarray:
+def collision_matrix(
+    a: RigidBody3D, b: RigidBody3D, r_a: np.ndarray, r_b: np.ndarray
+) -> np.ndarray:
     """K: the change of the contact points' relative velocity per unit impulse on A (1/kg)."""
+
     def term(body: RigidBody3D, r: np.ndarray) -> np.ndarray:
         x = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
         return -x @ np.linalg.solve(body.inertia_kgm2, x)
@@ -141,17 +143,31 @@ class _Impact:
         cross = [parts(phi)[0] for phi in grid]
         for lo, hi, f_lo, f_hi in zip(grid, grid[1:], cross, cross[1:]):
             if f_lo == 0.0 or f_lo * f_hi < 0.0:
-                phi = lo if f_lo == 0.0 else optimize.brentq(lambda x: parts(x)[0], lo, hi,
-                                                             xtol=1e-15)
+                phi = (
+                    lo
+                    if f_lo == 0.0
+                    else optimize.brentq(lambda x: parts(x)[0], lo, hi, xtol=1e-15)
+                )
                 if parts(phi)[1] > 0.0:
                     return np.array([math.cos(phi), math.sin(phi)])
-        raise ArithmeticError("no direction of slip from rest: the contact jams (|tau| > mu "
-                              "and no slip direction grows)")
+        raise ArithmeticError(
+            "no direction of slip from rest: the contact jams (|tau| > mu "
+            "and no slip direction grows)"
+        )
 
 
-def frictional_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m: ArrayLike,
-                       normal: ArrayLike, e: float, mu: float, hypothesis: str = "energetic",
-                       rtol: float = RTOL) -> FrictionalImpulse:
+def frictional_impulse(
+    a: RigidBody3D,
+    b: RigidBody3D,
+    *,
+    r_a_m: ArrayLike,
+    r_b_m: ArrayLike,
+    normal: ArrayLike,
+    e: float,
+    mu: float,
+    hypothesis: str = "energetic",
+    rtol: float = RTOL,
+) -> FrictionalImpulse:
     """The impulse between bodies A and B touching at one point with Coulomb friction mu and
     restitution e (module docstring). n is the contact normal from B to A; r_A, r_B go from
     each COM to the contact point; ``rtol`` the integration's relative tolerance (RTOL: to
@@ -167,8 +183,10 @@ def frictional_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_
         raise ValueError(f"hypothesis={hypothesis!r} is unknown; allowed: {HYPOTHESES}")
     v0 = a.point_velocity(r_a) - b.point_velocity(r_b)
     if not n @ v0 < 0.0:
-        raise ValueError(f"relative normal velocity v_rel={float(n @ v0)!r} m/s: the bodies "
-                         "do not approach; allowed: v_rel < 0")
+        raise ValueError(
+            f"relative normal velocity v_rel={float(n @ v0)!r} m/s: the bodies "
+            "do not approach; allowed: v_rel < 0"
+        )
     K = collision_matrix(a, b, r_a, r_b)
     rtol = checks.in_range("rtol", rtol, RTOL, 1e-6)
     P, p_c, phases = _integrate(_Impact(K, n, v0, mu), e, hypothesis, rtol)
@@ -189,8 +207,11 @@ def _integrate(imp: _Impact, e: float, hypothesis: str, rtol: float = RTOL):
     for _ in range(MAX_PHASES):
         speed = imp.slip_speed(y)
         resumed = resumed and speed <= imp.near  # a slip restarted from rest, still slow
-        if mode == "slip" and not resumed and (
-                speed <= imp.rest or ((stopping or speed <= imp.near) and imp.slowing(y))):
+        if (
+            mode == "slip"
+            and not resumed
+            and (speed <= imp.rest or ((stopping or speed <= imp.near) and imp.slowing(y)))
+        ):
             p, y = imp.to_rest(p, y)  # at rest, or about to stop: stopped
             if p > 0.0:
                 phases.append(("slip", p))
@@ -205,8 +226,9 @@ def _integrate(imp: _Impact, e: float, hypothesis: str, rtol: float = RTOL):
         if mode == "slip":
             events.append(_event(lambda p, y: imp.slip_speed(y) - imp.near, -1.0))
         rhs = imp.slip_rhs if mode == "slip" else imp.stick_rhs
-        sol = integrate.solve_ivp(rhs, (p, p + 100.0 * scale), y, method="DOP853", rtol=rtol,
-                                  atol=atol, events=events)
+        sol = integrate.solve_ivp(
+            rhs, (p, p + 100.0 * scale), y, method="DOP853", rtol=rtol, atol=atol, events=events
+        )
         if sol.status != 1:
             raise ArithmeticError("the impact did not end within 100 frictionless impulses")
         p, y = float(sol.t[-1]), sol.y[:, -1]
@@ -227,8 +249,7 @@ def _event(f, direction: float):
     return f
 
 
-def _stage_end(imp: _Impact, e: float, hypothesis: str, p_c: float | None,
-               w_c: float | None):
+def _stage_end(imp: _Impact, e: float, hypothesis: str, p_c: float | None, w_c: float | None):
     """The event that ends the stage: compression (v_n = 0), else restitution (its work, W
     counted from 0 at p_c, reaching -e^2 W_c, energetic; p = (1 + e) p_c, Poisson's)."""
     if p_c is None:
@@ -247,9 +268,17 @@ def _from_rest(imp: _Impact) -> str:
     return "slip"
 
 
-def one_step_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m: ArrayLike,
-                     normal: ArrayLike, e: float, mu: float,
-                     relaxed: bool = False) -> FrictionalImpulse:
+def one_step_impulse(
+    a: RigidBody3D,
+    b: RigidBody3D,
+    *,
+    r_a_m: ArrayLike,
+    r_b_m: ArrayLike,
+    normal: ArrayLike,
+    e: float,
+    mu: float,
+    relaxed: bool = False,
+) -> FrictionalImpulse:
     """The impulse an impulse-based engine solves in one step: Newton's restitution on the
     total normal impulse (v_n' = -e v_n) and Coulomb's cone on the total impulse, sticking
     (v_t' = 0) where the cone allows it, else sliding against the final slip,
@@ -267,26 +296,29 @@ def one_step_impulse(a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m:
     v0 = a.point_velocity(r_a) - b.point_velocity(r_b)
     vn = float(n @ v0)
     if not vn < 0.0:
-        raise ValueError(f"relative normal velocity v_rel={vn!r} m/s: the bodies do not "
-                         "approach; allowed: v_rel < 0")
+        raise ValueError(
+            f"relative normal velocity v_rel={vn!r} m/s: the bodies do not "
+            "approach; allowed: v_rel < 0"
+        )
     K, T = collision_matrix(a, b, r_a, r_b), _tangents(n)
     if mu == 0.0:  # no friction: EQ 141's impulse along n, the slip left to itself
         P = -(1.0 + e) * vn / float(n @ K @ n) * n
         mode = "slip" if math.hypot(*(T.T @ (v0 + K @ P))) > 0.0 else "stick"
         a1, b1 = apply_impulse(a, b, r_a, r_b, P)
-        return FrictionalImpulse(impulse_ns=P, a=a1, b=b1, compression_ns=math.nan,
-                                 phases=((mode, float(n @ P)),))
+        return FrictionalImpulse(
+            impulse_ns=P, a=a1, b=b1, compression_ns=math.nan, phases=((mode, float(n @ P)),)
+        )
     P = np.linalg.solve(K, -(1.0 + e) * vn * n - T @ (T.T @ v0))  # sticking
     mode = "stick"
     if math.hypot(*(T.T @ P)) > mu * float(n @ P):
         mode, P = "slip", _one_step_slide(K, T, n, v0, vn, e, mu, relaxed)
     a1, b1 = apply_impulse(a, b, r_a, r_b, P)
-    return FrictionalImpulse(impulse_ns=P, a=a1, b=b1, compression_ns=math.nan,
-                             phases=((mode, float(n @ P)),))
+    return FrictionalImpulse(
+        impulse_ns=P, a=a1, b=b1, compression_ns=math.nan, phases=((mode, float(n @ P)),)
+    )
 
 
-def _one_step_slide(K, T, n, v0, vn: float, e: float, mu: float,
-                    relaxed: bool) -> np.ndarray:
+def _one_step_slide(K, T, n, v0, vn: float, e: float, mu: float, relaxed: bool) -> np.ndarray:
     """The sliding impulse of ``one_step_impulse``: P = p (n - mu d) with the final relative
     velocity v* + c (d + mu n) (relaxed) or v* + c d (plain), v* = -e v_n n the target, c >= 0
     the final slip's speed: p K (n - mu d) - c (d [+ mu n]) = v* - v, linear in (p, c) for a
@@ -357,8 +389,9 @@ class FrictionOutcome:
 LAWS = ("routh", "one_step", "relaxed")
 
 
-def predict_friction(case, *, hypothesis: str = "energetic", law: str = "routh",
-                     rtol: float = RTOL) -> FrictionOutcome:
+def predict_friction(
+    case, *, hypothesis: str = "energetic", law: str = "routh", rtol: float = RTOL
+) -> FrictionOutcome:
     """The impact of ``case`` (an ``ImpactCase``) with its Coulomb friction ``case.mu``, the
     ball's centre ``case.undercut_m`` off the swing plane (+z) and spinning at
     ``case.spin_radps`` (impact frame). The bat turns about z at omega0 with its inertia tensor
@@ -367,27 +400,37 @@ def predict_friction(case, *, hypothesis: str = "energetic", law: str = "routh",
     impulse engine solves in one step (``one_step_impulse``), relaxed or not; ``rtol``
     Routh's integration tolerance."""
     from .model import ImpactCase
+
     checks.instance("case", case, ImpactCase)
     checks.choice("law", law, LAWS)
     bat, ball = case.bat, case.ball
     tilt = case.tilt_rad
     n = np.array([0.0, math.cos(tilt), math.sin(tilt)])
     m, J = ball.mass_kg, bat.inertia_cm_kgm2
-    a = RigidBody3D(mass_kg=m, inertia_kgm2=ball.inertia_kgm2 * np.eye(3),
-                    velocity_mps=np.array([case.v0_mps * math.sin(case.theta_rad),
-                                           -case.v0n_mps, 0.0]),
-                    omega_radps=np.array(case.spin_radps))
-    b = RigidBody3D(mass_kg=bat.mass_kg,
-                    inertia_kgm2=np.diag([bat.axial_inertia_kgm2, J, J]),
-                    velocity_mps=np.array([case.u0_mps * math.sin(case.phi_rad),
-                                           case.u0n_mps, 0.0]),
-                    omega_radps=np.array([0.0, 0.0, case.omega0_radps]))
-    contact = dict(r_a_m=-ball.radius_m * n,
-                   r_b_m=np.array([case.s_m, 0.0, 0.0]) + bat.radius_m * n, normal=n, e=case.e,
-                   mu=case.mu)
-    out = (frictional_impulse(a, b, hypothesis=hypothesis, rtol=rtol, **contact)
-           if law == "routh"
-           else one_step_impulse(a, b, relaxed=law == "relaxed", **contact))
+    a = RigidBody3D(
+        mass_kg=m,
+        inertia_kgm2=ball.inertia_kgm2 * np.eye(3),
+        velocity_mps=np.array([case.v0_mps * math.sin(case.theta_rad), -case.v0n_mps, 0.0]),
+        omega_radps=np.array(case.spin_radps),
+    )
+    b = RigidBody3D(
+        mass_kg=bat.mass_kg,
+        inertia_kgm2=np.diag([bat.axial_inertia_kgm2, J, J]),
+        velocity_mps=np.array([case.u0_mps * math.sin(case.phi_rad), case.u0n_mps, 0.0]),
+        omega_radps=np.array([0.0, 0.0, case.omega0_radps]),
+    )
+    contact = dict(
+        r_a_m=-ball.radius_m * n,
+        r_b_m=np.array([case.s_m, 0.0, 0.0]) + bat.radius_m * n,
+        normal=n,
+        e=case.e,
+        mu=case.mu,
+    )
+    out = (
+        frictional_impulse(a, b, hypothesis=hypothesis, rtol=rtol, **contact)
+        if law == "routh"
+        else one_step_impulse(a, b, relaxed=law == "relaxed", **contact)
+    )
     v0 = a.point_velocity(contact["r_a_m"]) - b.point_velocity(contact["r_b_m"])
     return FrictionOutcome(
         slip0_mps=float(np.linalg.norm(v0 - (v0 @ n) * n)),
@@ -395,6 +438,8 @@ def predict_friction(case, *, hypothesis: str = "energetic", law: str = "routh",
         ball_spin_radps=tuple(map(float, out.a.omega_radps)),
         bat_velocity_mps=tuple(map(float, out.b.velocity_mps)),
         bat_omega_radps=tuple(map(float, out.b.omega_radps)),
-        impulse_ns=tuple(map(float, out.impulse_ns)), phases=out.phases,
+        impulse_ns=tuple(map(float, out.impulse_ns)),
+        phases=out.phases,
         ke_before_j=a.kinetic_energy_j() + b.kinetic_energy_j(),
-        ke_after_j=out.a.kinetic_energy_j() + out.b.kinetic_energy_j())
+        ke_after_j=out.a.kinetic_energy_j() + out.b.kinetic_energy_j(),
+    )

@@ -32,12 +32,27 @@ from .friction import predict_friction
 from .model import ImpactCase
 
 OUTPUTS = ("v1_mps", "vt1_mps", "spin1_radps")
-INPUTS = ("s_m", "v0_mps", "theta_rad", "u0_mps", "phi_rad", "omega0_radps", "e", "mu",
-          "ball_mass_kg", "bat_mass_kg", "bat_inertia_kgm2", "com_from_knob_m")
+INPUTS = (
+    "s_m",
+    "v0_mps",
+    "theta_rad",
+    "u0_mps",
+    "phi_rad",
+    "omega0_radps",
+    "e",
+    "mu",
+    "ball_mass_kg",
+    "bat_mass_kg",
+    "bat_inertia_kgm2",
+    "com_from_knob_m",
+)
 #: The inputs that are the bodies' (the rest are the case's own fields).
-BODY_INPUTS = {"ball_mass_kg": ("ball", "mass_kg"), "bat_mass_kg": ("bat", "mass_kg"),
-               "bat_inertia_kgm2": ("bat", "inertia_cm_kgm2"),
-               "com_from_knob_m": ("bat", "com_from_knob_m")}
+BODY_INPUTS = {
+    "ball_mass_kg": ("ball", "mass_kg"),
+    "bat_mass_kg": ("bat", "mass_kg"),
+    "bat_inertia_kgm2": ("bat", "inertia_cm_kgm2"),
+    "com_from_knob_m": ("bat", "com_from_knob_m"),
+}
 #: The complex step (of each input's scale): no subtraction, so any small step is exact.
 COMPLEX_STEP = 1e-30
 #: The central differences' step (of each input's scale) in the numerical regime: the
@@ -64,8 +79,14 @@ def value_of(case: ImpactCase, name: str) -> float:
 
 def _scale(case: ImpactCase, name: str) -> float:
     """The size an input's step is measured against."""
-    fixed = {"s_m": case.bat.length_m, "com_from_knob_m": case.bat.length_m, "theta_rad": 1.0,
-             "phi_rad": 1.0, "e": 1.0, "mu": 1.0}
+    fixed = {
+        "s_m": case.bat.length_m,
+        "com_from_knob_m": case.bat.length_m,
+        "theta_rad": 1.0,
+        "phi_rad": 1.0,
+        "e": 1.0,
+        "mu": 1.0,
+    }
     if name in fixed:
         return fixed[name]
     value = abs(value_of(case, name))
@@ -82,8 +103,9 @@ def moved(case: ImpactCase, name: str, x: float) -> ImpactCase:
     if name not in BODY_INPUTS:
         return dataclasses.replace(case, **{name: x})
     body, field = BODY_INPUTS[name]
-    out = dataclasses.replace(case, **{body: dataclasses.replace(getattr(case, body),
-                                                                 **{field: x})})
+    out = dataclasses.replace(
+        case, **{body: dataclasses.replace(getattr(case, body), **{field: x})}
+    )
     if name == "com_from_knob_m":
         out = dataclasses.replace(out, s_m=case.s_m - (x - case.bat.com_from_knob_m))
     return out
@@ -101,25 +123,38 @@ def sliding_fields(case: ImpactCase, **x) -> dict:
     w_ball = case.spin_radps[2]
     k_tt = 1 / m + 1 / M + R * R / inertia + r * r / J
     k_nn, k_tn = 1 / m + 1 / M + s * s / J, -s * r / J
-    v_t0 = (v["v0_mps"] * np.sin(v["theta_rad"]) + w_ball * R
-            - v["u0_mps"] * np.sin(v["phi_rad"]) + v["omega0_radps"] * r)
-    v_n0 = -(v["v0_mps"] * np.cos(v["theta_rad"]) + v["u0_mps"] * np.cos(v["phi_rad"])
-             + v["omega0_radps"] * s)
+    v_t0 = (
+        v["v0_mps"] * np.sin(v["theta_rad"])
+        + w_ball * R
+        - v["u0_mps"] * np.sin(v["phi_rad"])
+        + v["omega0_radps"] * r
+    )
+    v_n0 = -(
+        v["v0_mps"] * np.cos(v["theta_rad"])
+        + v["u0_mps"] * np.cos(v["phi_rad"])
+        + v["omega0_radps"] * s
+    )
     sigma = math.copysign(1.0, np.real(v_t0))
     a = k_nn - v["mu"] * sigma * k_tn
     p_f = (1 + v["e"]) * -v_n0 / a
     v_t_end = v_t0 + (k_tn - v["mu"] * sigma * k_tt) * p_f
-    slides = bool(np.real(v_t0) != 0 and np.real(a) > 0 and sigma * np.real(v_t_end) > 0
-                  and not case.out_of_plane)
-    return {"v1_mps": -v["v0_mps"] * np.cos(v["theta_rad"]) + p_f / m,
-            "vt1_mps": v["v0_mps"] * np.sin(v["theta_rad"]) - v["mu"] * sigma * p_f / m,
-            "spin1_radps": w_ball - R * v["mu"] * sigma * p_f / inertia, "slides": slides}
+    slides = bool(
+        np.real(v_t0) != 0
+        and np.real(a) > 0
+        and sigma * np.real(v_t_end) > 0
+        and not case.out_of_plane
+    )
+    return {
+        "v1_mps": -v["v0_mps"] * np.cos(v["theta_rad"]) + p_f / m,
+        "vt1_mps": v["v0_mps"] * np.sin(v["theta_rad"]) - v["mu"] * sigma * p_f / m,
+        "spin1_radps": w_ball - R * v["mu"] * sigma * p_f / inertia,
+        "slides": slides,
+    }
 
 
 def _routh(case: ImpactCase, name: str, x: float) -> np.ndarray:
     out = predict_friction(moved(case, name, x))
-    return np.array([out.ball_velocity_mps[1], out.ball_velocity_mps[0],
-                     out.ball_spin_radps[2]])
+    return np.array([out.ball_velocity_mps[1], out.ball_velocity_mps[0], out.ball_spin_radps[2]])
 
 
 def richardson(case: ImpactCase, name: str) -> np.ndarray:

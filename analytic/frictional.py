@@ -47,8 +47,9 @@ class FrictionEpisode(CollisionEpisode):
         return self.friction.ball_spin_radps
 
 
-def frictional_episode(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S,
-                       law: str = "routh") -> FrictionEpisode:
+def frictional_episode(
+    case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S, law: str = "routh"
+) -> FrictionEpisode:
     """One frictional impulse for ``case`` under ``law`` (``analytic.friction.LAWS``: Routh's,
     or a law an impulse engine solves in one step), then free flight (module docstring)."""
     bat, ball = case.bat, case.ball
@@ -61,26 +62,51 @@ def frictional_episode(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S
     if case.out_of_plane:
         tilt = case.tilt_rad
         rel = np.array([case.s_m, reach * math.cos(tilt), reach * math.sin(tilt)])
-        _, why = free_flight_3d(rel, vb - bv, axis_of(0.0, 0.0), bw, reach_m=reach,
-                                ball_radius_m=ball.radius_m, s_min_m=bat.s_min_m,
-                                s_max_m=bat.s_max_m, t_max_s=max_episode_s)
-    elif separates_for_good(PlanarState.of(y), reach_m=reach, ball_radius_m=ball.radius_m,
-                            t_max_s=max_episode_s):
+        _, why = free_flight_3d(
+            rel,
+            vb - bv,
+            axis_of(0.0, 0.0),
+            bw,
+            reach_m=reach,
+            ball_radius_m=ball.radius_m,
+            s_min_m=bat.s_min_m,
+            s_max_m=bat.s_max_m,
+            t_max_s=max_episode_s,
+        )
+    elif separates_for_good(
+        PlanarState.of(y), reach_m=reach, ball_radius_m=ball.radius_m, t_max_s=max_episode_s
+    ):
         why = "separated"
     else:
-        _, why = free_flight(PlanarState.of(y), reach_m=reach, ball_radius_m=ball.radius_m,
-                             s_min_m=bat.s_min_m, s_max_m=bat.s_max_m,
-                             t_max_s=max_episode_s)
+        _, why = free_flight(
+            PlanarState.of(y),
+            reach_m=reach,
+            ball_radius_m=ball.radius_m,
+            s_min_m=bat.s_min_m,
+            s_max_m=bat.s_max_m,
+            t_max_s=max_episode_s,
+        )
     m = ball.mass_kg
     V = case.u0n_mps + case.omega0_radps * case.s_m
     v1 = float(vb[1])
     hands = case.hands_from_knob_m - bat.com_from_knob_m
     return FrictionEpisode(
-        v1_mps=v1, u1_mps=float(bv[1]), omega1_radps=float(bw[2]),
-        impulse_ns=m * (v1 + case.v0n_mps), q=(v1 - V) / (case.v0n_mps + V),
+        v1_mps=v1,
+        u1_mps=float(bv[1]),
+        omega1_radps=float(bw[2]),
+        impulse_ns=m * (v1 + case.v0n_mps),
+        q=(v1 - V) / (case.v0n_mps + V),
         closing_speed_mps=case.closing_speed_mps,
         hand_dv_mps=float(bv[1] - case.u0n_mps) + float(bw[2] - case.omega0_radps) * hands,
-        ke_before_j=out.ke_before_j, ke_after_j=out.ke_after_j, v1_t_mps=float(vb[0]),
-        u1_t_mps=float(bv[0]), impacts=1, sustained_contact_s=0.0, peak_sustained_force_n=0.0,
-        episode_s=0.0, ended="meets_again" if why == "contact" else why,
-        end_state=PlanarState.of(y), friction=out)
+        ke_before_j=out.ke_before_j,
+        ke_after_j=out.ke_after_j,
+        v1_t_mps=float(vb[0]),
+        u1_t_mps=float(bv[0]),
+        impacts=1,
+        sustained_contact_s=0.0,
+        peak_sustained_force_n=0.0,
+        episode_s=0.0,
+        ended="meets_again" if why == "contact" else why,
+        end_state=PlanarState.of(y),
+        friction=out,
+    )

@@ -24,8 +24,17 @@ from .impact import _bodies, _speeds
 from .model import Ball, Bat
 
 #: The inputs, as the derivatives name them.
-INPUTS = ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "ball_mass_kg", "bat_mass_kg",
-          "bat_inertia_kgm2", "com_from_knob_m")
+INPUTS = (
+    "s_m",
+    "v0_mps",
+    "u0_mps",
+    "omega0_radps",
+    "e",
+    "ball_mass_kg",
+    "bat_mass_kg",
+    "bat_inertia_kgm2",
+    "com_from_knob_m",
+)
 #: The outputs differentiated.
 OUTPUTS = ("v1_mps", "u1_mps", "omega1_radps", "impulse_ns")
 
@@ -34,13 +43,26 @@ def normal_fields(m, M, J, s, v0n, u0n, w0, e) -> dict:
     """The normal-direction outcome (``impact.predict``'s formulas, no checks): arithmetic
     only, so that it takes complex numbers (complex-step differentiation) as well as arrays."""
     P = (1.0 + e) * (v0n + u0n + w0 * s) / (1.0 / m + 1.0 / M + s * s / J)
-    return {"v1_mps": -v0n + P / m, "u1_mps": u0n - P / M, "omega1_radps": w0 - P * s / J,
-            "impulse_ns": P}
+    return {
+        "v1_mps": -v0n + P / m,
+        "u1_mps": u0n - P / M,
+        "omega1_radps": w0 - P * s / J,
+        "impulse_ns": P,
+    }
 
 
-def derivatives(bat: Bat, ball: Ball, *, s_m: ArrayLike, v0_mps: ArrayLike,
-                u0_mps: ArrayLike = 0.0, omega0_radps: ArrayLike = 0.0, e: ArrayLike = 0.5,
-                theta_rad: ArrayLike = 0.0, phi_rad: ArrayLike = 0.0) -> dict:
+def derivatives(
+    bat: Bat,
+    ball: Ball,
+    *,
+    s_m: ArrayLike,
+    v0_mps: ArrayLike,
+    u0_mps: ArrayLike = 0.0,
+    omega0_radps: ArrayLike = 0.0,
+    e: ArrayLike = 0.5,
+    theta_rad: ArrayLike = 0.0,
+    phi_rad: ArrayLike = 0.0,
+) -> dict:
     """d output / d input for every OUTPUTS x INPUTS (module docstring), broadcast over the
     arrays given: ``out["v1_mps"]["s_m"]`` is dv1/ds (1/s)."""
     _bodies(bat, ball)
@@ -52,11 +74,16 @@ def derivatives(bat: Bat, ball: Ball, *, s_m: ArrayLike, v0_mps: ArrayLike,
     vc = v0 * ct + u0 * cp + w0 * s
     D = 1.0 / m + 1.0 / M + s * s / J
     P = (1.0 + e) * vc / D
-    dP = {"s_m": ((1.0 + e) * w0 * D - (1.0 + e) * vc * 2.0 * s / J) / D**2,
-          "v0_mps": (1.0 + e) * ct / D, "u0_mps": (1.0 + e) * cp / D,
-          "omega0_radps": (1.0 + e) * s / D, "e": vc / D,
-          "ball_mass_kg": P / (D * m * m), "bat_mass_kg": P / (D * M * M),
-          "bat_inertia_kgm2": P * s * s / (D * J * J)}
+    dP = {
+        "s_m": ((1.0 + e) * w0 * D - (1.0 + e) * vc * 2.0 * s / J) / D**2,
+        "v0_mps": (1.0 + e) * ct / D,
+        "u0_mps": (1.0 + e) * cp / D,
+        "omega0_radps": (1.0 + e) * s / D,
+        "e": vc / D,
+        "ball_mass_kg": P / (D * m * m),
+        "bat_mass_kg": P / (D * M * M),
+        "bat_inertia_kgm2": P * s * s / (D * J * J),
+    }
     dP["com_from_knob_m"] = -dP["s_m"]
     zero = np.zeros_like(P)
     v1 = {k: d / m for k, d in dP.items()}
@@ -71,5 +98,6 @@ def derivatives(bat: Bat, ball: Ball, *, s_m: ArrayLike, v0_mps: ArrayLike,
     w1["com_from_knob_m"] = w1["com_from_knob_m"] + P / J
     w1["bat_inertia_kgm2"] = w1["bat_inertia_kgm2"] + P * s / (J * J)
     out = {"v1_mps": v1, "u1_mps": u1, "omega1_radps": w1, "impulse_ns": dP}
-    return {o: {k: np.broadcast_to(d + zero, P.shape) for k, d in g.items()}
-            for o, g in out.items()}
+    return {
+        o: {k: np.broadcast_to(d + zero, P.shape) for k, d in g.items()} for o, g in out.items()
+    }

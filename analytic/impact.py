@@ -65,10 +65,11 @@ def predict(case: ImpactCase) -> Outcome:
 
 def _speeds(v0_mps: ArrayLike, u0_mps: ArrayLike, omega0_radps: ArrayLike):
     """v0, u0 and omega0 as arrays, each within the range an ImpactCase accepts."""
-    return (checks.array_in_range("v0_mps", v0_mps, 0.0, MAX_SPEED_MPS),
-            checks.array_in_range("u0_mps", u0_mps, -MAX_SPEED_MPS, MAX_SPEED_MPS),
-            checks.array_in_range("omega0_radps", omega0_radps, -MAX_OMEGA_RADPS,
-                                  MAX_OMEGA_RADPS))
+    return (
+        checks.array_in_range("v0_mps", v0_mps, 0.0, MAX_SPEED_MPS),
+        checks.array_in_range("u0_mps", u0_mps, -MAX_SPEED_MPS, MAX_SPEED_MPS),
+        checks.array_in_range("omega0_radps", omega0_radps, -MAX_OMEGA_RADPS, MAX_OMEGA_RADPS),
+    )
 
 
 def _bodies(bat: Bat, ball: Ball) -> None:
@@ -94,9 +95,17 @@ def batted_ball_speed(
     v1 = -v0n + (1 + e) v_c / (1 + m/M + m s^2/J), with v0n, v_c as in ``predict``.
     Raises ValueError if any point is off the bat or any pair does not approach (v_c <= 0).
     """
-    return predict_arrays(bat, ball, s_m=s_m, v0_mps=v0_mps, u0_mps=u0_mps,
-                          omega0_radps=omega0_radps, e=e, theta_rad=theta_rad,
-                          phi_rad=phi_rad)["v1_mps"]
+    return predict_arrays(
+        bat,
+        ball,
+        s_m=s_m,
+        v0_mps=v0_mps,
+        u0_mps=u0_mps,
+        omega0_radps=omega0_radps,
+        e=e,
+        theta_rad=theta_rad,
+        phi_rad=phi_rad,
+    )["v1_mps"]
 
 
 def predict_arrays(
@@ -131,8 +140,13 @@ def predict_arrays(
             "allowed: v0*cos(theta) + u0*cos(phi) + omega0*s > 0"
         )
     P = _normal_impulse(m, M, J, s, vc, checks.array_in_range("e", e, 0.0, 1.0))
-    return {"v1_mps": -v0n + P / m, "u1_mps": u0n - P / M, "omega1_radps": w0 - P * s / J,
-            "impulse_ns": P, "hand_dv_mps": -P * (1.0 / M + s * (hands - bat.com_from_knob_m) / J)}
+    return {
+        "v1_mps": -v0n + P / m,
+        "u1_mps": u0n - P / M,
+        "omega1_radps": w0 - P * s / J,
+        "impulse_ns": P,
+        "hand_dv_mps": -P * (1.0 / M + s * (hands - bat.com_from_knob_m) / J),
+    }
 
 
 def collision_efficiency(bat: Bat, ball: Ball, s_m: ArrayLike, e: ArrayLike = 0.5) -> np.ndarray:
@@ -186,8 +200,9 @@ def sweet_spot(
     return float(s) if s.ndim == 0 else s
 
 
-def hittable_sweet_spot(bat: Bat, ball: Ball, v0_mps: float, u0_mps: float = 0.0,
-                        omega0_radps: float = 0.0) -> float:
+def hittable_sweet_spot(
+    bat: Bat, ball: Ball, v0_mps: float, u0_mps: float = 0.0, omega0_radps: float = 0.0
+) -> float:
     """The best impact point the bat offers (m from the COM): the sweet spot, or the nearer end
     of the capsule's cylinder when the sweet spot lies beyond it (v1 is unimodal in s)."""
     s = sweet_spot(bat, ball, v0_mps, u0_mps, omega0_radps)
@@ -243,8 +258,11 @@ def sweet_zone(
     """
     checks.in_range("fraction", fraction, 0.0, 1.0, lo_open=True)
     s_best = hittable_sweet_spot(bat, ball, v0_mps, u0_mps, omega0_radps)
-    v_max = float(batted_ball_speed(bat, ball, s_best, v0_mps=v0_mps, u0_mps=u0_mps,
-                                    omega0_radps=omega0_radps, e=e))
+    v_max = float(
+        batted_ball_speed(
+            bat, ball, s_best, v0_mps=v0_mps, u0_mps=u0_mps, omega0_radps=omega0_radps, e=e
+        )
+    )
     if not v_max > 0.0:
         raise ValueError(f"max v1 = {v_max!r} m/s; a sweet zone needs a positive batted speed")
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2

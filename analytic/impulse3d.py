@@ -53,8 +53,10 @@ class RigidBody3D:
 
     def kinetic_energy_j(self) -> float:
         """(m v.v + omega.I omega) / 2 (J)."""
-        return 0.5 * (self.mass_kg * self.velocity_mps @ self.velocity_mps
-                      + self.omega_radps @ self.inertia_kgm2 @ self.omega_radps)
+        return 0.5 * (
+            self.mass_kg * self.velocity_mps @ self.velocity_mps
+            + self.omega_radps @ self.inertia_kgm2 @ self.omega_radps
+        )
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -67,7 +69,12 @@ class Impulse3D:
 
 
 def impulse_3d(
-    a: RigidBody3D, b: RigidBody3D, *, r_a_m: ArrayLike, r_b_m: ArrayLike, normal: ArrayLike,
+    a: RigidBody3D,
+    b: RigidBody3D,
+    *,
+    r_a_m: ArrayLike,
+    r_b_m: ArrayLike,
+    normal: ArrayLike,
     e: float,
 ) -> Impulse3D:
     """Frictionless impulse between bodies A and B touching at one point (EQ 141).
@@ -88,26 +95,35 @@ def impulse_3d(
     checks.in_range("e", e, 0.0, 1.0)
     v_rel = float(n @ (a.point_velocity(r_a) - b.point_velocity(r_b)))
     if not v_rel < 0.0:
-        raise ValueError(f"relative normal velocity v_rel={v_rel!r} m/s: the bodies do not "
-                         "approach; allowed: v_rel < 0")
+        raise ValueError(
+            f"relative normal velocity v_rel={v_rel!r} m/s: the bodies do not "
+            "approach; allowed: v_rel < 0"
+        )
     inv_a = np.linalg.inv(a.inertia_kgm2)
     inv_b = np.linalg.inv(b.inertia_kgm2)
-    denom = (1.0 / a.mass_kg + 1.0 / b.mass_kg
-             + n @ np.cross(inv_a @ np.cross(r_a, n), r_a)
-             + n @ np.cross(inv_b @ np.cross(r_b, n), r_b))
+    denom = (
+        1.0 / a.mass_kg
+        + 1.0 / b.mass_kg
+        + n @ np.cross(inv_a @ np.cross(r_a, n), r_a)
+        + n @ np.cross(inv_b @ np.cross(r_b, n), r_b)
+    )
     j = -(1.0 + e) * v_rel / denom
     a1, b1 = apply_impulse(a, b, r_a, r_b, j * n)
     return Impulse3D(j_ns=float(j), a=a1, b=b1)
 
 
-def apply_impulse(a: RigidBody3D, b: RigidBody3D, r_a: np.ndarray, r_b: np.ndarray,
-                  impulse: np.ndarray) -> tuple[RigidBody3D, RigidBody3D]:
+def apply_impulse(
+    a: RigidBody3D, b: RigidBody3D, r_a: np.ndarray, r_b: np.ndarray, impulse: np.ndarray
+) -> tuple[RigidBody3D, RigidBody3D]:
     """Both bodies after the impulse P on A at r_A (and -P on B at r_B): v += P/M,
     omega += I^-1 (r x P)."""
+
     def kicked(body: RigidBody3D, r: np.ndarray, P: np.ndarray) -> RigidBody3D:
-        return RigidBody3D(mass_kg=body.mass_kg, inertia_kgm2=body.inertia_kgm2,
-                           velocity_mps=body.velocity_mps + P / body.mass_kg,
-                           omega_radps=body.omega_radps
-                           + np.linalg.inv(body.inertia_kgm2) @ np.cross(r, P))
+        return RigidBody3D(
+            mass_kg=body.mass_kg,
+            inertia_kgm2=body.inertia_kgm2,
+            velocity_mps=body.velocity_mps + P / body.mass_kg,
+            omega_radps=body.omega_radps + np.linalg.inv(body.inertia_kgm2) @ np.cross(r, P),
+        )
 
     return kicked(a, r_a, impulse), kicked(b, r_b, -impulse)

@@ -77,13 +77,16 @@ def _cut(case: ImpactCase, s_m: float, max_episode_s: float, mark: str) -> Episo
     budget."""
     ep = _episode(case, s_m, max_episode_s)
     if ep is None or ep.ended == "time_limit":
-        return _none(f"the rigid episode at the {mark} ({s_m:.4f} m) is still in contact at "
-                     f"the {max_episode_s:g} s budget")
+        return _none(
+            f"the rigid episode at the {mark} ({s_m:.4f} m) is still in contact at "
+            f"the {max_episode_s:g} s budget"
+        )
     return EpisodeMark(s_m=float(s_m), reference=WHOLE_EPISODE)
 
 
-def episode_sweet_spot_mark(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S,
-                            points: int = 41) -> EpisodeMark:
+def episode_sweet_spot_mark(
+    case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S, points: int = 41
+) -> EpisodeMark:
     """Where the whole episode's v1 peaks on the bat's cylinder, at ``case``'s speeds. The
     closed form s* (``sweet_spot``) where the episode there is one impulse and none of
     ``points`` grid points hits harder; else the grid's best, refined to 1 um by a bounded
@@ -92,8 +95,17 @@ def episode_sweet_spot_mark(case: ImpactCase, *, max_episode_s: float = MAX_EPIS
     checks.positive("max_episode_s", max_episode_s)
     checks.integer("points", points, 3, 10_000)
     bat = case.bat
-    s_star = float(sweet_spot(bat, case.ball, case.v0_mps, case.u0_mps, case.omega0_radps,
-                              theta_rad=case.theta_rad, phi_rad=case.phi_rad))
+    s_star = float(
+        sweet_spot(
+            bat,
+            case.ball,
+            case.v0_mps,
+            case.u0_mps,
+            case.omega0_radps,
+            theta_rad=case.theta_rad,
+            phi_rad=case.phi_rad,
+        )
+    )
     at = min(max(s_star, bat.s_min_m), bat.s_max_m)
 
     def v1(s: float) -> float:
@@ -106,13 +118,15 @@ def episode_sweet_spot_mark(case: ImpactCase, *, max_episode_s: float = MAX_EPIS
         return EpisodeMark(s_m=s_star, reference=SINGLE_IMPULSE)
     i = int(np.searchsorted(grid, best))
     lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
-    found = optimize.minimize_scalar(lambda s: -v1(s), bounds=(lo, hi), method="bounded",
-                                     options={"xatol": 1e-6})
+    found = optimize.minimize_scalar(
+        lambda s: -v1(s), bounds=(lo, hi), method="bounded", options={"xatol": 1e-6}
+    )
     return _cut(case, float(found.x), max_episode_s, "sweet spot")
 
 
-def episode_cop_mark(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S,
-                     points: int = 41) -> EpisodeMark:
+def episode_cop_mark(
+    case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S, points: int = 41
+) -> EpisodeMark:
     """Where the whole episode's hand-point velocity change (``hand_dv_mps``, the hands at
     ``case.hands_from_knob_m``) crosses zero on the bat's cylinder. The closed form
     J / (M d) (``center_of_percussion``) where the episode there (at the cylinder's nearer end
@@ -135,24 +149,31 @@ def episode_cop_mark(case: ImpactCase, *, max_episode_s: float = MAX_EPISODE_S,
     grid = _grid(case, points)
     dv = np.array([hand(s) for s in grid])
     signs = np.sign(dv)
-    change = np.flatnonzero(np.isfinite(dv[:-1]) & np.isfinite(dv[1:])
-                            & (signs[:-1] * signs[1:] <= 0))
+    change = np.flatnonzero(
+        np.isfinite(dv[:-1]) & np.isfinite(dv[1:]) & (signs[:-1] * signs[1:] <= 0)
+    )
     if not len(change):
-        return _none("the rigid episode's hand-point velocity change does not cross zero on "
-                     "the bat")
+        return _none(
+            "the rigid episode's hand-point velocity change does not cross zero on the bat"
+        )
     k = min(change, key=lambda j: abs(0.5 * (grid[j] + grid[j + 1]) - s_cop))
     root = optimize.brentq(hand, grid[k], grid[k + 1], xtol=1e-12)
     h = JUMP_STEP_M
-    near, far = hand(root + h) - hand(root - h), max(abs(hand(root + 2 * h) - hand(root + h)),
-                                                     abs(hand(root - h) - hand(root - 2 * h)))
+    near, far = (
+        hand(root + h) - hand(root - h),
+        max(abs(hand(root + 2 * h) - hand(root + h)), abs(hand(root - h) - hand(root - 2 * h))),
+    )
     if not abs(near) <= JUMP_RATIO * far:
-        return _none(f"the rigid episode's hand-point velocity change jumps across zero at "
-                     f"{root:.4f} m (a change of episode), it does not cross it")
+        return _none(
+            f"the rigid episode's hand-point velocity change jumps across zero at "
+            f"{root:.4f} m (a change of episode), it does not cross it"
+        )
     return _cut(case, root, max_episode_s, "COP")
 
 
-def episode_sweet_spot(case: ImpactCase, *, points: int = 41,
-                       max_episode_s: float | None = None) -> float:
+def episode_sweet_spot(
+    case: ImpactCase, *, points: int = 41, max_episode_s: float | None = None
+) -> float:
     """The sweet spot of the whole rigid episode (``collide``, followed for ``max_episode_s``,
     default its own) at ``case``'s speeds: where its batted-ball speed peaks on the bat's
     cylinder (m from the COM). Where the episode is one impulse at the closed-form s* and no

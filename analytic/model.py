@@ -63,8 +63,9 @@ class Bat:
             checks.positive("inertia_axial_kgm2", self.inertia_axial_kgm2)
         # a bat's mass spans its capsule: its J is no less than that of a disk of the capsule's
         # radius at the COM, M r^2 / 4 (a heavy 'wall' bat, J >> M L^2, stays allowed)
-        checks.in_range("inertia_cm_kgm2", self.inertia_cm_kgm2,
-                        self.mass_kg * self.radius_m**2 / 4)
+        checks.in_range(
+            "inertia_cm_kgm2", self.inertia_cm_kgm2, self.mass_kg * self.radius_m**2 / 4
+        )
 
     @property
     def axial_inertia_kgm2(self) -> float:
@@ -179,19 +180,23 @@ class ImpactCase:
         checks.in_range("u0_mps", self.u0_mps, -MAX_SPEED_MPS, MAX_SPEED_MPS)
         checks.in_range("omega0_radps", self.omega0_radps, -MAX_OMEGA_RADPS, MAX_OMEGA_RADPS)
         checks.in_range("e", self.e, 0.0, 1.0)
-        checks.in_range("theta_rad", self.theta_rad, -math.pi / 2, math.pi / 2, lo_open=True,
-                         hi_open=True)
+        checks.in_range(
+            "theta_rad", self.theta_rad, -math.pi / 2, math.pi / 2, lo_open=True, hi_open=True
+        )
         checks.in_range("phi_rad", self.phi_rad, -math.pi / 2, math.pi / 2)
         checks.in_range("hands_from_knob_m", self.hands_from_knob_m, 0.0, self.bat.length_m)
         checks.in_range("mu", self.mu, 0.0, MAX_MU)
         reach = self.bat.radius_m + self.ball.radius_m
-        checks.in_range("undercut_m", self.undercut_m, -reach, reach, lo_open=True,
-                        hi_open=True)
-        spin = tuple(checks.in_range(f"spin_radps[{i}]", w, -MAX_SPIN_RADPS, MAX_SPIN_RADPS)
-                     for i, w in enumerate(self.spin_radps))
+        checks.in_range("undercut_m", self.undercut_m, -reach, reach, lo_open=True, hi_open=True)
+        spin = tuple(
+            checks.in_range(f"spin_radps[{i}]", w, -MAX_SPIN_RADPS, MAX_SPIN_RADPS)
+            for i, w in enumerate(self.spin_radps)
+        )
         if len(spin) != 3:
-            raise ValueError(f"spin_radps={self.spin_radps!r} has {len(spin)} components; "
-                             "allowed: 3 (about x, y, z)")
+            raise ValueError(
+                f"spin_radps={self.spin_radps!r} has {len(spin)} components; "
+                "allowed: 3 (about x, y, z)"
+            )
         object.__setattr__(self, "spin_radps", spin)
         vc = self.closing_speed_mps
         if not vc > 0.0:

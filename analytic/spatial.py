@@ -43,12 +43,16 @@ def turned(axis: np.ndarray, omega: np.ndarray, t: np.ndarray) -> np.ndarray:
         return np.broadcast_to(axis, (len(t), 3))
     k = omega / w
     angle = w * np.asarray(t)[:, None]
-    return (axis * np.cos(angle) + np.cross(k, axis) * np.sin(angle)
-            + k * float(k @ axis) * (1.0 - np.cos(angle)))
+    return (
+        axis * np.cos(angle)
+        + np.cross(k, axis) * np.sin(angle)
+        + k * float(k @ axis) * (1.0 - np.cos(angle))
+    )
 
 
-def gap_3d(rel: np.ndarray, axis: np.ndarray, *, reach_m: float, s_min_m: float,
-           s_max_m: float) -> tuple[np.ndarray, np.ndarray]:
+def gap_3d(
+    rel: np.ndarray, axis: np.ndarray, *, reach_m: float, s_min_m: float, s_max_m: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Gap (m) of the ball centre at ``rel`` (from the bat's COM, rows) to the axis segment,
     and its coordinate along the axis (m), for rows of positions and axes."""
     along = np.einsum("ij,ij->i", rel, axis)
@@ -56,25 +60,37 @@ def gap_3d(rel: np.ndarray, axis: np.ndarray, *, reach_m: float, s_min_m: float,
     return np.linalg.norm(rel - foot[:, None] * axis, axis=1) - reach_m, along
 
 
-def free_flight_3d(rel_m, rel_v_mps, axis, omega_radps, *, reach_m: float,
-                   ball_radius_m: float, s_min_m: float, s_max_m: float,
-                   t_max_s: float) -> tuple[float, str]:
+def free_flight_3d(
+    rel_m,
+    rel_v_mps,
+    axis,
+    omega_radps,
+    *,
+    reach_m: float,
+    ball_radius_m: float,
+    s_min_m: float,
+    s_max_m: float,
+    t_max_s: float,
+) -> tuple[float, str]:
     """Where free flight leads from the ball centre at ``rel_m`` from the bat's COM, moving at
     ``rel_v_mps`` relative to it, the bat's axis ``axis`` (unit) turning at ``omega_radps``:
     (time, why) as the module docstring says. 3-vectors, world frame."""
     rel, rv = np.asarray(rel_m, float), np.asarray(rel_v_mps, float)
     a0, w = np.asarray(axis, float), np.asarray(omega_radps, float)
-    speed = float(np.linalg.norm(rv)) + float(np.linalg.norm(w)) * max(abs(s_min_m),
-                                                                        abs(s_max_m))
+    speed = float(np.linalg.norm(rv)) + float(np.linalg.norm(w)) * max(abs(s_min_m), abs(s_max_m))
     h = SAMPLE_REACH_FRACTION * reach_m / max(speed, 1e-300)
     h = min(h, SAMPLE_TURN_RAD / max(float(np.linalg.norm(w)), 1e-300))
     t0 = 0.0
-    g0 = float(gap_3d(rel[None], a0[None], reach_m=reach_m, s_min_m=s_min_m,
-                      s_max_m=s_max_m)[0][0])
+    g0 = float(gap_3d(rel[None], a0[None], reach_m=reach_m, s_min_m=s_min_m, s_max_m=s_max_m)[0][0])
     while t0 < t_max_s:
         t = np.minimum(t0 + h * np.arange(1, CHUNK + 1), t_max_s)
-        g, along = gap_3d(rel + rv * t[:, None], turned(a0, w, t), reach_m=reach_m,
-                          s_min_m=s_min_m, s_max_m=s_max_m)
+        g, along = gap_3d(
+            rel + rv * t[:, None],
+            turned(a0, w, t),
+            reach_m=reach_m,
+            s_min_m=s_min_m,
+            s_max_m=s_max_m,
+        )
         prev = np.concatenate(([g0], g[:-1]))
         off = (along < s_min_m) | (along > s_max_m)
         sep = g > EPISODE_GAP_RADII * ball_radius_m

@@ -59,11 +59,15 @@ def swing_for(
     model = SwingModel(model)
     checks.in_range("exponent", exponent, 0.0, 2.0)
     if model is SwingModel.CONSTANT_FORCE:
-        return Swing(u0_mps=reference.u0_mps * reference_bat.mass_kg / bat.mass_kg,
-                     omega0_radps=reference.omega0_radps)
+        return Swing(
+            u0_mps=reference.u0_mps * reference_bat.mass_kg / bat.mass_kg,
+            omega0_radps=reference.omega0_radps,
+        )
     power = 0.5 if model is SwingModel.CONSTANT_TORQUE else exponent
     ratio = reference_bat.inertia_about(pivot_from_knob_m) / bat.inertia_about(pivot_from_knob_m)
-    k = ratio ** power
+    k = ratio**power
     shift = bat.com_from_knob_m - reference_bat.com_from_knob_m
-    return Swing(u0_mps=k * (reference.u0_mps + reference.omega0_radps * shift),
-                 omega0_radps=k * reference.omega0_radps)
+    return Swing(
+        u0_mps=k * (reference.u0_mps + reference.omega0_radps * shift),
+        omega0_radps=k * reference.omega0_radps,
+    )

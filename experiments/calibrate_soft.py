@@ -36,17 +36,23 @@ def jobs(engine: str, steps_s: tuple[float, ...] = STEPS_S) -> list[Job]:
     rec = adapters.record(engine)
     out = []
     for dt in steps_s:
-        settings = adapters.settings_for(engine, dt_s=dt, **rec.can.soft_contact,
-                                         **{rec.can.stiffness_setting: OMEGA_RADPS})
+        settings = adapters.settings_for(
+            engine, dt_s=dt, **rec.can.soft_contact, **{rec.can.stiffness_setting: OMEGA_RADPS}
+        )
         # placed no deeper than half the slowest approach's step (MJX's reference 1 um is
         # more than a 5 m/s ball travels in two steps of 1e-7 s; a soft force starts at zero)
-        settings = replace(settings, overlap_m=min(settings.overlap_m,
-                                                   0.5 * min(SPEEDS_MPS) * dt))
+        settings = replace(settings, overlap_m=min(settings.overlap_m, 0.5 * min(SPEEDS_MPS) * dt))
         for mass in MASSES_KG:
             bat = replace(presets.R161, name=f"r161@{mass}kg", mass_kg=mass)
-            out += [Job(engine=engine, settings=settings, case=ImpactCase(
-                bat=bat, ball=presets.BASEBALL, s_m=0.0, v0_mps=v0, e=e))
-                for e in TARGETS for v0 in SPEEDS_MPS]
+            out += [
+                Job(
+                    engine=engine,
+                    settings=settings,
+                    case=ImpactCase(bat=bat, ball=presets.BASEBALL, s_m=0.0, v0_mps=v0, e=e),
+                )
+                for e in TARGETS
+                for v0 in SPEEDS_MPS
+            ]
     return out
 
 
@@ -54,8 +60,11 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     hard = [n for n in args.engine if n not in soft_engines(args.engine)]
     if not soft_engines(args.engine) or (hard and args.engine != adapters.available()):
         # every engine (the default): those with a soft contact; a list names only such
-        p.error(f"--engine: {', '.join(hard)} {'has' if len(hard) == 1 else 'have'} no soft "
-                "contact; allowed: " + ", ".join(soft_engines(adapters.names())))
+        p.error(
+            f"--engine: {', '.join(hard)} {'has' if len(hard) == 1 else 'have'} no soft "
+            "contact; allowed: " + ", ".join(soft_engines(adapters.names()))
+        )
+
 
 def soft_engines(engines: tuple[str, ...]) -> list[str]:
     """The engines among these whose record declares a soft contact."""
@@ -71,24 +80,45 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     rows = []
     for job, (case, out, _, _) in zip(todo, fired):
         e_meas = (out.v1_mps - out.u1_mps) / case.v0_mps
-        rows.append({"engine": job.engine, "dt_s": job.settings.dt_s,
-                     "w_dt": OMEGA_RADPS * job.settings.dt_s, "bat_mass_kg": case.bat.mass_kg,
-                     "e_target": case.e, "v0_mps": case.v0_mps, "e_measured": e_meas,
-                     "residual": e_meas - case.e, "status": out.status.value,
-                     "contact_duration_s": out.contact_duration_s})
+        rows.append(
+            {
+                "engine": job.engine,
+                "dt_s": job.settings.dt_s,
+                "w_dt": OMEGA_RADPS * job.settings.dt_s,
+                "bat_mass_kg": case.bat.mass_kg,
+                "e_target": case.e,
+                "v0_mps": case.v0_mps,
+                "e_measured": e_meas,
+                "residual": e_meas - case.e,
+                "status": out.status.value,
+                "contact_duration_s": out.contact_duration_s,
+            }
+        )
     table = pd.DataFrame(rows)
     summary = table.groupby(["engine", "dt_s", "e_target"]).agg(
-        residual_min=("residual", "min"), residual_max=("residual", "max"),
-        spread_over_speed_and_mass=("residual", lambda r: r.max() - r.min()))
-    text = (f"w = {OMEGA_RADPS:g} rad/s; residual = e_measured - e_target over "
-            f"{len(SPEEDS_MPS)} speeds x {len(MASSES_KG)} bat masses\n"
-            + summary.to_string(float_format=lambda v: f"{v:.3e}"))
-    return {"soft_calibration.csv": table.to_csv(index=False, float_format="%.10g",
-                                                 lineterminator="\n").encode()}, text
+        residual_min=("residual", "min"),
+        residual_max=("residual", "max"),
+        spread_over_speed_and_mass=("residual", lambda r: r.max() - r.min()),
+    )
+    text = (
+        f"w = {OMEGA_RADPS:g} rad/s; residual = e_measured - e_target over "
+        f"{len(SPEEDS_MPS)} speeds x {len(MASSES_KG)} bat masses\n"
+        + summary.to_string(float_format=lambda v: f"{v:.3e}")
+    )
+    return {
+        "soft_calibration.csv": table.to_csv(
+            index=False, float_format="%.10g", lineterminator="\n"
+        ).encode()
+    }, text
 
 
-COMMAND = Command(name="calibrate_soft", doc=__doc__, produce=produce, check=_check,
-                  quick=f"one time step ({QUICK_STEPS_S[0]:g} s), not {len(STEPS_S)}")
+COMMAND = Command(
+    name="calibrate_soft",
+    doc=__doc__,
+    produce=produce,
+    check=_check,
+    quick=f"one time step ({QUICK_STEPS_S[0]:g} s), not {len(STEPS_S)}",
+)
 main = COMMAND.main
 
 

@@ -24,18 +24,26 @@ def checks_arg(value: str) -> tuple[str, ...]:
     if bad or not picked:
         raise argparse.ArgumentTypeError(
             f"{value!r}: {bad[0] if bad else 'nothing'} is not a check; allowed: a "
-            f"comma-separated list of {', '.join(check_.CHECKS)}")
+            f"comma-separated list of {', '.join(check_.CHECKS)}"
+        )
     return picked
 
 
 def build_parser() -> cli.Parser:
-    p = cli.Parser(prog="python -m experiments.check_engine",
-                   description=cli.summary(__doc__),
-                   epilog="exit codes: 0 every check passed; 1 a check failed; 2 a bad option, "
-                          "refused before any work")
+    p = cli.Parser(
+        prog="python -m experiments.check_engine",
+        description=cli.summary(__doc__),
+        epilog="exit codes: 0 every check passed; 1 a check failed; 2 a bad option, "
+        "refused before any work",
+    )
     cli.add_engine(p)
-    p.add_argument("--check", type=checks_arg, default=None, metavar="NAME[,NAME...]",
-                   help="only these checks (default: every one that applies to the engine)")
+    p.add_argument(
+        "--check",
+        type=checks_arg,
+        default=None,
+        metavar="NAME[,NAME...]",
+        help="only these checks (default: every one that applies to the engine)",
+    )
     return p
 
 
@@ -47,12 +55,15 @@ def main(argv: list[str] | None = None) -> int:
         passed = True
         every = args.engine == adapters.available()
         for name, why in adapters.broken().items():  # checking all: it fails, as it cannot
-            print(f"check_engine({name!r}): {'FAILED, ' if every else ''}a broken plug-in, not "
-                  f"checked: {why}")
+            print(
+                f"check_engine({name!r}): {'FAILED, ' if every else ''}a broken plug-in, not "
+                f"checked: {why}"
+            )
             passed &= not every
         for name in args.engine:
-            wanted = tuple(c for c in args.check or check_.applicable(name)
-                           if c in check_.applicable(name))
+            wanted = tuple(
+                c for c in args.check or check_.applicable(name) if c in check_.applicable(name)
+            )
             if not wanted:
                 print(f"check_engine({name!r}): none of {', '.join(args.check)} applies")
                 continue

@@ -36,8 +36,9 @@ def check_table(path: Path) -> None:
 def compare_tables(old_path: Path, new_path: Path, out=None) -> int:
     """Print what changed between two sweep tables (``compare_frames``); BadInput if one is not
     a sweep table. Exit code 0 only if nothing but timing changed."""
-    return compare_frames(inputs.table(old_path, inputs.SWEEP),
-                          inputs.table(new_path, inputs.SWEEP), out)
+    return compare_frames(
+        inputs.table(old_path, inputs.SWEEP), inputs.table(new_path, inputs.SWEEP), out
+    )
 
 
 def compare_frames(old: pd.DataFrame, new: pd.DataFrame, out=None) -> int:
@@ -67,8 +68,7 @@ def compare_frames(old: pd.DataFrame, new: pd.DataFrame, out=None) -> int:
     moved = _text(a.status) != _text(b.status)
     for i in moved[moved].index:
         changed = True
-        print(f"{a.engine[i]} s={a.s_m[i]:.4f}: status {a.status[i]} -> {b.status[i]}",
-              file=out)
+        print(f"{a.engine[i]} s={a.s_m[i]:.4f}: status {a.status[i]} -> {b.status[i]}", file=out)
     for engine, idx in a.groupby("engine", sort=False).groups.items():
         changed |= _engine_changes(engine, a.loc[idx], b.loc[idx], out)
     if not changed:
@@ -90,15 +90,22 @@ def _text(col: pd.Series) -> pd.Series:
     return col.astype(object).where(col.notna(), "")
 
 
-def _column_changes(old: pd.DataFrame, new: pd.DataFrame, a: pd.DataFrame, b: pd.DataFrame,
-                    out) -> bool:
+def _column_changes(
+    old: pd.DataFrame, new: pd.DataFrame, a: pd.DataFrame, b: pd.DataFrame, out
+) -> bool:
     """Print the columns dropped, added, or renamed (dropped and added with the same values on
     every row both tables hold); whether there was any."""
     dropped = [c for c in old.columns if c not in new.columns]
     added = [c for c in new.columns if c not in old.columns]
     for gone in list(dropped):
-        same = next((c for c in added if len(a) and _text(a[gone]).astype(str).equals(
-            _text(b[c]).astype(str))), None)
+        same = next(
+            (
+                c
+                for c in added
+                if len(a) and _text(a[gone]).astype(str).equals(_text(b[c]).astype(str))
+            ),
+            None,
+        )
         if same is not None:
             print(f"column renamed: {gone} -> {same} (the same values)", file=out)
             dropped.remove(gone)
@@ -123,8 +130,11 @@ def _engine_changes(engine: str, a: pd.DataFrame, b: pd.DataFrame, out) -> bool:
         if moved.any():
             changed = True
             i = moved.idxmax()
-            print(f"{engine} {col}: {int(moved.sum())} rows changed, first at "
-                  f"s={a.s_m[i]:.4f} ({a[col][i]!r} -> {b[col][i]!r})", file=out)
+            print(
+                f"{engine} {col}: {int(moved.sum())} rows changed, first at "
+                f"s={a.s_m[i]:.4f} ({a[col][i]!r} -> {b[col][i]!r})",
+                file=out,
+            )
     for which, side in (("old", a), ("new", b)):
         ok = side[side.status == Status.OK]
         if len(ok):
@@ -143,17 +153,23 @@ def _column_change(engine: str, a: pd.DataFrame, b: pd.DataFrame, col: str, out)
     if not moved.any():
         return False
     i = diff.mask(one_nan, math.inf).idxmax()  # a NaN on one side first
-    print(f"{engine} {col}: {int(moved.sum())} rows changed, largest "
-          f"{diff[i] if not one_nan[i] else math.nan:.3e} at s={a.s_m[i]:.4f} "
-          f"({x[i]:.6g} -> {y[i]:.6g})", file=out)
+    print(
+        f"{engine} {col}: {int(moved.sum())} rows changed, largest "
+        f"{diff[i] if not one_nan[i] else math.nan:.3e} at s={a.s_m[i]:.4f} "
+        f"({x[i]:.6g} -> {y[i]:.6g})",
+        file=out,
+    )
     return True
 
 
 @boundary.entry
 def main(argv: list[str] | None = None) -> int:
-    p = cli.Parser(prog="python -m experiments.compare", description=cli.summary(__doc__),
-               epilog="exit codes: 0 nothing but timing changed; 1 something else changed; 2 a "
-                      "file that is not a sweep table")
+    p = cli.Parser(
+        prog="python -m experiments.compare",
+        description=cli.summary(__doc__),
+        epilog="exit codes: 0 nothing but timing changed; 1 something else changed; 2 a "
+        "file that is not a sweep table",
+    )
     p.add_argument("old", type=Path, help="the earlier sweep table (a run's sweep.csv)")
     p.add_argument("new", type=Path, help="the later sweep table")
     args = p.parse_args(argv)

@@ -40,44 +40,70 @@ PLACEMENT = ("dt_s", "contact_phase", "overlap_m", "approach_steps", "max_contac
 
 
 def firing() -> firings.Firing:
-    return firings.Firing(bat=presets.R161, s_m=S_M, v0_mps=presets.PAPER_PITCH_MPS,
-                        u0_mps=presets.PAPER_SWING.u0_mps,
-                        omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+    return firings.Firing(
+        bat=presets.R161,
+        s_m=S_M,
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=presets.E_WOOD,
+    )
 
 
 def knobs(name: str) -> list[str]:
     """Settings fields whose default-profile value differs from the reference profile's."""
     rec = adapters.record(name)
     ref, default = rec.profiles["reference"], rec.profiles["default"]
-    return [f.name for f in dataclasses.fields(ref) if f.name not in PLACEMENT
-            and getattr(ref, f.name) != getattr(default, f.name)]
+    return [
+        f.name
+        for f in dataclasses.fields(ref)
+        if f.name not in PLACEMENT and getattr(ref, f.name) != getattr(default, f.name)
+    ]
 
 
 def plans(name: str, k: int) -> list[tuple[dict, adapters.Settings]]:
     """(row labels, settings) of every configuration measured for one engine."""
     rec = adapters.record(name)
     ref, default = rec.profiles["reference"], rec.profiles["default"]
-    out = [({"part": "caught", "phase": float(p)},
-            dataclasses.replace(default, contact_phase=float(p)))
-           for p in (np.arange(k) + 0.5) / k]
+    out = [
+        (
+            {"part": "caught", "phase": float(p)},
+            dataclasses.replace(default, contact_phase=float(p)),
+        )
+        for p in (np.arange(k) + 0.5) / k
+    ]
     mid = {"dt_s": REF_DT_S, "contact_phase": 0.5}
-    out.append(({"part": "knobs", "change": "default profile"},
-                dataclasses.replace(default, **mid)))
-    out.append(({"part": "knobs", "change": "reference profile"},
-                dataclasses.replace(ref, **mid)))
+    out.append(
+        ({"part": "knobs", "change": "default profile"}, dataclasses.replace(default, **mid))
+    )
+    out.append(({"part": "knobs", "change": "reference profile"}, dataclasses.replace(ref, **mid)))
     for knob in knobs(name):
-        out.append(({"part": "knobs", "change": f"default, {knob} = reference "
-                     f"{getattr(ref, knob)!r}"},
-                    dataclasses.replace(default, **mid, **{knob: getattr(ref, knob)})))
-        out.append(({"part": "knobs", "change": f"reference, {knob} = default "
-                     f"{getattr(default, knob)!r}"},
-                    dataclasses.replace(ref, **mid, **{knob: getattr(default, knob)})))
+        out.append(
+            (
+                {"part": "knobs", "change": f"default, {knob} = reference {getattr(ref, knob)!r}"},
+                dataclasses.replace(default, **mid, **{knob: getattr(ref, knob)}),
+            )
+        )
+        out.append(
+            (
+                {
+                    "part": "knobs",
+                    "change": f"reference, {knob} = default {getattr(default, knob)!r}",
+                },
+                dataclasses.replace(ref, **mid, **{knob: getattr(default, knob)}),
+            )
+        )
     return out
 
 
 def _options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--phases", type=cli.integer(2, 1000), default=64,
-                   help="contact phases per point at the default step (default 64)")
+    p.add_argument(
+        "--phases",
+        type=cli.integer(2, 1000),
+        default=64,
+        help="contact phases per point at the default step (default 64)",
+    )
+
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     t0 = time.perf_counter()
@@ -90,40 +116,69 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     reach = presets.R161.radius_m + presets.BASEBALL.radius_m
     caught, knob_rows = [], []
     for i, (name, labels, st) in enumerate(todo):
-        df = table.iloc[i * n:(i + 1) * n]
+        df = table.iloc[i * n : (i + 1) * n]
         ok = df[df.status.isin(judge.MEASURED)]
-        row = {"engine": name, **labels, "dt_s": st.dt_s, "impacts": n, "ok": len(ok),
-               "within_tolerance": int((df.status == judge.Status.OK).sum()),
-               "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
-               "statuses": ", ".join(f"{k} {v}" for k, v in df.status.value_counts().items())}
+        row = {
+            "engine": name,
+            **labels,
+            "dt_s": st.dt_s,
+            "impacts": n,
+            "ok": len(ok),
+            "within_tolerance": int((df.status == judge.Status.OK).sum()),
+            "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
+            "statuses": ", ".join(f"{k} {v}" for k, v in df.status.value_counts().items()),
+        }
         if labels["part"] == "caught":
             vc = df.v0_mps + df.u0_mps + df.omega0_radps * df.s_m
             margin = adapters.record(name).errors.speculative_margin_m(st)
-            row["theory_ok"] = int(sum(judge.caught_in_theory(
-                v, st.dt_s, labels["phase"], reach, st.overlap_m, margin) for v in vc))
+            row["theory_ok"] = int(
+                sum(
+                    judge.caught_in_theory(v, st.dt_s, labels["phase"], reach, st.overlap_m, margin)
+                    for v in vc
+                )
+            )
             caught.append(row)
         else:
             knob_rows.append(row)
     caught = pd.DataFrame(caught)
-    summary = caught.groupby("engine", sort=False).agg(
-        dt_s=("dt_s", "first"), ok=("ok", "sum"), theory_ok=("theory_ok", "sum"),
-        impacts=("impacts", "sum"), max_rel_err_caught=("max_rel_err", "max")).reset_index()
+    summary = (
+        caught.groupby("engine", sort=False)
+        .agg(
+            dt_s=("dt_s", "first"),
+            ok=("ok", "sum"),
+            theory_ok=("theory_ok", "sum"),
+            impacts=("impacts", "sum"),
+            max_rel_err_caught=("max_rel_err", "max"),
+        )
+        .reset_index()
+    )
     summary["fraction_ok"] = summary.ok / summary.impacts
     summary["fraction_theory"] = summary.theory_ok / summary.impacts
     knob_table = pd.DataFrame(knob_rows)
     files = {
-        "defaults_caught.csv": summary.to_csv(index=False, float_format="%.6g",
-                                              lineterminator="\n").encode(),
-        "defaults_knobs.csv": knob_table.to_csv(index=False, float_format="%.6g",
-                                                lineterminator="\n").encode(),
-        "defaults.json": json_bytes({"phases": args.phases, "grid_s_m": list(S_M),
-                                     "elapsed_s": time.perf_counter() - t0,
-                                     "caught_per_phase": caught.to_dict(orient="records"),
-                                     "provenance": provenance()}),
+        "defaults_caught.csv": summary.to_csv(
+            index=False, float_format="%.6g", lineterminator="\n"
+        ).encode(),
+        "defaults_knobs.csv": knob_table.to_csv(
+            index=False, float_format="%.6g", lineterminator="\n"
+        ).encode(),
+        "defaults.json": json_bytes(
+            {
+                "phases": args.phases,
+                "grid_s_m": list(S_M),
+                "elapsed_s": time.perf_counter() - t0,
+                "caught_per_phase": caught.to_dict(orient="records"),
+                "provenance": provenance(),
+            }
+        ),
     }
-    text = (summary.to_string(index=False, float_format=lambda v: f"{v:.3g}") + "\n\n"
-            + knob_table[["engine", "change", "ok", "max_rel_err", "statuses"]].to_string(
-                index=False, float_format=lambda v: f"{v:.3g}"))
+    text = (
+        summary.to_string(index=False, float_format=lambda v: f"{v:.3g}")
+        + "\n\n"
+        + knob_table[["engine", "change", "ok", "max_rel_err", "statuses"]].to_string(
+            index=False, float_format=lambda v: f"{v:.3g}"
+        )
+    )
     return files, text
 
 

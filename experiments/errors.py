@@ -19,8 +19,15 @@ import sys
 import traceback
 
 #: BATSIM_DEBUG's values (any case, spaces around ignored): whether a failure shows its traceback.
-DEBUG_VALUES = {"1": True, "true": True, "yes": True, "0": False, "false": False, "no": False,
-                "": False}
+DEBUG_VALUES = {
+    "1": True,
+    "true": True,
+    "yes": True,
+    "0": False,
+    "false": False,
+    "no": False,
+    "": False,
+}
 
 
 class UserError(Exception):
@@ -42,8 +49,10 @@ class OutputLost(UserError):
 
     def __init__(self, err: OSError | ValueError) -> None:
         why = getattr(err, "strerror", None) or err
-        super().__init__(f"stdout could not be written ({why}); what was left to print is "
-                         "lost, the run's files are whole")
+        super().__init__(
+            f"stdout could not be written ({why}); what was left to print is "
+            "lost, the run's files are whole"
+        )
         self.errno = getattr(err, "errno", None)
 
 
@@ -72,7 +81,7 @@ _ADVICE = {
     errno.EACCES: "choose a place you can write to (--out), or change its permissions",
     errno.EPERM: "choose a place you can write to (--out), or change its permissions",
     errno.ENOMEM: "the memory limit (ulimit -v) or the machine's memory is too small: raise "
-                  "it, or run fewer impacts or --workers",
+    "it, or run fewer impacts or --workers",
     errno.EMFILE: "too many open files (ulimit -n): raise the limit, or run fewer --workers",
     errno.EIO: "an input/output error: check the disk",
 }
@@ -83,21 +92,29 @@ def describe(err: BaseException) -> str:
     if isinstance(err, UserError):
         return str(err)
     if isinstance(err, MemoryError):
-        return ("out of memory (the memory limit, ulimit -v, or the machine's): run fewer "
-                "impacts or --workers, or raise the limit")
+        return (
+            "out of memory (the memory limit, ulimit -v, or the machine's): run fewer "
+            "impacts or --workers, or raise the limit"
+        )
     if isinstance(err, ImportError) and "failed to map segment" in str(err):
-        return (f"a library could not be loaded: {_line(err)}; the memory limit (ulimit -v) "
-                "is too small: raise it")
+        return (
+            f"a library could not be loaded: {_line(err)}; the memory limit (ulimit -v) "
+            "is too small: raise it"
+        )
     if isinstance(err, ImportError):
-        return (f"a library could not be imported: {_line(err)}; reinstall the project's "
-                "environment (make test builds it)")
+        return (
+            f"a library could not be imported: {_line(err)}; reinstall the project's "
+            "environment (make test builds it)"
+        )
     if isinstance(err, OSError):
         what = f"{err.strerror or type(err).__name__}"
         where = f": {err.filename}" if err.filename is not None else ""
         advice = _ADVICE.get(err.errno, "check the file and the disk")
         return f"{what}{where}; {advice}"
-    return (f"internal error: {type(err).__name__}: {_line(err)} (rerun with --debug or "
-            "BATSIM_DEBUG=1 for the traceback, and report it)")
+    return (
+        f"internal error: {type(err).__name__}: {_line(err)} (rerun with --debug or "
+        "BATSIM_DEBUG=1 for the traceback, and report it)"
+    )
 
 
 def _line(err: BaseException) -> str:
@@ -120,14 +137,18 @@ def excepthook(kind, value, tb) -> None:
         report_stop("interrupted", 130)
         return
     spec = getattr(sys.modules.get("__main__"), "__spec__", None)
-    report(value.with_traceback(tb), f"python -m {spec.name if spec else 'experiments'}",
-           debug_asked())
+    report(
+        value.with_traceback(tb), f"python -m {spec.name if spec else 'experiments'}", debug_asked()
+    )
 
 
 def report_stop(why: str, code: int) -> None:
     """A run stopped from outside (Ctrl-C, a signal): say so in one line."""
     try:
-        print(f"{why}: nothing written, earlier results left as they were", file=sys.stderr,
-              flush=True)
+        print(
+            f"{why}: nothing written, earlier results left as they were",
+            file=sys.stderr,
+            flush=True,
+        )
     except (OSError, ValueError):
         pass

@@ -33,8 +33,7 @@ from .parts import flex_engines as E
 
 
 def _csv(rows) -> bytes:
-    return pd.DataFrame(rows).to_csv(index=False, float_format="%.9g",
-                                     lineterminator="\n").encode()
+    return pd.DataFrame(rows).to_csv(index=False, float_format="%.9g", lineterminator="\n").encode()
 
 
 def beam_part(quick: bool) -> tuple[list, list, dict]:
@@ -65,8 +64,10 @@ def engine_part(names, quick: bool) -> tuple[list, list]:
             mine = [r | {"study": "accuracy"} for r in E.accuracy_rows([n], bar)]
             cost = {n: E.step_body_cost_s(mine)}
             accuracy += mine
-            stability += [r | {"study": "stability"}
-                          for r in E.stability_rows([n], cost, steps, segments, bar)]
+            stability += [
+                r | {"study": "stability"}
+                for r in E.stability_rows([n], cost, steps, segments, bar)
+            ]
     return accuracy, stability
 
 
@@ -81,15 +82,25 @@ def summary(spots, zones, accuracy) -> dict:
             "statuses": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
             "max_err_mps": float(judged.err_mps.max()) if len(judged) else None,
             "max_err_over_tol": float((judged.err_mps / judged.tol_mps).max())
-            if len(judged) else None}
-    return {"sweet_spots": spots, "sweet_zones_from_tip_m": zones, "engines": per_engine,
-            "speed_share": B.SPEED_SHARE, "sting_share": B.STING_SHARE,
-            "provenance": provenance()}
+            if len(judged)
+            else None,
+        }
+    return {
+        "sweet_spots": spots,
+        "sweet_zones_from_tip_m": zones,
+        "engines": per_engine,
+        "speed_share": B.SPEED_SHARE,
+        "sting_share": B.STING_SHARE,
+        "provenance": provenance(),
+    }
 
 
 def _options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--quick", action="store_true",
-                   help="the paper's swing at 5 points, the modulus as given, a 2 x 1 map")
+    p.add_argument(
+        "--quick",
+        action="store_true",
+        help="the paper's swing at 5 points, the modulus as given, a 2 x 1 map",
+    )
 
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
@@ -98,13 +109,19 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     chain = B.chain_rows((0.66,) if args.quick else (0.50, 0.66, 0.75))
     accuracy, stability = engine_part(tuple(args.engine), args.quick)
     engines = pd.DataFrame(accuracy + stability)
-    files = {"flex_modes.csv": _csv(modes), "flex.csv": _csv(rows), "flex_sweet.csv": _csv(spots),
-             "flex_chain.csv": _csv(chain), "flex_engines.csv": _csv(accuracy + stability),
-             "flex.json": json_bytes(summary(spots, zones, accuracy)),
-             "flex.png": flex_chart.barrel(pd.DataFrame(rows), pd.DataFrame(spots), zones)}
+    files = {
+        "flex_modes.csv": _csv(modes),
+        "flex.csv": _csv(rows),
+        "flex_sweet.csv": _csv(spots),
+        "flex_chain.csv": _csv(chain),
+        "flex_engines.csv": _csv(accuracy + stability),
+        "flex.json": json_bytes(summary(spots, zones, accuracy)),
+        "flex.png": flex_chart.barrel(pd.DataFrame(rows), pd.DataFrame(spots), zones),
+    }
     if len(engines):
-        files["flex_engines.png"] = flex_chart.engines(pd.DataFrame(accuracy),
-                                                       pd.DataFrame(stability))
+        files["flex_engines.png"] = flex_chart.engines(
+            pd.DataFrame(accuracy), pd.DataFrame(stability)
+        )
     text = pd.DataFrame(spots).to_string(index=False, float_format=lambda v: f"{v:.4g}")
     return files, text
 

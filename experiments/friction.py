@@ -60,9 +60,13 @@ def friction_engines(names: tuple[str, ...]) -> list[str]:
 def families(name: str) -> list[tuple[str, adapters.Settings]]:
     """(label, settings): the reference profile, then each friction family."""
     rec = adapters.record(name)
-    return [("reference", adapters.settings_for(name)), *(
-        (f.label, adapters.settings_for(name, f.profile, **dict(f.overrides)))
-        for f in rec.studies.friction_families)]
+    return [
+        ("reference", adapters.settings_for(name)),
+        *(
+            (f.label, adapters.settings_for(name, f.profile, **dict(f.overrides)))
+            for f in rec.studies.friction_families
+        ),
+    ]
 
 
 def cells(planar: bool, quick: bool) -> list[dict]:
@@ -77,12 +81,20 @@ def cells(planar: bool, quick: bool) -> list[dict]:
 
 def jobs(name: str, quick: bool) -> list[tuple[str, Job]]:
     """(family, job) for every family, cell and impact point of one engine."""
-    base = firings.Firing(bat=presets.R161, s_m=POINTS_M, v0_mps=presets.PAPER_PITCH_MPS,
-                         u0_mps=presets.PAPER_SWING.u0_mps,
-                         omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
-    return [(label, job) for label, st in families(name)
-            for cell in cells(adapters.record(name).can.planar, quick)
-            for job in replace(base, **cell).jobs(name, st)]
+    base = firings.Firing(
+        bat=presets.R161,
+        s_m=POINTS_M,
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=presets.E_WOOD,
+    )
+    return [
+        (label, job)
+        for label, st in families(name)
+        for cell in cells(adapters.record(name).can.planar, quick)
+        for job in replace(base, **cell).jobs(name, st)
+    ]
 
 
 def relative_errors(table: pd.DataFrame) -> pd.DataFrame:
@@ -97,8 +109,10 @@ def relative_errors(table: pd.DataFrame) -> pd.DataFrame:
     pairs = {"tangential": ("vt1", "vz1", "mps"), "spin": ("backspin1", "spin1", "radps")}
     r = presets.BASEBALL.radius_m
     for what, (a, b, unit) in pairs.items():
-        routh, engine, law = (t[[f"{a}_{k}_{unit}", f"{b}_{k}_{unit}"]].to_numpy()
-                              for k in ("analytic", "engine", "law"))
+        routh, engine, law = (
+            t[[f"{a}_{k}_{unit}", f"{b}_{k}_{unit}"]].to_numpy()
+            for k in ("analytic", "engine", "law")
+        )
         floor = t.slip0_mps.to_numpy() / (r if what == "spin" else 1.0)
         scale = np.maximum(np.linalg.norm(routh, axis=1), floor)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -117,17 +131,29 @@ def summary(t: pd.DataFrame) -> list[dict]:
     for (name, family), df in t.groupby(["engine", "family"], sort=False):
         judged = df[df.status != Status.UNJUDGED.value]
         costly = judged[judged.spin_rel_err_law > SPIN_COST_REL]
-        out.append({
-            "engine": name, "family": family, "friction_cone": df.friction_cone.iloc[0],
-            "friction_law": df.friction_law.iloc[0] if len(judged) else "none (compliant)",
-            "statuses": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
-            **{f"max_{c}": float(df[c].max()) for c in (
-                "spin_rel_err", "tangential_rel_err", "v1_abs_err_mps")},
-            **{f"max_{c}": float(judged[c].max()) if len(judged) else math.nan for c in (
-                "spin_rel_err_law", "tangential_rel_err_law", "v1_law_err_mps")},
-            "spin_cost_cells": sorted({f"mu={r.mu:g} theta={r.theta_rad:g} "
-                                       f"undercut={r.undercut_m:g}"
-                                       for r in costly.itertuples()})})
+        out.append(
+            {
+                "engine": name,
+                "family": family,
+                "friction_cone": df.friction_cone.iloc[0],
+                "friction_law": df.friction_law.iloc[0] if len(judged) else "none (compliant)",
+                "statuses": {k: int(v) for k, v in df.status.value_counts().sort_index().items()},
+                **{
+                    f"max_{c}": float(df[c].max())
+                    for c in ("spin_rel_err", "tangential_rel_err", "v1_abs_err_mps")
+                },
+                **{
+                    f"max_{c}": float(judged[c].max()) if len(judged) else math.nan
+                    for c in ("spin_rel_err_law", "tangential_rel_err_law", "v1_law_err_mps")
+                },
+                "spin_cost_cells": sorted(
+                    {
+                        f"mu={r.mu:g} theta={r.theta_rad:g} undercut={r.undercut_m:g}"
+                        for r in costly.itertuples()
+                    }
+                ),
+            }
+        )
     return out
 
 
@@ -137,8 +163,10 @@ def _options(p: argparse.ArgumentParser) -> None:
 
 def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     if not friction_engines(args.engine):
-        p.error(f"--engine {','.join(args.engine)}: none sets friction; allowed: "
-                + ", ".join(friction_engines(adapters.names())))
+        p.error(
+            f"--engine {','.join(args.engine)}: none sets friction; allowed: "
+            + ", ".join(friction_engines(adapters.names()))
+        )
 
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
@@ -149,20 +177,30 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     t.insert(1, "family", [label for label, _ in todo])
     t = relative_errors(t)
     rows = summary(t)
-    files = {"friction.csv": t.to_csv(index=False, float_format="%.9g",
-                                      lineterminator="\n").encode(),
-             "friction.json": json_bytes({"summary": rows, "mus": MUS, "thetas_rad": THETAS_RAD,
-                                          "undercuts_m": UNDERCUTS_M, "points_m": POINTS_M,
-                                          "spin_cost_rel": SPIN_COST_REL,
-                                          "provenance": provenance()}),
-             "friction.png": friction_chart.render(t)}
-    text = pd.DataFrame(rows).drop(columns=["spin_cost_cells", "statuses"]).to_string(
-        index=False, float_format=lambda v: f"{v:.3g}")
+    files = {
+        "friction.csv": t.to_csv(index=False, float_format="%.9g", lineterminator="\n").encode(),
+        "friction.json": json_bytes(
+            {
+                "summary": rows,
+                "mus": MUS,
+                "thetas_rad": THETAS_RAD,
+                "undercuts_m": UNDERCUTS_M,
+                "points_m": POINTS_M,
+                "spin_cost_rel": SPIN_COST_REL,
+                "provenance": provenance(),
+            }
+        ),
+        "friction.png": friction_chart.render(t),
+    }
+    text = (
+        pd.DataFrame(rows)
+        .drop(columns=["spin_cost_cells", "statuses"])
+        .to_string(index=False, float_format=lambda v: f"{v:.3g}")
+    )
     return files, text
 
 
-COMMAND = Command(name="friction", doc=__doc__, produce=produce, options=_options,
-                  check=_check)
+COMMAND = Command(name="friction", doc=__doc__, produce=produce, options=_options, check=_check)
 main = COMMAND.main
 
 

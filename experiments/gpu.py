@@ -67,11 +67,17 @@ def check_run(d: Path) -> None:
         inputs.table(d / "twins.csv", inputs.TWINS_ON_DEVICE)
     if (d / "stability.json").exists():
         path = d / "stability.json"
-        meta = inputs.json_object(path, STABILITY_JSON, {
-            "devices": dict, "quick": bool, "elapsed_s": (int, float), "provenance": dict})
+        meta = inputs.json_object(
+            path,
+            STABILITY_JSON,
+            {"devices": dict, "quick": bool, "elapsed_s": (int, float), "provenance": dict},
+        )
         if not meta["devices"] or not all(isinstance(v, str) for v in meta["devices"].values()):
-            raise inputs.bad(path, f"has devices = {meta['devices']!r}", "an engine -> device "
-                             f"name object in {STABILITY_JSON}")
+            raise inputs.bad(
+                path,
+                f"has devices = {meta['devices']!r}",
+                f"an engine -> device name object in {STABILITY_JSON}",
+            )
         if "machine" not in meta["provenance"]:
             raise inputs.bad(path, "has no provenance.machine", STABILITY_JSON)
         inputs.table(d / "stability.csv", inputs.STABILITY)
@@ -84,14 +90,23 @@ def _gpu(table: pd.DataFrame) -> pd.DataFrame:
 
 def batches(runs: list[Path], committed: pd.DataFrame | None) -> pd.DataFrame:
     """The committed CPU rows, then every run's GPU rows (the latest per engine and batch)."""
-    parts = [_gpu(pd.read_csv(d / "bench_batches.csv")) for d in runs
-             if (d / "bench_batches.csv").is_file()]
+    parts = [
+        _gpu(pd.read_csv(d / "bench_batches.csv"))
+        for d in runs
+        if (d / "bench_batches.csv").is_file()
+    ]
     gpu = pd.concat(parts, ignore_index=True).drop_duplicates(["engine", "batch"], keep="last")
     first = {name: i for i, name in enumerate(dict.fromkeys(gpu.engine))}
-    gpu = gpu.assign(first=gpu.engine.map(first)).sort_values(
-        ["first", "batch"], kind="stable").drop(columns="first")
-    cpu = None if committed is None else committed[
-        [throughput.kind(d) == "CPU" for d in committed.device]]
+    gpu = (
+        gpu.assign(first=gpu.engine.map(first))
+        .sort_values(["first", "batch"], kind="stable")
+        .drop(columns="first")
+    )
+    cpu = (
+        None
+        if committed is None
+        else committed[[throughput.kind(d) == "CPU" for d in committed.device]]
+    )
     return throughput.merged(cpu, gpu) if cpu is not None else gpu.reset_index(drop=True)
 
 
@@ -101,9 +116,18 @@ TWIN_COLUMNS = ["engine", "step", "max_abs_diff_mps", "median_abs_diff_mps", "st
 
 def twins(runs: list[Path], cpu: pd.DataFrame) -> pd.DataFrame:
     """Each twin step on the GPU beside the same step on the CPU (none if no run has twins)."""
-    keep = ["engine", "device", "step", "max_abs_diff_mps_gpu", "max_abs_diff_mps_cpu",
-            "ratio", "median_abs_diff_mps_gpu", "median_abs_diff_mps_cpu", "statuses_gpu",
-            "statuses_cpu"]
+    keep = [
+        "engine",
+        "device",
+        "step",
+        "max_abs_diff_mps_gpu",
+        "max_abs_diff_mps_cpu",
+        "ratio",
+        "median_abs_diff_mps_gpu",
+        "median_abs_diff_mps_cpu",
+        "statuses_gpu",
+        "statuses_cpu",
+    ]
     parts = [_gpu(pd.read_csv(d / "twins.csv")) for d in runs if (d / "twins.csv").is_file()]
     if not parts:
         return pd.DataFrame(columns=keep)
@@ -127,9 +151,11 @@ def stability(runs: list[Path]) -> list[dict]:
     for (engines, quick), by_kind in maps.items():
         row = {"engines": list(engines), "quick": quick}
         for kind, (d, meta) in sorted(by_kind.items()):
-            row |= {f"{kind.lower()}_s": meta["elapsed_s"],
-                    f"{kind.lower()}_machine": meta["provenance"]["machine"],
-                    "impacts": len(pd.read_csv(d / "stability.csv"))}
+            row |= {
+                f"{kind.lower()}_s": meta["elapsed_s"],
+                f"{kind.lower()}_machine": meta["provenance"]["machine"],
+                "impacts": len(pd.read_csv(d / "stability.csv")),
+            }
         if {"CPU", "GPU"} <= set(by_kind):
             row |= _cells_agree(*(by_kind[k][0] / "stability_cells.csv" for k in ("GPU", "CPU")))
         out.append(row)
@@ -143,7 +169,8 @@ def _cells_agree(gpu: Path, cpu: Path) -> dict:
     a, b = (pd.read_csv(p)[[*key, "failure", "fraction_ok"]] for p in (gpu, cpu))
     both = a.merge(b, on=key, suffixes=("_gpu", "_cpu"))
     same = (both.failure_gpu.fillna("") == both.failure_cpu.fillna("")) & (
-        both.fraction_ok_gpu == both.fraction_ok_cpu)
+        both.fraction_ok_gpu == both.fraction_ok_cpu
+    )
     return {"cells": len(a), "cells_agree": int(same.sum())}
 
 
@@ -152,13 +179,21 @@ def profile(table: pd.DataFrame) -> list[dict]:
     out = []
     for name, rows in _gpu(table).groupby("engine", sort=False):
         r = rows.loc[rows.impacts_per_s.idxmax()]
-        out.append({"engine": name, "device": r.device, "batch": int(r.batch),
-                    "impacts_per_s": float(r.impacts_per_s), "us_per_impact": r.us_per_impact,
-                    "bare_engine_us": r.bare_us_per_impact, "read_us": r.read_us_per_impact,
-                    "harness_us": r.harness_us_per_impact,
-                    "harness_share": r.harness_us_per_impact / r.us_per_impact,
-                    "bare_impacts_per_s": 1e6 / r.bare_us_per_impact,
-                    "max_abs_err_mps": float(rows.max_abs_err_mps.max())})
+        out.append(
+            {
+                "engine": name,
+                "device": r.device,
+                "batch": int(r.batch),
+                "impacts_per_s": float(r.impacts_per_s),
+                "us_per_impact": r.us_per_impact,
+                "bare_engine_us": r.bare_us_per_impact,
+                "read_us": r.read_us_per_impact,
+                "harness_us": r.harness_us_per_impact,
+                "harness_share": r.harness_us_per_impact / r.us_per_impact,
+                "bare_impacts_per_s": 1e6 / r.bare_us_per_impact,
+                "max_abs_err_mps": float(rows.max_abs_err_mps.max()),
+            }
+        )
     return out
 
 
@@ -167,20 +202,31 @@ def bars(prof: list[dict]) -> dict:
     slowest = min(prof, key=lambda p: p["impacts_per_s"])
     fastest = max(prof, key=lambda p: p["impacts_per_s"])
     worst = max(prof, key=lambda p: p["harness_share"])
-    got = {"slowest_impacts_per_s": slowest["impacts_per_s"],
-           "fastest_impacts_per_s": fastest["impacts_per_s"],
-           "harness_share": worst["harness_share"]}
-    met = {"slowest_impacts_per_s": got["slowest_impacts_per_s"] >= BARS["slowest_impacts_per_s"],
-           "fastest_impacts_per_s": got["fastest_impacts_per_s"] >= BARS["fastest_impacts_per_s"],
-           "harness_share": got["harness_share"] <= BARS["harness_share"]}
+    got = {
+        "slowest_impacts_per_s": slowest["impacts_per_s"],
+        "fastest_impacts_per_s": fastest["impacts_per_s"],
+        "harness_share": worst["harness_share"],
+    }
+    met = {
+        "slowest_impacts_per_s": got["slowest_impacts_per_s"] >= BARS["slowest_impacts_per_s"],
+        "fastest_impacts_per_s": got["fastest_impacts_per_s"] >= BARS["fastest_impacts_per_s"],
+        "harness_share": got["harness_share"] <= BARS["harness_share"],
+    }
     return {k: {"bar": BARS[k], "measured": got[k], "met": bool(met[k])} for k in BARS} | {
-        "slowest": slowest["engine"], "fastest": fastest["engine"],
-        "largest_harness_share": worst["engine"]}
+        "slowest": slowest["engine"],
+        "fastest": fastest["engine"],
+        "largest_harness_share": worst["engine"],
+    }
 
 
 def _options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--runs", type=Path, default=RUNS, metavar="DIR",
-                   help="the GPU machine's run directories (default results/gpu_runs)")
+    p.add_argument(
+        "--runs",
+        type=Path,
+        default=RUNS,
+        metavar="DIR",
+        help="the GPU machine's run directories (default results/gpu_runs)",
+    )
 
 
 def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
@@ -188,20 +234,28 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     work; at least one run with GPU rows."""
     try:
         runs = _runs(args.runs)
-        gpu_rows = any(throughput.kind(d) == "GPU" for r in runs
-                       if (r / "bench_batches.csv").is_file()
-                       for d in pd.read_csv(r / "bench_batches.csv").device)
+        gpu_rows = any(
+            throughput.kind(d) == "GPU"
+            for r in runs
+            if (r / "bench_batches.csv").is_file()
+            for d in pd.read_csv(r / "bench_batches.csv").device
+        )
         if (RESULTS / "bench_batches.csv").exists():
             inputs.table(RESULTS / "bench_batches.csv", inputs.THROUGHPUT)
         inputs.table(RESULTS / "twins.csv", inputs.TWINS)
         if (args.runs / "session.json").exists():
-            inputs.json_object(args.runs / "session.json", "the session's session.json (a JSON "
-                               "object saying what ran)", {})
+            inputs.json_object(
+                args.runs / "session.json",
+                "the session's session.json (a JSON object saying what ran)",
+                {},
+            )
     except BadInput as err:
         p.error(f"--runs: {err}")
     if not gpu_rows:
-        p.error(f"--runs {args.runs}: no run directory (one with a run.json) holding a "
-                "bench_batches.csv with GPU rows in it; allowed: " + RUNS_ALLOWED)
+        p.error(
+            f"--runs {args.runs}: no run directory (one with a run.json) holding a "
+            "bench_batches.csv with GPU rows in it; allowed: " + RUNS_ALLOWED
+        )
 
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
@@ -214,24 +268,44 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     prof, maps = profile(table), stability(runs)
     session = args.runs / "session.json"
     fig = throughput.chart(table)
-    files = {"bench_batches.csv": table.to_csv(index=False, float_format="%.4g",
-                                               lineterminator="\n").encode(),
-             "bench_batches.png": figure_png(fig),
-             "twins_gpu.csv": pairs.to_csv(index=False, float_format="%.6g",
-                                           lineterminator="\n").encode(),
-             "gpu.json": json_bytes({
-                 "profile": prof, "stability": maps, "bars": bars(prof),
-                 "session": json.loads(session.read_text()) if session.is_file() else None,
-                 "runs": [d.name for d in runs], "provenance": provenance()})}
+    files = {
+        "bench_batches.csv": table.to_csv(
+            index=False, float_format="%.4g", lineterminator="\n"
+        ).encode(),
+        "bench_batches.png": figure_png(fig),
+        "twins_gpu.csv": pairs.to_csv(
+            index=False, float_format="%.6g", lineterminator="\n"
+        ).encode(),
+        "gpu.json": json_bytes(
+            {
+                "profile": prof,
+                "stability": maps,
+                "bars": bars(prof),
+                "session": json.loads(session.read_text()) if session.is_file() else None,
+                "runs": [d.name for d in runs],
+                "provenance": provenance(),
+            }
+        ),
+    }
     plt.close(fig)
-    lines = [f"{p['engine']}: {p['impacts_per_s']:.3g} judged impacts/s at {p['batch']:,} "
-             f"({p['us_per_impact']:.2f} us: bare engine {p['bare_engine_us']:.2f}, harness "
-             f"{p['harness_us']:.2f}, {p['harness_share']:.0%})" for p in prof]
+    lines = [
+        f"{p['engine']}: {p['impacts_per_s']:.3g} judged impacts/s at {p['batch']:,} "
+        f"({p['us_per_impact']:.2f} us: bare engine {p['bare_engine_us']:.2f}, harness "
+        f"{p['harness_us']:.2f}, {p['harness_share']:.0%})"
+        for p in prof
+    ]
     return files, "\n".join(lines)
 
 
-COMMAND = Command(name="gpu", doc=__doc__, produce=produce, options=_options, check=_check,
-                  engines=False, runner=False)
+COMMAND = Command(
+    name="gpu",
+    doc=__doc__,
+    produce=produce,
+    options=_options,
+    check=_check,
+    engines=False,
+    runner=False,
+)
 main = COMMAND.main
 
 

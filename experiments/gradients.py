@@ -45,9 +45,14 @@ EDGE_M = 0.01
 
 def base_case():
     """The paper's swing on the R161, frictionless, at the sweet spot's neighbourhood."""
-    f = firings.Firing(bat=presets.R161, s_m=(0.0,), v0_mps=presets.PAPER_PITCH_MPS,
-                      u0_mps=presets.PAPER_SWING.u0_mps,
-                      omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+    f = firings.Firing(
+        bat=presets.R161,
+        s_m=(0.0,),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=presets.E_WOOD,
+    )
     return f.cases()[0]
 
 
@@ -58,8 +63,7 @@ def points(n: int) -> list:
     bat = base.bat
     grid = firings.grid(bat, n, bat.s_min_m + EDGE_M, bat.s_max_m - EDGE_M)
     cases = [moved(base, "s_m", s) for s in grid]
-    return [c for c in cases if collide(c).impacts == 1
-            and collide(c).sustained_contact_s == 0.0]
+    return [c for c in cases if collide(c).impacts == 1 and collide(c).sustained_contact_s == 0.0]
 
 
 def differentiable(names) -> list[str]:
@@ -67,35 +71,55 @@ def differentiable(names) -> list[str]:
 
 
 def _table(names, cases) -> pd.DataFrame:
-    rows = [r for name in names for wrt in INPUTS
-            for r in gradient_rows(name, adapters.settings_for(name), cases, wrt)]
+    rows = [
+        r
+        for name in names
+        for wrt in INPUTS
+        for r in gradient_rows(name, adapters.settings_for(name), cases, wrt)
+    ]
     return pd.DataFrame(rows)
 
 
 def _steps(name: str):
     """The episode's steps at given settings (the middle impact's, at BIAS_POINT_M)."""
+
     def steps(settings) -> int:
-        return finite_differences(name, settings, [moved(base_case(), "s_m", BIAS_POINT_M)],
-                                  "s_m")[0]["steps"]
+        return finite_differences(name, settings, [moved(base_case(), "s_m", BIAS_POINT_M)], "s_m")[
+            0
+        ]["steps"]
+
     return steps
 
 
 def _studies(names, table: pd.DataFrame, quick: bool) -> tuple[list, list, dict]:
     base = base_case()
     steps = {n: int(table[table.engine == n].steps.max()) for n in names}
-    sweet = [studies.sweet_spot(n, adapters.settings_for(n), base, method, steps[n])
-             for n in names for method in ("finite_difference", "autodiff")
-             if method == "finite_difference" or adapters.record(n).can.autodiff]
+    sweet = [
+        studies.sweet_spot(n, adapters.settings_for(n), base, method, steps[n])
+        for n in names
+        for method in ("finite_difference", "autodiff")
+        if method == "finite_difference" or adapters.record(n).can.autodiff
+    ]
     soft = [n for n in differentiable(names) if adapters.record(n).can.soft_contact]
-    bias = [r for n in soft for r in studies.soft_bias(
-        n, moved(base, "s_m", BIAS_POINT_M), _steps(n), quick)]
+    bias = [
+        r
+        for n in soft
+        for r in studies.soft_bias(n, moved(base, "s_m", BIAS_POINT_M), _steps(n), quick)
+    ]
     s, v1 = studies.fit_data(base)
     ls = studies.least_squares_j(base, s, v1)
-    fits = [studies.descend_j(n, adapters.settings_for(n), base, s, v1, ls["sigma_kgm2"],
-                              steps[n]) for n in differentiable(names)]
-    fit = {"true_j_kgm2": base.bat.inertia_cm_kgm2, "noise_mps": studies.FIT_NOISE_MPS,
-           "points_m": list(s), "measured_mps": list(v1), "least_squares": ls,
-           "descent": fits}
+    fits = [
+        studies.descend_j(n, adapters.settings_for(n), base, s, v1, ls["sigma_kgm2"], steps[n])
+        for n in differentiable(names)
+    ]
+    fit = {
+        "true_j_kgm2": base.bat.inertia_cm_kgm2,
+        "noise_mps": studies.FIT_NOISE_MPS,
+        "points_m": list(s),
+        "measured_mps": list(v1),
+        "least_squares": ls,
+        "descent": fits,
+    }
     return sweet, bias, fit
 
 
@@ -103,16 +127,21 @@ def summary(table: pd.DataFrame) -> pd.DataFrame:
     """Per engine, method and input: the statuses and the largest error against its
     tolerance."""
     g = table.groupby(["engine", "method", "input"], sort=False)
-    return g.agg(points=("status", "size"),
-                 statuses=("status", lambda s: ", ".join(
-                     f"{k} {v}" for k, v in s.value_counts().items())),
-                 max_abs_err=("abs_err", "max"), max_tolerance=("tolerance", "max")
-                 ).reset_index()
+    return g.agg(
+        points=("status", "size"),
+        statuses=("status", lambda s: ", ".join(f"{k} {v}" for k, v in s.value_counts().items())),
+        max_abs_err=("abs_err", "max"),
+        max_tolerance=("tolerance", "max"),
+    ).reset_index()
 
 
 def _options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--points", type=cli.integer(3, 201), default=21,
-                   help="impact points over the hittable range (default 21)")
+    p.add_argument(
+        "--points",
+        type=cli.integer(3, 201),
+        default=21,
+        help="impact points over the hittable range (default 21)",
+    )
 
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
@@ -127,26 +156,43 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     def csv(df: pd.DataFrame) -> bytes:
         return df.to_csv(index=False, float_format="%.9g", lineterminator="\n").encode()
 
-    files = {"gradients.csv": csv(table), "gradients_sweet.csv": csv(sweet_t),
-             "gradients_bias.csv": csv(bias_t),
-             "gradients.png": figure_png(gradients_chart.along_the_bat(table, cases)),
-             "gradients.json": json_bytes({
-                 "points": len(cases), "summary": sums.to_dict("records"),
-                 "sweet_spot": sweet, "j_fit": fit, "elapsed_s": time.perf_counter() - t0,
-                 "provenance": provenance()})}
+    files = {
+        "gradients.csv": csv(table),
+        "gradients_sweet.csv": csv(sweet_t),
+        "gradients_bias.csv": csv(bias_t),
+        "gradients.png": figure_png(gradients_chart.along_the_bat(table, cases)),
+        "gradients.json": json_bytes(
+            {
+                "points": len(cases),
+                "summary": sums.to_dict("records"),
+                "sweet_spot": sweet,
+                "j_fit": fit,
+                "elapsed_s": time.perf_counter() - t0,
+                "provenance": provenance(),
+            }
+        ),
+    }
     if len(bias_t):
         files["gradients_bias.png"] = figure_png(gradients_chart.bias(bias_t))
-    files["gradients.md"] = gradients_chart.page(sums, sweet_t, bias_t, fit,
-                                                 len(cases)).encode()
-    text = "\n\n".join([sums.to_string(index=False, float_format=lambda v: f"{v:.3g}"),
-                        sweet_t.drop(columns=["why"]).to_string(
-                            index=False, float_format=lambda v: f"{v:.6g}"),
-                        gradients_chart.fit_text(fit)])
+    files["gradients.md"] = gradients_chart.page(sums, sweet_t, bias_t, fit, len(cases)).encode()
+    text = "\n\n".join(
+        [
+            sums.to_string(index=False, float_format=lambda v: f"{v:.3g}"),
+            sweet_t.drop(columns=["why"]).to_string(index=False, float_format=lambda v: f"{v:.6g}"),
+            gradients_chart.fit_text(fit),
+        ]
+    )
     return files, text
 
 
-COMMAND = Command(name="gradients", doc=__doc__, produce=produce, options=_options,
-                  quick="5 impact points, one soft stiffness at one resolution", runner=False)
+COMMAND = Command(
+    name="gradients",
+    doc=__doc__,
+    produce=produce,
+    options=_options,
+    quick="5 impact points, one soft stiffness at one resolution",
+    runner=False,
+)
 main = COMMAND.main
 
 

@@ -76,13 +76,15 @@ def versions_arg(value: str, option: str = "--versions") -> tuple[str, ...]:
         elif not VERSION.match(v):
             raise argparse.ArgumentTypeError(
                 f"{option} {v!r} is not a version; allowed: versions like 3.2.7 or 4.1.0rc1, "
-                "or the path of a .whl file, comma-separated")
+                "or the path of a .whl file, comma-separated"
+            )
     if not picked:
         raise argparse.ArgumentTypeError(f"{option} names no version")
     twice = [v for i, v in enumerate(picked) if _same(v, picked[:i])]
     if twice:
         raise argparse.ArgumentTypeError(
-            f"{option} names {twice[0]!r} twice; allowed: each release once")
+            f"{option} names {twice[0]!r} twice; allowed: each release once"
+        )
     return picked
 
 
@@ -93,7 +95,8 @@ def against_arg(value: str) -> str:
     if len(picked) != 1:
         raise argparse.ArgumentTypeError(
             f"--against {value!r} names {len(picked)} versions; allowed: one version (or a "
-            "wheel's path), the release the candidate is checked against")
+            "wheel's path), the release the candidate is checked against"
+        )
     return picked[0]
 
 
@@ -122,32 +125,55 @@ def cache_arg(value: str) -> Path:
     if path == runs.RESULTS or runs.RESULTS in path.parents:
         raise argparse.ArgumentTypeError(
             f"{value!r} is inside results/, which only `python -m experiments.baselines` "
-            f"writes; allowed: {CACHE}, outside results/")
+            f"writes; allowed: {CACHE}, outside results/"
+        )
     return path
 
 
 def _options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--versions", type=versions_arg, default=None, metavar="V[,V...]|WHEEL",
-                   help="these releases (or a local wheel) instead of each record's spread; the "
-                        "last is checked against the one before (exit 1 on a regression)")
-    p.add_argument("--against", type=against_arg, default=None, metavar="V",
-                   help="with --versions: the one release the candidate is checked against "
-                        "(default: the version named before it, or the newest of the engine's "
-                        "spread)")
-    p.add_argument("--cache", type=cache_arg, default=str(releases.DEFAULT_CACHE),
-                   metavar="DIR",
-                   help=f"where the environments are kept, outside results/ (default "
-                        f"{releases.DEFAULT_CACHE})")
+    p.add_argument(
+        "--versions",
+        type=versions_arg,
+        default=None,
+        metavar="V[,V...]|WHEEL",
+        help="these releases (or a local wheel) instead of each record's spread; the "
+        "last is checked against the one before (exit 1 on a regression)",
+    )
+    p.add_argument(
+        "--against",
+        type=against_arg,
+        default=None,
+        metavar="V",
+        help="with --versions: the one release the candidate is checked against "
+        "(default: the version named before it, or the newest of the engine's "
+        "spread)",
+    )
+    p.add_argument(
+        "--cache",
+        type=cache_arg,
+        default=str(releases.DEFAULT_CACHE),
+        metavar="DIR",
+        help=f"where the environments are kept, outside results/ (default "
+        f"{releases.DEFAULT_CACHE})",
+    )
 
 
 def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     if args.versions and len(args.engine) != 1:
-        p.error(f"--versions names releases of one engine; --engine named {len(args.engine)}: "
-                f"{', '.join(args.engine)}")
-    if (args.versions and len(args.versions) == 1 and not args.against
-            and not adapters.record(args.engine[0]).install.history):
-        p.error(f"--versions {args.versions[0]}: {args.engine[0]} lists no release to check it "
-                "against (Install.history); allowed: add --against V, or name two versions")
+        p.error(
+            f"--versions names releases of one engine; --engine named {len(args.engine)}: "
+            f"{', '.join(args.engine)}"
+        )
+    if (
+        args.versions
+        and len(args.versions) == 1
+        and not args.against
+        and not adapters.record(args.engine[0]).install.history
+    ):
+        p.error(
+            f"--versions {args.versions[0]}: {args.engine[0]} lists no release to check it "
+            "against (Install.history); allowed: add --against V, or name two versions"
+        )
     if args.against and not args.versions:
         p.error("--against checks the candidate --versions names; allowed: add --versions")
     _check_cache(p, args.cache)
@@ -155,16 +181,19 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
         _check_wheels(p, args)
         reference, candidate = plan(args)[1]
         if _same(candidate, [reference]):
-            p.error(f"--versions {candidate} would be checked against itself; allowed: "
-                    "another release to check it against (--against V, or two versions)")
+            p.error(
+                f"--versions {candidate} would be checked against itself; allowed: "
+                "another release to check it against (--against V, or two versions)"
+            )
     else:
         bare = [n for n in args.engine if not adapters.record(n).install.history]
         args.engine = tuple(n for n in args.engine if n not in bare)
         for name in bare if args.engine else ():
             print(f"skipped: {name} lists no release (Install.history)", file=sys.stderr)
         if not args.engine:
-            p.error(f"no release is listed for {', '.join(bare)} (Install.history); allowed: "
-                    "--versions")
+            p.error(
+                f"no release is listed for {', '.join(bare)} (Install.history); allowed: --versions"
+            )
 
 
 def _check_cache(p: argparse.ArgumentParser, cache: Path) -> None:
@@ -175,8 +204,10 @@ def _check_cache(p: argparse.ArgumentParser, cache: Path) -> None:
         p.error(f"--cache: {err}")
     tagged = cache / releases.python_tag()
     if tagged.exists() and not tagged.is_dir():
-        p.error(f"--cache: {str(tagged)!r} is a file, where this Python's environments go; "
-                f"allowed: {CACHE}, with no file named {tagged.name} (move it away)")
+        p.error(
+            f"--cache: {str(tagged)!r} is a file, where this Python's environments go; "
+            f"allowed: {CACHE}, with no file named {tagged.name} (move it away)"
+        )
 
 
 def _check_wheels(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
@@ -185,8 +216,10 @@ def _check_wheels(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     for v in (*args.versions, *([args.against] if args.against else [])):
         held = inputs.wheel(Path(v)) if v.endswith(".whl") else None
         if held is not None and held != inputs.distribution(package):
-            p.error(f"--versions: {v!r} is a wheel of {held}; allowed: a wheel of {package}, "
-                    f"which {args.engine[0]} runs on")
+            p.error(
+                f"--versions: {v!r} is a wheel of {held}; allowed: a wheel of {package}, "
+                f"which {args.engine[0]} runs on"
+            )
 
 
 def plan(args: argparse.Namespace) -> tuple[list[tuple[str, str]], tuple[str, str] | None]:
@@ -195,8 +228,13 @@ def plan(args: argparse.Namespace) -> tuple[list[tuple[str, str]], tuple[str, st
         return [(n, v) for n in args.engine for v in adapters.record(n).install.history], None
     name, listed = args.engine[0], list(args.versions)
     candidate = listed[-1]
-    reference = (args.against if args.against else listed[-2] if len(listed) > 1
-                 else adapters.record(name).install.history[-1])
+    reference = (
+        args.against
+        if args.against
+        else listed[-2]
+        if len(listed) > 1
+        else adapters.record(name).install.history[-1]
+    )
     if reference not in listed:
         listed.insert(0, reference)
     return [(name, v) for v in listed], (reference, candidate)
@@ -205,9 +243,10 @@ def plan(args: argparse.Namespace) -> tuple[list[tuple[str, str]], tuple[str, st
 #: What a release says on import when its environment lacks something it did not declare, and
 #: what it is given then: a build against NumPy 1 (under NumPy 2), one that imports
 #: pkg_resources (setuptools 81 removed it).
-UNDECLARED = ((re.compile(r"numpy.core.multiarray failed to import|compiled using NumPy 1"),
-               "numpy<2"),
-              (re.compile(r"No module named 'pkg_resources'"), "setuptools<81"))
+UNDECLARED = (
+    (re.compile(r"numpy.core.multiarray failed to import|compiled using NumPy 1"), "numpy<2"),
+    (re.compile(r"No module named 'pkg_resources'"), "setuptools<81"),
+)
 
 
 def fire_release(engine: str, version: str, cache: Path) -> dict:
@@ -218,8 +257,9 @@ def fire_release(engine: str, version: str, cache: Path) -> dict:
     result = _fire(release, cache)
     for said, extra in UNDECLARED:
         if result["state"] == Status.UNSUPPORTED and said.search(result["reason"]):
-            release = releases.Release(engine=engine, version=version,
-                                       extras=(*release.extras, extra))
+            release = releases.Release(
+                engine=engine, version=version, extras=(*release.extras, extra)
+            )
             result = {**_fire(release, cache), "extras": ", ".join(release.extras)}
     return result
 
@@ -237,48 +277,72 @@ def _fire(release: releases.Release, cache: Path) -> dict:
         try:
             done = _run_probe(python, release, out)
         except subprocess.TimeoutExpired:
-            return {**head, "state": "probe_failed",
-                    "reason": f"the probe ran past {PROBE_TIMEOUT_S:g} s"}
+            return {
+                **head,
+                "state": "probe_failed",
+                "reason": f"the probe ran past {PROBE_TIMEOUT_S:g} s",
+            }
         except OSError as err:  # its python went since the environment was checked
-            return {**head, "state": "probe_failed",
-                    "reason": f"{python} could not be started ({err.strerror or err})"}
+            return {
+                **head,
+                "state": "probe_failed",
+                "reason": f"{python} could not be started ({err.strerror or err})",
+            }
         if done.returncode or not out.exists():
             tail = (done.stderr or done.stdout).strip().splitlines()[-1:] or ["no output"]
-            return {**head, "state": "probe_failed",
-                    "reason": f"exit {done.returncode}: {tail[0][:300]}"}
+            return {
+                **head,
+                "state": "probe_failed",
+                "reason": f"exit {done.returncode}: {tail[0][:300]}",
+            }
         try:
             result = json.loads(out.read_text())
         except (ValueError, OSError) as err:  # (UnicodeDecodeError is a ValueError)
             return {**head, "state": "probe_failed", "reason": f"its result is garbled ({err})"}
     if (why := history_probe.fault(result)) is not None:
-        return {**head, "state": "probe_failed",
-                "reason": f"its result is not the probe's: {why}"}
+        return {**head, "state": "probe_failed", "reason": f"its result is not the probe's: {why}"}
     # a release whose API the adapter does not drive is unsupported, as an impact it cannot fire
     state = Status.UNSUPPORTED.value if "not_driven" in result else "judged"
     return {**result, **head, "state": state, "reason": result.get("not_driven", "")}
 
 
-def _run_probe(python: Path, release: releases.Release,
-               out: Path) -> subprocess.CompletedProcess:
+def _run_probe(python: Path, release: releases.Release, out: Path) -> subprocess.CompletedProcess:
     """The probe of ``release`` run by ``python`` (writing ``out``), in ``out``'s folder, held
     to PROBE_TIMEOUT_S (TimeoutExpired past it); said on stderr, once, if it runs past
     PROBE_NOTICE_S, so that a hung release is not a silent wait. It runs in a process group
     of its own, stopped whole (what it started would hold its pipes open)."""
     env = {**os.environ, "PYTHONPATH": str(ROOT), "BATSIM_QUIET": "1"}
-    argv = [str(python), "-m", "experiments.parts.history_probe", "--engine", release.engine,
-            "--out", str(out)]
-    with subprocess.Popen(argv, cwd=out.parent, env=env, text=True, stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, process_group=0) as proc:
+    argv = [
+        str(python),
+        "-m",
+        "experiments.parts.history_probe",
+        "--engine",
+        release.engine,
+        "--out",
+        str(out),
+    ]
+    with subprocess.Popen(
+        argv,
+        cwd=out.parent,
+        env=env,
+        text=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        process_group=0,
+    ) as proc:
         try:
             try:
                 said = proc.communicate(timeout=min(PROBE_NOTICE_S, PROBE_TIMEOUT_S))
             except subprocess.TimeoutExpired:
                 if PROBE_NOTICE_S >= PROBE_TIMEOUT_S:
                     raise
-                print(f"history: the probe of {release.engine} {release.version} has run "
-                      f"{PROBE_NOTICE_S:g} s and is still running; it is stopped at "
-                      f"{PROBE_TIMEOUT_S:g} s (the slowest release's takes about "
-                      f"{PROBE_SLOWEST_S:g} s)", file=sys.stderr)
+                print(
+                    f"history: the probe of {release.engine} {release.version} has run "
+                    f"{PROBE_NOTICE_S:g} s and is still running; it is stopped at "
+                    f"{PROBE_TIMEOUT_S:g} s (the slowest release's takes about "
+                    f"{PROBE_SLOWEST_S:g} s)",
+                    file=sys.stderr,
+                )
                 said = proc.communicate(timeout=PROBE_TIMEOUT_S - PROBE_NOTICE_S)
         except BaseException:  # past its limit, or the run stopped (Ctrl-C, SIGTERM)
             _stop(proc)
@@ -296,8 +360,10 @@ def _stop(proc: subprocess.Popen) -> None:
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str, int]:
     pairs, candidate = plan(args)
     calls = [(fire_release, (n, v, args.cache)) for n, v in pairs]
-    with (runs.Progress(len(calls), "history", unit="releases") as bar,
-          cli.runner(args, bar) as runner):
+    with (
+        runs.Progress(len(calls), "history", unit="releases") as bar,
+        cli.runner(args, bar) as runner,
+    ):
         results = runner.call_all(calls)
     report = history_report.Report(results)
     code, verdict, failed = 0, "", report.nothing_judged()

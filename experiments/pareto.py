@@ -57,8 +57,9 @@ class Config:
 
     @property
     def label(self) -> str:
-        return ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
-                         for k, v in self.overrides)
+        return ", ".join(
+            f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in self.overrides
+        )
 
     def settings(self) -> adapters.Settings:
         return _windowed(adapters.settings_for(self.engine, self.profile, **dict(self.overrides)))
@@ -77,9 +78,15 @@ def configs(quick: bool, engines: tuple[str, ...]) -> list[Config]:
             dts = steps
             if fam.profile == "default":
                 dts = sorted({*steps, rec.profiles["default"].dt_s})
-            out += [Config(engine=engine, family=fam.label, profile=fam.profile,
-                           overrides=(("dt_s", dt), ("contact_phase", PHASE), *fam.overrides))
-                    for dt in dts]
+            out += [
+                Config(
+                    engine=engine,
+                    family=fam.label,
+                    profile=fam.profile,
+                    overrides=(("dt_s", dt), ("contact_phase", PHASE), *fam.overrides),
+                )
+                for dt in dts
+            ]
     return out
 
 
@@ -87,8 +94,9 @@ def _windowed(settings: adapters.Settings) -> adapters.Settings:
     return replace(settings, approach_steps=max(2, round(WINDOW_S / settings.dt_s)))
 
 
-def evaluate(runner: Runner, settings: list[tuple[str, adapters.Settings]], firing,
-             repeats: int) -> list[dict]:
+def evaluate(
+    runner: Runner, settings: list[tuple[str, adapters.Settings]], firing, repeats: int
+) -> list[dict]:
     """Errors and statuses of each (engine, settings) over the grid; median wall per collision
     over ``repeats`` firings of the grid (all settings go to the runner at once)."""
     jobs = [j for _ in range(repeats) for name, st in settings for j in firing.jobs(name, st)]
@@ -97,23 +105,28 @@ def evaluate(runner: Runner, settings: list[tuple[str, adapters.Settings]], firi
     per_setting = len(settings) * n
     out = []
     for k in range(len(settings)):
-        repeated = [table.iloc[r * per_setting + k * n: r * per_setting + (k + 1) * n]
-                for r in range(repeats)]
+        repeated = [
+            table.iloc[r * per_setting + k * n : r * per_setting + (k + 1) * n]
+            for r in range(repeats)
+        ]
         df = repeated[-1]
         ok = df[df.status.isin(judge.MEASURED)]
         counts = df.status.value_counts()
-        out.append({
-            "median_rel_err": float(ok.v1_rel_err.median()) if len(ok) else math.nan,
-            "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
-            # soft contacts: the same against the engine's own law (its discretization alone)
-            "max_law_rel_err": float((ok.v1_law_err_mps / ok.v1_law_mps.abs()).max())
-            if len(ok) and ok.v1_law_mps.notna().all() else math.nan,
-            "wall_per_collision_s": statistics.median(w for r in repeated for w in r.wall_s),
-            "steps_median": float(df.steps.median()),
-            "impacts": len(df),
-            **{f"n_{s.value}": int(counts.get(s.value, 0)) for s in Status},
-            "all_ok": bool(len(ok) == len(df)),
-        })
+        out.append(
+            {
+                "median_rel_err": float(ok.v1_rel_err.median()) if len(ok) else math.nan,
+                "max_rel_err": float(ok.v1_rel_err.max()) if len(ok) else math.nan,
+                # soft contacts: the same against the engine's own law (its discretization alone)
+                "max_law_rel_err": float((ok.v1_law_err_mps / ok.v1_law_mps.abs()).max())
+                if len(ok) and ok.v1_law_mps.notna().all()
+                else math.nan,
+                "wall_per_collision_s": statistics.median(w for r in repeated for w in r.wall_s),
+                "steps_median": float(df.steps.median()),
+                "impacts": len(df),
+                **{f"n_{s.value}": int(counts.get(s.value, 0)) for s in Status},
+                "all_ok": bool(len(ok) == len(df)),
+            }
+        )
     return out
 
 
@@ -151,15 +164,28 @@ def convergence(table: pd.DataFrame) -> pd.DataFrame:
         resid = y - (p * x + c)
         r2 = 1 - resid.var() / y.var() if y.var() > 0 else 1.0
         law = d[d.max_law_rel_err > 1e3 * FLOOR]
-        p_law = (np.polyfit(np.log10(law.dt_s.to_numpy()),
-                            np.log10(law.max_law_rel_err.to_numpy()), 1)[0]
-                 if len(law) >= 3 else math.nan)
-        rows.append({"engine": engine, "family": family, "p": p, "r2": r2, "points": len(d),
-                     "dt_min_s": d.dt_s.min(), "dt_max_s": d.dt_s.max(),
-                     "err_at_dt_min": float(d.sort_values("dt_s").max_rel_err.iloc[0]),
-                     "err_at_dt_max": float(d.sort_values("dt_s").max_rel_err.iloc[-1]),
-                     "p_law": p_law,
-                     "law_err_at_dt_min": float(d.sort_values("dt_s").max_law_rel_err.iloc[0])})
+        p_law = (
+            np.polyfit(np.log10(law.dt_s.to_numpy()), np.log10(law.max_law_rel_err.to_numpy()), 1)[
+                0
+            ]
+            if len(law) >= 3
+            else math.nan
+        )
+        rows.append(
+            {
+                "engine": engine,
+                "family": family,
+                "p": p,
+                "r2": r2,
+                "points": len(d),
+                "dt_min_s": d.dt_s.min(),
+                "dt_max_s": d.dt_s.max(),
+                "err_at_dt_min": float(d.sort_values("dt_s").max_rel_err.iloc[0]),
+                "err_at_dt_max": float(d.sort_values("dt_s").max_rel_err.iloc[-1]),
+                "p_law": p_law,
+                "law_err_at_dt_min": float(d.sort_values("dt_s").max_law_rel_err.iloc[0]),
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -181,11 +207,103 @@ def cheapest(table: pd.DataFrame, targets=TARGETS) -> pd.DataFrame:
                 rows.append({"target": target, "engine": engine, "setting": "none reaches it"})
                 continue
             best = d.loc[d.wall_per_collision_s.idxmin()]
-            rows.append({"target": target, "engine": engine, "winner": best.engine,
-                         "setting": f"{best.family}, dt = {best.dt_s:.3g} s",
-                         "max_rel_err": best.max_rel_err,
-                         "wall_per_collision_s": best.wall_per_collision_s})
+            rows.append(
+                {
+                    "target": target,
+                    "engine": engine,
+                    "winner": best.engine,
+                    "setting": f"{best.family}, dt = {best.dt_s:.3g} s",
+                    "max_rel_err": best.max_rel_err,
+                    "wall_per_collision_s": best.wall_per_collision_s,
+                }
+            )
     return pd.DataFrame(rows)
+
+
+def _engine_marks(ax, df: pd.DataFrame, aligned: pd.DataFrame, name: str, color) -> list:
+    """One engine's points, Pareto front and knee, soft-law and reference marks on ``ax``;
+    the notes it adds under the axes, as (color, text)."""
+    notes = []
+    colors = {name: color}
+    good = df[df.all_ok]
+    bad = df[~df.all_ok]
+    ax.scatter(
+        good.wall_per_collision_s * 1e6,
+        np.maximum(good.max_rel_err, FLOOR),
+        s=14,
+        color=colors[name],
+        alpha=0.45,
+        label=f"{name}: every impact sound",
+    )
+    ax.scatter(
+        bad.wall_per_collision_s * 1e6,
+        _failed_y(bad.max_rel_err),
+        s=18,
+        color=colors[name],
+        marker="x",
+        alpha=0.6,
+        label=f"{name}: some impacts failed (all failed: drawn at {FAILED_Y:g})",
+    )
+    if len(good):
+        t, e = good.wall_per_collision_s.to_numpy(), good.max_rel_err.to_numpy()
+        front = pareto_front(t, e)
+        ax.step(
+            t[front] * 1e6,
+            np.maximum(e[front], FLOOR),
+            where="post",
+            color=colors[name],
+            lw=1.8,
+        )
+        k = front[knee(t[front], e[front])]
+        row = good.iloc[k]
+        ax.scatter(
+            [t[k] * 1e6],
+            [max(e[k], FLOOR)],
+            s=160,
+            facecolor="none",
+            edgecolor=colors[name],
+            lw=2,
+            zorder=6,
+        )
+        notes.append(
+            (
+                colors[name],
+                f"{name} knee (circled): {row.family}, dt = "
+                f"{row.dt_s:.0e} s: {e[k]:.1e} in {t[k] * 1e6:.0f} us",
+            )
+        )
+    law = good[good.max_law_rel_err.notna()]
+    if len(law):
+        ax.scatter(
+            law.wall_per_collision_s * 1e6,
+            np.maximum(law.max_law_rel_err, FLOOR),
+            s=22,
+            marker="D",
+            facecolor="none",
+            edgecolor=colors[name],
+            lw=0.9,
+            label=f"{name}: soft, against its own law",
+        )
+    ref = aligned[aligned.engine == name]
+    ax.scatter(
+        ref.wall_per_collision_s * 1e6,
+        np.maximum(ref.max_rel_err, FLOOR),
+        s=120,
+        marker="*",
+        color=colors[name],
+        edgecolor="black",
+        zorder=5,
+        label=f"{name}: reference profile (aligned contact)",
+    )
+    dt = adapters.record(name).profiles["default"].dt_s
+    for _, d in df[(df.family == DEFAULT_FAMILY) & np.isclose(df.dt_s, dt)].iterrows():
+        verdict = (
+            f"max error {d.max_rel_err:.1e}"
+            if d.all_ok
+            else ", ".join(f"{s.value} {d[f'n_{s.value}']}" for s in Status if d[f"n_{s.value}"])
+        )
+        notes.append((colors[name], f"{name} out of the box (dt = {dt:.3g} s): {verdict}"))
+    return notes
 
 
 def chart(table: pd.DataFrame, aligned: pd.DataFrame):
@@ -198,40 +316,7 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
     notes = []
     colors = {n: adapters.record(n).look.color for n in table.engine.unique()}
     for name in table.engine.unique():
-        df = table[table.engine == name]
-        good = df[df.all_ok]
-        bad = df[~df.all_ok]
-        ax.scatter(good.wall_per_collision_s * 1e6, np.maximum(good.max_rel_err, FLOOR), s=14,
-                   color=colors[name], alpha=0.45, label=f"{name}: every impact sound")
-        ax.scatter(bad.wall_per_collision_s * 1e6, _failed_y(bad.max_rel_err), s=18,
-                   color=colors[name], marker="x", alpha=0.6,
-                   label=f"{name}: some impacts failed (all failed: drawn at {FAILED_Y:g})")
-        if len(good):
-            t, e = good.wall_per_collision_s.to_numpy(), good.max_rel_err.to_numpy()
-            front = pareto_front(t, e)
-            ax.step(t[front] * 1e6, np.maximum(e[front], FLOOR), where="post", color=colors[name],
-                    lw=1.8)
-            k = front[knee(t[front], e[front])]
-            row = good.iloc[k]
-            ax.scatter([t[k] * 1e6], [max(e[k], FLOOR)], s=160, facecolor="none",
-                       edgecolor=colors[name], lw=2, zorder=6)
-            notes.append((colors[name], f"{name} knee (circled): {row.family}, dt = "
-                                        f"{row.dt_s:.0e} s: {e[k]:.1e} in {t[k] * 1e6:.0f} us"))
-        law = good[good.max_law_rel_err.notna()]
-        if len(law):
-            ax.scatter(law.wall_per_collision_s * 1e6, np.maximum(law.max_law_rel_err, FLOOR),
-                       s=22, marker="D", facecolor="none", edgecolor=colors[name], lw=0.9,
-                       label=f"{name}: soft, against its own law")
-        ref = aligned[aligned.engine == name]
-        ax.scatter(ref.wall_per_collision_s * 1e6, np.maximum(ref.max_rel_err, FLOOR), s=120,
-                   marker="*", color=colors[name], edgecolor="black", zorder=5,
-                   label=f"{name}: reference profile (aligned contact)")
-        dt = adapters.record(name).profiles["default"].dt_s
-        for _, d in df[(df.family == DEFAULT_FAMILY) & np.isclose(df.dt_s, dt)].iterrows():
-            verdict = (f"max error {d.max_rel_err:.1e}" if d.all_ok else
-                       ", ".join(f"{s.value} {d[f'n_{s.value}']}" for s in Status
-                                 if d[f"n_{s.value}"]))
-            notes.append((colors[name], f"{name} out of the box (dt = {dt:.3g} s): {verdict}"))
+        notes += _engine_marks(ax, table[table.engine == name], aligned, name, colors[name])
     # the notes under the axes, the legend to the right: nothing over the data
     bottom = 0.02 + 0.0145 * len(notes)
     for i, (color, text) in enumerate(notes):
@@ -240,8 +325,11 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
     ax.set_yscale("log")
     ax.set_xlabel(_x_label(table))
     ax.set_ylabel("max relative error of v1 over the grid")
-    ax.set_title("Speed vs accuracy, R161 swing (v0 46.9, u0 17.87 m/s, omega0 32 rad/s), "
-                 "contact mid-step; lines: Pareto fronts", fontsize=9)
+    ax.set_title(
+        "Speed vs accuracy, R161 swing (v0 46.9, u0 17.87 m/s, omega0 32 rad/s), "
+        "contact mid-step; lines: Pareto fronts",
+        fontsize=9,
+    )
     ax.grid(alpha=0.3, which="both")
     ax.set_ylim(top=10)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), ncol=1)
@@ -251,9 +339,11 @@ def chart(table: pd.DataFrame, aligned: pd.DataFrame):
 
 def _x_label(table: pd.DataFrame) -> str:
     batched = [n for n in table.engine.unique() if adapters.record(n).batched]
-    return (f"median wall time per collision (us; a batched engine's "
-            f"({', '.join(batched) or 'none'}): its grid of {int(table.impacts.max())} worlds "
-            "in one batch, per world)")
+    return (
+        f"median wall time per collision (us; a batched engine's "
+        f"({', '.join(batched) or 'none'}): its grid of {int(table.impacts.max())} worlds "
+        "in one batch, per world)"
+    )
 
 
 FAILED_Y = 3.0
@@ -267,16 +357,26 @@ def _failed_y(errors: pd.Series) -> np.ndarray:
 
 
 def _options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--repeats", type=cli.integer(1, 100), default=None,
-                   help="timing repeats per setting (default 3, 1 with --quick)")
+    p.add_argument(
+        "--repeats",
+        type=cli.integer(1, 100),
+        default=None,
+        help="timing repeats per setting (default 3, 1 with --quick)",
+    )
+
 
 def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     """Every setting of every chosen engine over the grid: the files and a summary."""
     repeats = args.repeats or (1 if args.quick else 3)
     s = np.linspace(-0.2, 0.25, 4 if args.quick else GRID_POINTS)
-    firing = firings.Firing(bat=presets.R161, s_m=tuple(s), v0_mps=presets.PAPER_PITCH_MPS,
-                          u0_mps=presets.PAPER_SWING.u0_mps,
-                          omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+    firing = firings.Firing(
+        bat=presets.R161,
+        s_m=tuple(s),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=presets.E_WOOD,
+    )
     t0 = time.perf_counter()
     todo = configs(args.quick, args.engine)
     aligned_settings = [(n, _windowed(adapters.settings_for(n))) for n in args.engine]
@@ -284,39 +384,72 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     total = repeats * len(settings) * len(s)
     with runs.Progress(total, "impacts") as bar, cli.runner(args, bar) as runner:
         results = evaluate(runner, settings, firing, repeats)
-    table = pd.DataFrame([{"engine": c.engine, "family": c.family, "profile": c.profile,
-                           "label": c.label, "dt_s": st.dt_s, **r}
-                          for c, (_, st), r in zip(todo, settings, results)])
-    aligned = pd.DataFrame([{"engine": n, "profile": "reference", "label": "reference profile",
-                             **r} for (n, _), r in zip(aligned_settings, results[len(todo):])])
+    table = pd.DataFrame(
+        [
+            {
+                "engine": c.engine,
+                "family": c.family,
+                "profile": c.profile,
+                "label": c.label,
+                "dt_s": st.dt_s,
+                **r,
+            }
+            for c, (_, st), r in zip(todo, settings, results)
+        ]
+    )
+    aligned = pd.DataFrame(
+        [
+            {"engine": n, "profile": "reference", "label": "reference profile", **r}
+            for (n, _), r in zip(aligned_settings, results[len(todo) :])
+        ]
+    )
     conv = convergence(table)
     best = cheapest(table)
     elapsed = time.perf_counter() - t0
     import matplotlib.pyplot as plt
 
     fig = chart(table, aligned)
-    both = pd.concat([table, aligned.assign(family="reference profile (aligned)",
-                                            dt_s=[st.dt_s for _, st in aligned_settings])],
-                     ignore_index=True)
+    both = pd.concat(
+        [
+            table,
+            aligned.assign(
+                family="reference profile (aligned)", dt_s=[st.dt_s for _, st in aligned_settings]
+            ),
+        ],
+        ignore_index=True,
+    )
     files = {
         "pareto.csv": both.to_csv(index=False, float_format="%.6g", lineterminator="\n").encode(),
         "pareto.png": figure_png(fig),
-        "convergence.csv": conv.to_csv(index=False, float_format="%.4g",
-                                       lineterminator="\n").encode(),
-        "pareto_cheapest.csv": best.to_csv(index=False, float_format="%.4g",
-                                           lineterminator="\n").encode(),
-        "pareto.json": json_bytes({"quick": args.quick, "repeats": repeats,
-                                   "grid_s_m": list(s), "contact_phase": PHASE,
-                                   "elapsed_s": elapsed, "provenance": provenance()}),
+        "convergence.csv": conv.to_csv(
+            index=False, float_format="%.4g", lineterminator="\n"
+        ).encode(),
+        "pareto_cheapest.csv": best.to_csv(
+            index=False, float_format="%.4g", lineterminator="\n"
+        ).encode(),
+        "pareto.json": json_bytes(
+            {
+                "quick": args.quick,
+                "repeats": repeats,
+                "grid_s_m": list(s),
+                "contact_phase": PHASE,
+                "elapsed_s": elapsed,
+                "provenance": provenance(),
+            }
+        ),
     }
     plt.close(fig)
-    return files, (conv.to_string(index=False, float_format=lambda v: f"{v:.3g}")
-                   + "\n\n" + best.to_string(index=False, float_format=lambda v: f"{v:.3g}")
-                   + f"\n{len(table)} settings in {elapsed:.1f} s")
+    return files, (
+        conv.to_string(index=False, float_format=lambda v: f"{v:.3g}")
+        + "\n\n"
+        + best.to_string(index=False, float_format=lambda v: f"{v:.3g}")
+        + f"\n{len(table)} settings in {elapsed:.1f} s"
+    )
 
 
-COMMAND = Command(name="pareto", doc=__doc__, produce=produce, options=_options,
-                  quick="a small grid (smoke test)")
+COMMAND = Command(
+    name="pareto", doc=__doc__, produce=produce, options=_options, quick="a small grid (smoke test)"
+)
 main = COMMAND.main
 
 

@@ -63,34 +63,59 @@ class Sweep:
         return [j for n in self.engines for j in self.firing.jobs(n, self.settings[n])]
 
 
-def default_name(engine: str, profile: str, dt_s: float | None, bat: Bat, corked: bool,
-                 still: bool, hinged: bool = False, e: float = DEFAULT_E) -> str:
+def default_name(
+    engine: str,
+    profile: str,
+    dt_s: float | None,
+    bat: Bat,
+    corked: bool,
+    still: bool,
+    hinged: bool = False,
+    e: float = DEFAULT_E,
+) -> str:
     """sweep_<engine|all>_<profile>[-dt<dt>]_<bat>[_corked]_<swing|still|hinged>[_e<e>]."""
     prof = profile if dt_s is None else f"{profile}-dt{dt_s:.0e}"
     motion = "hinged" if hinged else "still" if still else "swing"
-    return "_".join(["sweep", engine, prof, bat.name.split()[0] + ("_corked" if corked else ""),
-                     motion] + ([] if e == DEFAULT_E else [f"e{e:g}"]))
+    return "_".join(
+        ["sweep", engine, prof, bat.name.split()[0] + ("_corked" if corked else ""), motion]
+        + ([] if e == DEFAULT_E else [f"e{e:g}"])
+    )
 
 
-HOLE = {"hole_radius": ("hole_radius_m", 0.0127), "hole_depth": ("hole_depth_m", 0.254),
-        "fill_density": ("fill_density_kgm3", 200.0),
-        "wood_density": ("wood_density_kgm3", WOOD_DENSITY_KGM3)}
+HOLE = {
+    "hole_radius": ("hole_radius_m", 0.0127),
+    "hole_depth": ("hole_depth_m", 0.254),
+    "fill_density": ("fill_density_kgm3", 200.0),
+    "wood_density": ("wood_density_kgm3", WOOD_DENSITY_KGM3),
+}
 
 
 def sweep_from_args(args: argparse.Namespace) -> Sweep:
     """Validate every option together (ValueError names the problem) and build the sweep."""
     bat = _bat(args)
     if args.law is not None and args.reference != "compliant":
-        raise ValueError(f"--law {args.law} without --reference compliant does nothing; "
-                         "allowed: add --reference compliant, or leave --law out")
+        raise ValueError(
+            f"--law {args.law} without --reference compliant does nothing; "
+            "allowed: add --reference compliant, or leave --law out"
+        )
     law = (args.law or "ball") if args.reference == "compliant" else None
     s = firings.grid(bat, args.points, *(args.s_range or (None, None)))
     swing, u0 = _swing(args, bat)
     # the pitch's backspin lifts it: about -x for a ball coming along -y (impact frame)
-    firing = firings.Firing(bat=bat, s_m=s, v0_mps=args.v0, u0_mps=u0, omega0_radps=args.omega0,
-                           e=args.e, theta_rad=args.theta, hands_from_knob_m=args.hands,
-                           swing=swing, mu=args.friction, undercut_m=args.undercut,
-                           spin_radps=(-args.spin, 0.0, 0.0))
+    firing = firings.Firing(
+        bat=bat,
+        s_m=s,
+        v0_mps=args.v0,
+        u0_mps=u0,
+        omega0_radps=args.omega0,
+        e=args.e,
+        theta_rad=args.theta,
+        hands_from_knob_m=args.hands,
+        swing=swing,
+        mu=args.friction,
+        undercut_m=args.undercut,
+        spin_radps=(-args.spin, 0.0, 0.0),
+    )
     cases = firing.cases()  # every impact validated before anything runs
     dt = {} if args.dt is None else {"dt_s": args.dt}
     settings = {n: adapters.settings_for(n, args.profile, **dt) for n in args.engine}
@@ -101,21 +126,44 @@ def sweep_from_args(args: argparse.Namespace) -> Sweep:
     locating.analytic_marks(firing, budget_s(settings))  # the marks too (cached for the run)
     need = max(min_dt_s(c, st) for c in cases for st in settings.values())
     if not all(st.dt_s > need for st in settings.values()):
-        step = (f"--dt {args.dt:g} s" if args.dt is not None else
-                f"the {args.profile} profile's step ({min(st.dt_s for st in settings.values()):g}"
-                " s)")
+        step = (
+            f"--dt {args.dt:g} s"
+            if args.dt is not None
+            else f"the {args.profile} profile's step ({min(st.dt_s for st in settings.values()):g}"
+            " s)"
+        )
         slowest = min(c.closing_speed_mps for c in cases)
-        raise ValueError(f"{step} is too small to place these impacts: at a closing speed of "
-                         f"{slowest:.3g} m/s the contact, first seen overlap_m deep after "
-                         "approach_steps steps, would start inside the bat; allowed: --dt > "
-                         f"{need:.3g} s, or a faster impact (--v0, --u0, --omega0)")
-    name = default_name(runs.engine_label(args.engine), args.profile, args.dt,
-                        presets.BATS[args.bat], args.corked, args.u0 == 0 and args.omega0 == 0,
-                        args.swing, args.e) + (f"_{law}" if law else "")
-    name += "".join(f"_{k}{v:g}" for k, v in (("mu", args.friction), ("undercut", args.undercut),
-                                             ("spin", args.spin)) if v)
-    return Sweep(engines=args.engine, profile=args.profile, dt_s=args.dt, firing=firing,
-                 name=name, law=law, settings=settings, flight=args.flight)
+        raise ValueError(
+            f"{step} is too small to place these impacts: at a closing speed of "
+            f"{slowest:.3g} m/s the contact, first seen overlap_m deep after "
+            "approach_steps steps, would start inside the bat; allowed: --dt > "
+            f"{need:.3g} s, or a faster impact (--v0, --u0, --omega0)"
+        )
+    name = default_name(
+        runs.engine_label(args.engine),
+        args.profile,
+        args.dt,
+        presets.BATS[args.bat],
+        args.corked,
+        args.u0 == 0 and args.omega0 == 0,
+        args.swing,
+        args.e,
+    ) + (f"_{law}" if law else "")
+    name += "".join(
+        f"_{k}{v:g}"
+        for k, v in (("mu", args.friction), ("undercut", args.undercut), ("spin", args.spin))
+        if v
+    )
+    return Sweep(
+        engines=args.engine,
+        profile=args.profile,
+        dt_s=args.dt,
+        firing=firing,
+        name=name,
+        law=law,
+        settings=settings,
+        flight=args.flight,
+    )
 
 
 def _bat(args: argparse.Namespace) -> Bat:
@@ -124,16 +172,24 @@ def _bat(args: argparse.Namespace) -> Bat:
     given = [k for k in HOLE if getattr(args, k) is not None]
     if given and not args.corked:
         flag = "--" + given[0].replace("_", "-")
-        raise ValueError(f"{flag} {getattr(args, given[0])!r} without --corked does nothing; "
-                         "allowed: add --corked, or leave the hole options out")
+        raise ValueError(
+            f"{flag} {getattr(args, given[0])!r} without --corked does nothing; "
+            "allowed: add --corked, or leave the hole options out"
+        )
     if args.corked and bat in presets.HOLLOW:
-        raise ValueError(f"--corked with --bat {args.bat}: a hollow metal shell has no wood in "
-                         "its barrel to drill and fill; allowed: --corked with a wood bat ("
-                         + ", ".join(n for n, b in presets.BATS.items()
-                                     if b not in presets.HOLLOW) + ")")
+        raise ValueError(
+            f"--corked with --bat {args.bat}: a hollow metal shell has no wood in "
+            "its barrel to drill and fill; allowed: --corked with a wood bat ("
+            + ", ".join(n for n, b in presets.BATS.items() if b not in presets.HOLLOW)
+            + ")"
+        )
     if args.corked:
-        bat = bat.corked(**{field: default if getattr(args, k) is None else getattr(args, k)
-                            for k, (field, default) in HOLE.items()})
+        bat = bat.corked(
+            **{
+                field: default if getattr(args, k) is None else getattr(args, k)
+                for k, (field, default) in HOLE.items()
+            }
+        )
     return bat
 
 
@@ -141,40 +197,57 @@ def _swing(args: argparse.Namespace, bat: Bat) -> tuple[HingedSwing | None, floa
     """The hinged swing (None without --swing) and the bat's nominal u0 (m/s)."""
     hands_max = bat.com_from_knob_m if args.swing else bat.length_m
     if not args.hands < hands_max:
-        raise ValueError(f"--hands {args.hands!r} m is not allowed for '{bat.name}'; allowed: 0 "
-                         f"<= --hands < {hands_max:g} m from the knob ("
-                         + ("the hands must be on the knob side of the COM to swing it)"
-                            if args.swing else "on the bat)"))
+        raise ValueError(
+            f"--hands {args.hands!r} m is not allowed for '{bat.name}'; allowed: 0 "
+            f"<= --hands < {hands_max:g} m from the knob ("
+            + (
+                "the hands must be on the knob side of the COM to swing it)"
+                if args.swing
+                else "on the bat)"
+            )
+        )
     if args.hands == bat.com_from_knob_m:  # the hand point's change is -P/M wherever it hits
-        raise ValueError(f"--hands {args.hands!r} m is the COM of '{bat.name}', which has no "
-                         f"centre of percussion; allowed: 0 <= --hands < {hands_max:g} m from "
-                         f"the knob, != {bat.com_from_knob_m:g} m")
+        raise ValueError(
+            f"--hands {args.hands!r} m is the COM of '{bat.name}', which has no "
+            f"centre of percussion; allowed: 0 <= --hands < {hands_max:g} m from "
+            f"the knob, != {bat.com_from_knob_m:g} m"
+        )
     if not args.swing:
         return None, args.u0
     if args.u0 != presets.PAPER_SWING.u0_mps:
-        raise ValueError(f"--u0 {args.u0!r} with --swing does nothing (the swing sets u0 = "
-                         "omega0 x the hands-to-COM distance); allowed: leave --u0 out")
+        raise ValueError(
+            f"--u0 {args.u0!r} with --swing does nothing (the swing sets u0 = "
+            "omega0 x the hands-to-COM distance); allowed: leave --u0 out"
+        )
     if args.theta != 0.0:
-        raise ValueError(f"--swing with --theta {args.theta!r}: not supported; allowed: "
-                         "--theta 0 with --swing")
-    swing = HingedSwing.for_omega(bat, args.omega0, hands_from_knob_m=args.hands,
-                                  angle_rad=args.swing_angle)
+        raise ValueError(
+            f"--swing with --theta {args.theta!r}: not supported; allowed: --theta 0 with --swing"
+        )
+    swing = HingedSwing.for_omega(
+        bat, args.omega0, hands_from_knob_m=args.hands, angle_rad=args.swing_angle
+    )
     return swing, args.omega0 * swing.arm_m(bat)
 
 
-def _check_swing_steps(swing: HingedSwing, bat: Bat, settings: Mapping[str, adapters.Settings],
-                       args: argparse.Namespace) -> None:
+def _check_swing_steps(
+    swing: HingedSwing,
+    bat: Bat,
+    settings: Mapping[str, adapters.Settings],
+    args: argparse.Namespace,
+) -> None:
     """Refuse a swing shorter than a time step: t = 2 theta / omega0 under dt is stepped as
     one whole step (``placement.swing_case``), which releases the bat at tau dt / I_p, not at
     --omega0 (at 1e-6 rad and 32 rad/s, 160 times faster: an impact no case allows)."""
     dt = max(st.dt_s for st in settings.values())
     lasts = swing.duration_s(bat)
     if lasts < dt:
-        raise ValueError(f"--swing-angle {args.swing_angle:g} rad: the swing to --omega0 "
-                         f"{args.omega0:g} rad/s lasts {lasts:.3g} s, under one time step "
-                         f"({dt:g} s), so it cannot be stepped; allowed: --swing-angle >= "
-                         f"{args.omega0 * dt / 2:.3g} rad (2 theta / omega0 >= dt), or a "
-                         "smaller --dt")
+        raise ValueError(
+            f"--swing-angle {args.swing_angle:g} rad: the swing to --omega0 "
+            f"{args.omega0:g} rad/s lasts {lasts:.3g} s, under one time step "
+            f"({dt:g} s), so it cannot be stepped; allowed: --swing-angle >= "
+            f"{args.omega0 * dt / 2:.3g} rad (2 theta / omega0 >= dt), or a "
+            "smaller --dt"
+        )
 
 
 def _check_flight(cases) -> None:
@@ -183,9 +256,11 @@ def _check_flight(cases) -> None:
     fastest = max(cases, key=lambda c: abs(predict(c).v1_mps))
     v1 = abs(predict(fastest).v1_mps)
     if v1 > flight.MAX_SPEED_MPS:
-        raise ValueError(f"--flight: the ball would leave at {v1:.4g} m/s (s = {fastest.s_m:.3g} "
-                         f"m), over the {flight.MAX_SPEED_MPS:g} m/s the flight model's drag and "
-                         "lift hold to; allowed: slower --v0, --u0, --omega0, or no --flight")
+        raise ValueError(
+            f"--flight: the ball would leave at {v1:.4g} m/s (s = {fastest.s_m:.3g} "
+            f"m), over the {flight.MAX_SPEED_MPS:g} m/s the flight model's drag and "
+            "lift hold to; allowed: slower --v0, --u0, --omega0, or no --flight"
+        )
 
 
 def budget_s(settings: Mapping[str, adapters.Settings]) -> float:
@@ -201,10 +276,21 @@ def check_cost(sweep: Sweep, budget_h: float, locate: bool = True) -> float:
     per_engine = estimate.run_s(sweep.jobs())
     if locate:  # a search near each analytic mark on the bat, per engine
         marks = locating.analytic_marks(sweep.firing, budget_s(sweep.settings))
-        at = [s for s in (marks["sweet_spot_m"], marks["cop_m"]) if math.isfinite(s)
-              and sweep.firing.bat.s_min_m <= s <= sweep.firing.bat.s_max_m]
-        near = [Job(engine=n, settings=sweep.settings[n], case=sweep.firing.case(s),
-                    swing=sweep.firing.swing) for n in sweep.engines for s in at]
+        at = [
+            s
+            for s in (marks["sweet_spot_m"], marks["cop_m"])
+            if math.isfinite(s) and sweep.firing.bat.s_min_m <= s <= sweep.firing.bat.s_max_m
+        ]
+        near = [
+            Job(
+                engine=n,
+                settings=sweep.settings[n],
+                case=sweep.firing.case(s),
+                swing=sweep.firing.swing,
+            )
+            for n in sweep.engines
+            for s in at
+        ]
         for name, search_s in estimate.search_s(near).items():
             per_engine[name] += search_s
     total = sum(per_engine.values())
@@ -214,12 +300,14 @@ def check_cost(sweep: Sweep, budget_h: float, locate: bool = True) -> float:
         raise ValueError(
             f"this sweep would take about {duration(total)} ({worst}: {duration(each)} an "
             f"impact), over --budget-h {budget_h:g}; allowed: a run within the budget (a "
-            "coarser --dt, fewer --points or engines), or a larger --budget-h")
+            "coarser --dt, fewer --points or engines), or a larger --budget-h"
+        )
     return total
 
 
-def run(sweep: Sweep, runner: Runner | None = None, *, locate: bool = True,
-        chart: bool = False) -> tuple[pd.DataFrame, dict]:
+def run(
+    sweep: Sweep, runner: Runner | None = None, *, locate: bool = True, chart: bool = False
+) -> tuple[pd.DataFrame, dict]:
     """Fire every engine over the grid; return the table and a per-engine summary. With
     ``chart`` the summary's "png" holds the chart, drawn while the workers locate the marks."""
     runner = runner or Runner()
@@ -240,8 +328,9 @@ def run(sweep: Sweep, runner: Runner | None = None, *, locate: bool = True,
     for (name, key), value in located().items():
         summary[name][key] = value
     for n in sweep.engines:
-        summary[n].update(settings=settings[n].as_dict(),
-                          engine_version=adapters.record(n).version())
+        summary[n].update(
+            settings=settings[n].as_dict(), engine_version=adapters.record(n).version()
+        )
     return table, meta
 
 
@@ -258,8 +347,9 @@ def with_compliant(table: pd.DataFrame, firing: firings.Firing, law: str) -> pd.
     out = table.copy()
     per_row = [got[s] for s in out.s_m]
     out["compliant_e"] = [e_law[s] for s in out.s_m]
-    out["v1_impulse_law_e_mps"] = [predict(replace(firing.case(s), e=e_law[s])).v1_mps
-                                   for s in out.s_m]
+    out["v1_impulse_law_e_mps"] = [
+        predict(replace(firing.case(s), e=e_law[s])).v1_mps for s in out.s_m
+    ]
     out["v1_compliant_mps"] = [g.v1_mps for g in per_row]
     out["v1_rigid_minus_compliant_mps"] = out.v1_analytic_mps - out.v1_compliant_mps
     out["compliant_contact_s"] = [g.contact_duration_s for g in per_row]
@@ -316,8 +406,9 @@ def files(table: pd.DataFrame, meta: dict, sweep: Sweep, stem: str = "sweep") ->
     png = meta.get("png") or sweep_chart.render(table, sweep, meta["analytic"])
     sidecar = {k: v for k, v in meta.items() if k != "png"}
     return {
-        f"{stem}.csv": table.to_csv(index=False, float_format=FLOAT_FORMAT,
-                                    lineterminator="\n").encode("utf-8"),
+        f"{stem}.csv": table.to_csv(
+            index=False, float_format=FLOAT_FORMAT, lineterminator="\n"
+        ).encode("utf-8"),
         f"{stem}.json": json_bytes({**sidecar, "provenance": provenance()}),
         f"{stem}.png": png,
     }
@@ -330,11 +421,16 @@ def main(argv: list[str] | None = None) -> int:
     if args.compare:
         from .compare import check_table, compare_tables
 
-        others = [t for t in (sys.argv[1:] if argv is None else argv)
-                  if t.startswith("--") and t.split("=", 1)[0] != "--compare"]
+        others = [
+            t
+            for t in (sys.argv[1:] if argv is None else argv)
+            if t.startswith("--") and t.split("=", 1)[0] != "--compare"
+        ]
         if others:
-            parser.error(f"--compare with {others[0]}: a comparison runs nothing; allowed: "
-                         "--compare OLD NEW alone")
+            parser.error(
+                f"--compare with {others[0]}: a comparison runs nothing; allowed: "
+                "--compare OLD NEW alone"
+            )
 
         for path in args.compare:
             try:
@@ -355,8 +451,10 @@ def main(argv: list[str] | None = None) -> int:
 
 def _run_and_publish(sweep: Sweep, args, parser, target: Path) -> int:
     t0 = time.perf_counter()
-    with runs.Progress(len(sweep.firing.s_m) * len(sweep.engines), "impacts") as bar, \
-            cli.runner(args, bar) as runner:
+    with (
+        runs.Progress(len(sweep.firing.s_m) * len(sweep.engines), "impacts") as bar,
+        cli.runner(args, bar) as runner,
+    ):
         table, meta = run(sweep, runner, locate=not args.no_locate, chart=True)
     meta["configuration"] = runs.configuration(parser, args)
     runs.publish(target, files(table, meta, sweep))
@@ -364,8 +462,10 @@ def _run_and_publish(sweep: Sweep, args, parser, target: Path) -> int:
     if sweep.law:
         sweep_chart.print_compliant(table, sweep.law)
     print(f"{len(table)} impacts in {time.perf_counter() - t0:.2f} s -> {runs.shown(target)}/")
-    print("compare two runs: python -m experiments.compare "
-          f"{runs.shown(target)}/sweep.csv OTHER_RUN/sweep.csv")
+    print(
+        "compare two runs: python -m experiments.compare "
+        f"{runs.shown(target)}/sweep.csv OTHER_RUN/sweep.csv"
+    )
     return 0
 
 

@@ -48,10 +48,12 @@ SCENES = {
     "a: force through COM": Drive(force_n=100.0, force_angle_rad=math.pi / 2),
     "b: pure torque": Drive(torque_nm=50.0),
     "c: knob force, q = 0": Drive(force_n=100.0, force_at_from_knob_m=0.0),
-    "c: knob force, q = 45 deg": Drive(force_n=100.0, force_at_from_knob_m=0.0,
-                                       force_angle_rad=math.pi / 4),
-    "c: knob force, q = 90 deg": Drive(force_n=100.0, force_at_from_knob_m=0.0,
-                                       force_angle_rad=math.pi / 2),
+    "c: knob force, q = 45 deg": Drive(
+        force_n=100.0, force_at_from_knob_m=0.0, force_angle_rad=math.pi / 4
+    ),
+    "c: knob force, q = 90 deg": Drive(
+        force_n=100.0, force_at_from_knob_m=0.0, force_angle_rad=math.pi / 2
+    ),
     "d: torque, hinged at the hands": Drive(torque_nm=72.8, pivot_from_knob_m=0.1),
 }
 #: The most one engine x integrator x time step may cost, priced at the record's step cost (s,
@@ -64,8 +66,15 @@ EPS = float(np.finfo(float).eps)
 def noise_floor(df: pd.DataFrame, quantity: str) -> pd.Series:
     """Rounding can grow by ~EPS |value| a step: 8 EPS n max(|value|, 1) bounds it. Errors
     below it are not integration error and stay out of the fits."""
-    ref = {"angle_err_rad": df.angle_ref_rad, "omega_err_radps": df.omega_ref_radps,
-           "com_speed_err_mps": df.com_speed_ref_mps}[quantity].abs().clip(lower=1.0)
+    ref = (
+        {
+            "angle_err_rad": df.angle_ref_rad,
+            "omega_err_radps": df.omega_ref_radps,
+            "com_speed_err_mps": df.com_speed_ref_mps,
+        }[quantity]
+        .abs()
+        .clip(lower=1.0)
+    )
     return 8 * EPS * df.steps * ref
 
 
@@ -78,8 +87,11 @@ def method_rows(engine: str, integrator: adapters.Integrator, dt: float) -> list
     """Every scene in one engine with one integrator and time step, against closed form."""
     bat = presets.R161
     settings = adapters.settings_for(engine, dt_s=dt, **dict(integrator.overrides))
-    label = engine if len(adapters.record(engine).can.integrators) == 1 \
+    label = (
+        engine
+        if len(adapters.record(engine).can.integrators) == 1
         else f"{engine} {integrator.label}"
+    )
     rows = []
     for name, drive in SCENES.items():
         t0 = time.perf_counter()
@@ -87,12 +99,22 @@ def method_rows(engine: str, integrator: adapters.Integrator, dt: float) -> list
         wall = time.perf_counter() - t0
         ref = motion(bat, drive, got.t_s)  # round(T/dt) steps: compare at n dt
         err = state_array(got) - state_array(ref)
-        rows.append({"scene": name, "engine": engine, "method": label, "dt_s": dt,
-                     "angle_err_rad": abs(wrap(err[2])), "omega_err_radps": abs(err[5]),
-                     "com_speed_err_mps": float(np.hypot(err[3], err[4])),
-                     "angle_ref_rad": ref.angle_rad, "omega_ref_radps": ref.omega_radps,
-                     "com_speed_ref_mps": math.hypot(ref.vx_mps, ref.vy_mps),
-                     "steps": round(T_END_S / dt), "wall_s": wall})
+        rows.append(
+            {
+                "scene": name,
+                "engine": engine,
+                "method": label,
+                "dt_s": dt,
+                "angle_err_rad": abs(wrap(err[2])),
+                "omega_err_radps": abs(err[5]),
+                "com_speed_err_mps": float(np.hypot(err[3], err[4])),
+                "angle_ref_rad": ref.angle_rad,
+                "omega_ref_radps": ref.omega_radps,
+                "com_speed_ref_mps": math.hypot(ref.vx_mps, ref.vy_mps),
+                "steps": round(T_END_S / dt),
+                "wall_s": wall,
+            }
+        )
     return rows
 
 
@@ -104,9 +126,13 @@ def affordable(engine: str, dt: float) -> bool:
 
 def scene_errors(runner: Runner, engines: tuple[str, ...], steps) -> pd.DataFrame:
     """Every engine x integrator (from its record) x affordable time step, side by side."""
-    calls = [(method_rows, (engine, integrator, dt)) for engine in engines
-             for integrator in adapters.record(engine).can.integrators for dt in steps
-             if affordable(engine, dt)]
+    calls = [
+        (method_rows, (engine, integrator, dt))
+        for engine in engines
+        for integrator in adapters.record(engine).can.integrators
+        for dt in steps
+        if affordable(engine, dt)
+    ]
     engines_of_calls = [args[0] for _, args in calls]
     return pd.DataFrame([r for rows in runner.call_all(calls, engines_of_calls) for r in rows])
 
@@ -119,15 +145,24 @@ def orders(table: pd.DataFrame) -> pd.DataFrame:
         for q in ("angle_err_rad", "omega_err_radps", "com_speed_err_mps"):
             d = df[df[q] > noise_floor(df, q)]
             p = np.polyfit(np.log10(d.dt_s), np.log10(d[q]), 1)[0] if len(d) >= 3 else math.nan
-            rows.append({"scene": scene, "method": method, "quantity": q, "p": p,
-                         "points": len(d),
-                         "err_at_smallest_dt": float(df.sort_values("dt_s")[q].iloc[0])})
+            rows.append(
+                {
+                    "scene": scene,
+                    "method": method,
+                    "quantity": q,
+                    "p": p,
+                    "points": len(d),
+                    "err_at_smallest_dt": float(df.sort_values("dt_s")[q].iloc[0]),
+                }
+            )
     return pd.DataFrame(rows)
 
 
-QUANTITIES = (("angle_err_rad", "angle error (rad)"),
-              ("omega_err_radps", "angular velocity error (rad/s)"),
-              ("com_speed_err_mps", "COM velocity error (m/s)"))
+QUANTITIES = (
+    ("angle_err_rad", "angle error (rad)"),
+    ("omega_err_radps", "angular velocity error (rad/s)"),
+    ("com_speed_err_mps", "COM velocity error (m/s)"),
+)
 
 
 def chart_scenes(table: pd.DataFrame):
@@ -143,24 +178,45 @@ def chart_scenes(table: pd.DataFrame):
     methods = list(dict.fromkeys(table.method))
     colors = dict(zip(methods, itertools.cycle(plt.cm.tab20.colors)))
     markers = dict(zip(methods, itertools.cycle("osv^Dpx*<>hP")))
-    fig, axes = plt.subplots(len(QUANTITIES), len(scenes), figsize=(3.3 * len(scenes), 11),
-                             sharex=True, layout="constrained")
+    fig, axes = plt.subplots(
+        len(QUANTITIES),
+        len(scenes),
+        figsize=(3.3 * len(scenes), 11),
+        sharex=True,
+        layout="constrained",
+    )
     for col, scene in enumerate(scenes):
         df = table[table.scene == scene]
         for row, (q, label) in enumerate(QUANTITIES):
             ax = axes[row, col]
             above = df[df[q] > noise_floor(df, q)]
             if above.empty:
-                ax.text(0.5, 0.5, f"every method exact\nto rounding\n(max {df[q].max():.0e})",
-                        transform=ax.transAxes, ha="center", va="center", fontsize=8)
+                ax.text(
+                    0.5,
+                    0.5,
+                    f"every method exact\nto rounding\n(max {df[q].max():.0e})",
+                    transform=ax.transAxes,
+                    ha="center",
+                    va="center",
+                    fontsize=8,
+                )
                 ax.set_xscale("log")
                 ax.set_yticks([])
             # every method drawn, each smaller than the one before: equal curves stack visibly
             for method, d in df.groupby("method", sort=False) if not above.empty else []:
                 k = methods.index(method) / max(len(methods) - 1, 1)
-                ax.loglog(d.dt_s, np.maximum(d[q], FLOOR), "-", marker=markers[method],
-                          ms=9 - 6 * k, mfc="none", lw=2.6 - 2.0 * k, alpha=0.85,
-                          color=colors[method], label=method)
+                ax.loglog(
+                    d.dt_s,
+                    np.maximum(d[q], FLOOR),
+                    "-",
+                    marker=markers[method],
+                    ms=9 - 6 * k,
+                    mfc="none",
+                    lw=2.6 - 2.0 * k,
+                    alpha=0.85,
+                    color=colors[method],
+                    label=method,
+                )
             ax.grid(alpha=0.3, which="both")
             if row == 0:
                 ax.set_title(scene, fontsize=9)
@@ -168,12 +224,16 @@ def chart_scenes(table: pd.DataFrame):
                 ax.set_ylabel(label)
             if row == len(QUANTITIES) - 1:
                 ax.set_xlabel("time step (s)")
-    handles = [plt.Line2D([], [], color=colors[m], marker=markers[m], mfc="none", label=m)
-               for m in methods]
+    handles = [
+        plt.Line2D([], [], color=colors[m], marker=markers[m], mfc="none", label=m) for m in methods
+    ]
     fig.legend(handles=handles, loc="outside lower center", ncol=7, fontsize=7)
-    fig.suptitle(f"Forces and torques on the R161 in each engine and integrator vs closed form "
-                 f"/ solve_ivp: |error| at t = {T_END_S:g} s (errors below the rounding floor "
-                 f"drawn at {FLOOR:g})", fontsize=10)
+    fig.suptitle(
+        f"Forces and torques on the R161 in each engine and integrator vs closed form "
+        f"/ solve_ivp: |error| at t = {T_END_S:g} s (errors below the rounding floor "
+        f"drawn at {FLOOR:g})",
+        fontsize=10,
+    )
     return fig
 
 
@@ -192,13 +252,30 @@ def swing_models() -> pd.DataFrame:
             sw = swing_for(bat, model=model, reference_bat=ref, reference=presets.PAPER_SWING)
             s_star = sweet_spot(bat, presets.BASEBALL, pitch, sw.u0_mps, sw.omega0_radps)
             s_hit = hittable_sweet_spot(bat, presets.BASEBALL, pitch, sw.u0_mps, sw.omega0_radps)
-            v1 = float(batted_ball_speed(bat, presets.BASEBALL, s_hit, v0_mps=pitch,
-                                         u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps,
-                                         e=presets.E_WOOD))
-            rows.append({"bat": label, "model": model.value, "mass_kg": bat.mass_kg,
-                         "inertia_knob_kgm2": bat.inertia_knob_kgm2, "u0_mps": sw.u0_mps,
-                         "omega0_radps": sw.omega0_radps, "sweet_spot_m": s_star,
-                         "bat_speed_at_sweet_spot_mps": sw.speed_at(s_hit), "v1_max_mps": v1})
+            v1 = float(
+                batted_ball_speed(
+                    bat,
+                    presets.BASEBALL,
+                    s_hit,
+                    v0_mps=pitch,
+                    u0_mps=sw.u0_mps,
+                    omega0_radps=sw.omega0_radps,
+                    e=presets.E_WOOD,
+                )
+            )
+            rows.append(
+                {
+                    "bat": label,
+                    "model": model.value,
+                    "mass_kg": bat.mass_kg,
+                    "inertia_knob_kgm2": bat.inertia_knob_kgm2,
+                    "u0_mps": sw.u0_mps,
+                    "omega0_radps": sw.omega0_radps,
+                    "sweet_spot_m": s_star,
+                    "bat_speed_at_sweet_spot_mps": sw.speed_at(s_hit),
+                    "v1_max_mps": v1,
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -217,19 +294,28 @@ def chart_models(table: pd.DataFrame):
         x = np.arange(len(bats)) + (i - (len(models) - 1) / 2) * width
         left.bar(x, d.bat_speed_at_sweet_spot_mps, width, label=model)
         right.bar(x, d.v1_max_mps, width, label=model)
-    for ax, label in ((left, "bat speed at the sweet spot (m/s)"),
-                      (right, "batted-ball speed at the sweet spot (m/s)")):
+    for ax, label in (
+        (left, "bat speed at the sweet spot (m/s)"),
+        (right, "batted-ball speed at the sweet spot (m/s)"),
+    ):
         ax.set_xticks(np.arange(len(bats)), bats, rotation=30, ha="right", fontsize=8)
         ax.set_ylabel(label)
         ax.grid(axis="y", alpha=0.3)
         ref = table[(table.bat == bats[0])].iloc[0]
-        ax.axhline(ref.bat_speed_at_sweet_spot_mps if ax is left else ref.v1_max_mps,
-                   color="k", lw=0.8, ls=":")
+        ax.axhline(
+            ref.bat_speed_at_sweet_spot_mps if ax is left else ref.v1_max_mps,
+            color="k",
+            lw=0.8,
+            ls=":",
+        )
         lo = table.bat_speed_at_sweet_spot_mps if ax is left else table.v1_max_mps
         ax.set_ylim(lo.min() * 0.95, lo.max() * 1.02)
     left.legend(title="swing model", fontsize=8)
-    fig.suptitle("Swing-speed models: the paper's R161 swing (u0 17.87 m/s, omega0 32 rad/s) "
-                 "carried to other bats; pitch 46.9 m/s, e = 0.5", fontsize=10)
+    fig.suptitle(
+        "Swing-speed models: the paper's R161 swing (u0 17.87 m/s, omega0 32 rad/s) "
+        "carried to other bats; pitch 46.9 m/s, e = 0.5",
+        fontsize=10,
+    )
     return fig
 
 
@@ -247,29 +333,45 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
     files = {n: figure_png(f) for n, f in figs.items()}
     for f in figs.values():
         plt.close(f)
-    for name, df, fmt in (("swing.csv", table, "%.6g"), ("swing_orders.csv", fits, "%.4g"),
-                          ("swing_models.csv", models, "%.6g")):
+    for name, df, fmt in (
+        ("swing.csv", table, "%.6g"),
+        ("swing_orders.csv", fits, "%.4g"),
+        ("swing_models.csv", models, "%.6g"),
+    ):
         files[name] = df.to_csv(index=False, float_format=fmt, lineterminator="\n").encode()
     left_out = {e: [dt for dt in steps if not affordable(e, dt)] for e in args.engine}
-    files["swing.json"] = json_bytes({"t_end_s": T_END_S, "quick": args.quick,
-                                      "budget_s": BUDGET_S,
-                                      "steps_left_out_s": {e: v for e, v in left_out.items() if v},
-                                      "elapsed_s": time.perf_counter() - t0,
-                                      "provenance": provenance()})
-    pivot = fits.pivot_table(index=["scene", "method"], columns="quantity", values="p",
-                             dropna=False, sort=False)
-    why = (f"--quick fires {len(steps)} time steps, too few to fit an order: " if args.quick
-           else "")
-    head = (f"order p of error ~ dt^p ({why}NaN where fewer than 3 steps leave an error above "
-            "rounding)\n")
-    text = head + pivot.to_string(float_format=lambda v: f"{v:.2f}") + "\n" + models.pivot_table(
-        index="bat", columns="model", values="v1_max_mps", sort=False).to_string(
-        float_format=lambda v: f"{v:.2f}")
+    files["swing.json"] = json_bytes(
+        {
+            "t_end_s": T_END_S,
+            "quick": args.quick,
+            "budget_s": BUDGET_S,
+            "steps_left_out_s": {e: v for e, v in left_out.items() if v},
+            "elapsed_s": time.perf_counter() - t0,
+            "provenance": provenance(),
+        }
+    )
+    pivot = fits.pivot_table(
+        index=["scene", "method"], columns="quantity", values="p", dropna=False, sort=False
+    )
+    why = f"--quick fires {len(steps)} time steps, too few to fit an order: " if args.quick else ""
+    head = (
+        f"order p of error ~ dt^p ({why}NaN where fewer than 3 steps leave an error above "
+        "rounding)\n"
+    )
+    text = (
+        head
+        + pivot.to_string(float_format=lambda v: f"{v:.2f}")
+        + "\n"
+        + models.pivot_table(
+            index="bat", columns="model", values="v1_max_mps", sort=False
+        ).to_string(float_format=lambda v: f"{v:.2f}")
+    )
     return files, text
 
 
-COMMAND = Command(name="swing", doc=__doc__, produce=produce,
-                  quick="two time steps only (smoke test)")
+COMMAND = Command(
+    name="swing", doc=__doc__, produce=produce, quick="two time steps only (smoke test)"
+)
 main = COMMAND.main
 
 

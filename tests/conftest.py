@@ -32,8 +32,9 @@ os.environ["BATSIM_QUIET"] = "1"  # no progress lines in test output (subprocess
 #: Examples per property in the CI profile; the fast tier draws FAST_EXAMPLES.
 CI_EXAMPLES, FAST_EXAMPLES = 200, 25
 for _name, _n in (("ci", CI_EXAMPLES), ("fast", FAST_EXAMPLES)):
-    settings.register_profile(_name, deadline=None, max_examples=_n,
-                              suppress_health_check=[HealthCheck.too_slow])
+    settings.register_profile(
+        _name, deadline=None, max_examples=_n, suppress_health_check=[HealthCheck.too_slow]
+    )
 settings.load_profile("fast")  # --hypothesis-profile=ci (make test-all) replaces it
 
 
@@ -57,6 +58,7 @@ def pytest_collection_modifyitems(items) -> None:
             item.add_marker(pytest.mark.xdist_group(engines[0]))
             if item.get_closest_marker("essential") is None:
                 item.add_marker(pytest.mark.full)
+
 
 EPS = np.finfo(float).eps  # 2.2e-16: unit roundoff of float64
 
@@ -90,8 +92,17 @@ def cases(draw, oblique: bool = False) -> ImpactCase:
     closing = v0 * math.cos(theta) + u0 * math.cos(phi) + w0 * s
     if closing < 1.0:  # keep only impacts; hypothesis.assume would discard too many draws
         u0 += (1.0 - closing) / math.cos(phi) + draw(st.floats(0.0, 20.0))
-    return ImpactCase(bat=bat, ball=ball, s_m=s, v0_mps=v0, u0_mps=u0, omega0_radps=w0,
-                      e=draw(st.floats(0.0, 1.0)), theta_rad=theta, phi_rad=phi)
+    return ImpactCase(
+        bat=bat,
+        ball=ball,
+        s_m=s,
+        v0_mps=v0,
+        u0_mps=u0,
+        omega0_radps=w0,
+        e=draw(st.floats(0.0, 1.0)),
+        theta_rad=theta,
+        phi_rad=phi,
+    )
 
 
 def sound(table: pd.DataFrame) -> pd.Series:
@@ -112,8 +123,11 @@ PLUGIN = Path(__file__).parent / "plugin" / "toy_engine.py"
 def _commands() -> dict:
     """Every command, by name: each module of ``experiments`` that runs as ``python -m`` (a
     ``__main__`` guard, or a package's ``__main__.py``), imported."""
-    mains = {p.stem for p in (ROOT / "experiments").glob("*.py")
-             if 'if __name__ == "__main__":' in p.read_text()}
+    mains = {
+        p.stem
+        for p in (ROOT / "experiments").glob("*.py")
+        if 'if __name__ == "__main__":' in p.read_text()
+    }
     packages = {p.parent.name for p in (ROOT / "experiments").glob("*/__main__.py")}
     return {n: importlib.import_module(f"experiments.{n}") for n in sorted(mains | packages)}
 
@@ -123,15 +137,23 @@ COMMANDS = _commands()
 COMMAND_TIMEOUT_S = 200
 
 
-def run_command(argv: list[str], *, env: dict | None = None, cwd: Path = ROOT,
-                code: int = 0) -> subprocess.CompletedProcess:
+def run_command(
+    argv: list[str], *, env: dict | None = None, cwd: Path = ROOT, code: int = 0
+) -> subprocess.CompletedProcess:
     """``python <argv>`` in a fresh interpreter, as a user types it: it must exit ``code``
     with no traceback on either stream."""
-    res = subprocess.run([sys.executable, *argv], cwd=cwd, capture_output=True, text=True,
-                         timeout=COMMAND_TIMEOUT_S, check=False,
-                         env={**os.environ, **(env or {})})
-    shown = f"python {' '.join(argv)} -> {res.returncode}\n{res.stdout[-3000:]}\n" \
-            f"{res.stderr[-3000:]}"
+    res = subprocess.run(
+        [sys.executable, *argv],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=COMMAND_TIMEOUT_S,
+        check=False,
+        env={**os.environ, **(env or {})},
+    )
+    shown = (
+        f"python {' '.join(argv)} -> {res.returncode}\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}"
+    )
     assert res.returncode == code, shown
     assert "Traceback" not in res.stderr + res.stdout, shown
     return res
@@ -150,8 +172,10 @@ def runs_in(out: Path) -> list[str]:
 def cheapest(batched: bool) -> str:
     """The registered engine of that kind with the smallest measured step cost (records only:
     the tests name no engine)."""
-    return min((n for n in adapters.available() if adapters.record(n).batched == batched),
-               key=lambda n: adapters.record(n).cost.step_cost_s)
+    return min(
+        (n for n in adapters.available() if adapters.record(n).batched == batched),
+        key=lambda n: adapters.record(n).cost.step_cost_s,
+    )
 
 
 def plugin_site(site: Path, dist: str, entries: dict[str, str]) -> Path:
@@ -163,15 +187,17 @@ def plugin_site(site: Path, dist: str, entries: dict[str, str]) -> Path:
     info.mkdir()
     (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {dist}\nVersion: 0.1\n")
     (info / "entry_points.txt").write_text(
-        f"[{adapters.ENTRY_POINT_GROUP}]\n" + "".join(f"{n} = {t}\n" for n, t in entries.items()))
+        f"[{adapters.ENTRY_POINT_GROUP}]\n" + "".join(f"{n} = {t}\n" for n, t in entries.items())
+    )
     return site
 
 
 @pytest.fixture(scope="session")
 def toy_site(tmp_path_factory) -> Path:
     """The toy plug-in installed: the engine ``toyengine``."""
-    return plugin_site(tmp_path_factory.mktemp("site"), "batsim-toy-engine",
-                       {"toyengine": "toy_engine:RECORD"})
+    return plugin_site(
+        tmp_path_factory.mktemp("site"), "batsim-toy-engine", {"toyengine": "toy_engine:RECORD"}
+    )
 
 
 #: The engines of ``findings_run``: the cheapest single-world one and the toy plug-in.
@@ -184,7 +210,19 @@ def findings_run(tmp_path_factory, toy_site) -> Path:
     take about a minute), over the cheapest single-world engine and the toy plug-in: the
     directory it wrote. Tests that read it share the xdist group "findings" (one worker runs it)."""
     out = tmp_path_factory.mktemp("findings")
-    run_command(["-m", "experiments.findings", "--engine", ",".join(FINDINGS_ENGINES),
-                 "--workers", "2", "--out", str(out), "--name", "f"],
-                env={"PYTHONPATH": str(toy_site)})
+    run_command(
+        [
+            "-m",
+            "experiments.findings",
+            "--engine",
+            ",".join(FINDINGS_ENGINES),
+            "--workers",
+            "2",
+            "--out",
+            str(out),
+            "--name",
+            "f",
+        ],
+        env={"PYTHONPATH": str(toy_site)},
+    )
     return out / "f"

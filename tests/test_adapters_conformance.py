@@ -18,11 +18,24 @@ from experiments.core import check
 
 #: The checks every engine passes in the fast tier (`make test`); the rest run in `make
 #: test-all`. A compliant contact's law stands in for the rigid bat's closed forms.
-ESSENTIALS = ("mass_read_back", "restitution", "still_bat", "swinging_bat", "stateless",
-              "law_conformance")
-CASES = [pytest.param(name, c, id=f"{name}-{c}",
-                      marks=pytest.mark.essential if c in ESSENTIALS else pytest.mark.full)
-         for name in adapters.names() for c in check.applicable(name)]
+ESSENTIALS = (
+    "mass_read_back",
+    "restitution",
+    "still_bat",
+    "swinging_bat",
+    "stateless",
+    "law_conformance",
+)
+CASES = [
+    pytest.param(
+        name,
+        c,
+        id=f"{name}-{c}",
+        marks=pytest.mark.essential if c in ESSENTIALS else pytest.mark.full,
+    )
+    for name in adapters.names()
+    for c in check.applicable(name)
+]
 
 
 @pytest.mark.parametrize("name,check_name", CASES)

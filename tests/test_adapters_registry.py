@@ -19,24 +19,34 @@ ENGINES = adapters.names()
 
 
 def _run(code: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=120, check=False, cwd=ROOT)
+    return subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+        cwd=ROOT,
+    )
 
 
 def test_registry_and_engine_validation_load_no_engine():
     # Listing, reading every record, asking what is installed, making settings, parsing
     # --engine and drawing nothing yet: neither an engine's package nor its adapter module is
     # imported (sys.modules in a fresh interpreter).
-    watched = sorted({adapters.record(n).install.import_name.split(".")[0] for n in ENGINES}
-                     | {adapters.record(n).adapter.split(":")[0] for n in ENGINES})
-    code = ("import sys, adapters\n"
-            "for n in adapters.names():\n"
-            "    adapters.record(n).install_hint, adapters.settings_for(n, 'default')\n"
-            "adapters.available(), adapters.missing()\n"
-            "from experiments import sweep\n"
-            "for engines in ('all', ','.join(adapters.names())):\n"
-            "    sweep.sweep_from_args(sweep.build_parser().parse_args(['--engine', engines]))\n"
-            f"print([m for m in {watched!r} if m in sys.modules])")
+    watched = sorted(
+        {adapters.record(n).install.import_name.split(".")[0] for n in ENGINES}
+        | {adapters.record(n).adapter.split(":")[0] for n in ENGINES}
+    )
+    code = (
+        "import sys, adapters\n"
+        "for n in adapters.names():\n"
+        "    adapters.record(n).install_hint, adapters.settings_for(n, 'default')\n"
+        "adapters.available(), adapters.missing()\n"
+        "from experiments import sweep\n"
+        "for engines in ('all', ','.join(adapters.names())):\n"
+        "    sweep.sweep_from_args(sweep.build_parser().parse_args(['--engine', engines]))\n"
+        f"print([m for m in {watched!r} if m in sys.modules])"
+    )
     res = _run(code)
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip() == "[]"
@@ -46,10 +56,12 @@ def test_loading_a_missing_engine_raises_its_install_hint():
     # the API's side (the command line's, engine by engine: test_cli): with the engine's
     # module hidden in a fresh interpreter, load() raises EngineNotInstalled with the hint
     rec = adapters.record(ENGINES[0])
-    res = _run(f"import sys; sys.modules[{rec.install.import_name!r}] = None\n"
-               "import adapters\n"
-               f"try:\n    adapters.load({rec.name!r})\n"
-               "except adapters.EngineNotInstalled as err:\n    print(err)")
+    res = _run(
+        f"import sys; sys.modules[{rec.install.import_name!r}] = None\n"
+        "import adapters\n"
+        f"try:\n    adapters.load({rec.name!r})\n"
+        "except adapters.EngineNotInstalled as err:\n    print(err)"
+    )
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip() == rec.install_hint
 
@@ -60,7 +72,7 @@ def test_builtins_are_the_adapter_packages():
     # (the runner keeps a batched engine's jobs in its own process).
     here = Path(adapters.__file__).parent
     packages = sorted(p.parent.name for p in here.glob("*/__init__.py"))
-    assert ENGINES[:len(packages)] == tuple(packages)
+    assert ENGINES[: len(packages)] == tuple(packages)
     for name in packages:
         rec = adapters.record(name)
         assert adapters.engine_class(name).record == rec and rec.name == name
@@ -74,11 +86,17 @@ def test_plot_styles_are_distinct():
     assert len(set(styles)) == len(styles)
 
 
-@pytest.mark.parametrize("call,match", [
-    (lambda n: adapters.load(n, profile="fast"), "profile='fast' is unknown; allowed: "
-                                                 "reference, default"),
-    (lambda n: adapters.load(n, timestep=1e-3), "setting 'timestep' is unknown for "),
-], ids=["profile", "setting"])
+@pytest.mark.parametrize(
+    "call,match",
+    [
+        (
+            lambda n: adapters.load(n, profile="fast"),
+            "profile='fast' is unknown; allowed: reference, default",
+        ),
+        (lambda n: adapters.load(n, timestep=1e-3), "setting 'timestep' is unknown for "),
+    ],
+    ids=["profile", "setting"],
+)
 def test_bad_profiles_and_settings(call, match):
     # the registry's checks, the same for every engine: refused before any engine is made
     with pytest.raises(ValueError, match=match):
@@ -86,8 +104,9 @@ def test_bad_profiles_and_settings(call, match):
 
 
 def test_unknown_engine_lists_the_registered_ones():
-    with pytest.raises(ValueError, match=f"engine='bullet' is unknown; allowed: "
-                                         f"{', '.join(ENGINES)}"):
+    with pytest.raises(
+        ValueError, match=f"engine='bullet' is unknown; allowed: {', '.join(ENGINES)}"
+    ):
         adapters.load("bullet")
 
 
@@ -107,8 +126,7 @@ def test_every_setting_of_an_engine_overrides_alone(name):
 def test_impact_point_off_the_cylinder_is_a_value_error():
     case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.27, v0_mps=40.0)
     with pytest.raises(ValueError, match="s_m=0.27 is out of range"):
-        fire_jobs([Job(engine=ENGINES[0], settings=adapters.settings_for(ENGINES[0]),
-                       case=case)])
+        fire_jobs([Job(engine=ENGINES[0], settings=adapters.settings_for(ENGINES[0]), case=case)])
 
 
 def test_settings_carry_knobs_and_the_error_model_the_judges_questions():
@@ -141,10 +159,12 @@ def _install_plugin(root: Path, entry: str, base: str) -> Path:
     (root / "batsim_test_plugin.py").write_text(PLUGIN_MODULE.format(base=base))
     info = root / "batsim_test_plugin-0.1.dist-info"
     info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: batsim-test-plugin\n"
-                                   "Version: 0.1\n")
+    (info / "METADATA").write_text(
+        "Metadata-Version: 2.1\nName: batsim-test-plugin\nVersion: 0.1\n"
+    )
     (info / "entry_points.txt").write_text(
-        f"[{adapters.ENTRY_POINT_GROUP}]\n{entry} = batsim_test_plugin:RECORD\n")
+        f"[{adapters.ENTRY_POINT_GROUP}]\n{entry} = batsim_test_plugin:RECORD\n"
+    )
     return root
 
 
@@ -184,11 +204,15 @@ def test_register_refuses_a_taken_name():
 def test_collecting_the_tests_loads_no_engine():
     # the suite's collection reads records only (conftest's tiers and groups, parametrize over
     # adapters.names()): no engine package or adapter module is imported before a test runs
-    watched = sorted({adapters.record(n).install.import_name.split(".")[0] for n in ENGINES}
-                     | {adapters.record(n).adapter.split(":")[0] for n in ENGINES})
-    res = _run("import sys, pytest\n"
-               "code = pytest.main(['--collect-only', '-q', '-p', 'no:cacheprovider', "
-               "'-p', 'no:xdist', 'tests'])\n"
-               f"print(code, [m for m in {watched!r} if m in sys.modules])")
+    watched = sorted(
+        {adapters.record(n).install.import_name.split(".")[0] for n in ENGINES}
+        | {adapters.record(n).adapter.split(":")[0] for n in ENGINES}
+    )
+    res = _run(
+        "import sys, pytest\n"
+        "code = pytest.main(['--collect-only', '-q', '-p', 'no:cacheprovider', "
+        "'-p', 'no:xdist', 'tests'])\n"
+        f"print(code, [m for m in {watched!r} if m in sys.modules])"
+    )
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip().splitlines()[-1] == "0 []", res.stdout[-2000:]

@@ -18,8 +18,11 @@ from experiments.core.placement import start_state
 
 R161, BALL = presets.R161, presets.BASEBALL
 ENGINES = adapters.names()
-COMBINING = [n for n in ENGINES
-             if adapters.record(n).can.restitution_rule is not adapters.RestitutionRule.MAPPED]
+COMBINING = [
+    n
+    for n in ENGINES
+    if adapters.record(n).can.restitution_rule is not adapters.RestitutionRule.MAPPED
+]
 THRESHOLDS = [n for n in ENGINES if adapters.record(n).can.threshold_setting is not None]
 SOFT = [n for n in ENGINES if adapters.record(n).can.soft_contact is not None]
 
@@ -31,8 +34,14 @@ def _central_e(name: str, settings, v0=40.0, e=0.5, bat=R161) -> float:
 
 def _central_es(name: str, settings, speeds, e=0.5, bat=R161) -> list[float]:
     """``_central_e`` at each approach speed, fired together (one batch on a batched engine)."""
-    jobs = [Job(engine=name, settings=settings,
-                case=ImpactCase(bat=bat, ball=BALL, s_m=0.0, v0_mps=v, e=e)) for v in speeds]
+    jobs = [
+        Job(
+            engine=name,
+            settings=settings,
+            case=ImpactCase(bat=bat, ball=BALL, s_m=0.0, v0_mps=v, e=e),
+        )
+        for v in speeds
+    ]
     return [(f.outcome.v1_mps - f.outcome.u1_mps) / f.case.v0_mps for f in fire_jobs(jobs)]
 
 
@@ -51,8 +60,7 @@ def test_body_restitutions_combine_as_the_record_says(name):
         host.batch(Scene(bat=R161, ball=BALL, e=0.5), 1)
         eng = host.adapter
         eng.set_body_restitution(bat=0.6, ball=0.5)
-        eng.set_state(start_state(ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=40.0),
-                                  st)[0])
+        eng.set_state(start_state(ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=40.0), st)[0])
         for _ in range(st.approach_steps + 2):
             eng.step()
         r = eng.read()
@@ -74,6 +82,7 @@ def test_spring_damper_restitution_formula_against_ode():
     # Integrate x'' = -2 zeta x' - x from x = 0, x' = -1 until the force x + 2 zeta x' returns to
     # zero; e = final speed. rtol 1e-12 in solve_ivp bounds the comparison at ~1e-10.
     for zeta in (0.05, 0.2553, 0.5, 0.9, 1.0, 1.5, 4.0):  # under-, critically and overdamped
+
         def rhs(t, y, z=zeta):
             return [y[1], -2 * z * y[1] - y[0]]
 
@@ -81,8 +90,9 @@ def test_spring_damper_restitution_formula_against_ode():
             return y[0] + 2 * z * y[1] if t > 1e-9 else -1.0
 
         released.terminal, released.direction = True, 1
-        sol = integrate.solve_ivp(rhs, (0, 10), [0.0, -1.0], events=released, rtol=1e-12,
-                                  atol=1e-14)
+        sol = integrate.solve_ivp(
+            rhs, (0, 10), [0.0, -1.0], events=released, rtol=1e-12, atol=1e-14
+        )
         e_ode = sol.y_events[0][0][1]
         assert restitution_of_damping_ratio(zeta) == pytest.approx(e_ode, rel=1e-9)
     assert damping_ratio_for(0.5) == pytest.approx(0.2553, abs=1e-4)  # measured in the engine
@@ -99,8 +109,9 @@ def test_soft_calibration_is_independent_of_speed_and_mass(name, w, dt):
     # to the release speed: w x0 / v relative, largest at the slowest v), and each of the
     # contact's pi / (w dt) steps rounds the velocities once (at worst adding up: steps * eps).
     rec = adapters.record(name)
-    st = adapters.settings_for(name, dt_s=dt, **rec.can.soft_contact,
-                               **{rec.can.stiffness_setting: w})
+    st = adapters.settings_for(
+        name, dt_s=dt, **rec.can.soft_contact, **{rec.can.stiffness_setting: w}
+    )
     heavy = R161.__class__(**{**R161.__dict__, "name": "heavy", "mass_kg": 3.0})
     speeds = (5.0, 40.0, 80.0)
     measured = [e for bat in (R161, heavy) for e in _central_es(name, st, speeds, bat=bat)]
@@ -125,14 +136,23 @@ def _soft_engines():
         if rec.can.soft_contact is None:
             continue
         for k, integ in enumerate(rec.can.integrators or (None,)):
-            out.append((name, getattr(integ, "label", "default"),
-                        dict(integ.overrides) if integ else {}, k == 0 and not rec.batched))
+            out.append(
+                (
+                    name,
+                    getattr(integ, "label", "default"),
+                    dict(integ.overrides) if integ else {},
+                    k == 0 and not rec.batched,
+                )
+            )
     return out
 
 
 @pytest.mark.full
-@pytest.mark.parametrize("engine,label,overrides,fine", _soft_engines(),
-                         ids=[f"{n}-{lab}" for n, lab, _, _ in _soft_engines()])
+@pytest.mark.parametrize(
+    "engine,label,overrides,fine",
+    _soft_engines(),
+    ids=[f"{n}-{lab}" for n, lab, _, _ in _soft_engines()],
+)
 def test_soft_contact_converges_to_its_own_law(engine, label, overrides, fine):
     # An engine's soft contact, at w = 3000 rad/s and e = 0.5 on the paper's swing (s = 0.1 m,
     # where the bat turns 35 mrad during the ~1 ms contact), against the law its adapter
@@ -143,13 +163,19 @@ def test_soft_contact_converges_to_its_own_law(engine, label, overrides, fine):
     # solve is per step). At 1e-7 s the engine is closer to its law than the law is to rigid
     # theory (the model error of a 1 ms contact on a turning bat).
     rec = adapters.record(engine)
-    case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=46.9, u0_mps=17.87,
-                      omega0_radps=32.0, e=0.5)
+    case = ImpactCase(
+        bat=R161, ball=BALL, s_m=0.1, v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5
+    )
     steps = (1e-6, 1e-7) if fine else (1e-5, 1e-6)
     errors = []
     for dt in steps:
-        settings = adapters.settings_for(engine, dt_s=dt, **rec.can.soft_contact, **overrides,
-                                         **{rec.can.stiffness_setting: 3000.0})
+        settings = adapters.settings_for(
+            engine,
+            dt_s=dt,
+            **rec.can.soft_contact,
+            **overrides,
+            **{rec.can.stiffness_setting: 3000.0},
+        )
         law = rec.errors.contact_law(settings, case.e)
         assert law is not None, f"{engine}: a soft contact must declare its law"
         out = fire_jobs([Job(engine=engine, settings=settings, case=case)])[0].outcome

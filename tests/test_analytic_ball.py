@@ -72,7 +72,7 @@ def test_contact_time_scales_as_hertz_says():
     # k (what wall_stiffness relies on; it then re-finds REALISTIC_BALL's stiffness).
     stiffer = replace(REALISTIC_BALL, stiffness=2 * REALISTIC_BALL.stiffness)
     ratio = on_wall(40.0, stiffer).contact_duration_s / on_wall(40.0).contact_duration_s
-    assert ratio == pytest.approx(2 ** -0.4, rel=TOL_REL)
+    assert ratio == pytest.approx(2**-0.4, rel=TOL_REL)
     k = wall_stiffness(LAW, BALL, duration_s=0.7e-3, speed_mps=40.0)
     assert k == pytest.approx(REALISTIC_BALL.stiffness, rel=1e-8)
 
@@ -109,8 +109,9 @@ def test_hysteretic_ball_has_the_same_cor_on_a_wall(v):
     assert on_wall(v, HYSTERETIC_BALL).v1_mps / v == pytest.approx(power_law(v), abs=1e-6)
 
 
-@pytest.mark.parametrize("kind,ball", [("hunt-crossley", REALISTIC_BALL),
-                                       ("hysteretic", HYSTERETIC_BALL)])
+@pytest.mark.parametrize(
+    "kind,ball", [("hunt-crossley", REALISTIC_BALL), ("hysteretic", HYSTERETIC_BALL)]
+)
 def test_both_balls_are_calibrated_to_the_measured_contact_time(kind, ball):
     # 0.7 ms on a wall at 40 m/s [nathan2000]: the committed stiffness is what ball_of finds
     assert on_wall(40.0, ball).contact_duration_s == pytest.approx(0.7e-3, rel=TOL_REL)
@@ -123,14 +124,16 @@ def test_free_bat_at_its_com_bounces_like_rigid_theory():
     still = ImpactCase(bat=presets.R161, ball=BALL, s_m=0.0, v0_mps=40.0, e=0.5)
     e = power_law(still.closing_speed_mps)
     assert compliant.predict(still, REALISTIC_BALL).v1_mps == pytest.approx(
-        predict(replace(still, e=e)).v1_mps, rel=TOL_REL)
+        predict(replace(still, e=e)).v1_mps, rel=TOL_REL
+    )
     # The paper's swing: the bat turns omega0 t_c = 32 rad/s x 0.6 ms = 19 mrad meanwhile, and
     # the normal and the contact arm (r_bat + r_ball) theta turn with it, which impulse theory
     # has not: within 0.05 m/s (measured 0.015).
     swing = replace(still, v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0)
     e = power_law(swing.closing_speed_mps)
     assert compliant.predict(swing, REALISTIC_BALL).v1_mps == pytest.approx(
-        predict(replace(swing, e=e)).v1_mps, abs=0.05)
+        predict(replace(swing, e=e)).v1_mps, abs=0.05
+    )
 
 
 def test_law_for_impact_resolves_at_the_closing_speed():
@@ -148,9 +151,16 @@ def test_law_for_impact_resolves_at_the_closing_speed():
         law_for_impact(REALISTIC_BALL, 0.0)
 
 
-@pytest.mark.parametrize(("field", "value"), [("exponent", -0.1), ("exponent", 1.5),
-                                              ("cor_ref", 0.0), ("cor_ref", 1.2),
-                                              ("speed_ref_mps", 0.0)])
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [
+        ("exponent", -0.1),
+        ("exponent", 1.5),
+        ("cor_ref", 0.0),
+        ("cor_ref", 1.2),
+        ("speed_ref_mps", 0.0),
+    ],
+)
 def test_bad_cor_law_is_refused(field, value):
     kw = {"cor_ref": 0.55, "speed_ref_mps": 25.9, "exponent": 0.25, field: value}
     with pytest.raises(ValueError, match=field):
@@ -159,14 +169,11 @@ def test_bad_cor_law_is_refused(field, value):
 
 def test_bad_points_and_balls_are_refused():
     with pytest.raises(ValueError, match="kind"):
-        CorPoint(speed_mps=25.9, cor=0.5, half_width=0.01, kind="ball-floor", source="x",
-                 note="")
+        CorPoint(speed_mps=25.9, cor=0.5, half_width=0.01, kind="ball-floor", source="x", note="")
     with pytest.raises(ValueError, match="cor"):
-        CorPoint(speed_mps=25.9, cor=1.5, half_width=0.01, kind="ball-wall", source="x",
-                 note="")
+        CorPoint(speed_mps=25.9, cor=1.5, half_width=0.01, kind="ball-wall", source="x", note="")
     with pytest.raises(ValueError, match="half_width"):
-        CorPoint(speed_mps=25.9, cor=0.5, half_width=-0.01, kind="ball-wall", source="x",
-                 note="")
+        CorPoint(speed_mps=25.9, cor=0.5, half_width=-0.01, kind="ball-wall", source="x", note="")
     with pytest.raises(ValueError, match="kind"):
         wall_stiffness(LAW, BALL, duration_s=1e-3, speed_mps=40.0, kind="putty")
     with pytest.raises(ValueError, match="stiffness"):
@@ -185,13 +192,31 @@ def test_bat_models_resolve_the_ball_at_the_first_touch():
 
     profile, wood = beam.r161_profile()
     eb = beam.Beam(profile=profile, wood=wood)
-    impact = ChainImpact(chain=Chain.from_beam(eb, 8, like=presets.R161), ball=BALL, x_m=0.66,
-                         v0_mps=40.0, u0_mps=5.0, omega0_radps=20.0, e=0.5)
+    impact = ChainImpact(
+        chain=Chain.from_beam(eb, 8, like=presets.R161),
+        ball=BALL,
+        x_m=0.66,
+        v0_mps=40.0,
+        u0_mps=5.0,
+        omega0_radps=20.0,
+        e=0.5,
+    )
     v_c = 40.0 + 5.0 + 20.0 * impact.s_m
-    assert compliant_reference(impact, REALISTIC_BALL).v1_mps == \
-        compliant_reference(impact, REALISTIC_BALL.at_speed(v_c)).v1_mps
-    case = ImpactCase(bat=eb.rigid_bat(presets.R161), ball=BALL, s_m=0.1, v0_mps=40.0,
-                      u0_mps=5.0, omega0_radps=20.0, e=0.5)
+    assert (
+        compliant_reference(impact, REALISTIC_BALL).v1_mps
+        == compliant_reference(impact, REALISTIC_BALL.at_speed(v_c)).v1_mps
+    )
+    case = ImpactCase(
+        bat=eb.rigid_bat(presets.R161),
+        ball=BALL,
+        s_m=0.1,
+        v0_mps=40.0,
+        u0_mps=5.0,
+        omega0_radps=20.0,
+        e=0.5,
+    )
     v_c = 40.0 + 5.0 + 20.0 * 0.1
-    assert flexible.predict(case, eb, REALISTIC_BALL, modes=8).v1_mps == \
-        flexible.predict(case, eb, REALISTIC_BALL.at_speed(v_c), modes=8).v1_mps
+    assert (
+        flexible.predict(case, eb, REALISTIC_BALL, modes=8).v1_mps
+        == flexible.predict(case, eb, REALISTIC_BALL.at_speed(v_c), modes=8).v1_mps
+    )

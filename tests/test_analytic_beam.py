@@ -29,12 +29,15 @@ def r161():
 def test_uniform_free_free_beam_matches_closed_form():
     # omega_n = (beta_n L)^2 sqrt(E I / (rho A L^4)), r = 1 mm, L = 1 m
     r, length = 0.001, 1.0
-    wood = beam.Wood(name="rod", youngs_modulus_pa=2e11, shear_modulus_pa=8e10,
-                     density_kgpm3=7800.0)
+    wood = beam.Wood(
+        name="rod", youngs_modulus_pa=2e11, shear_modulus_pa=8e10, density_kgpm3=7800.0
+    )
     rod = beam.Beam(profile=beam.Profile(stations_m=(0.0, length), radii_m=(r, r)), wood=wood)
     area, second = math.pi * r**2, math.pi * r**4 / 4
-    want = [bl**2 * math.sqrt(2e11 * second / (7800 * area * length**4)) / (2 * math.pi)
-            for bl in FREE_FREE_BETA_L]
+    want = [
+        bl**2 * math.sqrt(2e11 * second / (7800 * area * length**4)) / (2 * math.pi)
+        for bl in FREE_FREE_BETA_L
+    ]
     np.testing.assert_allclose(rod.modes(3).frequencies_hz, want, rtol=FE_REL)
 
 
@@ -78,8 +81,10 @@ def test_chain_converges_to_the_beam(r161):
     # lumped springs k = 1 / int dx/EI: the chain's modes tend to Euler-Bernoulli's as N grows
     b = beam.Beam(profile=r161[0], wood=r161[1])
     want = b.modes(2).frequencies_hz
-    errs = [np.abs(Chain.from_beam(b, n, like=presets.R161).frequencies_hz[:2] / want - 1).max()
-            for n in (8, 16, 32, 64)]
+    errs = [
+        np.abs(Chain.from_beam(b, n, like=presets.R161).frequencies_hz[:2] / want - 1).max()
+        for n in (8, 16, 32, 64)
+    ]
     assert np.all(np.diff(errs) < 0.0) and errs[-1] < 2e-3
     chain = Chain.from_beam(b, 8, like=presets.R161)
     assert sum(chain.masses_kg) == pytest.approx(presets.R161.mass_kg, rel=1e-12)
@@ -105,7 +110,8 @@ def test_chain_impulses_conserve_momentum_and_elastic_energy(chain8, x_m):
     assert out.energy_after_j == pytest.approx(out.ke_before_j, rel=1e-9)
     p_bat = presets.R161.mass_kg * out.u1_mps
     assert presets.BASEBALL.mass_kg * out.v1_mps + p_bat == pytest.approx(
-        -presets.BASEBALL.mass_kg * 40.0, abs=1e-9)
+        -presets.BASEBALL.mass_kg * 40.0, abs=1e-9
+    )
 
 
 def test_chain_under_an_elastic_contact_conserves_energy(chain8):
@@ -120,10 +126,18 @@ def test_chain_under_an_elastic_contact_conserves_energy(chain8):
 def test_flexible_bat_conserves_energy_under_an_elastic_contact(r161):
     # Hertz without dissipation: kinetic + bending energy after = before, to the solver's 1e-11
     from analytic import ImpactCase, flexible
+
     b = beam.Beam(profile=r161[0], wood=r161[1], shear=True)
     law = HuntCrossley(stiffness=REALISTIC_BALL.stiffness, exponent=1.5, dissipation_spm=0.0)
-    case = ImpactCase(bat=b.rigid_bat(presets.R161), ball=presets.BASEBALL, s_m=0.0,
-                      v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5)
+    case = ImpactCase(
+        bat=b.rigid_bat(presets.R161),
+        ball=presets.BASEBALL,
+        s_m=0.0,
+        v0_mps=46.9,
+        u0_mps=17.87,
+        omega0_radps=32.0,
+        e=0.5,
+    )
     out = flexible.predict(case, b, law, modes=8)
     assert out.energy_after_j == pytest.approx(out.ke_before_j, rel=1e-9)
     assert out.vibration_j > 0.05 * out.ke_before_j  # and the bat does take some of it
@@ -133,12 +147,20 @@ def test_impact_at_the_node_leaves_the_first_mode_still(r161):
     # a force at a node of mode 1 does no work on it: its energy there is a small fraction of
     # what a hit 16 cm away leaves (the contact point slides by millimetres meanwhile)
     from analytic import ImpactCase, flexible
+
     b = beam.Beam(profile=r161[0], wood=r161[1], shear=True)
     node = b.modes(1).node_positions_m(0)[-1] - presets.R161.com_from_knob_m
 
     def mode1(s):
-        case = ImpactCase(bat=b.rigid_bat(presets.R161), ball=presets.BASEBALL, s_m=s,
-                          v0_mps=40.0, u0_mps=0.0, omega0_radps=0.0, e=0.5)
+        case = ImpactCase(
+            bat=b.rigid_bat(presets.R161),
+            ball=presets.BASEBALL,
+            s_m=s,
+            v0_mps=40.0,
+            u0_mps=0.0,
+            omega0_radps=0.0,
+            e=0.5,
+        )
         return flexible.predict(case, b, REALISTIC_BALL, modes=8).mode_energy_j[0]
 
     assert mode1(node) < 1e-2 * mode1(node - 0.16)
@@ -149,11 +171,19 @@ def test_fine_chain_and_beam_agree_on_the_exit_speed(r161):
     # and the Euler-Bernoulli beam's modes, both under the realistic ball on a still bat.
     # The chain's error falls as 1/N^2 (0.15 m/s at N = 8, 0.054 at 16, 0.008 at 32 measured)
     from analytic import ImpactCase, flexible
+
     eb = beam.Beam(profile=r161[0], wood=r161[1])
     chain = Chain.from_beam(eb, 32, like=presets.R161)
     impact = ChainImpact(chain=chain, ball=presets.BASEBALL, x_m=0.66, v0_mps=40.0, e=0.5)
-    case = ImpactCase(bat=eb.rigid_bat(presets.R161), ball=presets.BASEBALL, s_m=impact.s_m,
-                      v0_mps=40.0, u0_mps=0.0, omega0_radps=0.0, e=0.5)
+    case = ImpactCase(
+        bat=eb.rigid_bat(presets.R161),
+        ball=presets.BASEBALL,
+        s_m=impact.s_m,
+        v0_mps=40.0,
+        u0_mps=0.0,
+        omega0_radps=0.0,
+        e=0.5,
+    )
     want = flexible.predict(case, eb, REALISTIC_BALL).v1_mps
     assert compliant_reference(impact, REALISTIC_BALL).v1_mps == pytest.approx(want, abs=0.05)
 
@@ -169,8 +199,15 @@ def test_beam_tends_to_the_rigid_bat_as_1_over_its_stiffness(r161):
 
     def gap(scale):
         b = beam.Beam(profile=r161[0], wood=r161[1], shear=True, stiffness_scale=scale)
-        case = ImpactCase(bat=b.rigid_bat(presets.R161), ball=presets.BASEBALL, s_m=0.0,
-                          v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5)
+        case = ImpactCase(
+            bat=b.rigid_bat(presets.R161),
+            ball=presets.BASEBALL,
+            s_m=0.0,
+            v0_mps=46.9,
+            u0_mps=17.87,
+            omega0_radps=32.0,
+            e=0.5,
+        )
         rigid = rigid_predict(case, BASEBALL_HERTZ).v1_mps
         return abs(flexible.predict(case, b, BASEBALL_HERTZ, modes=1).v1_mps / rigid - 1)
 

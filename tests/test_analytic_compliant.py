@@ -25,13 +25,20 @@ R161, BALL = presets.R161, presets.BASEBALL
 #: solve_ivp at rtol 1e-12 over a few hundred steps, and the release event located to it
 TOL_REL = 1e-9
 #: A wall: a body so heavy and so hard to turn that the reduced mass is the ball's.
-WALL = Bat(name="wall", length_m=1.0, radius_m=0.03, mass_kg=1e12, com_from_knob_m=0.5,
-           inertia_cm_kgm2=1e12)
+WALL = Bat(
+    name="wall",
+    length_m=1.0,
+    radius_m=0.03,
+    mass_kg=1e12,
+    com_from_knob_m=0.5,
+    inertia_cm_kgm2=1e12,
+)
 
 
 def reduced_mass(case: ImpactCase) -> float:
-    return 1.0 / (1 / case.ball.mass_kg + 1 / case.bat.mass_kg
-                  + case.s_m**2 / case.bat.inertia_cm_kgm2)
+    return 1.0 / (
+        1 / case.ball.mass_kg + 1 / case.bat.mass_kg + case.s_m**2 / case.bat.inertia_cm_kgm2
+    )
 
 
 @pytest.mark.parametrize("zeta", [0.0, 0.1, 0.3, 0.6])
@@ -97,8 +104,9 @@ def test_stiffening_linear_contact_converges_to_impulse_theory_at_half_order():
     # The paper's swing at s = 0.1 m, zeta fixed for e = 0.5: the contact lasts ~ 1/sqrt(k),
     # during which the bat turns (omega0 t_c); the rigid answer is the limit and the error
     # falls like t_c, a factor sqrt(10) = 3.16 per tenfold stiffness (measured 3.3 at 1e9).
-    case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=46.9, u0_mps=17.87,
-                      omega0_radps=32.0, e=0.5)
+    case = ImpactCase(
+        bat=R161, ball=BALL, s_m=0.1, v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5
+    )
     zeta = compliant.damping_ratio_for(case.e)
     m_eff = reduced_mass(case)
     ref = predict(case).v1_mps
@@ -128,12 +136,15 @@ def test_momentum_kept_and_energy_never_grows(case, zeta):
     # The contact force is internal and frictionless: m v + M V is the same after (both
     # components), and a passive law can only take energy out.
     k = 1e7
-    law = LinearSpringDamper(stiffness_npm=k,
-                             damping_nspm=2 * zeta * math.sqrt(k * reduced_mass(case)))
+    law = LinearSpringDamper(
+        stiffness_npm=k, damping_nspm=2 * zeta * math.sqrt(k * reduced_mass(case))
+    )
     got = compliant.predict(case, law)
     m, M = case.ball.mass_kg, case.bat.mass_kg
-    before = (m * case.v0_mps * math.sin(case.theta_rad) + M * case.u0_mps * math.sin(case.phi_rad),
-              -m * case.v0n_mps + M * case.u0n_mps)
+    before = (
+        m * case.v0_mps * math.sin(case.theta_rad) + M * case.u0_mps * math.sin(case.phi_rad),
+        -m * case.v0n_mps + M * case.u0n_mps,
+    )
     after = (m * got.v1_t_mps + M * got.u1_t_mps, m * got.v1_mps + M * got.u1_mps)
     scale = m * case.v0_mps + M * abs(case.u0_mps) + 1.0
     assert after[0] == pytest.approx(before[0], abs=TOL_REL * scale)

@@ -33,8 +33,16 @@ def _integrate_corked(bat, r, h, rho_fill, rho_wood):
 
     def hole_integral(f):
         # int over x in [L-h, L], rho in [0, r], phi in [0, 2 pi] of f(x, y) * drho * rho
-        val, _ = integrate.tplquad(lambda phi, rho, x: drho * rho * f(x, rho * math.cos(phi)),
-                                   L - h, L, 0.0, r, 0.0, 2 * math.pi, **opts)
+        val, _ = integrate.tplquad(
+            lambda phi, rho, x: drho * rho * f(x, rho * math.cos(phi)),
+            L - h,
+            L,
+            0.0,
+            r,
+            0.0,
+            2 * math.pi,
+            **opts,
+        )
         return val
 
     a = math.sqrt(bat.inertia_cm_kgm2 / bat.mass_kg)
@@ -51,8 +59,9 @@ def _integrate_corked(bat, r, h, rho_fill, rho_wood):
 def test_corked_equals_numerical_integration(depth_in, fill):
     # M' = M + dM, x'_cm = (M x_cm + dM x_c)/M', J' = J + M(x_cm-x')^2 + dM(r^2/4+h^2/12+(x_c-x')^2)
     r, h = 0.0127, depth_in * 0.0254
-    got = corked_bat(R161, hole_radius_m=r, hole_depth_m=h, fill_density_kgm3=fill,
-                     wood_density_kgm3=640.0)
+    got = corked_bat(
+        R161, hole_radius_m=r, hole_depth_m=h, fill_density_kgm3=fill, wood_density_kgm3=640.0
+    )
     mass, com, inertia = _integrate_corked(R161, r, h, fill, 640.0)
     assert got.mass_kg == pytest.approx(mass, rel=QUAD_REL)
     assert got.com_from_knob_m == pytest.approx(com, rel=QUAD_REL)
@@ -62,10 +71,12 @@ def test_corked_equals_numerical_integration(depth_in, fill):
 @given(st.floats(0.002, 0.02), st.floats(0.01, 0.3), st.floats(0.0, 2000.0), st.floats(300, 900))
 def test_paper_variant_differs_by_documented_amount(r, h, fill, wood):
     # J_paper - J_exact = 2 (M + dM) R^2 - dM r^2/4; mass and COM agree (both exact there).
-    exact = corked_bat(R161, hole_radius_m=r, hole_depth_m=h, fill_density_kgm3=fill,
-                       wood_density_kgm3=wood)
-    paper = corked_bat_paper(R161, hole_radius_m=r, hole_depth_m=h, fill_density_kgm3=fill,
-                             wood_density_kgm3=wood)
+    exact = corked_bat(
+        R161, hole_radius_m=r, hole_depth_m=h, fill_density_kgm3=fill, wood_density_kgm3=wood
+    )
+    paper = corked_bat_paper(
+        R161, hole_radius_m=r, hole_depth_m=h, fill_density_kgm3=fill, wood_density_kgm3=wood
+    )
     dM = (fill - wood) * math.pi * r**2 * h
     R = exact.com_from_knob_m - R161.com_from_knob_m
     scale = R161.inertia_cm_kgm2 + R161.mass_kg * R161.length_m**2
@@ -87,6 +98,7 @@ def test_lighter_fill_moves_com_to_the_knob_and_lowers_inertia():
 
 # -- a hole must leave the bat a wall and a bottom ----------------------------------------------
 
+
 def _wall(bat, depth_m: float) -> float:
     """The least radius (m) over the drilled span [L - h, L], read off the bat's profile at a
     fine grid (independent of Hole.wall_radius_m's stations), and its capsule's radius."""
@@ -105,8 +117,11 @@ def test_a_hole_as_wide_as_the_bat_where_it_is_drilled_is_refused(depth_m):
     wall = _wall(R161, depth_m)
     corked_bat(R161, hole_radius_m=wall * (1 - 1e-9), hole_depth_m=depth_m)
     for r in (wall, 1.5 * wall):
-        with pytest.raises(ValueError, match=r"hole_radius_m=.* leaves no wall.*allowed: 0 < "
-                                             r"hole_radius_m <") as err:
+        with pytest.raises(
+            ValueError,
+            match=r"hole_radius_m=.* leaves no wall.*allowed: 0 < "
+            r"hole_radius_m <",
+        ) as err:
             corked_bat(R161, hole_radius_m=r, hole_depth_m=depth_m)
         assert "\n" not in str(err.value) and f"hole_depth_m={depth_m:g}" in str(err.value)
         with pytest.raises(ValueError, match="leaves no wall"):
@@ -133,15 +148,18 @@ def test_a_hollow_metal_bat_is_not_corked():
         presets.EASTON31.corked()
 
 
-@pytest.mark.parametrize("field,kw", [
-    ("hole_radius_m", {"radius_m": 0.0}), ("hole_depth_m", {"depth_m": -0.1}),
-    ("fill_density_kgm3", {"fill_density_kgm3": math.nan}),
-    ("wood_density_kgm3", {"wood_density_kgm3": 50.0}),
-])
+@pytest.mark.parametrize(
+    "field,kw",
+    [
+        ("hole_radius_m", {"radius_m": 0.0}),
+        ("hole_depth_m", {"depth_m": -0.1}),
+        ("fill_density_kgm3", {"fill_density_kgm3": math.nan}),
+        ("wood_density_kgm3", {"wood_density_kgm3": 50.0}),
+    ],
+)
 def test_a_hole_made_directly_is_checked(field, kw):
     from analytic import Hole
 
-    good = dict(radius_m=0.0127, depth_m=0.254, fill_density_kgm3=200.0,
-                wood_density_kgm3=600.0)
+    good = dict(radius_m=0.0127, depth_m=0.254, fill_density_kgm3=200.0, wood_density_kgm3=600.0)
     with pytest.raises(ValueError, match=rf"{field}=.*allowed"):
         Hole(**{**good, **kw})

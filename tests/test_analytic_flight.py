@@ -35,8 +35,9 @@ from .conftest import examples
 TOL_REL = 1e-8
 VACUUM = Air(density_kgm3=0.0)
 #: Nathan's calculator's ball: 5.125 oz, 9.125 in around (pybaseball's BattedBallConstants).
-NATHAN_BALL = Ball(name="nathan", mass_kg=5.125 * 0.028349523125,
-                   radius_m=9.125 * 0.0254 / (2 * math.pi))
+NATHAN_BALL = Ball(
+    name="nathan", mass_kg=5.125 * 0.028349523125, radius_m=9.125 * 0.0254 / (2 * math.pi)
+)
 
 
 def nathan_density(temp_f: float, elev_ft: float, p_inhg: float, rh_pct: float) -> float:
@@ -46,8 +47,12 @@ def nathan_density(temp_f: float, elev_ft: float, p_inhg: float, rh_pct: float) 
     t = (temp_f - 32) * 5 / 9
     p = p_inhg * 1000 / 39.37
     svp = 4.5841 * math.exp((18.687 - t / 234.5) * t / (257.14 + t))
-    return 1.2929 * (273 / (t + 273) * (p * math.exp(-1.217e-4 * elev_ft * FT_M)
-                                       - 0.3783 * rh_pct * svp / 100) / 760)
+    return 1.2929 * (
+        273
+        / (t + 273)
+        * (p * math.exp(-1.217e-4 * elev_ft * FT_M) - 0.3783 * rh_pct * svp / 100)
+        / 760
+    )
 
 
 def rpm(x: float) -> float:
@@ -55,8 +60,12 @@ def rpm(x: float) -> float:
 
 
 def launch(mph: float, deg: float, spin_rpm: float = 0.0, height_m: float = 0.9) -> Launch:
-    return Launch(speed_mps=mph * MPH_MPS, launch_rad=math.radians(deg),
-                  backspin_radps=rpm(spin_rpm), height_m=height_m)
+    return Launch(
+        speed_mps=mph * MPH_MPS,
+        launch_rad=math.radians(deg),
+        backspin_radps=rpm(spin_rpm),
+        height_m=height_m,
+    )
 
 
 speeds = st.floats(5.0, 60.0)
@@ -69,16 +78,16 @@ spins = st.floats(-300.0, 300.0)
 def test_vacuum_carry_and_hang_are_the_closed_form(v, a, h, back, side):
     # rho = 0: no drag, no lift (spin or not). t = (v sin a + sqrt(v^2 sin^2 a + 2 g h)) / g,
     # x = v cos(a) t, apex h + (v sin a)^2 / 2g, landing speed sqrt(v^2 + 2 g h).
-    ball = Launch(speed_mps=v, launch_rad=a, height_m=h, backspin_radps=back,
-                  sidespin_radps=side)
+    ball = Launch(speed_mps=v, launch_rad=a, height_m=h, backspin_radps=back, sidespin_radps=side)
     got = fly(ball, air=VACUUM)
     carry, hang = vacuum_carry_m(ball)
     g = 9.80665
-    assert hang == pytest.approx((v * math.sin(a) + math.sqrt((v * math.sin(a))**2 + 2 * g * h))
-                                 / g, rel=1e-14)
+    assert hang == pytest.approx(
+        (v * math.sin(a) + math.sqrt((v * math.sin(a)) ** 2 + 2 * g * h)) / g, rel=1e-14
+    )
     assert got.carry_m == pytest.approx(carry, rel=TOL_REL)
     assert got.hang_s == pytest.approx(hang, rel=TOL_REL)
-    assert got.apex_m == pytest.approx(h + (v * math.sin(a))**2 / (2 * g), rel=TOL_REL)
+    assert got.apex_m == pytest.approx(h + (v * math.sin(a)) ** 2 / (2 * g), rel=TOL_REL)
     assert got.landing_speed_mps == pytest.approx(math.sqrt(v * v + 2 * g * h), rel=TOL_REL)
     assert got.lateral_m == pytest.approx(0.0, abs=TOL_REL * carry)
 
@@ -88,10 +97,11 @@ def test_vacuum_carry_and_hang_are_the_closed_form(v, a, h, back, side):
 def test_magnus_does_no_work(v, a, h, back, side):
     # Drag off (C_D x 0), lift on: the Magnus force is normal to v, so v_land^2 = v0^2 + 2 g h
     # to the integrator's tolerance, however the lift bends the path.
-    got = fly(Launch(speed_mps=v, launch_rad=a, height_m=h, backspin_radps=back,
-                     sidespin_radps=side), aero=NATHAN_2008.scaled(drag=0.0))
-    assert got.landing_speed_mps == pytest.approx(math.sqrt(v * v + 2 * 9.80665 * h),
-                                                  rel=TOL_REL)
+    got = fly(
+        Launch(speed_mps=v, launch_rad=a, height_m=h, backspin_radps=back, sidespin_radps=side),
+        aero=NATHAN_2008.scaled(drag=0.0),
+    )
+    assert got.landing_speed_mps == pytest.approx(math.sqrt(v * v + 2 * 9.80665 * h), rel=TOL_REL)
 
 
 @settings(max_examples=examples(60))
@@ -101,7 +111,7 @@ def test_drag_shortens_the_carry(v, a, h):
     ball = Launch(speed_mps=v, launch_rad=a, height_m=h)
     got = fly(ball)
     assert got.carry_m < vacuum_carry_m(ball)[0]
-    assert got.apex_m < h + (v * math.sin(a))**2 / (2 * 9.80665)
+    assert got.apex_m < h + (v * math.sin(a)) ** 2 / (2 * 9.80665)
 
 
 @settings(max_examples=examples(40))
@@ -159,16 +169,18 @@ def test_minute_maid_park_measured_fly_balls(rho):
     # Minor League Ball is Such a Drag"). ASSUMED: a 3 ft launch height and an indoor density
     # between 1.16 and 1.23 kg/m^3 (60-80 F near sea level); the published mean must lie within
     # the model's carry over the coefficient spread (DRAG_SPREAD, LIFT_SPREAD).
-    low, high = carry_range_m(launch(96, 28, 1806, height_m=3 * FT_M),
-                              air=Air(density_kgm3=rho))
+    low, high = carry_range_m(launch(96, 28, 1806, height_m=3 * FT_M), air=Air(density_kgm3=rho))
     assert low < 390 * FT_M < high
 
 
-@pytest.mark.parametrize("mph,extension_in,published_s", [
-    (96, 6 * 12 + 10, 0.386),  # Sergio Santos
-    (92, 6 * 12 + 8, 0.407),  # Gavin Floyd
-    (92, 5 * 12 + 10, 0.416),  # the average MLB fastball
-])
+@pytest.mark.parametrize(
+    "mph,extension_in,published_s",
+    [
+        (96, 6 * 12 + 10, 0.386),  # Sergio Santos
+        (92, 6 * 12 + 8, 0.407),  # Gavin Floyd
+        (92, 5 * 12 + 10, 0.416),  # the average MLB fastball
+    ],
+)
 def test_trackman_fastball_flight_times(mph, extension_in, published_s):
     # Published: T. Verducci, "How a Danish tech company is revolutionizing pitching data",
     # Sports Illustrated, 12 Apr 2011: TrackMan's extension, speed and flight time ("FT") of
@@ -181,9 +193,14 @@ def test_trackman_fastball_flight_times(mph, extension_in, published_s):
             for spin in (0.0, 2500.0):
                 for drag in (0.9, 1.1):
                     distance = (60.5 * 12 - extension_in + d_in) * 0.0254
-                    times.append(time_to_travel((mph + dv) * MPH_MPS, distance,
-                                                backspin_radps=rpm(spin),
-                                                aero=NATHAN_2008.scaled(drag=drag)).time_s)
+                    times.append(
+                        time_to_travel(
+                            (mph + dv) * MPH_MPS,
+                            distance,
+                            backspin_radps=rpm(spin),
+                            aero=NATHAN_2008.scaled(drag=drag),
+                        ).time_s
+                    )
     assert min(times) < published_s < max(times)
 
 
@@ -196,8 +213,12 @@ def test_pitchfx_fastballs_lose_a_tenth_of_their_speed():
     for spin in (0.0, 2500.0):
         for start_ft in (50.0, 55.0):
             for drag in (0.9, 1.1):
-                got = time_to_travel(87.6 * MPH_MPS, (start_ft - 17 / 12) * FT_M,
-                                     backspin_radps=rpm(spin), aero=NATHAN_2008.scaled(drag=drag))
+                got = time_to_travel(
+                    87.6 * MPH_MPS,
+                    (start_ft - 17 / 12) * FT_M,
+                    backspin_radps=rpm(spin),
+                    aero=NATHAN_2008.scaled(drag=drag),
+                )
                 losses.append(1 - got.arrival_speed_mps / (87.6 * MPH_MPS))
     assert min(losses) < (87.6 - 78.8) / 87.6 < max(losses)
 
@@ -225,7 +246,7 @@ def test_a_pitch_takes_longer_than_its_release_speed_says():
     assert got.arrival_speed_mps < 40.0
     assert got.arrival_speed_mps == pytest.approx(40.0 * math.exp(-k * 16.8), rel=0.02)
     assert got.time_s == pytest.approx(math.expm1(k * 16.8) / (k * 40.0), rel=0.02)
-    assert got.drop_m > 0.5 * 9.80665 * (16.8 / 40.0)**2  # it falls at least as long as 0.42 s
+    assert got.drop_m > 0.5 * 9.80665 * (16.8 / 40.0) ** 2  # it falls at least as long as 0.42 s
     lifted = time_to_travel(40.0, 16.8, backspin_radps=rpm(2200))
     assert lifted.drop_m < got.drop_m  # a fastball's backspin holds it up
 
@@ -234,41 +255,52 @@ def test_the_spin_decay_time_matters_little():
     # The spin's decay (Nathan's calculators: 30 s scaled by 100 mph/|v|, or none) moves a
     # 45 m/s, 30 deg, 2000 rpm carry by under a tenth of the spread the coefficients allow.
     ball = Launch(speed_mps=45.0, launch_rad=math.radians(30.0), backspin_radps=rpm(2000))
-    carries = [fly(ball, aero=Aerodynamics(cd0=NATHAN_2008.cd0,
-                                           cd_spin_per_radps=NATHAN_2008.cd_spin_per_radps,
-                                           cl0=0.583, cl1=2.333, cl2=1.120,
-                                           spin_decay_s=tau)).carry_m
-               for tau in (25.0, 30.0, 45.0, math.inf)]
+    carries = [
+        fly(
+            ball,
+            aero=Aerodynamics(
+                cd0=NATHAN_2008.cd0,
+                cd_spin_per_radps=NATHAN_2008.cd_spin_per_radps,
+                cl0=0.583,
+                cl1=2.333,
+                cl2=1.120,
+                spin_decay_s=tau,
+            ),
+        ).carry_m
+        for tau in (25.0, 30.0, 45.0, math.inf)
+    ]
     low, high = carry_range_m(ball)
     assert max(carries) - min(carries) < 0.1 * (high - low)
 
 
 def test_the_coefficients_are_nathans():
     # C_D = 0.3008 + 0.0292 per 1000 rpm, C_L = 1.120 S / (0.583 + 2.333 S) (module docstring).
-    assert NATHAN_2008.drag_coefficient(rpm(2000)) == pytest.approx(0.3008 + 2 * 0.0292,
-                                                                    rel=1e-15)
-    assert NATHAN_2008.lift_coefficient(0.2) == pytest.approx(0.224 / (0.583 + 0.4666),
-                                                              rel=1e-15)
+    assert NATHAN_2008.drag_coefficient(rpm(2000)) == pytest.approx(0.3008 + 2 * 0.0292, rel=1e-15)
+    assert NATHAN_2008.lift_coefficient(0.2) == pytest.approx(0.224 / (0.583 + 0.4666), rel=1e-15)
     scaled = NATHAN_2008.scaled(drag=1.1, lift=0.9)
     assert scaled.drag_coefficient(rpm(2000)) == pytest.approx(1.1 * (0.3008 + 2 * 0.0292))
     assert scaled.lift_coefficient(0.2) == pytest.approx(0.9 * NATHAN_2008.lift_coefficient(0.2))
 
 
 @settings(max_examples=examples(40))
-@given(v=st.floats(20.0, 50.0), a=angles, d=st.floats(-math.pi, math.pi),
-       back=spins, side=spins)
+@given(v=st.floats(20.0, 50.0), a=angles, d=st.floats(-math.pi, math.pi), back=spins, side=spins)
 def test_the_spray_angle_only_turns_the_flight(v, a, d, back, side):
     # In still air the field is symmetric about z: turning the launch by d turns the
     # trajectory by d and leaves carry, hang and lateral offset as they were.
     straight = fly(Launch(speed_mps=v, launch_rad=a, backspin_radps=back, sidespin_radps=side))
-    turned = fly(Launch(speed_mps=v, launch_rad=a, backspin_radps=back, sidespin_radps=side,
-                        direction_rad=d))
+    turned = fly(
+        Launch(speed_mps=v, launch_rad=a, backspin_radps=back, sidespin_radps=side, direction_rad=d)
+    )
     assert turned.carry_m == pytest.approx(straight.carry_m, rel=1e-7)
     assert turned.hang_s == pytest.approx(straight.hang_s, rel=1e-7)
     assert turned.lateral_m == pytest.approx(straight.lateral_m, rel=1e-6, abs=1e-7)
     c, s = math.cos(d), math.sin(d)
-    np.testing.assert_allclose(turned.xyz_m, straight.xyz_m @ np.array(
-        [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]), rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(
+        turned.xyz_m,
+        straight.xyz_m @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]),
+        rtol=1e-6,
+        atol=1e-6,
+    )
 
 
 def test_sidespin_curves_toward_plus_y_and_the_flight_is_sampled():
@@ -313,29 +345,40 @@ def test_the_carry_range_brackets_the_central_carry():
     assert low < fly(ball).carry_m < high
 
 
-@pytest.mark.parametrize("make,name", [
-    (lambda: Launch(speed_mps=0.0, launch_rad=0.5), "speed_mps"),
-    (lambda: Launch(speed_mps=40.0, launch_rad=2.0), "launch_rad"),
-    (lambda: Launch(speed_mps=40.0, launch_rad=0.5, backspin_radps=math.nan), "backspin_radps"),
-    (lambda: Launch(speed_mps=40.0, launch_rad=0.5, sidespin_radps=math.inf), "sidespin_radps"),
-    (lambda: Launch(speed_mps=40.0, launch_rad=0.5, height_m=-0.1), "height_m"),
-    (lambda: Launch(speed_mps=40.0, launch_rad=0.5, direction_rad=4.0), "direction_rad"),
-    (lambda: Launch(speed_mps=40.0, launch_rad=-0.1, height_m=0.0), "launch_rad"),
-    (lambda: Air(density_kgm3=-1.0), "density_kgm3"),
-    (lambda: NATHAN_2008.scaled(drag=-0.1), "drag"),
-    (lambda: Aerodynamics(cd0=0.3, cd_spin_per_radps=0.0, cl0=0.0, cl1=1.0, cl2=1.0), "cl0"),
-    (lambda: Aerodynamics(cd0=0.3, cd_spin_per_radps=0.0, cl0=0.5, cl1=1.0, cl2=1.0,
-                          spin_decay_s=0.0), "spin_decay_s"),
-    (lambda: fly(Launch(speed_mps=40.0, launch_rad=0.5), g_mps2=0.0), "g_mps2"),
-    (lambda: fly(Launch(speed_mps=40.0, launch_rad=0.5), rtol=1.0), "rtol"),
-    (lambda: fly_vectors([0.0, 0.0, -1.0], [40.0, 0.0, 1.0], [0.0, 0.0, 0.0]),
-     r"position_m\[2\]"),
-    (lambda: fly_vectors([0.0, 0.0, 0.0], [40.0, 0.0, -1.0], [0.0, 0.0, 0.0]),
-     r"velocity_mps\[2\]"),
-    (lambda: time_to_travel(40.0, -1.0), "distance_m"),
-    (lambda: time_to_travel(-40.0, 16.8), "speed_mps"),
-    (lambda: batted_ball_launch([0.0, 0.0, 30.0], [0.0, 0.0, 0.0]), "velocity_mps"),
-])
+@pytest.mark.parametrize(
+    "make,name",
+    [
+        (lambda: Launch(speed_mps=0.0, launch_rad=0.5), "speed_mps"),
+        (lambda: Launch(speed_mps=40.0, launch_rad=2.0), "launch_rad"),
+        (lambda: Launch(speed_mps=40.0, launch_rad=0.5, backspin_radps=math.nan), "backspin_radps"),
+        (lambda: Launch(speed_mps=40.0, launch_rad=0.5, sidespin_radps=math.inf), "sidespin_radps"),
+        (lambda: Launch(speed_mps=40.0, launch_rad=0.5, height_m=-0.1), "height_m"),
+        (lambda: Launch(speed_mps=40.0, launch_rad=0.5, direction_rad=4.0), "direction_rad"),
+        (lambda: Launch(speed_mps=40.0, launch_rad=-0.1, height_m=0.0), "launch_rad"),
+        (lambda: Air(density_kgm3=-1.0), "density_kgm3"),
+        (lambda: NATHAN_2008.scaled(drag=-0.1), "drag"),
+        (lambda: Aerodynamics(cd0=0.3, cd_spin_per_radps=0.0, cl0=0.0, cl1=1.0, cl2=1.0), "cl0"),
+        (
+            lambda: Aerodynamics(
+                cd0=0.3, cd_spin_per_radps=0.0, cl0=0.5, cl1=1.0, cl2=1.0, spin_decay_s=0.0
+            ),
+            "spin_decay_s",
+        ),
+        (lambda: fly(Launch(speed_mps=40.0, launch_rad=0.5), g_mps2=0.0), "g_mps2"),
+        (lambda: fly(Launch(speed_mps=40.0, launch_rad=0.5), rtol=1.0), "rtol"),
+        (
+            lambda: fly_vectors([0.0, 0.0, -1.0], [40.0, 0.0, 1.0], [0.0, 0.0, 0.0]),
+            r"position_m\[2\]",
+        ),
+        (
+            lambda: fly_vectors([0.0, 0.0, 0.0], [40.0, 0.0, -1.0], [0.0, 0.0, 0.0]),
+            r"velocity_mps\[2\]",
+        ),
+        (lambda: time_to_travel(40.0, -1.0), "distance_m"),
+        (lambda: time_to_travel(-40.0, 16.8), "speed_mps"),
+        (lambda: batted_ball_launch([0.0, 0.0, 30.0], [0.0, 0.0, 0.0]), "velocity_mps"),
+    ],
+)
 def test_bad_input_is_named(make, name):
     with pytest.raises(ValueError, match=name):
         make()

@@ -25,8 +25,12 @@ TOL_REL = 1e-9
 
 
 def ball(v, w=(0.0, 0.0, 0.0)) -> RigidBody3D:
-    return RigidBody3D(mass_kg=M, inertia_kgm2=BALL.inertia_kgm2 * np.eye(3),
-                       velocity_mps=np.array(v, float), omega_radps=np.array(w, float))
+    return RigidBody3D(
+        mass_kg=M,
+        inertia_kgm2=BALL.inertia_kgm2 * np.eye(3),
+        velocity_mps=np.array(v, float),
+        omega_radps=np.array(w, float),
+    )
 
 
 #: A bat of huge mass and inertia: a wall (its velocity change is ~1e-17 of the ball's).
@@ -35,13 +39,23 @@ WALL = RigidBody3D(mass_kg=1e16, inertia_kgm2=1e16 * np.eye(3))
 
 def on_wall(vn: float, vt: float, e: float, mu: float, spin: float = 0.0):
     """A ball at normal speed vn and tangential speed vt (along x) onto a wall y = 0."""
-    return frictional_impulse(ball([vt, -vn, 0.0], [0.0, 0.0, spin]), WALL,
-                              r_a_m=[0.0, -R, 0.0], r_b_m=[0.0, 0.0, 0.0],
-                              normal=[0.0, 1.0, 0.0], e=e, mu=mu)
+    return frictional_impulse(
+        ball([vt, -vn, 0.0], [0.0, 0.0, spin]),
+        WALL,
+        r_a_m=[0.0, -R, 0.0],
+        r_b_m=[0.0, 0.0, 0.0],
+        normal=[0.0, 1.0, 0.0],
+        e=e,
+        mu=mu,
+    )
 
 
-@given(vn=st.floats(1.0, 60.0), vt=st.floats(1.0, 40.0), e=st.floats(0.0, 1.0),
-       frac=st.floats(0.01, 0.99))
+@given(
+    vn=st.floats(1.0, 60.0),
+    vt=st.floats(1.0, 40.0),
+    e=st.floats(0.0, 1.0),
+    frac=st.floats(0.01, 0.99),
+)
 def test_small_mu_on_a_wall_slides_throughout(vn, vt, e, frac):
     # A ball sliding all through the impact (mu below the limit 2 vt / (7 (1 + e) vn) where
     # the slip would stop) loses mu (1 + e) vn of tangential speed and gains the spin
@@ -55,8 +69,12 @@ def test_small_mu_on_a_wall_slides_throughout(vn, vt, e, frac):
     assert out.a.velocity_mps[1] == pytest.approx(e * vn, rel=TOL_REL)
 
 
-@given(vn=st.floats(1.0, 60.0), vt=st.floats(1.0, 40.0), e=st.floats(0.0, 1.0),
-       extra=st.floats(1.01, 100.0))
+@given(
+    vn=st.floats(1.0, 60.0),
+    vt=st.floats(1.0, 40.0),
+    e=st.floats(0.0, 1.0),
+    extra=st.floats(1.01, 100.0),
+)
 def test_large_mu_on_a_wall_leaves_rolling(vn, vt, e, extra):
     # Above that limit the contact point stops and sticks: the ball leaves rolling,
     # v_t = 5/7 of its incoming value and omega = -v_t / r (angular momentum about the contact
@@ -87,8 +105,9 @@ def test_mu_zero_is_the_frictionless_impulse(a, b, r_a, r_b, n, e):
     assume(n @ (a.point_velocity(r_a) - b.point_velocity(r_b)) <= -0.1)
     want = impulse_3d(a, b, r_a_m=r_a, r_b_m=r_b, normal=n, e=e)
     got = frictional_impulse(a, b, r_a_m=r_a, r_b_m=r_b, normal=n, e=e, mu=0.0)
-    np.testing.assert_allclose(got.impulse_ns, want.j_ns * n, rtol=TOL_REL,
-                               atol=TOL_REL * abs(want.j_ns))
+    np.testing.assert_allclose(
+        got.impulse_ns, want.j_ns * n, rtol=TOL_REL, atol=TOL_REL * abs(want.j_ns)
+    )
 
 
 @settings(max_examples=examples(60))
@@ -109,8 +128,17 @@ def test_energy_never_grows(a, b, r_a, r_b, n, e, mu):
 
 
 def swing_case(s: float, theta: float, e: float, **friction) -> ImpactCase:
-    return ImpactCase(bat=presets.R161, ball=BALL, s_m=s, v0_mps=46.9, u0_mps=17.87,
-                      omega0_radps=32.0, e=e, theta_rad=theta, **friction)
+    return ImpactCase(
+        bat=presets.R161,
+        ball=BALL,
+        s_m=s,
+        v0_mps=46.9,
+        u0_mps=17.87,
+        omega0_radps=32.0,
+        e=e,
+        theta_rad=theta,
+        **friction,
+    )
 
 
 @given(s=st.floats(-0.3, 0.25), theta=st.floats(-0.6, 0.6), e=st.floats(0.0, 1.0))
@@ -124,8 +152,12 @@ def test_mu_zero_on_the_bat_is_the_planar_model(s, theta, e):
     assert got.ball_spin_radps == (0.0, 0.0, 0.0)
 
 
-@given(s=st.floats(-0.3, 0.25), theta=st.floats(-0.6, 0.6), e=st.floats(0.0, 1.0),
-       mu=st.floats(0.0, 0.05))
+@given(
+    s=st.floats(-0.3, 0.25),
+    theta=st.floats(-0.6, 0.6),
+    e=st.floats(0.0, 1.0),
+    mu=st.floats(0.0, 0.05),
+)
 def test_a_slide_throughout_on_the_bat_has_its_closed_form(s, theta, e, mu):
     # While the ball slides along the bat's axis in one direction s^ the whole time, dv/dp is
     # constant, k = n.K(n - mu s^) (K the collision matrix), and the energetic end is
@@ -140,10 +172,12 @@ def test_a_slide_throughout_on_the_bat_has_its_closed_form(s, theta, e, mu):
     bat = case.bat
     n = np.array([0.0, 1.0, 0.0])
     a = ball([case.v0_mps * math.sin(theta), -case.v0n_mps, 0.0])
-    b = RigidBody3D(mass_kg=bat.mass_kg, inertia_kgm2=np.diag(
-        [bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, bat.inertia_cm_kgm2]),
+    b = RigidBody3D(
+        mass_kg=bat.mass_kg,
+        inertia_kgm2=np.diag([bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, bat.inertia_cm_kgm2]),
         velocity_mps=np.array([0.0, case.u0_mps, 0.0]),
-        omega_radps=np.array([0.0, 0.0, case.omega0_radps]))
+        omega_radps=np.array([0.0, 0.0, case.omega0_radps]),
+    )
     r_a, r_b = -R * n, np.array([s, bat.radius_m, 0.0])
     v0 = a.point_velocity(r_a) - b.point_velocity(r_b)
     slip = np.array([math.copysign(1.0, v0[0]), 0.0, 0.0])
@@ -152,8 +186,13 @@ def test_a_slide_throughout_on_the_bat_has_its_closed_form(s, theta, e, mu):
     np.testing.assert_allclose(out.impulse_ns, want, rtol=TOL_REL, atol=TOL_REL * 10)
 
 
-@given(s=st.floats(-0.3, 0.25), undercut=st.floats(-0.06, 0.06), e=st.floats(0.0, 1.0),
-       mu=st.floats(0.0, 1.0), spin=vec)
+@given(
+    s=st.floats(-0.3, 0.25),
+    undercut=st.floats(-0.06, 0.06),
+    e=st.floats(0.0, 1.0),
+    mu=st.floats(0.0, 1.0),
+    spin=vec,
+)
 def test_undercut_hits_lose_energy_and_spin_the_ball_backward(s, undercut, e, mu, spin):
     # Any undercut, spin and mu: energy never grows; with friction and no incoming spin, a
     # ball whose centre is above the swing plane (+z) leaves upward with backspin (+x: the
@@ -167,12 +206,15 @@ def test_undercut_hits_lose_energy_and_spin_the_ball_backward(s, undercut, e, mu
         assert np.sign(plain.launch_rad) == np.sign(undercut)
 
 
-@pytest.mark.parametrize("kwargs,piece", [
-    ({"mu": -0.1}, "mu=-0.1 is out of range"),
-    ({"mu": 0.5, "undercut_m": 0.2}, "undercut_m=0.2 is out of range"),
-    ({"mu": 0.5, "spin_radps": (1.0, math.nan, 0.0)}, "spin_radps[1]=nan is not finite"),
-    ({"mu": 0.5, "spin_radps": (1.0, 2.0)}, "spin_radps=(1.0, 2.0) has 2 components"),
-])
+@pytest.mark.parametrize(
+    "kwargs,piece",
+    [
+        ({"mu": -0.1}, "mu=-0.1 is out of range"),
+        ({"mu": 0.5, "undercut_m": 0.2}, "undercut_m=0.2 is out of range"),
+        ({"mu": 0.5, "spin_radps": (1.0, math.nan, 0.0)}, "spin_radps[1]=nan is not finite"),
+        ({"mu": 0.5, "spin_radps": (1.0, 2.0)}, "spin_radps=(1.0, 2.0) has 2 components"),
+    ],
+)
 def test_bad_input_is_named(kwargs, piece):
     with pytest.raises(ValueError, match=re.escape(piece)):
         predict_friction(swing_case(0.1, 0.0, 0.5, **kwargs))
@@ -194,8 +236,12 @@ def test_a_gripping_ball_leaves_without_sliding(s, undercut, e):
     reach = case.bat.radius_m + R
     n = np.array([0.0, math.sqrt(reach**2 - undercut**2), undercut]) / reach
     r_a, r_b = -R * n, np.array([s, 0.0, 0.0]) + case.bat.radius_m * n
-    rel = (np.array(out.ball_velocity_mps) + np.cross(out.ball_spin_radps, r_a)
-           - np.array(out.bat_velocity_mps) - np.cross(out.bat_omega_radps, r_b))
+    rel = (
+        np.array(out.ball_velocity_mps)
+        + np.cross(out.ball_spin_radps, r_a)
+        - np.array(out.bat_velocity_mps)
+        - np.cross(out.bat_omega_radps, r_b)
+    )
     tangential = rel - (rel @ n) * n
     assert np.linalg.norm(tangential) <= 1e-6 * case.closing_speed_mps
 
@@ -205,13 +251,24 @@ def one_step_on_wall(vn, vt, e, mu, relaxed=False):
     onto a wall y = 0."""
     from analytic.friction import one_step_impulse
 
-    return one_step_impulse(ball([vt, -vn, 0.0]), WALL, r_a_m=[0.0, -R, 0.0],
-                            r_b_m=[0.0, 0.0, 0.0], normal=[0.0, 1.0, 0.0], e=e, mu=mu,
-                            relaxed=relaxed)
+    return one_step_impulse(
+        ball([vt, -vn, 0.0]),
+        WALL,
+        r_a_m=[0.0, -R, 0.0],
+        r_b_m=[0.0, 0.0, 0.0],
+        normal=[0.0, 1.0, 0.0],
+        e=e,
+        mu=mu,
+        relaxed=relaxed,
+    )
 
 
-@given(vn=st.floats(1.0, 60.0), vt=st.floats(1.0, 40.0), e=st.floats(0.0, 1.0),
-       frac=st.floats(0.01, 0.99))
+@given(
+    vn=st.floats(1.0, 60.0),
+    vt=st.floats(1.0, 40.0),
+    e=st.floats(0.0, 1.0),
+    frac=st.floats(0.01, 0.99),
+)
 def test_the_one_step_law_slides_on_a_wall_as_routh(vn, vt, e, frac):
     # On a wall the collision matrix does not couple the normal and the tangent, so the one-step
     # law meets Routh's limits: a slide throughout drops v_t by mu (1 + e) v_n; relaxed, the
@@ -230,8 +287,13 @@ def test_the_one_step_law_slides_on_a_wall_as_routh(vn, vt, e, frac):
     assert relaxed.a.velocity_mps[0] == pytest.approx(vt - mu * dvn, rel=TOL_REL)
 
 
-@given(vn=st.floats(1.0, 60.0), vt=st.floats(1.0, 40.0), e=st.floats(0.0, 1.0),
-       extra=st.floats(1.01, 100.0), relaxed=st.booleans())
+@given(
+    vn=st.floats(1.0, 60.0),
+    vt=st.floats(1.0, 40.0),
+    e=st.floats(0.0, 1.0),
+    extra=st.floats(1.01, 100.0),
+    relaxed=st.booleans(),
+)
 def test_the_one_step_law_grips_on_a_wall(vn, vt, e, extra, relaxed):
     # Above the sliding limit the one step sticks (the total impulse inside the cone): the ball
     # leaves rolling, v_t = 5/7 of its incoming value, the normal exit speed e v_n (a stick
@@ -243,26 +305,34 @@ def test_the_one_step_law_grips_on_a_wall(vn, vt, e, extra, relaxed):
     assert out.a.velocity_mps[1] == pytest.approx(e * vn, rel=TOL_REL)
 
 
-@given(s=st.floats(-0.3, 0.25), undercut=st.floats(-0.05, 0.05), e=st.floats(0.0, 1.0),
-       spin=vec)
+@given(s=st.floats(-0.3, 0.25), undercut=st.floats(-0.05, 0.05), e=st.floats(0.0, 1.0), spin=vec)
 def test_the_laws_without_friction_are_the_frictionless_impulse(s, undercut, e, spin):
     # mu = 0: every law is EQ 141's impulse along the (tilted) normal, whatever the spin.
     case = swing_case(s, 0.0, e, undercut_m=undercut, spin_radps=tuple(spin * 100))
     want = predict_friction(case)
     for law in ("one_step", "relaxed"):
         got = predict_friction(case, law=law)
-        np.testing.assert_allclose(got.impulse_ns, want.impulse_ns, rtol=TOL_REL,
-                                   atol=TOL_REL * np.linalg.norm(want.impulse_ns))
+        np.testing.assert_allclose(
+            got.impulse_ns,
+            want.impulse_ns,
+            rtol=TOL_REL,
+            atol=TOL_REL * np.linalg.norm(want.impulse_ns),
+        )
 
 
 def test_the_laws_without_friction_hold_a_hit_on_a_still_bats_com():
     # mu = 0, an undercut ball on a still bat's COM (the slide search found no direction
     # there): the impulse is EQ 141's along the tilted normal, P.n = (1 + e) m_eff |v_n|,
     # with Routh's law (a frictionless integration) as the independent answer.
-    case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.0, v0_mps=40.0, e=0.5,
-                      undercut_m=0.01)
+    case = ImpactCase(
+        bat=presets.R161, ball=presets.BASEBALL, s_m=0.0, v0_mps=40.0, e=0.5, undercut_m=0.01
+    )
     want = predict_friction(case)
     for law in ("one_step", "relaxed"):
         got = predict_friction(case, law=law)
-        np.testing.assert_allclose(got.impulse_ns, want.impulse_ns, rtol=TOL_REL,
-                                   atol=TOL_REL * np.linalg.norm(want.impulse_ns))
+        np.testing.assert_allclose(
+            got.impulse_ns,
+            want.impulse_ns,
+            rtol=TOL_REL,
+            atol=TOL_REL * np.linalg.norm(want.impulse_ns),
+        )

@@ -17,9 +17,12 @@ from analytic.model import ImpactCase
 
 BAT, BALL = presets.R161, presets.BASEBALL
 #: Oblique impacts that slide throughout (small mu; a still bat, then the paper's swing).
-SLIDING = [dict(theta_rad=0.5, mu=0.02, v0_mps=40.0), dict(theta_rad=0.6, mu=0.1, v0_mps=40.0),
-           dict(theta_rad=0.4, mu=0.03, v0_mps=40.0, u0_mps=17.87, omega0_radps=32.0),
-           dict(theta_rad=-0.3, mu=0.05, v0_mps=30.0, s_m=-0.2)]
+SLIDING = [
+    dict(theta_rad=0.5, mu=0.02, v0_mps=40.0),
+    dict(theta_rad=0.6, mu=0.1, v0_mps=40.0),
+    dict(theta_rad=0.4, mu=0.03, v0_mps=40.0, u0_mps=17.87, omega0_radps=32.0),
+    dict(theta_rad=-0.3, mu=0.05, v0_mps=30.0, s_m=-0.2),
+]
 
 
 def _case(**kw) -> ImpactCase:
@@ -59,10 +62,20 @@ def test_without_friction_the_closed_form_derivatives_are_the_planar_ones():
     # forms of the same impulse)
     kw = dict(theta_rad=0.3, mu=0.0, v0_mps=40.0, u0_mps=10.0, omega0_radps=20.0)
     d = fg.friction_derivatives(_case(**kw)).values["v1_mps"]
-    planar = gradients.derivatives(BAT, BALL, s_m=0.1, v0_mps=40.0, u0_mps=10.0,
-                                   omega0_radps=20.0, e=0.5, theta_rad=0.3)["v1_mps"]
-    for name in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "ball_mass_kg", "bat_mass_kg",
-                 "bat_inertia_kgm2", "com_from_knob_m"):
+    planar = gradients.derivatives(
+        BAT, BALL, s_m=0.1, v0_mps=40.0, u0_mps=10.0, omega0_radps=20.0, e=0.5, theta_rad=0.3
+    )["v1_mps"]
+    for name in (
+        "s_m",
+        "v0_mps",
+        "u0_mps",
+        "omega0_radps",
+        "e",
+        "ball_mass_kg",
+        "bat_mass_kg",
+        "bat_inertia_kgm2",
+        "com_from_knob_m",
+    ):
         assert d[name] == pytest.approx(float(planar[name]), rel=1e-12), name
 
 

@@ -21,8 +21,12 @@ def bodies(draw):
     principal = np.array(draw(st.lists(st.floats(0.01, 2.0), min_size=3, max_size=3)))
     rot = Rotation.from_rotvec(draw(vec)).as_matrix()
     inertia_kgm2 = rot @ np.diag(principal) @ rot.T
-    return RigidBody3D(mass_kg=draw(st.floats(0.1, 3.0)), inertia_kgm2=inertia_kgm2,
-                       velocity_mps=draw(vec), omega_radps=draw(vec))
+    return RigidBody3D(
+        mass_kg=draw(st.floats(0.1, 3.0)),
+        inertia_kgm2=inertia_kgm2,
+        velocity_mps=draw(vec),
+        omega_radps=draw(vec),
+    )
 
 
 @given(bodies(), bodies(), vec, vec, vec, st.floats(0.0, 1.0))
@@ -38,13 +42,20 @@ def test_momenta_conserved_and_restitution_holds(a, b, r_a, r_b, n, e):
 
     def momenta(A, B):
         p = A.mass_kg * A.velocity_mps + B.mass_kg * B.velocity_mps
-        L = (np.cross(-r_a, A.mass_kg * A.velocity_mps) + A.inertia_kgm2 @ A.omega_radps
-             + np.cross(-r_b, B.mass_kg * B.velocity_mps) + B.inertia_kgm2 @ B.omega_radps)
+        L = (
+            np.cross(-r_a, A.mass_kg * A.velocity_mps)
+            + A.inertia_kgm2 @ A.omega_radps
+            + np.cross(-r_b, B.mass_kg * B.velocity_mps)
+            + B.inertia_kgm2 @ B.omega_radps
+        )
         return p, L
 
     (p0, L0), (p1, L1) = momenta(a, b), momenta(res.a, res.b)
-    scale = 1.0 + abs(res.j_ns) * (1 + np.linalg.norm(r_a) + np.linalg.norm(r_b)) + \
-        sum(np.linalg.norm(x) for x in (*p0, *L0))
+    scale = (
+        1.0
+        + abs(res.j_ns) * (1 + np.linalg.norm(r_a) + np.linalg.norm(r_b))
+        + sum(np.linalg.norm(x) for x in (*p0, *L0))
+    )
     np.testing.assert_allclose(p1, p0, atol=TOL_REL * scale)
     np.testing.assert_allclose(L1, L0, atol=TOL_REL * scale)
     v_rel1 = n @ (res.a.point_velocity(r_a) - res.b.point_velocity(r_b))

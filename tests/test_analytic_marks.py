@@ -29,9 +29,20 @@ BUDGET_S = 0.1
 
 
 def _case(**change) -> ImpactCase:
-    return ImpactCase(**{**dict(bat=R161, ball=BALL, s_m=0.0, v0_mps=presets.PAPER_PITCH_MPS,
-                                u0_mps=SWING.u0_mps, omega0_radps=SWING.omega0_radps, e=0.5),
-                         **change})
+    return ImpactCase(
+        **{
+            **dict(
+                bat=R161,
+                ball=BALL,
+                s_m=0.0,
+                v0_mps=presets.PAPER_PITCH_MPS,
+                u0_mps=SWING.u0_mps,
+                omega0_radps=SWING.omega0_radps,
+                e=0.5,
+            ),
+            **change,
+        }
+    )
 
 
 def test_one_impulse_keeps_the_closed_forms_exactly():
@@ -94,8 +105,9 @@ def test_a_ball_at_rest_hit_again_and_again_has_no_cop():
     assert cop.reference == NO_REFERENCE and "does not cross zero" in cop.why
 
 
-@pytest.mark.parametrize("v0, u0, omega0", [(0.0, 0.0, 32.0), (0.0, -4.0, 32.0),
-                                            (10.0, 0.0, -32.0), (46.9, 17.87, 32.0)])
+@pytest.mark.parametrize(
+    "v0, u0, omega0", [(0.0, 0.0, 32.0), (0.0, -4.0, 32.0), (10.0, 0.0, -32.0), (46.9, 17.87, 32.0)]
+)
 def test_the_sweet_spot_wherever_the_bat_turns_into_the_ball(v0, u0, omega0):
     # dv1/ds = 0 at s* = (-A + sqrt(A^2 + omega0^2 J k)) / omega0 for either sign of
     # A = v0 + u0 (a bat turning into a ball at rest: A = 0), where the closing speed is

@@ -31,7 +31,8 @@ def test_constant_torque_gives_equal_kinetic_energy_about_knob():
     # tau * dtheta = I_knob omega^2 / 2: the same work gives the same rotational energy.
     got = swing_for(AL, model=SwingModel.CONSTANT_TORQUE, reference_bat=R161, reference=REF)
     assert AL.inertia_knob_kgm2 * got.omega0_radps**2 == pytest.approx(
-        R161.inertia_knob_kgm2 * REF.omega0_radps**2, rel=16 * EPS)
+        R161.inertia_knob_kgm2 * REF.omega0_radps**2, rel=16 * EPS
+    )
 
 
 def test_measured_model_keeps_omega_times_inertia_power():
@@ -39,7 +40,8 @@ def test_measured_model_keeps_omega_times_inertia_power():
     n = 0.27
     got = swing_for(AL, model=SwingModel.MEASURED, reference_bat=R161, reference=REF, exponent=n)
     assert got.omega0_radps * AL.inertia_knob_kgm2**n == pytest.approx(
-        REF.omega0_radps * R161.inertia_knob_kgm2**n, rel=16 * EPS)
+        REF.omega0_radps * R161.inertia_knob_kgm2**n, rel=16 * EPS
+    )
 
 
 def test_instantaneous_centre_stays_fixed_relative_to_knob():

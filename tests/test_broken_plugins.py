@@ -41,8 +41,9 @@ def broken_site(tmp_path_factory) -> Path:
     info = site / "batsim_broken-0.1.dist-info"
     info.mkdir()
     (info / "METADATA").write_text("Metadata-Version: 2.1\nName: batsim-broken\nVersion: 0.1\n")
-    (info / "entry_points.txt").write_text(f"[{adapters.ENTRY_POINT_GROUP}]\n"
-                                           + "\n".join(lines) + "\n")
+    (info / "entry_points.txt").write_text(
+        f"[{adapters.ENTRY_POINT_GROUP}]\n" + "\n".join(lines) + "\n"
+    )
     return site
 
 
@@ -71,8 +72,22 @@ def test_each_broken_plugin_is_left_out_with_its_reason(installed):
 
 def test_a_sweep_of_another_engine_runs_and_its_json_lists_them(installed, tmp_path):
     env = {"PYTHONPATH": str(installed)}
-    run_command(["-m", "experiments.sweep", "--engine", ENGINE, "--points", "3", "--no-locate",
-                 "--out", str(tmp_path), "--name", "r"], env=env)
+    run_command(
+        [
+            "-m",
+            "experiments.sweep",
+            "--engine",
+            ENGINE,
+            "--points",
+            "3",
+            "--no-locate",
+            "--out",
+            str(tmp_path),
+            "--name",
+            "r",
+        ],
+        env=env,
+    )
     manifest = json.loads((tmp_path / "r" / "run.json").read_text())
     assert set(manifest["broken_plugins"]) == set(BROKEN)
     sidecar = json.loads((tmp_path / "r" / "sweep.json").read_text())
@@ -85,7 +100,8 @@ def test_a_sweep_of_another_engine_runs_and_its_json_lists_them(installed, tmp_p
 
 def test_check_engine_reports_them(installed):
     env = {"PYTHONPATH": str(installed)}
-    one = run_command(["-m", "experiments.check_engine", "--engine", ENGINE, "--check",
-                       "mass_read_back"], env=env)
+    one = run_command(
+        ["-m", "experiments.check_engine", "--engine", ENGINE, "--check", "mass_read_back"], env=env
+    )
     assert "a broken plug-in, not checked" in one.stdout and "'noattr'" in one.stdout
     assert "FAILED" not in one.stdout  # (pymunk passes; the plug-ins are not what was asked)

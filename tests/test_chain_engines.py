@@ -67,9 +67,14 @@ def test_spring_gives_the_chain_its_lowest_mode(name, r161_chain):
 def test_chain_impacts_match_the_linear_chain(name, r161_chain):
     # v1 of the engine's chain = v1 of the linear chain (impulses or its compliant law)
     settings = adapters.settings_for(name, "reference")
-    rows = [fire_chain(name, settings, ChainImpact(chain=r161_chain, ball=presets.BASEBALL,
-                                                   x_m=float(x), v0_mps=40.0, e=0.5))
-            for x in POINTS_M]
+    rows = [
+        fire_chain(
+            name,
+            settings,
+            ChainImpact(chain=r161_chain, ball=presets.BASEBALL, x_m=float(x), v0_mps=40.0, e=0.5),
+        )
+        for x in POINTS_M
+    ]
     # a row is ok, or unjudged where no verdict applies: the step resolves the chain too
     # coarsely (a re-touch at N = 8, dt = 1e-5 s), or a soft contact's patch reaches the next
     # segment (the reference has one contact point); at least 2 of the 11 are judged ok
@@ -77,7 +82,10 @@ def test_chain_impacts_match_the_linear_chain(name, r161_chain):
     if adapters.record(name).errors.chain_defect:  # the record's measured defect: still there
         assert {Status.INACCURATE, Status.NON_FINITE} & set(statuses)
         return
-    bad = [(r["x_m"], r["status"], r.get("why"), r["err_mps"], r["tol_mps"]) for r in rows
-           if r["status"] not in (Status.OK, Status.UNJUDGED)]
+    bad = [
+        (r["x_m"], r["status"], r.get("why"), r["err_mps"], r["tol_mps"])
+        for r in rows
+        if r["status"] not in (Status.OK, Status.UNJUDGED)
+    ]
     assert not bad
     assert statuses.count(Status.OK) >= 2

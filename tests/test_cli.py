@@ -32,8 +32,13 @@ def _bad_inputs(tmp: Path) -> list[tuple[str, list[str], str]]:
     if NOT_SOFT:
         cases.append(("calibrate_soft", ["--engine", NOT_SOFT[0]], "has no soft contact"))
     if NOT_SOFT and soft:  # named beside a soft one, it would be dropped without a word
-        cases.append(("calibrate_soft", ["--engine", f"{soft[0]},{NOT_SOFT[0]}"],
-                      f"{NOT_SOFT[0]} has no soft contact"))
+        cases.append(
+            (
+                "calibrate_soft",
+                ["--engine", f"{soft[0]},{NOT_SOFT[0]}"],
+                f"{NOT_SOFT[0]} has no soft contact",
+            )
+        )
     return cases
 
 
@@ -93,8 +98,7 @@ def _bad_sweep_runs(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]
         ("sweep", ["--name", "taken"], "exists; allowed: --force"),
         ("sweep", ["--compare", str(tmp / "no.csv"), str(tmp / "no.csv")], "is not a file"),
         ("sweep", ["--compare", str(a_file), str(a_file)], "is not a CSV table"),
-        ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.csv")] * 2],
-         "not a sweep table"),
+        ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.csv")] * 2], "not a sweep table"),
         ("sweep", ["--compare", *[str(ROOT / "results" / "pareto.png")] * 2], "is not a"),
         ("sweep", ["--dt", "1e-12"], "too small to place"),
         ("sweep", ["--points", "10000", "--budget-h", "1e-6"], "would take about"),
@@ -108,17 +112,22 @@ def _bad_sweep_runs(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]
         ("sweep", ["--corked", "--fill-density", "30000"], "--fill-density=30000.0"),
         ("sweep", ["--corked", "--wood-density", "0"], "--wood-density=0.0"),
         ("sweep", ["--swing", "--u0", "5"], "--u0 5.0 with --swing does nothing"),
-        ("sweep", ["--v0", "1e-300", "--u0", "0", "--omega0", "0"],
-         "reference profile's step ("),
+        ("sweep", ["--v0", "1e-300", "--u0", "0", "--omega0", "0"], "reference profile's step ("),
         ("sweep", ["--omega0", "1e5"], ">= -1000 and <= 1000 rad/s"),
         ("sweep", ["--omega0", "-900", "--u0", "0"], "comes from --v0, --u0, --omega0"),
         ("sweep", ["--e", "0.5", "--e", "0.6"], "--e given 2 times"),
         ("sweep", ["--eng", "mujoco"], "unrecognized arguments: --eng"),
         # the flight model's drag and lift hold to 200 m/s: a faster ball has no carry
-        ("sweep", ["--flight", "--v0", "1000", "--u0", "1000", "--omega0", "1000"],
-         "over the 200 m/s"),
-        ("sweep", ["--compare", str(a_file), str(a_file), "--friction", "0.5"],
-         "--compare with --friction"),
+        (
+            "sweep",
+            ["--flight", "--v0", "1000", "--u0", "1000", "--omega0", "1000"],
+            "over the 200 m/s",
+        ),
+        (
+            "sweep",
+            ["--compare", str(a_file), str(a_file), "--friction", "0.5"],
+            "--compare with --friction",
+        ),
     ]
 
 
@@ -134,10 +143,16 @@ def _bad_studies(tmp: Path, a_file: Path) -> list[tuple[str, list[str], str]]:
         ("swing", ["--quick", "--name", "x/y"], "--name"),
         ("baselines", ["--only", "nothing"], "--only"),
         # one engine's run would drop the other engines' rows from whole-suite files
-        ("baselines", ["--only", "sweeps,report", "--engine", adapters.names()[0]],
-         "rewrites whole-suite files"),
-        ("baselines", ["--only", "defaults", "--engine", adapters.names()[-1]],
-         f"leaves out {adapters.names()[0]}"),
+        (
+            "baselines",
+            ["--only", "sweeps,report", "--engine", adapters.names()[0]],
+            "rewrites whole-suite files",
+        ),
+        (
+            "baselines",
+            ["--only", "defaults", "--engine", adapters.names()[-1]],
+            f"leaves out {adapters.names()[0]}",
+        ),
         ("bench_engines", ["--points", "1"], "--points"),
         ("bench_engines", ["--repeats", "0"], "--repeats"),
         ("bench_analytic", ["--points", "0"], "--points"),
@@ -155,10 +170,12 @@ def test_bad_inputs_exit_2_with_one_line_before_any_work(tmp_path, capsys):
     before = sorted(tmp_path.rglob("*"))
     for command, argv, piece in cases:
         with pytest.raises(SystemExit) as exit_:
-            writes = command not in ("compare", "baselines", "check_engine") \
-                and "--compare" not in argv
-            COMMANDS[command].main([*argv, *(["--out", str(tmp_path)]
-                                             if writes and "--out" not in argv else [])])
+            writes = (
+                command not in ("compare", "baselines", "check_engine") and "--compare" not in argv
+            )
+            COMMANDS[command].main(
+                [*argv, *(["--out", str(tmp_path)] if writes and "--out" not in argv else [])]
+            )
         err = capsys.readouterr().err.strip()
         assert exit_.value.code == 2, (command, argv, err)
         assert piece in err and "\n" not in err, (command, argv, err)
@@ -181,8 +198,7 @@ def test_help_only_prints(command, capsys, tmp_path):
 def test_runs_never_overwrite_each_other(tmp_path):
     # The default name carries the options that differ from the defaults; a second run gets
     # .2; an explicit --name is refused when taken, and --force replaces it.
-    args = ["--engine", adapters.names()[0], "--points", "3", "--no-locate", "--out",
-            str(tmp_path)]
+    args = ["--engine", adapters.names()[0], "--points", "3", "--no-locate", "--out", str(tmp_path)]
     assert sweep.main(args) == 0
     assert sweep.main(args) == 0
     name = f"sweep-engine={adapters.names()[0]}_points=3_no_locate"
@@ -196,19 +212,26 @@ def test_runs_never_overwrite_each_other(tmp_path):
 @pytest.mark.parametrize("umask,mode", [(0o022, 0o644), (0o027, 0o640), (0o077, 0o600)])
 def test_files_follow_the_umask(tmp_path, umask, mode):
     # A run's files and the committed ones get 0666 & ~umask, as any program's files do.
-    code = ("import sys; from pathlib import Path; from experiments.core import io, runs; "
-            "p = Path(sys.argv[1]); runs.publish(p / 'run', {'a.txt': b'x'}); "
-            "io.atomic_write_bytes(p / 'b.txt', b'y')")
-    subprocess.run([sys.executable, "-c", code, str(tmp_path)], cwd=ROOT, check=True,
-                   preexec_fn=lambda: os.umask(umask))
+    code = (
+        "import sys; from pathlib import Path; from experiments.core import io, runs; "
+        "p = Path(sys.argv[1]); runs.publish(p / 'run', {'a.txt': b'x'}); "
+        "io.atomic_write_bytes(p / 'b.txt', b'y')"
+    )
+    subprocess.run(
+        [sys.executable, "-c", code, str(tmp_path)],
+        cwd=ROOT,
+        check=True,
+        preexec_fn=lambda: os.umask(umask),
+    )
     for path in (tmp_path / "run" / "a.txt", tmp_path / "b.txt"):
         assert path.stat().st_mode & 0o777 == mode, path
     assert (tmp_path / "run").stat().st_mode & 0o777 == 0o777 & ~umask
 
 
 def test_runs_are_ignored_by_git():
-    res = subprocess.run(["git", "check-ignore", "-q", "runs/anything/sweep.csv"], cwd=ROOT,
-                         check=False)
+    res = subprocess.run(
+        ["git", "check-ignore", "-q", "runs/anything/sweep.csv"], cwd=ROOT, check=False
+    )
     assert res.returncode == 0
 
 
@@ -221,16 +244,34 @@ def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(name, tmp_p
     # started firing (600 swings take 10 s or more in every engine).
     import signal
 
-    args = ["-m", "experiments.sweep", "--engine", name, "--out", str(tmp_path), "--name", "r",
-            "--force"]
-    subprocess.run([sys.executable, *args, "--points", "3", "--no-locate"], cwd=ROOT,
-                   capture_output=True, check=True)
+    args = [
+        "-m",
+        "experiments.sweep",
+        "--engine",
+        name,
+        "--out",
+        str(tmp_path),
+        "--name",
+        "r",
+        "--force",
+    ]
+    subprocess.run(
+        [sys.executable, *args, "--points", "3", "--no-locate"],
+        cwd=ROOT,
+        capture_output=True,
+        check=True,
+    )
     kept = {p.name: p.read_bytes() for p in (tmp_path / "r").iterdir()}
     env = {**os.environ, "BATSIM_QUIET": "0", "PYTHONUNBUFFERED": "1"}
     # (interrupted within seconds: the estimate, an hour for Drake, must not refuse it)
-    proc = subprocess.Popen([sys.executable, *args, "--swing", "--points", "600",
-                             "--budget-h", "100"], cwd=ROOT,
-                            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, *args, "--swing", "--points", "600", "--budget-h", "100"],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     seen = []
     for line in proc.stderr:
         seen.append(line)
@@ -248,8 +289,10 @@ def test_a_real_sigint_stops_a_swing_sweep_and_keeps_the_earlier_run(name, tmp_p
 
 def _needs(rec: adapters.EngineRecord, module: str) -> bool:
     """Whether the engine imports ``module`` (or a module inside it)."""
-    return any(m == module or m.startswith(module + ".")
-               for m in (rec.install.import_name, *rec.install.requires))
+    return any(
+        m == module or m.startswith(module + ".")
+        for m in (rec.install.import_name, *rec.install.requires)
+    )
 
 
 @pytest.mark.parametrize("name", adapters.names())
@@ -275,16 +318,25 @@ def test_engine_all_skips_a_missing_engine_and_runs_the_rest(tmp_path):
     # In a fresh process with the last engine's module hidden: --engine all runs every other
     # engine (a row each in the summary), and says which it skipped and how to install it.
     rec = adapters.record(adapters.names()[-1])
-    code = (f"import sys; sys.modules[{rec.install.import_name!r}] = None\n"
-            "from experiments import sweep\n"
-            f"sweep.main(['--points', '2', '--out', {str(tmp_path)!r}, '--name', 'x', "
-            "'--engine', 'all'])")
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         cwd=ROOT, timeout=600, check=False)
+    code = (
+        f"import sys; sys.modules[{rec.install.import_name!r}] = None\n"
+        "from experiments import sweep\n"
+        f"sweep.main(['--points', '2', '--out', {str(tmp_path)!r}, '--name', 'x', "
+        "'--engine', 'all'])"
+    )
+    res = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=600,
+        check=False,
+    )
     assert res.returncode == 0, res.stderr
     assert f"skipped: {rec.install_hint}" in res.stderr
-    others = [n for n in adapters.names()
-              if not _needs(adapters.record(n), rec.install.import_name)]
+    others = [
+        n for n in adapters.names() if not _needs(adapters.record(n), rec.install.import_name)
+    ]
     assert all(f"\n{n} " in res.stdout for n in others) and f"\n{rec.name} " not in res.stdout
 
 
@@ -305,8 +357,10 @@ def test_help_is_whole(command, capsys):
             assert after.startswith(" " * 20) and not after.strip().startswith("-"), line
 
 
-@pytest.mark.parametrize("text,value", [("1000", 1000), ("1e3", 1000), ("1.0e2", 100),
-                                        ("1.5", None), ("1e9", None), ("nan", None)])
+@pytest.mark.parametrize(
+    "text,value",
+    [("1000", 1000), ("1e3", 1000), ("1.0e2", 100), ("1.5", None), ("1e9", None), ("nan", None)],
+)
 def test_an_integer_option_takes_what_its_help_writes(text, value):
     # bench_analytic's --help writes its range as 1..1e8: 1e3 is an integer written so
     parse = cli.integer(1, 10**8)

@@ -28,12 +28,29 @@ from .conftest import COMMANDS, examples
 
 PARSERS = {"sweep": build_parser}
 #: Values of the wrong kind or out of any range, beside each option's own.
-JUNK = ["", " ", "nan", "inf", "-inf", "-1", "0", "1e300", "-1e-300", "x", "1,2", "0x10",
-        "--", "🦇", "1" * 400]
+JUNK = [
+    "",
+    " ",
+    "nan",
+    "inf",
+    "-inf",
+    "-1",
+    "0",
+    "1e300",
+    "-1e-300",
+    "x",
+    "1,2",
+    "0x10",
+    "--",
+    "🦇",
+    "1" * 400,
+]
 #: Engine lists: registered names, 'all', and names no engine has (a registered one in capitals)
-ENGINES = st.lists(st.sampled_from([*adapters.names(), "all", "nope", "",
-                                    adapters.names()[0].upper()]),
-                   min_size=1, max_size=3).map(",".join)
+ENGINES = st.lists(
+    st.sampled_from([*adapters.names(), "all", "nope", "", adapters.names()[0].upper()]),
+    min_size=1,
+    max_size=3,
+).map(",".join)
 
 
 class Started(BaseException):
@@ -59,8 +76,10 @@ def _value(action: argparse.Action, tmp: str) -> st.SearchStrategy[str]:
         own.append(st.sampled_from([tmp, f"{tmp}/new", "/proc/x", "~nosuchuser/x", "a" * 300]))
     if action.dest == "scheduler":
         own.append(st.sampled_from(["local", "tcp://127.0.0.1:1", "tcp://[::1", "x:y"]))
-    numbers = st.one_of(st.integers(-10**6, 10**6).map(str),
-                        st.floats(allow_nan=True, allow_infinity=True).map(repr))
+    numbers = st.one_of(
+        st.integers(-(10**6), 10**6).map(str),
+        st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    )
     return st.one_of(*own, numbers, st.sampled_from(JUNK))
 
 
@@ -75,8 +94,9 @@ def command_lines(draw, parser: argparse.ArgumentParser, tmp: str) -> list[str]:
         count = action.nargs if isinstance(action.nargs, int) else 1
         argv += [draw(_value(action, tmp)) for _ in range(count)]
     if draw(st.booleans()):
-        argv.insert(draw(st.integers(0, len(argv))), draw(st.sampled_from(["--nope", "-x",
-                                                                              "stray"])))
+        argv.insert(
+            draw(st.integers(0, len(argv))), draw(st.sampled_from(["--nope", "-x", "stray"]))
+        )
     return argv
 
 
@@ -105,8 +125,12 @@ def test_a_command_refuses_in_one_line_or_starts(name, tmp_path, monkeypatch, ca
         (tmp_path / mine / "keep.txt").write_text("the user's")
     kept = _snapshot(tmp_path, ROOT / "results")
 
-    @settings(max_examples=examples(100), deadline=None, derandomize=False,
-              suppress_health_check=[HealthCheck.function_scoped_fixture])
+    @settings(
+        max_examples=examples(100),
+        deadline=None,
+        derandomize=False,
+        suppress_health_check=[HealthCheck.function_scoped_fixture],
+    )
     @given(argv=command_lines(parser, str(tmp_path)))
     def check(argv):
         if has_out and "--out" not in argv:  # a run that starts would go to tmp_path
@@ -146,8 +170,22 @@ def tables(draw, good: str) -> tuple[bytes, str, int]:
     text or NaN, a row repeated, binary junk after the header, nothing at all, a column dropped
     or one added (named as the comparison's own, maybe)."""
     lines = good.splitlines(keepends=True)
-    how = draw(st.sampled_from(["same", "cut", "blank", "text", "nan", "repeat", "junk",
-                                "empty", "drop column", "add column"]))
+    how = draw(
+        st.sampled_from(
+            [
+                "same",
+                "cut",
+                "blank",
+                "text",
+                "nan",
+                "repeat",
+                "junk",
+                "empty",
+                "drop column",
+                "add column",
+            ]
+        )
+    )
     row = draw(st.integers(1, len(lines) - 1))
     cells = lines[row].rstrip("\n").split(",")
     col = draw(st.integers(0, len(cells) - 1))
@@ -156,7 +194,7 @@ def tables(draw, good: str) -> tuple[bytes, str, int]:
     if how == "add column":
         return _columns(good, None, draw(st.sampled_from(ADDED))), how, 0
     if how == "cut":
-        return "".join(lines[:row]).encode() + lines[row][:len(lines[row]) // 2].encode(), how, 0
+        return "".join(lines[:row]).encode() + lines[row][: len(lines[row]) // 2].encode(), how, 0
     if how in ("blank", "text", "nan"):
         if cells[col] in ("", "nan"):  # blank already: not a change; another cell is
             col = next(i for i, c in enumerate(cells) if c not in ("", "nan"))
@@ -172,8 +210,11 @@ def tables(draw, good: str) -> tuple[bytes, str, int]:
 def test_compare_judges_any_pair_of_files(tmp_path, capsys):
     good = (ROOT / "results" / "sweep_all_reference_r161_still.csv").read_text()
 
-    @settings(max_examples=examples(100), deadline=None,
-              suppress_health_check=[HealthCheck.function_scoped_fixture])
+    @settings(
+        max_examples=examples(100),
+        deadline=None,
+        suppress_health_check=[HealthCheck.function_scoped_fixture],
+    )
     @given(new=tables(good), missing=st.booleans())
     def check(new, missing):
         (tmp_path / "new.csv").write_bytes(new[0])
@@ -202,12 +243,17 @@ def _snapshot(*roots: Path) -> dict[Path, bytes]:
     return {p: p.read_bytes() for r in roots for p in sorted(r.rglob("*")) if p.is_file()}
 
 
-@pytest.mark.parametrize("name,option,good", [
-    ("bench_engines", "--keep-rows", "bench_batches.csv"),
-    ("gpu", "--runs", "gpu_runs/bench_newton_1/bench_batches.csv"),
-    ("gpu", "--runs", "gpu_runs/bench_newton_1/run.json")])
-def test_a_damaged_file_handed_in_is_refused_in_one_line(name, option, good, tmp_path,
-                                                          monkeypatch, capsys):
+@pytest.mark.parametrize(
+    "name,option,good",
+    [
+        ("bench_engines", "--keep-rows", "bench_batches.csv"),
+        ("gpu", "--runs", "gpu_runs/bench_newton_1/bench_batches.csv"),
+        ("gpu", "--runs", "gpu_runs/bench_newton_1/run.json"),
+    ],
+)
+def test_a_damaged_file_handed_in_is_refused_in_one_line(
+    name, option, good, tmp_path, monkeypatch, capsys
+):
     # Files from the generator of damaged tables (and a run.json cut, emptied, made junk),
     # handed to the command that reads them: it refuses in one line (exit 2) before any work,
     # or, for a file still whole, starts; the file and everything beside it is left as it was.
@@ -218,12 +264,25 @@ def test_a_damaged_file_handed_in_is_refused_in_one_line(name, option, good, tmp
     mine = tmp_path / "mine.txt"
     mine.write_text("the user's")
 
-    @settings(max_examples=examples(60), deadline=None,
-              suppress_health_check=[HealthCheck.function_scoped_fixture])
-    @given(damaged=tables(text) if good.endswith(".csv") else
-           st.sampled_from([text[: len(text) // 2], "", "\x00\xff", "[1, 2]",
-                            text.replace('"date_utc"', '"date"'), text]).map(
-               lambda t: (t.encode(), "json", 0)))
+    @settings(
+        max_examples=examples(60),
+        deadline=None,
+        suppress_health_check=[HealthCheck.function_scoped_fixture],
+    )
+    @given(
+        damaged=tables(text)
+        if good.endswith(".csv")
+        else st.sampled_from(
+            [
+                text[: len(text) // 2],
+                "",
+                "\x00\xff",
+                "[1, 2]",
+                text.replace('"date_utc"', '"date"'),
+                text,
+            ]
+        ).map(lambda t: (t.encode(), "json", 0))
+    )
     def check(damaged):
         folder = tmp_path / "in"
         shutil.rmtree(folder, ignore_errors=True)
@@ -235,8 +294,9 @@ def test_a_damaged_file_handed_in_is_refused_in_one_line(name, option, good, tmp
             target = handed = folder / source.name
         target.write_bytes(damaged[0])
         before = _snapshot(tmp_path)
-        code, err = _outcome(COMMANDS[name].main, [option, str(handed), "--out",
-                                                   str(tmp_path / "out")], capsys)
+        code, err = _outcome(
+            COMMANDS[name].main, [option, str(handed), "--out", str(tmp_path / "out")], capsys
+        )
         event(f"{damaged[1]}: exit {code}")
         assert code in ("started", 2), (damaged[1], code, err)
         assert "Traceback" not in err
@@ -250,11 +310,13 @@ def test_a_damaged_file_handed_in_is_refused_in_one_line(name, option, good, tmp
 
 
 #: Environment variables a user may have set, and values for them.
-ENVIRONMENT = {"BATSIM_QUIET": ["1", "0", "", " yes ", "2", "quiet", "\u00e9"],
-               "BATSIM_DEBUG": ["1", "0", "", "TRUE", "verbose", "-1"],
-               "MPLBACKEND": ["agg", "Agg", "tkagg", "nope", "", "module://nowhere"],
-               "PYTHONIOENCODING": ["ascii", "utf-8", "latin-1"],
-               "BATSIM_WARP_DEVICE": ["cpu", "cuda:0", "bogus", "cuda:x", ""]}
+ENVIRONMENT = {
+    "BATSIM_QUIET": ["1", "0", "", " yes ", "2", "quiet", "\u00e9"],
+    "BATSIM_DEBUG": ["1", "0", "", "TRUE", "verbose", "-1"],
+    "MPLBACKEND": ["agg", "Agg", "tkagg", "nope", "", "module://nowhere"],
+    "PYTHONIOENCODING": ["ascii", "utf-8", "latin-1"],
+    "BATSIM_WARP_DEVICE": ["cpu", "cuda:0", "bogus", "cuda:x", ""],
+}
 
 
 @pytest.mark.parametrize("name", ["sweep", "stability", "check_engine", "report"])
@@ -264,10 +326,16 @@ def test_the_environment_is_refused_in_one_line_or_used(name, tmp_path, monkeypa
     monkeypatch.setattr(cli, "main_guard", lambda body: (_ for _ in ()).throw(Started()))
     monkeypatch.chdir(tmp_path)
 
-    @settings(max_examples=examples(60), deadline=None,
-              suppress_health_check=[HealthCheck.function_scoped_fixture])
-    @given(env=st.dictionaries(st.sampled_from(sorted(ENVIRONMENT)),
-                               st.sampled_from(range(7)), max_size=4))
+    @settings(
+        max_examples=examples(60),
+        deadline=None,
+        suppress_health_check=[HealthCheck.function_scoped_fixture],
+    )
+    @given(
+        env=st.dictionaries(
+            st.sampled_from(sorted(ENVIRONMENT)), st.sampled_from(range(7)), max_size=4
+        )
+    )
     def check(env):
         chosen = {k: ENVIRONMENT[k][i % len(ENVIRONMENT[k])] for k, i in env.items()}
         with pytest.MonkeyPatch.context() as mp:

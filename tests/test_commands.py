@@ -22,8 +22,10 @@ from .conftest import COMMANDS, ROOT, cheapest, run_command, runs_in
 
 SINGLE = cheapest(batched=False)
 BATCHED = cheapest(batched=True)
-SOFT = min((n for n in adapters.available() if adapters.record(n).can.soft_contact is not None),
-           key=lambda n: adapters.record(n).cost.step_cost_s)
+SOFT = min(
+    (n for n in adapters.available() if adapters.record(n).can.soft_contact is not None),
+    key=lambda n: adapters.record(n).cost.step_cost_s,
+)
 TWIN = min(twins.twinned(adapters.available()), key=lambda n: adapters.record(n).cost.step_cost_s)
 BASELINE_CSV = str(ROOT / "results" / "sweep_all_reference_r161_swing.csv")
 WORKERS = ["--workers", "2"]
@@ -39,8 +41,17 @@ SMALL = {
     "calibrate_soft": ["--quick", "--engine", SOFT, *WORKERS],
     "friction": ["--quick", "--engine", SINGLE, *WORKERS],
     "flex": ["--quick", "--engine", SINGLE],
-    "bench_engines": ["--quick", "--engine", SINGLE, "--points", "5", "--batches", "1,10",
-                      "--batch-budget", "1"],
+    "bench_engines": [
+        "--quick",
+        "--engine",
+        SINGLE,
+        "--points",
+        "5",
+        "--batches",
+        "1,10",
+        "--batch-budget",
+        "1",
+    ],
     "bench_analytic": ["--points", "1000", "--repeats", "1"],
     "check_engine": ["--engine", SINGLE],
     "report": [],
@@ -93,8 +104,21 @@ def test_baselines_writes_results_and_the_readme_table(tmp_path):
 
 
 def _sweep_rows(tmp_path: Path, name: str, engines: str, *runner: str) -> pd.DataFrame:
-    run_command(["-m", "experiments.sweep", "--engine", engines, "--points", "5", *runner,
-                 "--out", str(tmp_path), "--name", name])
+    run_command(
+        [
+            "-m",
+            "experiments.sweep",
+            "--engine",
+            engines,
+            "--points",
+            "5",
+            *runner,
+            "--out",
+            str(tmp_path),
+            "--name",
+            name,
+        ]
+    )
     return pd.read_csv(tmp_path / name / "sweep.csv").drop(columns=list(tables.TIMING_COLUMNS))
 
 
@@ -103,22 +127,33 @@ def test_sweep_rows_are_the_serial_ones_whatever_runs_them(kind, tmp_path):
     # Every single-world engine (the ones the runner spreads over workers), or the cheapest
     # batched one (whose jobs stay in the runner's process): the rows, bit for bit, and
     # `compare` says so.
-    engines = ",".join(n for n in adapters.available()
-                       if (adapters.record(n).batched == (kind == "batched"))
-                       and (kind == "single-world" or n == BATCHED))
+    engines = ",".join(
+        n
+        for n in adapters.available()
+        if (adapters.record(n).batched == (kind == "batched"))
+        and (kind == "single-world" or n == BATCHED)
+    )
     serial = _sweep_rows(tmp_path, "serial", engines)
     assert set(serial.engine) == set(engines.split(","))
     for name, runner in (("workers", WORKERS), ("local", [*WORKERS, "--scheduler", "local"])):
-        pd.testing.assert_frame_equal(serial, _sweep_rows(tmp_path, name, engines, *runner),
-                                      check_exact=True)
-        res = run_command(["-m", "experiments.compare", str(tmp_path / "serial" / "sweep.csv"),
-                           str(tmp_path / name / "sweep.csv")])
+        pd.testing.assert_frame_equal(
+            serial, _sweep_rows(tmp_path, name, engines, *runner), check_exact=True
+        )
+        res = run_command(
+            [
+                "-m",
+                "experiments.compare",
+                str(tmp_path / "serial" / "sweep.csv"),
+                str(tmp_path / name / "sweep.csv"),
+            ]
+        )
         assert "no change apart from timing" in res.stdout
 
 
 @pytest.mark.parametrize("command", sorted({*SMALL, "findings", "baselines"}))
 def test_help_in_a_fresh_interpreter(command, tmp_path):
     # what a newcomer types first: the manual, exit 0, from anywhere (here a scratch directory)
-    res = run_command(["-m", f"experiments.{command}", "--help"], cwd=tmp_path,
-                      env={"PYTHONPATH": str(ROOT)})
+    res = run_command(
+        ["-m", f"experiments.{command}", "--help"], cwd=tmp_path, env={"PYTHONPATH": str(ROOT)}
+    )
     assert res.stdout.startswith("usage: python -m experiments.") and not any(tmp_path.iterdir())

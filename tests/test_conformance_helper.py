@@ -20,9 +20,17 @@ import toy_engine  # noqa: E402 - the plug-in's module, from its own folder
 
 #: What a 1% faster ball fails, and why: each compares v1 (or the energy it carries) with
 #: theory far inside 1%.
-FAULTY_FAILS = {name: "v1 1% too fast" for name in
-                ("restitution", "still_bat", "energy_at_e1", "swinging_bat", "corked_bat",
-                 "oblique")}
+FAULTY_FAILS = {
+    name: "v1 1% too fast"
+    for name in (
+        "restitution",
+        "still_bat",
+        "energy_at_e1",
+        "swinging_bat",
+        "corked_bat",
+        "oblique",
+    )
+}
 
 
 @parametrize_with_checks([toy_engine.ToyEngine])

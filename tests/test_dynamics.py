@@ -51,16 +51,23 @@ def _wrap(a: float) -> float:
     return (a + math.pi) % (2 * math.pi) - math.pi
 
 
-@pytest.mark.parametrize("drive", [
-    Drive(force_n=100.0, force_angle_rad=1.0), Drive(torque_nm=50.0),
-    Drive(force_n=100.0, force_at_from_knob_m=0.0),
-    Drive(torque_nm=72.8, pivot_from_knob_m=0.1),
-    Drive(force_n=30.0, force_at_from_knob_m=0.84, force_angle_rad=0.7, pivot_from_knob_m=0.1),
-])
+@pytest.mark.parametrize(
+    "drive",
+    [
+        Drive(force_n=100.0, force_angle_rad=1.0),
+        Drive(torque_nm=50.0),
+        Drive(force_n=100.0, force_at_from_knob_m=0.0),
+        Drive(torque_nm=72.8, pivot_from_knob_m=0.1),
+        Drive(force_n=30.0, force_at_from_knob_m=0.84, force_angle_rad=0.7, pivot_from_knob_m=0.1),
+    ],
+)
 def test_closed_form_equals_integration(drive):
-    np.testing.assert_allclose(state_array(motion(BAT, drive, T)),
-                               state_array(motion_integrated(BAT, drive, T)), rtol=1e-9,
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        state_array(motion(BAT, drive, T)),
+        state_array(motion_integrated(BAT, drive, T)),
+        rtol=1e-9,
+        atol=1e-12,
+    )
 
 
 @pytest.mark.parametrize("q", [0.3, math.pi / 4, math.pi / 2, -2.0])
@@ -87,10 +94,14 @@ def _moved(name: str, integrator, drive: Drive, t_s: float = T):
 
 
 @pytest.mark.parametrize("name,integrator", METHODS, ids=IDS)
-@pytest.mark.parametrize("drive", [Drive(torque_nm=50.0),
-                                   Drive(force_n=100.0, force_at_from_knob_m=0.0,
-                                         force_angle_rad=math.pi / 2)],
-                         ids=["torque", "knob-force-90"])
+@pytest.mark.parametrize(
+    "drive",
+    [
+        Drive(torque_nm=50.0),
+        Drive(force_n=100.0, force_at_from_knob_m=0.0, force_angle_rad=math.pi / 2),
+    ],
+    ids=["torque", "knob-force-90"],
+)
 def test_constant_alpha_scenes(name, integrator, drive):
     got = _moved(name, integrator, drive)
     ref = motion(BAT, drive, got.t_s)
@@ -102,13 +113,19 @@ def test_constant_alpha_scenes(name, integrator, drive):
         assert theta_err <= _round(ref.angle_rad, name)
     else:
         # omega's rounding (ROUND), integrated over T, moves theta by up to ROUND T / 2
-        assert theta_err == pytest.approx(0.5 * abs(alpha) * got.t_s * DT, rel=1e-6,
-                                          abs=0.5 * _round(ref.omega_radps, name) * got.t_s)
+        assert theta_err == pytest.approx(
+            0.5 * abs(alpha) * got.t_s * DT,
+            rel=1e-6,
+            abs=0.5 * _round(ref.omega_radps, name) * got.t_s,
+        )
     if drive.force_n:
         dv = math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps)
         a, w_max = drive.force_n / BAT.mass_kg, abs(alpha) * T
-        bound = (T / 2) * a * w_max * DT if integrator.order == 1 else \
-            10 * T * a * w_max**4 * DT**4 / 2880
+        bound = (
+            (T / 2) * a * w_max * DT
+            if integrator.order == 1
+            else 10 * T * a * w_max**4 * DT**4 / 2880
+        )
         assert dv <= bound + _round(a * T, name)
 
 
@@ -118,8 +135,7 @@ def test_translation_without_turning(name, integrator):
     drive = Drive(force_n=100.0, force_angle_rad=1.0)
     got = _moved(name, integrator, drive)
     ref = motion(BAT, drive, got.t_s)
-    assert math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps) \
-        <= _round(ref.vx_mps, name)
+    assert math.hypot(got.vx_mps - ref.vx_mps, got.vy_mps - ref.vy_mps) <= _round(ref.vx_mps, name)
     assert abs(got.omega_radps) <= _round(0.0, name)
 
 
@@ -135,8 +151,9 @@ def test_hinged_torque(name, integrator):
     hinge = HINGE_K * (w * DT) ** integrator.hinge_order
     assert abs(got.omega_radps - w) <= hinge * w + _round(w, name)
     first = 0.0 if integrator.order >= 2 else 0.5 * alpha * got.t_s * DT
-    assert abs(_wrap(got.angle_rad - ref.angle_rad)) <= first * 1.01 + hinge * ref.angle_rad \
-        + _round(ref.angle_rad, name)
+    assert abs(
+        _wrap(got.angle_rad - ref.angle_rad)
+    ) <= first * 1.01 + hinge * ref.angle_rad + _round(ref.angle_rad, name)
 
 
 @pytest.mark.parametrize("name", [n for n in adapters.names() if adapters.record(n).drives_bat])
@@ -163,20 +180,21 @@ def test_swing_into_impact(name):
         return compliant.predict(case, errors.contact_law(st, case.e)) if lawful else predict(case)
 
     for s in (-0.3, -0.1, 0.08, 0.2):
-        nominal, plan = swing_case(BAT, presets.BASEBALL, s_m=s, v0_mps=46.9, e=0.5,
-                                   swing=swing, settings=st)
+        nominal, plan = swing_case(
+            BAT, presets.BASEBALL, s_m=s, v0_mps=46.9, e=0.5, swing=swing, settings=st
+        )
         fired = fire_jobs([Job(engine=name, settings=st, case=nominal, swing=swing)])[0]
         case, out = fired.case, fired.outcome
         assert case == nominal and out.ok, (s, out.status, out.ended)
         ref = predict_(case)
         t_r = plan.steps * DT
         d_theta = 0.5 * swing.torque_nm / BAT.inertia_about(0.1) * t_r * DT
-        assert abs(out.release_angle_rad - plan.angle_release_rad) <= 1.01 * d_theta \
-            + _round(plan.angle_release_rad, name)
+        assert abs(out.release_angle_rad - plan.angle_release_rad) <= 1.01 * d_theta + _round(
+            plan.angle_release_rad, name
+        )
         slide = (reach + abs(s)) * d_theta
         nearby = np.linspace(max(s - slide, BAT.s_min_m), min(s + slide, BAT.s_max_m), 21)
-        spread = max(abs(predict_(replace(case, s_m=float(x))).v1_mps - ref.v1_mps)
-                     for x in nearby)
+        spread = max(abs(predict_(replace(case, s_m=float(x))).v1_mps - ref.v1_mps) for x in nearby)
         # the engine's omega at release: the hinge's relative (omega dt)^2 error
         w = plan.omega_release_radps
         d_omega = abs(out.release_omega_radps - w)
@@ -189,4 +207,3 @@ def test_swing_into_impact(name):
         precision = judge.precision_rel(st, errors, case) * speed
         law_tol = judge.soft_judgement(case, out)[1] if lawful else precision
         assert abs(out.v1_mps - ref.v1_mps) <= 2 * (spread + oblique + spin) + law_tol
-

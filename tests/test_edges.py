@@ -27,8 +27,18 @@ from experiments.core.placement import min_dt_s
 pytestmark = pytest.mark.full
 STEPS_S = tuple(float(x) for x in np.geomspace(1e-12, 1.0, 13))
 CONTACT_STEPS = 5000
-CASES = [ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=46.9, u0_mps=17.87,
-                    omega0_radps=32.0, e=0.5) for s in (-0.2, 0.1)]
+CASES = [
+    ImpactCase(
+        bat=presets.R161,
+        ball=presets.BASEBALL,
+        s_m=s,
+        v0_mps=46.9,
+        u0_mps=17.87,
+        omega0_radps=32.0,
+        e=0.5,
+    )
+    for s in (-0.2, 0.1)
+]
 REACH_M = presets.R161.radius_m + presets.BASEBALL.radius_m
 SLACK_M = 0.01
 
@@ -57,8 +67,10 @@ class Recorder:
     def side_m(self) -> tuple[float, float]:
         """The ball centre's distance from the bat's axis line at the start and at the end, +
         on the side it came from (the line turns with the bat: its normal is the bat's)."""
-        start, end = (float((s[1] - s[6]) * np.cos(s[7]) - (s[0] - s[5]) * np.sin(s[7]))
-                      for s in (self.first, self.last))
+        start, end = (
+            float((s[1] - s[6]) * np.cos(s[7]) - (s[0] - s[5]) * np.sin(s[7]))
+            for s in (self.first, self.last)
+        )
         return abs(start), end * math.copysign(1.0, start)
 
 
@@ -77,8 +89,13 @@ def _continuous(before: np.ndarray, after: np.ndarray, dt_s: float) -> bool:
 WORKING_S = (1e-6, 1e-3)
 #: What a contact first seen deeper than REACH_M can end as (the ball's centre is past the bat's
 #: axis: nothing sound can push it back out the way it came).
-PAST_THE_AXIS = {Status.TUNNELLED, Status.NO_CONTACT, Status.PENETRATION, Status.NON_FINITE,
-                 Status.ENERGY_GAINED}
+PAST_THE_AXIS = {
+    Status.TUNNELLED,
+    Status.NO_CONTACT,
+    Status.PENETRATION,
+    Status.NON_FINITE,
+    Status.ENERGY_GAINED,
+}
 
 
 @pytest.mark.parametrize("profile", adapters.PROFILES)
@@ -89,8 +106,10 @@ def test_no_false_tunnelled_or_ok_from_1e12_to_1_s(name, profile):
         st = replace(st, max_contact_s=min(st.max_contact_s, CONTACT_STEPS * dt))
         # placed approach_steps steps before a contact first seen overlap_m deep: below that
         # the bodies would start inside each other, and the sweep refuses the step
-        unplaceable = any(c.closing_speed_mps * dt * (st.approach_steps - st.contact_phase)
-                          <= st.overlap_m for c in CASES)
+        unplaceable = any(
+            c.closing_speed_mps * dt * (st.approach_steps - st.contact_phase) <= st.overlap_m
+            for c in CASES
+        )
         assert unplaceable == (dt <= max(min_dt_s(c, st) for c in CASES)), dt
         if unplaceable:
             continue
@@ -98,8 +117,9 @@ def test_no_false_tunnelled_or_ok_from_1e12_to_1_s(name, profile):
         host.adapter = Recorder(host.adapter)
         try:
             for case in CASES:
-                row = tables.table(guarded(host, [Job(engine=name, settings=st, case=case)]),
-                                   profile).iloc[0]
+                row = tables.table(
+                    guarded(host, [Job(engine=name, settings=st, case=case)]), profile
+                ).iloc[0]
                 _judge_row(row, host.adapter, dt)
                 # first seen deeper than r_ball + r_bat: the tunnelling bound
                 if st.overlap_m + st.contact_phase * case.closing_speed_mps * dt > REACH_M:
@@ -120,15 +140,19 @@ def _judge_row(row, rec: Recorder, dt_s: float) -> None:
     if row.status == Status.OK:
         assert rec.continuous, f"{where}: the state jumped"
         assert end > 0.0, f"{where}: the ball ended beyond the bat"
-        err, tol = (row.v1_abs_err_mps, row.v1_tol_mps) if math.isfinite(row.v1_tol_mps) \
+        err, tol = (
+            (row.v1_abs_err_mps, row.v1_tol_mps)
+            if math.isfinite(row.v1_tol_mps)
             else (row.v1_law_err_mps, row.v1_law_tol_mps)
+        )
         assert err <= tol, f"{where}: v1 off by {err:.3g} > {tol:.3g}"
     if row.status == Status.NO_CONTACT:
         assert end > 0.0, f"{where}: the ball passed through ({start:.3g} -> {end:.3g} m)"
         dv = math.hypot(*(rec.last[2:4] - rec.first[2:4]))
         # no_contact: the judge's own line between a ball flying past and one it deflected
-        assert dv <= terms.DEFLECTED * math.hypot(*rec.first[2:4]), \
+        assert dv <= terms.DEFLECTED * math.hypot(*rec.first[2:4]), (
             f"{where}: the ball was deflected by {dv:.3g} m/s"
+        )
 
 
 @pytest.mark.parametrize("name", [n for n in adapters.names() if not adapters.record(n).batched])
@@ -143,8 +167,9 @@ def test_a_contact_between_two_readings_is_judged_not_missed(name):
             host = Hosted(name, st)
             host.adapter = Recorder(host.adapter)
             try:
-                row = tables.table(guarded(host, [Job(engine=name, settings=st, case=case)]),
-                                   "reference").iloc[0]
+                row = tables.table(
+                    guarded(host, [Job(engine=name, settings=st, case=case)]), "reference"
+                ).iloc[0]
                 _judge_row(row, host.adapter, dt)
                 # seen at most phase v dt + overlap_m = 37 mm deep, inside the 66.6 mm reach:
                 # caught, and judged ok within its tolerance (_judge_row)

@@ -11,8 +11,11 @@ import adapters
 from analytic import ImpactCase, presets
 from experiments.core import Job, fire_jobs
 
-CASES = [(name, field, value) for name in adapters.names()
-         for field, value in adapters.record(name).engine_defaults.items()]
+CASES = [
+    (name, field, value)
+    for name in adapters.names()
+    for field, value in adapters.record(name).engine_defaults.items()
+]
 IDS = [f"{name}-{field}" for name, field, _ in CASES]
 #: Some engines keep these constants in single precision (pymunk's collision_slop reads back
 #: as 0.10000000149): a few float32 ulps.
@@ -24,11 +27,25 @@ def _impacts(name: str, **overrides) -> list[tuple[float, float]]:
     1e-9 m deep and mid-step, at 10 us: knobs that feed position error back show in one."""
     jobs = []
     for phase in (0.0, 0.5):
-        settings = adapters.settings_for(name, "default", dt_s=1e-5, contact_phase=phase,
-                                         **overrides)
-        jobs += [Job(engine=name, settings=settings, case=ImpactCase(
-            bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=46.9, u0_mps=17.87,
-            omega0_radps=32.0, e=0.5)) for s in (-0.2, 0.05, 0.2)]
+        settings = adapters.settings_for(
+            name, "default", dt_s=1e-5, contact_phase=phase, **overrides
+        )
+        jobs += [
+            Job(
+                engine=name,
+                settings=settings,
+                case=ImpactCase(
+                    bat=presets.R161,
+                    ball=presets.BASEBALL,
+                    s_m=s,
+                    v0_mps=46.9,
+                    u0_mps=17.87,
+                    omega0_radps=32.0,
+                    e=0.5,
+                ),
+            )
+            for s in (-0.2, 0.05, 0.2)
+        ]
     return [(f.outcome.v1_mps, f.outcome.omega1_radps) for f in fire_jobs(jobs)]
 
 
@@ -64,6 +81,9 @@ def test_every_default_the_default_profile_leaves_to_the_engine_is_known_or_irre
         for field, value in rec.engine_defaults.items():
             assert field in fields, (name, field)
             set_to = getattr(profile, field)
-            same = set_to == value if isinstance(value, str) else \
-                set_to == pytest.approx(value, rel=READ_BACK_REL)
+            same = (
+                set_to == value
+                if isinstance(value, str)
+                else set_to == pytest.approx(value, rel=READ_BACK_REL)
+            )
             assert set_to is None or same, (name, field, set_to, value)

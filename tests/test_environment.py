@@ -20,13 +20,24 @@ ENGINE = cheapest(batched=False)
 SWEEP = ["-m", "experiments.sweep", "--engine", ENGINE, "--points", "3", "--no-locate"]
 
 
-def _run(argv: list[str], *, shell_prefix: str = "", env: dict | None = None, stdout=None,
-         stderr=subprocess.PIPE) -> subprocess.CompletedProcess:
+def _run(
+    argv: list[str],
+    *,
+    shell_prefix: str = "",
+    env: dict | None = None,
+    stdout=None,
+    stderr=subprocess.PIPE,
+) -> subprocess.CompletedProcess:
     """``python argv`` as a user types it, under ``shell_prefix`` (ulimit ...; a redirection)."""
     line = " ".join([shell_prefix, sys.executable, *map(_quoted, argv)]).strip()
-    return subprocess.run(["bash", "-c", line], cwd=ROOT, stdout=stdout or subprocess.PIPE,
-                          stderr=stderr, timeout=120,
-                          env={**os.environ, "BATSIM_QUIET": "1", **(env or {})})
+    return subprocess.run(
+        ["bash", "-c", line],
+        cwd=ROOT,
+        stdout=stdout or subprocess.PIPE,
+        stderr=stderr,
+        timeout=120,
+        env={**os.environ, "BATSIM_QUIET": "1", **(env or {})},
+    )
 
 
 def _quoted(arg: str) -> str:
@@ -50,18 +61,32 @@ def test_stdout_on_a_full_device_is_one_line_and_the_run_is_kept(tmp_path):
 def test_a_closed_pipe_ends_quietly_and_the_run_is_kept(tmp_path):
     # `| head -1` once head has gone (here a reader that reads nothing): nothing more said,
     # exit 141 as a shell tells a closed pipe (not 1, which compare gives a change)
-    res = subprocess.run(["bash", "-c", f"{sys.executable} "
-                          + " ".join(map(_quoted, [*SWEEP, "--out", str(tmp_path), "--name",
-                                                   "r"])) + " | true; "
-                          "echo ${PIPESTATUS[0]} >&2"], cwd=ROOT, capture_output=True,
-                         text=True, timeout=120, env={**os.environ, "BATSIM_QUIET": "1"})
+    res = subprocess.run(
+        [
+            "bash",
+            "-c",
+            f"{sys.executable} "
+            + " ".join(map(_quoted, [*SWEEP, "--out", str(tmp_path), "--name", "r"]))
+            + " | true; "
+            "echo ${PIPESTATUS[0]} >&2",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "BATSIM_QUIET": "1"},
+    )
     assert res.stderr.strip() == "141", res.stderr
     assert (tmp_path / "r" / "sweep.csv").is_file()
 
 
 def test_no_stderr_at_all_still_runs(tmp_path):
-    res = _run([*SWEEP, "--out", str(tmp_path), "--name", "r"], shell_prefix="exec 2>&-;",
-               env={"BATSIM_QUIET": "0"}, stderr=subprocess.DEVNULL)
+    res = _run(
+        [*SWEEP, "--out", str(tmp_path), "--name", "r"],
+        shell_prefix="exec 2>&-;",
+        env={"BATSIM_QUIET": "0"},
+        stderr=subprocess.DEVNULL,
+    )
     assert res.returncode == 0 and (tmp_path / "r" / "sweep.csv").is_file()
 
 
@@ -88,9 +113,13 @@ def test_debug_shows_the_traceback():
 @pytest.mark.parametrize("env", [{"PYTHONIOENCODING": "ascii"}, {"LC_ALL": "C"}])
 def test_a_path_the_terminal_cannot_encode_is_shown_escaped(tmp_path, env):
     out = os.fsencode(tmp_path) + b"/caf\xc3\xa9-\xe9"  # UTF-8 and not: both exist on Linux
-    res = subprocess.run([sys.executable, *SWEEP, "--out", out, "--name", "r"], cwd=ROOT,
-                         capture_output=True, timeout=120,
-                         env={**os.environ, "BATSIM_QUIET": "1", **env})
+    res = subprocess.run(
+        [sys.executable, *SWEEP, "--out", out, "--name", "r"],
+        cwd=ROOT,
+        capture_output=True,
+        timeout=120,
+        env={**os.environ, "BATSIM_QUIET": "1", **env},
+    )
     assert res.returncode == 0, res.stderr
     assert Path(os.fsdecode(out + b"/r/sweep.csv")).is_file()
     assert b"\\udce9" in res.stdout or b"\\xe9" in res.stdout, res.stdout

@@ -44,9 +44,14 @@ def one_world_step_s(name: str) -> float:
     now, by the benchmark's own measurement (bench_engines.per_collision's one_world_step_us).
     The median of nine episodes, not three: one episode lasts about a millisecond, so one
     descheduling by the suite's other worker made a median of three 37x slow on CI (Rapier)."""
-    firing = firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, 3),
-                           v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
-                           omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+    firing = firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, 3),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=presets.E_WOOD,
+    )
     return bench_engines.per_collision(name, firing, REPEATS)["one_world_step_us"] * 1e-6
 
 
@@ -56,8 +61,9 @@ def host_slowdown() -> float:
     over the single-world engines (cheap to measure, seven of them), of measured over recorded
     step. One engine's step varies up to 2x between runs on one loaded host."""
     single = [n for n in adapters.names() if not adapters.record(n).batched]
-    return statistics.median(one_world_step_s(n) / adapters.record(n).cost.step_cost_s
-                             for n in single)
+    return statistics.median(
+        one_world_step_s(n) / adapters.record(n).cost.step_cost_s for n in single
+    )
 
 
 @pytest.mark.full
@@ -92,11 +98,41 @@ def test_the_benchmark_steps_what_the_harness_fires(tmp_path):
     benchmark's median steps per collision is the sweep's over the same grid (the still bat:
     two approach steps, one contact step, then steps until free flight proves them apart)."""
     name = cheapest(batched=False)
-    assert bench_engines.main(["--quick", "--engine", name, "--points", "5", "--batches",
-                               "1,10", "--batch-budget", "1", "--out", str(tmp_path / "b")]) == 0
+    assert (
+        bench_engines.main(
+            [
+                "--quick",
+                "--engine",
+                name,
+                "--points",
+                "5",
+                "--batches",
+                "1,10",
+                "--batch-budget",
+                "1",
+                "--out",
+                str(tmp_path / "b"),
+            ]
+        )
+        == 0
+    )
     bench = pd.read_csv(next((tmp_path / "b").rglob("bench_engines.csv"))).set_index("engine")
-    assert sweep_cmd.main(["--engine", name, "--points", "5", "--no-locate", "--out",
-                           str(tmp_path / "s"), "--name", "s"]) == 0
+    assert (
+        sweep_cmd.main(
+            [
+                "--engine",
+                name,
+                "--points",
+                "5",
+                "--no-locate",
+                "--out",
+                str(tmp_path / "s"),
+                "--name",
+                "s",
+            ]
+        )
+        == 0
+    )
     swept = pd.read_csv(tmp_path / "s" / "s" / "sweep.csv")
     assert bench.loc[name, "steps_median"] == swept.steps.median()
     assert bench.loc[name, "impacts"] == len(swept)

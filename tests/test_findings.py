@@ -31,12 +31,18 @@ ROOT_TOL = 1e-8
 @pytest.mark.xdist_group("findings")
 def test_report_is_complete(findings_run):
     text = (findings_run / "findings.md").read_text()
-    for heading in ("## 1. Where is the sweet spot?", "## 2. Does corking help?",
-                    "## 3. Why are metal bats restricted?", "## 3b. How far does the ball go?",
-                    "## 3c. The flexible bat: two sweet spots",
-                    "## 4. The ball as it really is",
-                    "## 5. Audit of the paper", "## 6. The engines", "## Referee",
-                    "## References"):
+    for heading in (
+        "## 1. Where is the sweet spot?",
+        "## 2. Does corking help?",
+        "## 3. Why are metal bats restricted?",
+        "## 3b. How far does the ball go?",
+        "## 3c. The flexible bat: two sweet spots",
+        "## 4. The ball as it really is",
+        "## 5. Audit of the paper",
+        "## 6. The engines",
+        "## Referee",
+        "## References",
+    ):
         assert heading in text
     images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
     assert len(images) == 5
@@ -71,9 +77,11 @@ def test_a_corked_barrel_is_less_lively_in_a_cannon_test():
     # with less inertia, so 1/M_eff = 1/M + s^2/J grows, r = m/M_eff grows and
     # q = (e - r)/(1 + r) falls (q's formula itself: test_analytic_impact)
     q = A.nathan_q_check()
-    r = {name: presets.BASEBALL.mass_kg * (1 / bat.mass_kg + (bat.s_barrel_end_m - 0.1524) ** 2
-                                           / bat.inertia_cm_kgm2)
-         for name, bat in (("solid", presets.R161), ("corked", A.CORK_1x10))}
+    r = {
+        name: presets.BASEBALL.mass_kg
+        * (1 / bat.mass_kg + (bat.s_barrel_end_m - 0.1524) ** 2 / bat.inertia_cm_kgm2)
+        for name, bat in (("solid", presets.R161), ("corked", A.CORK_1x10))
+    }
     assert r["corked"] > r["solid"]
     assert q["corked"] < q["solid"] < 0.5
 
@@ -86,9 +94,17 @@ def test_sweet_zone_edges_are_one_percent_below_the_best():
         assert lo < s_best < hi
         for s in (lo, hi):
             if bat.s_min_m < s < bat.s_max_m:
-                v = float(batted_ball_speed(bat, ball, s, v0_mps=sc.v0_mps,
-                                            u0_mps=sc.swing.u0_mps,
-                                            omega0_radps=sc.swing.omega0_radps, e=0.5))
+                v = float(
+                    batted_ball_speed(
+                        bat,
+                        ball,
+                        s,
+                        v0_mps=sc.v0_mps,
+                        u0_mps=sc.swing.u0_mps,
+                        omega0_radps=sc.swing.omega0_radps,
+                        e=0.5,
+                    )
+                )
                 assert v == pytest.approx(0.99 * v_best, rel=1e-9)
 
 
@@ -124,8 +140,7 @@ def test_same_swing_is_the_zero_exponent_limit():
         sw = A.same_swing(A.CORK_1x10, sc)
         dx = A.CORK_1x10.com_from_knob_m - presets.R161.com_from_knob_m
         assert sw.omega0_radps == sc.swing.omega0_radps
-        assert sw.u0_mps == pytest.approx(sc.swing.u0_mps + sc.swing.omega0_radps * dx,
-                                          rel=1e-12)
+        assert sw.u0_mps == pytest.approx(sc.swing.u0_mps + sc.swing.omega0_radps * dx, rel=1e-12)
 
 
 def test_realistic_ball_cor_falls_with_speed_and_contact_lasts_about_a_millisecond():
@@ -148,7 +163,8 @@ def test_audit_numbers_restated():
     cork = A.CORK_1x10
     dm = cork.mass_kg - r161.mass_kg
     assert n["cork_J_if_subtracted_pct"] == pytest.approx(
-        -dm * 0.0127**2 / 4 / cork.inertia_cm_kgm2 * 100, rel=1e-12)
+        -dm * 0.0127**2 / 4 / cork.inertia_cm_kgm2 * 100, rel=1e-12
+    )
 
 
 @pytest.mark.full
@@ -157,4 +173,5 @@ def test_every_engine_confirms_the_headline_impacts():
         checks = A.engine_checks(runner, adapters.names())
     assert set(checks.engine) == set(adapters.names())
     assert (checks.status == Status.OK).all(), checks[checks.status != Status.OK][
-        ["engine", "bat", "swing model", "v1_abs_err_mps", "v1_tol_mps", "status"]]
+        ["engine", "bat", "swing model", "v1_abs_err_mps", "v1_tol_mps", "status"]
+    ]

@@ -45,13 +45,23 @@ def test_without_friction_a_level_square_hit_is_the_planar_model_flown_level(sc)
     s = A.best_v1(A.R161, sc)[0]
     hit = C.hit_of(sc, mu=0.0, spin_radps=(0.0, 0.0, 0.0))
     got = C.launch_of(hit, s, 0.0)
-    v1 = float(batted_ball_speed(A.R161, A.BALL, s, v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
-                                 omega0_radps=sc.swing.omega0_radps, e=A.E))
+    v1 = float(
+        batted_ball_speed(
+            A.R161,
+            A.BALL,
+            s,
+            v0_mps=sc.v0_mps,
+            u0_mps=sc.swing.u0_mps,
+            omega0_radps=sc.swing.omega0_radps,
+            e=A.E,
+        )
+    )
     assert got.speed_mps == pytest.approx(v1, rel=TOL_REL)
     assert abs(got.launch_rad) < 1e-12 and abs(got.backspin_radps) < 1e-9
     # both flights integrated to the carry's FLIGHT_RTOL: they agree to a few times it
-    level = fly(Launch(speed_mps=v1, launch_rad=0.0, height_m=got.height_m), samples=2,
-                rtol=C.FLIGHT_RTOL)
+    level = fly(
+        Launch(speed_mps=v1, launch_rad=0.0, height_m=got.height_m), samples=2, rtol=C.FLIGHT_RTOL
+    )
     assert C.carry_m(hit, s, 0.0) == pytest.approx(level.carry_m, rel=10 * C.FLIGHT_RTOL)
 
 
@@ -88,7 +98,7 @@ def test_carry_rises_with_the_undercut_to_its_best_then_falls(sc):
     grid, best = C.carry_grid(C.hit_of(sc)), C.sweet_spots(sc).best
     column = grid.carry_m[:, int(np.argmin(abs(grid.s_m - best.s_m)))]
     k = int(np.argmax(column))
-    assert np.all(np.diff(column[:k + 1]) > 0) and np.all(np.diff(column[k:]) < 0)
+    assert np.all(np.diff(column[: k + 1]) > 0) and np.all(np.diff(column[k:]) < 0)
     assert abs(grid.undercut_m[k] - best.undercut_m) <= np.diff(grid.undercut_m)[0]
     # the launch angle grows with the undercut at the best point's s
     rows = C.sweet_spots(sc).rows
@@ -102,7 +112,7 @@ def test_a_curveball_leaves_with_more_backspin_than_a_fastball(sc):
     # ending in rolling on an immovable surface keeps I / (I + m r^2) = 2/7 of a difference in
     # incoming spin, and a bat that gives way tangentially keeps more, at most all of it.
     po = C.pitch_optima(sc)
-    incoming = (C.CURVEBALL_SPIN_RPM + C.FASTBALL_SPIN_RPM)
+    incoming = C.CURVEBALL_SPIN_RPM + C.FASTBALL_SPIN_RPM
     kept = (po.curveball_spin_at_fastballs_rpm - po.fastball_spin_rpm) / incoming
     assert 2 / 7 < kept < 1
     # at the curveball's own best point too
@@ -143,8 +153,9 @@ def test_bat_table_ranges_are_the_flight_models(sc):
 def test_drag_only_lengthens_the_reaction_times(sc):
     t = C.reaction_times(sc)
     assert (t["t, drag (s)"] > t["t, no drag (s)"]).all()
-    assert (t["below, no drag"] == (A.PITCHER_AFTER_FOLLOW_THROUGH_M / t["v1 (m/s)"]
-                                    < A.REACTION_S)).all()
+    assert (
+        t["below, no drag"] == (A.PITCHER_AFTER_FOLLOW_THROUGH_M / t["v1 (m/s)"] < A.REACTION_S)
+    ).all()
     assert not (t["below, drag"] & ~t["below, no drag"]).any()
     # the pitch arrives at the scenario's speed from its release speed (brentq to 1e-9 m/s)
     pt = C.pitch_time(sc)
@@ -163,10 +174,12 @@ def test_section_quotes_the_computed_numbers(section):
         assert f"**{ranged(b.carry_m, *carry_range_m(b.launch))} m**" in text
         assert f"{abs(b.s_m - C.sweet_spots(sc).speed_s_m) * 1e3:.1f} mm" in text
     p, m = C.pitch_optima(A.PAPER), C.pitch_optima(A.MLB)
-    assert (f"**{p.curveball.undercut_m * 100:.2f} cm against "
-            f"{p.fastball.undercut_m * 100:.2f} cm**") in text
-    assert (f"{m.curveball.undercut_m * 100:.2f} against "
-            f"{m.fastball.undercut_m * 100:.2f} cm") in text
+    assert (
+        f"**{p.curveball.undercut_m * 100:.2f} cm against {p.fastball.undercut_m * 100:.2f} cm**"
+    ) in text
+    assert (
+        f"{m.curveball.undercut_m * 100:.2f} against {m.fastball.undercut_m * 100:.2f} cm"
+    ) in text
     gain = p.curveball.carry_m - p.fastball.carry_m
     assert f"{gain:+.1f} m ({C.feet(gain):+.0f} ft)" in text
     # the bracket: measured spin independence (no gain) to rigid rolling (the larger gain)
@@ -182,8 +195,17 @@ def test_section_quotes_the_computed_numbers(section):
     # every reference the section cites exists, and the new ones are cited
     cited = set(re.findall(r"\[([a-z0-9]+)\]", text))
     assert cited <= set(REFS)
-    assert {"sawicki2003", "statcast", "kensrud2017", "nathan2012", "crossnathan2006",
-            "popmech2009", "nathancalc", "adair", "mlbrelease"} <= cited
+    assert {
+        "sawicki2003",
+        "statcast",
+        "kensrud2017",
+        "nathan2012",
+        "crossnathan2006",
+        "popmech2009",
+        "nathancalc",
+        "adair",
+        "mlbrelease",
+    } <= cited
 
 
 def test_feet_are_metres_over_0_3048():

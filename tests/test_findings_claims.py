@@ -28,8 +28,10 @@ pytestmark = pytest.mark.xdist_group("findings")
 def _referee(text: str) -> dict[str, str]:
     """Claim key -> value as quoted, from a findings.md's referee table."""
     table = text.split("## Referee", 1)[1].split("\n## ", 1)[0]
-    return {m.group(2): m.group(1).strip() for m in
-            re.finditer(r"^\| [^|]+ \| ([^|]+) \| `([^`]+)` \|", table, re.M)}
+    return {
+        m.group(2): m.group(1).strip()
+        for m in re.finditer(r"^\| [^|]+ \| ([^|]+) \| `([^`]+)` \|", table, re.M)
+    }
 
 
 @pytest.fixture(scope="module")
@@ -59,8 +61,9 @@ def test_every_readme_findings_number_is_a_claim(claims):
     prose = re.sub(r"\]\([^)]*\)", "]", section)  # link targets are paths, not numbers
     prose = re.sub(r"\b[A-Za-z_]+\d\w*", " ", prose)  # names with digits: R161, v1
     left = _strike(prose, claims)
-    assert not re.search(r"\d", left), [line for line in left.splitlines()
-                                         if re.search(r"\d", line)]
+    assert not re.search(r"\d", left), [
+        line for line in left.splitlines() if re.search(r"\d", line)
+    ]
 
 
 def test_findings_md_quotes_what_the_command_computes(claims, fresh):
@@ -74,6 +77,6 @@ def test_a_changed_number_is_caught(claims):
     # its last digit leaves a digit behind
     value = claims["cork.n027.paper"]
     i = max(i for i, ch in enumerate(value) if ch.isdigit())  # its last digit, one unit off
-    wrong = value[:i] + str((int(value[i]) + 1) % 10) + value[i + 1:]
+    wrong = value[:i] + str((int(value[i]) + 1) % 10) + value[i + 1 :]
     assert re.search(r"\d", _strike(f"corking changes the speed by {wrong} m/s", claims))
     assert not re.search(r"\d", _strike(f"corking changes the speed by {value} m/s", claims))

@@ -23,12 +23,18 @@ def test_hysteretic_force_depends_on_the_overlap_and_its_history_not_its_rate():
     # loading: F = k x^n whatever the rate; below the deepest overlap x_m, one curve
     # F = k x_m^n ((x - x_r)/(x_m - x_r))^n, x_r = (1 - e^2) x_m, for unloading and reloading
     x_m, x = 0.01, 0.008
-    assert LAW.force_n(x_m, 5.0, peak_m=x_m) == LAW.force_n(x_m, 50.0, peak_m=x_m) \
+    assert (
+        LAW.force_n(x_m, 5.0, peak_m=x_m)
+        == LAW.force_n(x_m, 50.0, peak_m=x_m)
         == pytest.approx(1.6e7 * x_m**1.5, rel=1e-15)
+    )
     x_r = 0.75 * x_m
     want = 1.6e7 * x_m**1.5 * ((x - x_r) / (x_m - x_r)) ** 1.5
-    assert LAW.force_n(x, -3.0, peak_m=x_m) == LAW.force_n(x, +3.0, peak_m=x_m) \
+    assert (
+        LAW.force_n(x, -3.0, peak_m=x_m)
+        == LAW.force_n(x, +3.0, peak_m=x_m)
         == pytest.approx(want, rel=1e-14)
+    )
     assert LAW.force_n(0.7 * x_m, -1.0, peak_m=x_m) == 0.0  # below x_r the ball has let go
     assert LAW.release_value(x_r, -1.0, peak_m=x_m) == pytest.approx(0.0, abs=1e-18)
 
@@ -38,8 +44,9 @@ def test_russell_share_is_converged_in_its_grid():
     # Russell's range, quoted on SHARE_GRID: a grid twice as fine in each direction moves it
     # by under 1% (measured 0.5%); the coarse default grid is 3-4% lower
     fine = A.russell_share()
-    finer = A.russell_share(grid=(np.linspace(0.0, A.HANDS_M, 9), np.linspace(35, 47, 25),
-                                  np.linspace(40, 56, 65)))
+    finer = A.russell_share(
+        grid=(np.linspace(0.0, A.HANDS_M, 9), np.linspace(35, 47, 25), np.linspace(40, 56, 65))
+    )
     assert abs(finer - fine) < 0.01
     assert A.russell_share(fine=False) < fine
 
@@ -47,13 +54,17 @@ def test_russell_share_is_converged_in_its_grid():
 def test_cork_removes_less_in_lighter_wood():
     # dM = (rho_fill - rho_wood) pi r^2 h: a 1 x 10 in cork fill in ash of 550-670 kg/m^3
     # removes 45-60 g, and the lighter the wood the smaller the loss at n = 0.27
-    removed = {rho: presets.R161.mass_kg - presets.R161.corked(wood_density_kgm3=rho).mass_kg
-               for rho in (550.0, 670.0)}
+    removed = {
+        rho: presets.R161.mass_kg - presets.R161.corked(wood_density_kgm3=rho).mass_kg
+        for rho in (550.0, 670.0)
+    }
     for rho, dm in removed.items():
         assert dm == pytest.approx((rho - 200.0) * math.pi * 0.0127**2 * 0.254, rel=1e-12)
     for sc in A.SCENARIOS:
-        light, dense = (A.cork_gain(presets.R161.corked(wood_density_kgm3=rho), sc, 0.27)
-                        for rho in (550.0, 670.0))
+        light, dense = (
+            A.cork_gain(presets.R161.corked(wood_density_kgm3=rho), sc, 0.27)
+            for rho in (550.0, 670.0)
+        )
         assert dense < light < 0
 
 
@@ -93,8 +104,13 @@ def test_models_that_cannot_carry_a_hysteretic_law_refuse_it():
     from analytic.chain_impact import ChainImpact, compliant_reference
 
     eb = beam.Beam(profile=beam.r161_profile()[0], wood=beam.r161_profile()[1])
-    impact = ChainImpact(chain=Chain.from_beam(eb, 4, like=presets.R161),
-                         ball=presets.BASEBALL, x_m=0.66, v0_mps=40.0, e=0.5)
+    impact = ChainImpact(
+        chain=Chain.from_beam(eb, 4, like=presets.R161),
+        ball=presets.BASEBALL,
+        x_m=0.66,
+        v0_mps=40.0,
+        e=0.5,
+    )
     with pytest.raises(ValueError, match="law"):
         compliant_reference(impact, HYSTERETIC_BALL)
     for kw, name in (({"loss_factor": -0.1}, "loss_factor"), ({"patch_m": 1.0}, "patch_m")):

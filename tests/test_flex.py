@@ -17,8 +17,16 @@ def test_quick_flex_study_writes_consistent_tables(tmp_path):
     engine = next(n for n in adapters.available() if adapters.record(n).can.chain_adapter)
     assert flex.main(["--quick", "--engine", engine, "--out", str(tmp_path), "--name", "f"]) == 0
     out = tmp_path / "f"
-    for name in ("flex.csv", "flex_modes.csv", "flex_sweet.csv", "flex_chain.csv",
-                 "flex_engines.csv", "flex.json", "flex.png", "flex_engines.png"):
+    for name in (
+        "flex.csv",
+        "flex_modes.csv",
+        "flex_sweet.csv",
+        "flex_chain.csv",
+        "flex_engines.csv",
+        "flex.json",
+        "flex.png",
+        "flex_engines.png",
+    ):
         assert (out / name).stat().st_size > 0
     rows = pd.read_csv(out / "flex.csv")
     # energy: what the bat keeps bending can be no more than the collision's kinetic energy in
@@ -36,10 +44,10 @@ def test_quick_flex_study_writes_consistent_tables(tmp_path):
             continue
         checked += 1
         spacing = float(np.diff(np.sort(grid.x_m.unique())).max())
-        for peak, v_peak, column in ((spot.speed_peak_from_tip_m, spot.v1_peak_mps,
-                                      "v1_beam_mps"),
-                                     (spot.rigid_peak_from_tip_m, spot.v1_rigid_peak_mps,
-                                      "v1_rigid_mps")):
+        for peak, v_peak, column in (
+            (spot.speed_peak_from_tip_m, spot.v1_peak_mps, "v1_beam_mps"),
+            (spot.rigid_peak_from_tip_m, spot.v1_rigid_peak_mps, "v1_rigid_mps"),
+        ):
             fastest = grid.loc[grid[column].idxmax()]
             assert v_peak >= fastest[column] - 1e-3, (spot.swing, column)
             assert abs(length - peak - fastest.x_m) <= spacing, (spot.swing, column)

@@ -19,8 +19,15 @@ R161, BALL = presets.R161, presets.BASEBALL
 FRICTION = [n for n in adapters.names() if adapters.record(n).can.friction_rule is not None]
 SPATIAL = [n for n in FRICTION if not adapters.record(n).can.planar]
 #: A bat a thousand kilograms heavy, with inertia to match: a wall to 1.5e-4 (m / M).
-WALL = Bat(name="wall", length_m=0.84, radius_m=0.03, mass_kg=1e3, com_from_knob_m=0.42,
-           inertia_cm_kgm2=1e3, inertia_axial_kgm2=1e3)
+WALL = Bat(
+    name="wall",
+    length_m=0.84,
+    radius_m=0.03,
+    mass_kg=1e3,
+    com_from_knob_m=0.42,
+    inertia_cm_kgm2=1e3,
+    inertia_axial_kgm2=1e3,
+)
 #: The wall's own difference from an immovable one: the ball's velocities move by m / M.
 WALL_REL = BALL.mass_kg / WALL.mass_kg
 
@@ -59,8 +66,9 @@ def test_body_frictions_combine_as_the_record_says(name):
     # measured to rounding (ROUND_OPS eps: 1.2e-3 in float32) plus the wall's finite mass.
     want = adapters.record(name).can.friction_rule.combine(0.1, 0.15)
     got = _sliding_mu(name, 0.1, 0.15)
-    assert got == pytest.approx(want, abs=terms.ROUND_OPS * adapters.record(name).eps
-                                + WALL_REL * want)
+    assert got == pytest.approx(
+        want, abs=terms.ROUND_OPS * adapters.record(name).eps + WALL_REL * want
+    )
 
 
 def _on_wall(name: str, mu: float):
@@ -72,8 +80,9 @@ def _on_wall(name: str, mu: float):
 
 EXACT = [n for n in FRICTION if not adapters.record(n).errors.friction_defect]
 DEFECTIVE = [n for n in FRICTION if adapters.record(n).errors.friction_defect]
-RIGID = [n for n in EXACT
-         if adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE]
+RIGID = [
+    n for n in EXACT if adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE
+]
 
 
 @pytest.mark.parametrize("name", EXACT)
@@ -87,10 +96,12 @@ def test_a_ball_slides_on_a_wall_by_coulombs_ratio(name):
     row = _on_wall(name, 0.05)
     vn, vt = 20.0 * math.cos(0.5), 20.0 * math.sin(0.5)
     dvn, dvt = row.v1_engine_mps + vn, row.vt1_engine_mps - vt
-    tilt = adapters.record(name).errors.collision_slide_m(adapters.settings_for(name), WALL) \
-        / (WALL.radius_m + BALL.radius_m)
-    allowed = (terms.ROUND_OPS * adapters.record(name).eps * 20.0 + WALL_REL * abs(dvt)
-               + tilt * abs(dvn))
+    tilt = adapters.record(name).errors.collision_slide_m(adapters.settings_for(name), WALL) / (
+        WALL.radius_m + BALL.radius_m
+    )
+    allowed = (
+        terms.ROUND_OPS * adapters.record(name).eps * 20.0 + WALL_REL * abs(dvt) + tilt * abs(dvn)
+    )
     assert dvt == pytest.approx(-0.05 * dvn, abs=allowed)
 
 
@@ -111,8 +122,7 @@ def test_a_sliding_ball_on_a_wall(name):
     drop = mu * dvn
     assert row.vt1_engine_mps == pytest.approx(vt - drop, abs=row.vt1_tol_mps + WALL_REL * vt)
     spin = 5 * drop / (2 * BALL.radius_m)
-    assert -row.spin1_engine_radps == pytest.approx(spin, abs=row.spin1_tol_radps
-                                                    + WALL_REL * spin)
+    assert -row.spin1_engine_radps == pytest.approx(spin, abs=row.spin1_tol_radps + WALL_REL * spin)
 
 
 @pytest.mark.parametrize("name", RIGID)
@@ -124,7 +134,8 @@ def test_a_gripping_ball_leaves_a_wall_rolling(name):
     vt = 5 / 7 * 20.0 * math.sin(0.5)
     assert row.vt1_engine_mps == pytest.approx(vt, abs=row.vt1_tol_mps + WALL_REL * vt)
     assert -row.spin1_engine_radps * BALL.radius_m == pytest.approx(
-        vt, abs=(row.spin1_tol_radps + WALL_REL * vt / BALL.radius_m) * BALL.radius_m)
+        vt, abs=(row.spin1_tol_radps + WALL_REL * vt / BALL.radius_m) * BALL.radius_m
+    )
 
 
 @pytest.mark.parametrize("name", DEFECTIVE)
@@ -145,22 +156,30 @@ def test_undercut_hits_end_with_a_status_that_says_why(name):
     # Undercut 0 to 3 cm at mu = 0.5 on the paper's swing: every row measured (ok, or
     # inaccurate against the engine's own frictional law) or failed with a status that names
     # the failure; never an exception, and an ok row leaves with backspin of the undercut's sign.
-    firing = [ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=46.9, u0_mps=17.87,
-                         omega0_radps=32.0, e=0.5, mu=0.5, undercut_m=u)
-              for u in (0.0, 0.01, 0.02, 0.03)]
+    firing = [
+        ImpactCase(
+            bat=R161,
+            ball=BALL,
+            s_m=0.1,
+            v0_mps=46.9,
+            u0_mps=17.87,
+            omega0_radps=32.0,
+            e=0.5,
+            mu=0.5,
+            undercut_m=u,
+        )
+        for u in (0.0, 0.01, 0.02, 0.03)
+    ]
     st = adapters.settings_for(name)
-    rows = table(fire_jobs([Job(engine=name, settings=st, case=c) for c in firing]),
-                 "reference")
+    rows = table(fire_jobs([Job(engine=name, settings=st, case=c) for c in firing]), "reference")
     assert not (rows.status == Status.ERROR.value).any(), list(rows.episode_end)
     ok = rows[(rows.status == Status.OK.value) & (rows.undercut_m > 0)]
     assert (ok.backspin1_engine_radps > 0).all()
 
 
-@pytest.mark.parametrize("name", [n for n in adapters.names()
-                                  if adapters.record(n).can.planar])
+@pytest.mark.parametrize("name", [n for n in adapters.names() if adapters.record(n).can.planar])
 def test_a_planar_engine_refuses_an_undercut(name):
     # A 2-D engine cannot put the ball off the swing plane: 'unsupported', not a wrong answer.
-    case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=40.0, e=0.5, mu=0.5,
-                      undercut_m=0.01)
+    case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=40.0, e=0.5, mu=0.5, undercut_m=0.01)
     fired = fire_jobs([Job(engine=name, settings=adapters.settings_for(name), case=case)])
     assert fired[0].outcome.status is Status.UNSUPPORTED

@@ -34,17 +34,22 @@ def _kind(table: pd.DataFrame, kind: str) -> pd.DataFrame:
 
 def test_kind_reads_each_device_name():
     # the names the adapters give: "cpu", JAX's "cpu: cpu", "gpu: <card>", Warp's "cuda:0: <card>"
-    assert [throughput.kind(d) for d in ("cpu", "cpu: cpu", "gpu: NVIDIA H200",
-                                         "cuda:0: NVIDIA H200")] == ["CPU", "CPU", "GPU", "GPU"]
+    assert [
+        throughput.kind(d) for d in ("cpu", "cpu: cpu", "gpu: NVIDIA H200", "cuda:0: NVIDIA H200")
+    ] == ["CPU", "CPU", "GPU", "GPU"]
 
 
 def test_merged_keeps_only_the_other_kind():
     measured = pd.DataFrame({"engine": ["a"], "device": ["cpu"], "batch": [1]})
-    kept = pd.DataFrame({"engine": ["a", "b", "a"], "device": ["cpu", "cpu", "cuda:0: X"],
-                         "batch": [1, 1, 10]})
+    kept = pd.DataFrame(
+        {"engine": ["a", "b", "a"], "device": ["cpu", "cpu", "cuda:0: X"], "batch": [1, 1, 10]}
+    )
     out = throughput.merged(measured, kept)
-    assert out.to_dict("list") == {"engine": ["a", "a"], "device": ["cpu", "cuda:0: X"],
-                                   "batch": [1, 10]}
+    assert out.to_dict("list") == {
+        "engine": ["a", "a"],
+        "device": ["cpu", "cuda:0: X"],
+        "batch": [1, 10],
+    }
 
 
 @pytest.mark.xdist_group(BATCHED)
@@ -52,14 +57,28 @@ def test_a_cpu_benchmark_keeps_the_committed_gpu_rows(tmp_path):
     """bench_engines --batches-only on this CPU: its rows, then the committed GPU rows as they
     were (no GPU needed to keep them); the table is one that --keep-rows accepts."""
     name = BATCHED
-    assert bench_engines.main(["--quick", "--batches-only", "--engine", name, "--batches", "1",
-                               "--out", str(tmp_path)]) == 0
+    assert (
+        bench_engines.main(
+            [
+                "--quick",
+                "--batches-only",
+                "--engine",
+                name,
+                "--batches",
+                "1",
+                "--out",
+                str(tmp_path),
+            ]
+        )
+        == 0
+    )
     written = next(tmp_path.rglob("bench_batches.csv"))
     table = inputs.table(written, inputs.THROUGHPUT)  # what --keep-rows and gpu accept
     committed = pd.read_csv(COMMITTED)
     assert set(_kind(table, "CPU").engine) == {name}
-    pd.testing.assert_frame_equal(_kind(table, "GPU")[list(committed.columns)],
-                                  _kind(committed, "GPU"), check_dtype=False)
+    pd.testing.assert_frame_equal(
+        _kind(table, "GPU")[list(committed.columns)], _kind(committed, "GPU"), check_dtype=False
+    )
 
 
 @pytest.fixture(scope="module")
@@ -72,8 +91,9 @@ def gathered(tmp_path_factory):
 def test_gathered_rows_are_the_runs_and_the_committed_cpu(gathered):
     table = pd.read_csv(gathered / "bench_batches.csv")
     committed = pd.read_csv(COMMITTED)
-    pd.testing.assert_frame_equal(_kind(table, "CPU")[list(committed.columns)],
-                                  _kind(committed, "CPU"), check_dtype=False)
+    pd.testing.assert_frame_equal(
+        _kind(table, "CPU")[list(committed.columns)], _kind(committed, "CPU"), check_dtype=False
+    )
     runs = [pd.read_csv(p) for p in GPU_RUNS.glob("*/bench_batches.csv")]
     expected = {(r.engine, r.batch) for t in runs for r in _kind(t, "GPU").itertuples()}
     assert {(r.engine, r.batch) for r in _kind(table, "GPU").itertuples()} == expected
@@ -91,10 +111,13 @@ def test_profile_and_bars_follow_the_rows(gathered):
         assert math.isclose(p["harness_share"], best.harness_us_per_impact / best.us_per_impact)
         assert math.isclose(p["bare_impacts_per_s"], 1e6 / best.bare_us_per_impact)
     bars = meta["bars"]
-    assert bars["slowest_impacts_per_s"]["measured"] == table.groupby(
-        "engine").impacts_per_s.max().min()
+    assert (
+        bars["slowest_impacts_per_s"]["measured"]
+        == table.groupby("engine").impacts_per_s.max().min()
+    )
     assert bars["slowest_impacts_per_s"]["met"] == (
-        bars["slowest_impacts_per_s"]["measured"] >= 1e5)
+        bars["slowest_impacts_per_s"]["measured"] >= 1e5
+    )
     assert bars["fastest_impacts_per_s"]["measured"] == table.impacts_per_s.max()
     assert bars["harness_share"]["met"] == (bars["harness_share"]["measured"] <= 0.25)
 
@@ -105,8 +128,9 @@ def test_twins_by_device(gathered):
     cpu = pd.read_csv(ROOT / "results" / "twins.csv").set_index(["engine", "step"])
     assert len(pairs) > 0
     for r in pairs.itertuples():
-        assert r.max_abs_diff_mps_cpu == pytest.approx(cpu.loc[(r.engine, r.step)].max_abs_diff_mps,
-                                                       rel=1e-5)  # (csv's 6 digits)
+        assert r.max_abs_diff_mps_cpu == pytest.approx(
+            cpu.loc[(r.engine, r.step)].max_abs_diff_mps, rel=1e-5
+        )  # (csv's 6 digits)
         assert r.ratio == pytest.approx(r.max_abs_diff_mps_gpu / r.max_abs_diff_mps_cpu, rel=1e-5)
 
 
@@ -118,8 +142,14 @@ def test_gpu_refuses_a_folder_without_runs(tmp_path, capsys):
 
 
 def _firing() -> firings.Firing:
-    return firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, 5), v0_mps=40.0,
-                         u0_mps=0.0, omega0_radps=0.0, e=presets.E_WOOD)
+    return firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, 5),
+        v0_mps=40.0,
+        u0_mps=0.0,
+        omega0_radps=0.0,
+        e=presets.E_WOOD,
+    )
 
 
 @pytest.mark.xdist_group(BATCHED)
@@ -133,8 +163,9 @@ def test_jobs_fire_as_the_same_jobs_one_by_one():
     cases = _firing().cases() * 3
     jobs = Jobs(engine=name, settings=settings, cases=cases)
     assert len(runs(jobs)) == 1 and len(runs(list(jobs))) == 1
-    assert isinstance(jobs[1:3], Jobs) and jobs[4] == Job(engine=name, settings=settings,
-                                                          case=cases[4])
+    assert isinstance(jobs[1:3], Jobs) and jobs[4] == Job(
+        engine=name, settings=settings, case=cases[4]
+    )
     a = tables.table(fire_jobs(jobs), "x")
     b = tables.table(fire_jobs(list(jobs)), "x")
     cols = ["v1_engine_mps", "u1_engine_mps", "omega1_engine_radps", "status", "steps"]

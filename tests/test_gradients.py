@@ -56,8 +56,10 @@ def test_a_float64_engine_difference_tolerance_is_tight():
     # the tolerance is a bound, not a blanket: for the cheapest float64 single-world engine
     # (velocities to ~1e-8 m/s), tol_v / h + truncation at the best h stays below 1e-5 of the
     # slope (55 (m/s)/m at s = 0.2 m), and the step below 1 mm
-    name = min((n for n in SINGLE if adapters.record(n).errors.precision == "float64"),
-               key=lambda n: adapters.record(n).cost.step_cost_s)
+    name = min(
+        (n for n in SINGLE if adapters.record(n).errors.precision == "float64"),
+        key=lambda n: adapters.record(n).cost.step_cost_s,
+    )
     case = _cases()[1]
     h, tol = grad.fd_step(case, adapters.settings_for(name), name, "s_m")
     assert h < 1e-3 and tol < 1e-5 * abs(grad.analytic(case, "s_m")), (h, tol)
@@ -72,8 +74,11 @@ def test_finite_differences_through_the_engine_meet_the_closed_form(name, wrt):
     for r in rows:
         assert r["status"] == GradStatus.OK, r
     # and an engine without automatic differentiation says so in one row
-    (ad,) = [r for r in grad.gradient_rows(name, adapters.settings_for(name), _cases()[:1], wrt)
-             if r["method"] == "autodiff"] or [None]
+    (ad,) = [
+        r
+        for r in grad.gradient_rows(name, adapters.settings_for(name), _cases()[:1], wrt)
+        if r["method"] == "autodiff"
+    ] or [None]
     if wrt in grad.AUTODIFF_INPUTS:
         assert ad["status"] == GradStatus.UNSUPPORTED and ad["why"], ad
 
@@ -102,22 +107,33 @@ def _meets_the_closed_form(name: str) -> None:
         assert failed is None, why
         for case, value in zip(_cases(), values):
             tol = grad.autodiff_tolerance(case, st, errors, wrt)
-            assert grad.judge_gradient(value, grad.analytic(case, wrt), tol) == GradStatus.OK, \
-                (wrt, case.s_m, value, grad.analytic(case, wrt), tol)
+            assert grad.judge_gradient(value, grad.analytic(case, wrt), tol) == GradStatus.OK, (
+                wrt,
+                case.s_m,
+                value,
+                grad.analytic(case, wrt),
+                tol,
+            )
 
 
 @pytest.mark.parametrize("name", DEFECTIVE)
 def test_a_declared_gradient_defect_still_misses_the_closed_form(name):
     # its record's gradient_defect: at least one autodiff row is out of its tolerance
-    rows = [r for r in grad.gradient_rows(name, adapters.settings_for(name), _cases(), "s_m")
-            if r["method"] == "autodiff"]
+    rows = [
+        r
+        for r in grad.gradient_rows(name, adapters.settings_for(name), _cases(), "s_m")
+        if r["method"] == "autodiff"
+    ]
     assert any(r["status"] != GradStatus.OK for r in rows), rows
 
 
 @pytest.mark.parametrize("name", [n for n in BATCHED if n not in DIFFERENTIABLE])
 def test_a_batched_engine_without_a_derivative_says_why(name):
-    (row,) = [r for r in grad.gradient_rows(name, adapters.settings_for(name), _cases(), "s_m")
-              if r["method"] == "autodiff"]
+    (row,) = [
+        r
+        for r in grad.gradient_rows(name, adapters.settings_for(name), _cases(), "s_m")
+        if r["method"] == "autodiff"
+    ]
     assert row["status"] == GradStatus.UNSUPPORTED and len(row["why"]) > len("unsupported: ")
 
 

@@ -17,8 +17,9 @@ from experiments.core.judge import Status
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("analytic", "adapters", "experiments")
-SOURCES = sorted(p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")) + \
-    sorted((ROOT / "tests").rglob("*.py"))
+SOURCES = sorted(p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")) + sorted(
+    (ROOT / "tests").rglob("*.py")
+)
 #: The guide's sizes, and how far past them the test lets a module or function go.
 MODULE_LINES, FUNCTION_LINES, PAST_GUIDE = 400, 60, 1.5
 MAX_MODULE_LINES = int(MODULE_LINES * PAST_GUIDE)
@@ -29,8 +30,13 @@ ALLOWED = {
     "adapters": ("analytic", "adapters"),
     "experiments.errors": (),  # the failures a command expects: installed before any import
     "experiments.core": ("analytic", "adapters", "experiments.core", "experiments.errors"),
-    "experiments.parts": ("analytic", "adapters", "experiments.core", "experiments.errors",
-                          "experiments.parts"),
+    "experiments.parts": (
+        "analytic",
+        "adapters",
+        "experiments.core",
+        "experiments.errors",
+        "experiments.parts",
+    ),
 }
 
 #: The modules outside the judge that may still spell a status, each with why (at most 2).
@@ -76,12 +82,16 @@ def test_module_and_function_sizes(path):
             assert length <= MAX_FUNCTION_LINES, f"{node.name}: {length} lines"
 
 
-@pytest.mark.parametrize("path", [p for p in SOURCES if _layer(_name(p))],
-                         ids=lambda p: str(p.relative_to(ROOT)))
+@pytest.mark.parametrize(
+    "path", [p for p in SOURCES if _layer(_name(p))], ids=lambda p: str(p.relative_to(ROOT))
+)
 def test_imports_point_one_way(path):
     allowed = ALLOWED[_layer(_name(path))]
-    wrong = sorted(m for m in _project_imports(path)
-                   if not any(m == a or m.startswith(a + ".") for a in allowed))
+    wrong = sorted(
+        m
+        for m in _project_imports(path)
+        if not any(m == a or m.startswith(a + ".") for a in allowed)
+    )
     assert not wrong, f"{_name(path)} imports {wrong}: allowed {allowed}"
 
 
@@ -95,34 +105,53 @@ def _status_words(path: Path) -> list[tuple[int, str]]:
         if isinstance(node, ast.Compare):
             used = [node.left, *node.comparators]
         elif isinstance(node, ast.Dict | ast.Tuple | ast.List | ast.Set):
-            strings = [n for n in (node.keys if isinstance(node, ast.Dict) else node.elts)
-                       if isinstance(n, ast.Constant) and isinstance(n.value, str)]
+            strings = [
+                n
+                for n in (node.keys if isinstance(node, ast.Dict) else node.elts)
+                if isinstance(n, ast.Constant) and isinstance(n.value, str)
+            ]
             used = strings if all(n.value in words for n in strings) else []
-        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
-                and node.func.attr == "get" and node.args:
+        elif (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "get"
+            and node.args
+        ):
             used = node.args[:1]
         else:
             continue
-        found += [(n.lineno, n.value) for n in used
-                  if isinstance(n, ast.Constant) and n.value in words]
+        found += [
+            (n.lineno, n.value) for n in used if isinstance(n, ast.Constant) and n.value in words
+        ]
     return found
 
 
 def test_statuses_only_through_the_enum():
     judge = ROOT / "experiments" / "core" / "judge.py"
-    found = {str(p.relative_to(ROOT)): words for p in SOURCES
-             if p.relative_to(ROOT).parts[0] in PACKAGES and p != judge
-             and (words := _status_words(p))}
+    found = {
+        str(p.relative_to(ROOT)): words
+        for p in SOURCES
+        if p.relative_to(ROOT).parts[0] in PACKAGES and p != judge and (words := _status_words(p))
+    }
     assert len(STATUS_WORDS_KEPT) <= 2
-    assert set(found) == set(STATUS_WORDS_KEPT), \
-        {m: w for m, w in found.items() if m not in STATUS_WORDS_KEPT}
+    assert set(found) == set(STATUS_WORDS_KEPT), {
+        m: w for m, w in found.items() if m not in STATUS_WORDS_KEPT
+    }
 
 
 def test_nothing_points_outside_the_project():
     """The project stands alone: no file names the design notes it grew from."""
-    texts = [p for p in ROOT.rglob("*") if p.suffix in {".py", ".md", ".toml", ".txt", ".cfg"}
-             and not any(part.startswith((".", "runs")) for part in p.relative_to(ROOT).parts)
-             and p != Path(__file__).resolve()]
-    hits = [str(p.relative_to(ROOT)) for p in texts if "../shared" in p.read_text(errors="ignore")
-            or "ENGINE_NOTES" in p.read_text(errors="ignore")]
+    texts = [
+        p
+        for p in ROOT.rglob("*")
+        if p.suffix in {".py", ".md", ".toml", ".txt", ".cfg"}
+        and not any(part.startswith((".", "runs")) for part in p.relative_to(ROOT).parts)
+        and p != Path(__file__).resolve()
+    ]
+    hits = [
+        str(p.relative_to(ROOT))
+        for p in texts
+        if "../shared" in p.read_text(errors="ignore")
+        or "ENGINE_NOTES" in p.read_text(errors="ignore")
+    ]
     assert not hits, hits

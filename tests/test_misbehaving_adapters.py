@@ -28,11 +28,16 @@ import toy_engine  # noqa: E402 - the plug-in's module, from its own folder
 #: The engine fired after a twin, in the same firing: its rows must be as alone.
 ENGINE = cheapest(batched=False)
 #: twin -> (status, a word its rows' ``ended`` must hold)
-EXPECTED = {"exits": (Status.ERROR, "sys.exit(0)"), "hangs": (Status.TIMEOUT, "timeout"),
-            "stuckflag": (Status.ERROR, "contact_flag"), "wrongshape": (Status.ERROR, "shape"),
-            "heavyball": (Status.ERROR, "scene mismatch: toyengine_heavyball: ball_mass_kg"),
-            "exitshard": (Status.ERROR, "os._exit(3)"), "strings": (Status.ERROR, "<U"),
-            "integers": (Status.ERROR, "int64")}
+EXPECTED = {
+    "exits": (Status.ERROR, "sys.exit(0)"),
+    "hangs": (Status.TIMEOUT, "timeout"),
+    "stuckflag": (Status.ERROR, "contact_flag"),
+    "wrongshape": (Status.ERROR, "shape"),
+    "heavyball": (Status.ERROR, "scene mismatch: toyengine_heavyball: ball_mass_kg"),
+    "exitshard": (Status.ERROR, "os._exit(3)"),
+    "strings": (Status.ERROR, "<U"),
+    "integers": (Status.ERROR, "int64"),
+}
 #: Twins whose failure only a command sees as theirs: a KeyboardInterrupt no Ctrl-C sent (a
 #: library user's Ctrl-C stops the firing), a close that never returns (after the rows).
 IN_A_COMMAND = {"interrupts": "error", "closehangs": "ok"}
@@ -58,10 +63,23 @@ def twins():
 def _jobs(name: str, es=(0.5,)) -> list[Job]:
     """Three impacts on the R161's barrel for each e (one batch per e: its scene)."""
     settings = adapters.settings_for(name)
-    return [Job(engine=name, settings=settings,
-                case=ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=40.0,
-                                u0_mps=10.0, omega0_radps=20.0, e=e))
-            for e in es for s in (0.05, 0.1, 0.15)]
+    return [
+        Job(
+            engine=name,
+            settings=settings,
+            case=ImpactCase(
+                bat=presets.R161,
+                ball=presets.BASEBALL,
+                s_m=s,
+                v0_mps=40.0,
+                u0_mps=10.0,
+                omega0_radps=20.0,
+                e=e,
+            ),
+        )
+        for e in es
+        for s in (0.05, 0.1, 0.15)
+    ]
 
 
 @pytest.mark.parametrize("twin", sorted(EXPECTED))
@@ -87,16 +105,22 @@ def test_an_engine_that_times_out_twice_in_a_row_is_not_fired_again(twins):
     again = fire_jobs(_jobs(twins["hangs"]))
     assert time.perf_counter() - t0 < TIMEOUTS_IN_A_ROW * 1.0 + 5.0
     assert all(f.outcome.status is Status.TIMEOUT for f in [*fired, *again])
-    assert [f.outcome.ended.startswith("not fired") for f in [*fired, *again]] == \
-        [False] * 6 + [True] * 6
+    assert [f.outcome.ended.startswith("not fired") for f in [*fired, *again]] == [False] * 6 + [
+        True
+    ] * 6
 
 
 @pytest.fixture(scope="module")
 def twins_site(tmp_path_factory):
     """The toy plug-in installed with its misbehaving twins as entry points."""
-    return plugin_site(tmp_path_factory.mktemp("twins-site"), "batsim-toy-twins",
-                       {f"toyengine_{k}": f"toy_engine:MISBEHAVING_{k.upper()}"
-                        for k in [*EXPECTED, *IN_A_COMMAND]})
+    return plugin_site(
+        tmp_path_factory.mktemp("twins-site"),
+        "batsim-toy-twins",
+        {
+            f"toyengine_{k}": f"toy_engine:MISBEHAVING_{k.upper()}"
+            for k in [*EXPECTED, *IN_A_COMMAND]
+        },
+    )
 
 
 def test_a_sweep_with_misbehaving_plugins_ends_with_their_rows(twins_site, tmp_path):
@@ -106,14 +130,28 @@ def test_a_sweep_with_misbehaving_plugins_ends_with_their_rows(twins_site, tmp_p
     twins = ["hangs", "exits", "exitshard", *IN_A_COMMAND]
     engines = ",".join([ENGINE, *(f"toyengine_{t}" for t in twins)])
     t0 = time.perf_counter()
-    run_command(["-m", "experiments.sweep", "--engine", engines, "--points", "3",
-                 "--no-locate", "--out", str(tmp_path), "--name", "r"],
-                env={"PYTHONPATH": str(twins_site)})
+    run_command(
+        [
+            "-m",
+            "experiments.sweep",
+            "--engine",
+            engines,
+            "--points",
+            "3",
+            "--no-locate",
+            "--out",
+            str(tmp_path),
+            "--name",
+            "r",
+        ],
+        env={"PYTHONPATH": str(twins_site)},
+    )
     assert time.perf_counter() - t0 < 60.0
     table = pd.read_csv(tmp_path / "r" / "sweep.csv")
     by = table.groupby("engine").status.agg(set).to_dict()
-    want = {f"toyengine_{t}": {str(EXPECTED[t][0]) if t in EXPECTED else IN_A_COMMAND[t]}
-            for t in twins}
+    want = {
+        f"toyengine_{t}": {str(EXPECTED[t][0]) if t in EXPECTED else IN_A_COMMAND[t]} for t in twins
+    }
     assert by == {ENGINE: {"ok"}, **want}, by
     ended = table[table.engine == "toyengine_interrupts"].episode_end.iloc[0]
     assert "KeyboardInterrupt (no Ctrl-C was pressed)" in ended, ended
@@ -123,7 +161,10 @@ def test_check_engine_fails_a_hanging_adapter_in_seconds(twins_site):
     # Its first two batches wait out their limit (its record's 1 s); the checks after them
     # find it timed out twice in a row and fail at once, each saying so.
     t0 = time.perf_counter()
-    res = run_command(["-m", "experiments.check_engine", "--engine", "toyengine_hangs"],
-                      env={"PYTHONPATH": str(twins_site)}, code=1)
+    res = run_command(
+        ["-m", "experiments.check_engine", "--engine", "toyengine_hangs"],
+        env={"PYTHONPATH": str(twins_site)},
+        code=1,
+    )
     assert time.perf_counter() - t0 < 60.0
     assert "FAILED" in res.stdout and "timeout" in res.stdout, res.stdout

@@ -30,17 +30,29 @@ def stability_out(tmp_path_factory):
 @STABILITY
 def test_stability_outputs(stability_out):
     names = {p.name for p in stability_out.iterdir()}
-    soft = {f"stability_{n}_soft.png" for n in adapters.names()
-            if adapters.record(n).can.soft_contact is not None}
-    assert {"stability.csv", "stability.png", "stability_energy.png", "stability_cells.csv",
-            "stability.json", *soft} <= names
+    soft = {
+        f"stability_{n}_soft.png"
+        for n in adapters.names()
+        if adapters.record(n).can.soft_contact is not None
+    }
+    assert {
+        "stability.csv",
+        "stability.png",
+        "stability_energy.png",
+        "stability_cells.csv",
+        "stability.json",
+        *soft,
+    } <= names
     rows = pd.read_csv(stability_out / "stability.csv")
     q = stability.QUICK
     per_map = len(q["steps"]) * len(q["speeds"]) * q["phases"]
     soft = [n for n in adapters.names() if adapters.record(n).can.soft_contact is not None]
     hunt_crossley = [n for n in adapters.names() if stability.hunt_crossley_law(n) is not None]
-    assert len(rows) == (2 * len(adapters.names()) + len(hunt_crossley)) * per_map \
+    assert (
+        len(rows)
+        == (2 * len(adapters.names()) + len(hunt_crossley)) * per_map
         + len(soft) * len(q["omegas"]) * len(q["steps"]) * q["phases"]
+    )
     assert set(rows.status) <= {s.value for s in Status}
 
 
@@ -50,15 +62,18 @@ def test_tunnelling_bound_is_where_theory_puts_it(stability_out):
     # The bound is a rigid contact's, first seen at one depth and resolved in that step; a
     # compliant one takes many steps, and a coarse step may miss it between readings.
     cells = pd.read_csv(stability_out / "stability_cells.csv")
-    rigid = [n for n in adapters.names()
-             if adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE]
+    rigid = [
+        n
+        for n in adapters.names()
+        if adapters.contact_reference(n) is adapters.ContactReference.RIGID_IMPULSE
+    ]
     ref = cells[cells["map"].isin([f"{n} reference" for n in rigid])]
-    assert len(ref) == len(rigid) * len(stability.QUICK["steps"]) \
-        * len(stability.QUICK["speeds"])
+    assert len(ref) == len(rigid) * len(stability.QUICK["steps"]) * len(stability.QUICK["speeds"])
     # caught: the engine resolved the contact soundly (ok, inaccurate or unjudged); whether it
     # did so accurately is the map's colour, not the tunnelling bound
-    pd.testing.assert_series_equal(ref.fraction_caught, ref.theory_fraction_caught,
-                                   check_names=False)
+    pd.testing.assert_series_equal(
+        ref.fraction_caught, ref.theory_fraction_caught, check_names=False
+    )
     # and the map is not trivially all-ok or all-failed: both sides of the bound are sampled
     assert ref.fraction_ok.min() < 0.5 < ref.fraction_ok.max()
 
@@ -93,8 +108,9 @@ def test_pareto_outputs(tmp_path):
     table = pd.read_csv(tmp_path / "pareto.csv")
     configs = pareto.configs(True, adapters.names())
     assert len(table) == len(configs) + len(adapters.names())
-    assert {"median_rel_err", "max_rel_err", "wall_per_collision_s", "n_ok",
-            "n_tunnelled"} <= set(table.columns)
+    assert {"median_rel_err", "max_rel_err", "wall_per_collision_s", "n_ok", "n_tunnelled"} <= set(
+        table.columns
+    )
     assert (tmp_path / "pareto.png").stat().st_size > 0
     conv = pd.read_csv(tmp_path / "convergence.csv")
     assert set(conv.engine) == set(adapters.names())
@@ -108,8 +124,10 @@ def test_out_of_the_box_catches_no_more_than_the_tunnelling_bound(name, tmp_path
     # engine, and every knob row names a setting that differs between the two profiles.
     from experiments import defaults
 
-    assert defaults.main(["--engine", name, "--phases", "4", "--out", str(tmp_path), "--name",
-                          "d"]) == 0
+    assert (
+        defaults.main(["--engine", name, "--phases", "4", "--out", str(tmp_path), "--name", "d"])
+        == 0
+    )
     caught = pd.read_csv(tmp_path / "d" / "defaults_caught.csv")
     assert set(caught.engine) == {name}
     assert (caught.ok <= caught.theory_ok).all(), caught
@@ -119,11 +137,16 @@ def test_out_of_the_box_catches_no_more_than_the_tunnelling_bound(name, tmp_path
 
 
 def test_cheapest_setting_reaches_its_target_and_nothing_sound_is_cheaper():
-    table = pd.DataFrame({"engine": ["a", "a", "b", "b"], "family": ["f"] * 4,
-                          "dt_s": [1e-3, 1e-4, 1e-3, 1e-4],
-                          "max_rel_err": [2e-3, 2e-5, 5e-4, 5e-6],
-                          "wall_per_collision_s": [1e-5, 1e-4, 3e-5, 3e-4],
-                          "all_ok": [True, True, False, True]})
+    table = pd.DataFrame(
+        {
+            "engine": ["a", "a", "b", "b"],
+            "family": ["f"] * 4,
+            "dt_s": [1e-3, 1e-4, 1e-3, 1e-4],
+            "max_rel_err": [2e-3, 2e-5, 5e-4, 5e-6],
+            "wall_per_collision_s": [1e-5, 1e-4, 3e-5, 3e-4],
+            "all_ok": [True, True, False, True],
+        }
+    )
     best = pareto.cheapest(table, targets=(1e-2, 1e-3, 1e-6)).set_index(["target", "engine"])
     # b at 1e-3 s is cheap and accurate enough but not sound: never chosen
     assert best.loc[(1e-2, "any"), "setting"] == "f, dt = 0.001 s"

@@ -34,9 +34,9 @@ def toyengine(toy_site):
 def test_the_entry_point_registers_it_under_its_name(toyengine):
     assert toyengine in adapters.names() and toyengine in adapters.available()
     rec = adapters.record(toyengine)
-    assert rec.name == toyengine and rec.look.color not in {adapters.record(n).look.color
-                                                       for n in adapters.names()
-                                                       if n != toyengine}
+    assert rec.name == toyengine and rec.look.color not in {
+        adapters.record(n).look.color for n in adapters.names() if n != toyengine
+    }
     assert adapters.is_batched(toyengine)
 
 
@@ -65,8 +65,7 @@ def test_the_check_engine_command_exits_0_for_it(toyengine, capsys):
 
     adapters.register(toy_engine.FAULTY)
     try:
-        code = check_engine_cmd.main(["--engine", toy_engine.FAULTY.name, "--check",
-                                      "restitution"])
+        code = check_engine_cmd.main(["--engine", toy_engine.FAULTY.name, "--check", "restitution"])
     finally:
         adapters.unregister(toy_engine.FAULTY.name)
     assert code == 1 and "FAILED restitution" in capsys.readouterr().out
@@ -79,8 +78,20 @@ def test_an_engine_that_raises_gives_error_rows_not_a_crash(toyengine, tmp_path)
 
     adapters.register(toy_engine.BROKEN)
     try:
-        assert sweep.main(["--engine", toy_engine.BROKEN.name, "--points", "3", "--no-locate",
-                           "--out", str(tmp_path)]) == 0
+        assert (
+            sweep.main(
+                [
+                    "--engine",
+                    toy_engine.BROKEN.name,
+                    "--points",
+                    "3",
+                    "--no-locate",
+                    "--out",
+                    str(tmp_path),
+                ]
+            )
+            == 0
+        )
     finally:
         adapters.unregister(toy_engine.BROKEN.name)
     rows = pd.read_csv(next(tmp_path.rglob("sweep.csv")))
@@ -96,8 +107,24 @@ def test_every_experiment_runs_it(toyengine, tmp_path, findings_run):
     assert (rows.engine == toyengine).all() and (rows.status == Status.OK).all()
     meta = json.loads((tmp_path / "s" / "sweep.json").read_text())
     assert set(meta["engines"]) == {toyengine}
-    assert sweep.main(["--engine", toyengine, "--points", "3", "--swing", "--dt", "1e-4",
-                       "--no-locate", *out, "--name", "h"]) == 0
+    assert (
+        sweep.main(
+            [
+                "--engine",
+                toyengine,
+                "--points",
+                "3",
+                "--swing",
+                "--dt",
+                "1e-4",
+                "--no-locate",
+                *out,
+                "--name",
+                "h",
+            ]
+        )
+        == 0
+    )
     assert (pd.read_csv(tmp_path / "h" / "sweep.csv").status == Status.OK).all()
     for study in (pareto, stability, swing, bench_engines):
         assert study.main(["--quick", "--engine", toyengine, *out]) == 0, study.__name__

@@ -23,19 +23,35 @@ def _jobs(name: str) -> list[Job]:
     settings = adapters.settings_for(name)
     jobs = []
     for e, points in ((0.5, 21), (0.0, 3)):
-        firing = firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, points),
-                               v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
-                               omega0_radps=presets.PAPER_SWING.omega0_radps, e=e)
+        firing = firings.Firing(
+            bat=presets.R161,
+            s_m=firings.grid(presets.R161, points),
+            v0_mps=presets.PAPER_PITCH_MPS,
+            u0_mps=presets.PAPER_SWING.u0_mps,
+            omega0_radps=presets.PAPER_SWING.omega0_radps,
+            e=e,
+        )
         jobs += firing.jobs(name, settings)
-    jobs += [Job(engine=name, settings=settings,
-                 case=ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=40.0,
-                                 e=0.5, undercut_m=0.01)) for s in (-0.2, 0.0, 0.1, 0.2)]
+    jobs += [
+        Job(
+            engine=name,
+            settings=settings,
+            case=ImpactCase(
+                bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=40.0, e=0.5, undercut_m=0.01
+            ),
+        )
+        for s in (-0.2, 0.0, 0.1, 0.2)
+    ]
     return jobs
 
 
 def _outcomes(fired) -> list[tuple]:
-    return [tuple(v for k, v in dataclasses.asdict(f.outcome).items()
-                  if k not in ("wall_s", "settings")) for f in fired]
+    return [
+        tuple(
+            v for k, v in dataclasses.asdict(f.outcome).items() if k not in ("wall_s", "settings")
+        )
+        for f in fired
+    ]
 
 
 @pytest.mark.parametrize("name", SINGLE)
@@ -54,8 +70,11 @@ def test_a_world_fired_in_a_batch_of_engines_ends_as_it_does_alone(name, monkeyp
     assert [repr(o) for o in batched] == [repr(o) for o in alone]
     # and so are their verdicts, the blocks' columns read as the outcomes one by one are
     timing = ["wall_s"]
-    assert tables.table(fired_batched, "").drop(columns=timing).equals(
-        tables.table(fired_alone, "").drop(columns=timing))
+    assert (
+        tables.table(fired_batched, "")
+        .drop(columns=timing)
+        .equals(tables.table(fired_alone, "").drop(columns=timing))
+    )
 
 
 LIMITED = [n for n in SINGLE if adapters.record(n).can.max_worlds is not None]
@@ -85,8 +104,10 @@ def test_a_batch_of_engines_stays_within_what_the_engine_can_hold(name, monkeypa
 
 
 #: One single-world engine of each kind of pool: adapters of its own a world, and a pool adapter.
-KINDS = [next(n for n in SINGLE if (adapters.record(n).can.pool_adapter is None) == alone)
-         for alone in (True, False)]
+KINDS = [
+    next(n for n in SINGLE if (adapters.record(n).can.pool_adapter is None) == alone)
+    for alone in (True, False)
+]
 
 
 @pytest.mark.parametrize("name", KINDS)

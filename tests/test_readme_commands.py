@@ -22,8 +22,12 @@ README = (ROOT / "README.md").read_text()
 BLOCKS = re.findall(r"```(\w+)\n(.*?)```", README, re.S)
 #: The `python -m experiments...` lines of the shell blocks, comments included (`make sweep`
 #: is spelled out in its comment), as argument lists.
-LINES = [shlex.split(m.group(0).split("->")[0]) for lang, text in BLOCKS if lang == "sh"
-         for m in re.finditer(r"python -m experiments\.[^\n#&]*", text)]
+LINES = [
+    shlex.split(m.group(0).split("->")[0])
+    for lang, text in BLOCKS
+    if lang == "sh"
+    for m in re.finditer(r"python -m experiments\.[^\n#&]*", text)
+]
 SMALL_POINTS = "3"
 
 
@@ -44,17 +48,24 @@ def test_the_readme_shows_command_lines():
 SLOW = ("experiments.gradients",)
 
 
-@pytest.mark.parametrize("argv", [a for a in LINES if "myengine" not in a
-                                  # installs releases: run on a cold cache by test_history.py
-                                  and a[2] != "experiments.history" and a[2] not in SLOW],
-                         ids=lambda a: " ".join(a[2:]))
+@pytest.mark.parametrize(
+    "argv",
+    [
+        a
+        for a in LINES
+        if "myengine" not in a
+        # installs releases: run on a cold cache by test_history.py
+        and a[2] != "experiments.history"
+        and a[2] not in SLOW
+    ],
+    ids=lambda a: " ".join(a[2:]),
+)
 def test_a_readme_command_line_runs(argv, tmp_path):
     run_command(_small(argv, str(tmp_path)))
 
 
 @pytest.mark.full
-@pytest.mark.parametrize("argv", [a for a in LINES if a[2] in SLOW],
-                         ids=lambda a: " ".join(a[2:]))
+@pytest.mark.parametrize("argv", [a for a in LINES if a[2] in SLOW], ids=lambda a: " ".join(a[2:]))
 def test_a_slow_readme_command_line_runs(argv, tmp_path):
     run_command(_small(argv, str(tmp_path)))
 
@@ -87,22 +98,39 @@ def _listening(port: int, timeout_s: float) -> bool:
 def test_the_dask_line_runs_a_sweep_on_a_cluster(tmp_path):
     # `dask scheduler & dask worker tcp://HOST:8786 --nthreads 1`, then the sweep line with
     # --scheduler tcp://HOST:8786 instead of --workers: here, on a free port
-    (line,) = [m.group(0) for lang, text in BLOCKS if lang == "sh"
-               for m in re.finditer(r"dask scheduler & dask worker [^\n#]*", text)]
+    (line,) = [
+        m.group(0)
+        for lang, text in BLOCKS
+        if lang == "sh"
+        for m in re.finditer(r"dask scheduler & dask worker [^\n#]*", text)
+    ]
     port = _free_port()
     dask = str(Path(sys.executable).parent / "dask")
-    scheduler, worker = (shlex.split(part.replace("HOST:8786", f"127.0.0.1:{port}"))
-                         for part in line.split("&"))
-    procs = [subprocess.Popen([dask, *scheduler[1:], "--port", str(port), "--no-dashboard"],
-                              cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    scheduler, worker = (
+        shlex.split(part.replace("HOST:8786", f"127.0.0.1:{port}")) for part in line.split("&")
+    )
+    procs = [
+        subprocess.Popen(
+            [dask, *scheduler[1:], "--port", str(port), "--no-dashboard"],
+            cwd=ROOT,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    ]
     try:
         assert _listening(port, 60.0), "the scheduler never listened"
-        procs.append(subprocess.Popen([dask, *worker[1:], "--no-dashboard"], cwd=ROOT,
-                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        procs.append(
+            subprocess.Popen(
+                [dask, *worker[1:], "--no-dashboard"],
+                cwd=ROOT,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+        )
         sweep = next(a for a in LINES if a[2] == "experiments.sweep" and "--workers" in a)
         argv = _small(sweep, str(tmp_path))
         at = argv.index("--workers")
-        run_command([*argv[:at], *argv[at + 2:], "--scheduler", f"tcp://127.0.0.1:{port}"])
+        run_command([*argv[:at], *argv[at + 2 :], "--scheduler", f"tcp://127.0.0.1:{port}"])
     finally:
         for proc in procs:
             proc.terminate()
@@ -111,10 +139,14 @@ def test_the_dask_line_runs_a_sweep_on_a_cluster(tmp_path):
 
 def test_the_python_block_computes_what_its_comments_say():
     (code,) = [text for lang, text in BLOCKS if lang == "python"]
-    quoted = {"v1_mps": re.search(r"v1_mps=([\d.]+)", code).group(1),
-              "sweet": re.search(r"# ([\d.]+) m from the COM", code).group(1)}
-    probe = (f"\nprint(f'{{out.v1_mps:.{len(quoted['v1_mps'].split('.')[1])}f}}')"
-             f"\nprint(f'{{sweet_spot(bat, ball, 46.9, 17.87, 32.0):."
-             f"{len(quoted['sweet'].split('.')[1])}f}}')")
+    quoted = {
+        "v1_mps": re.search(r"v1_mps=([\d.]+)", code).group(1),
+        "sweet": re.search(r"# ([\d.]+) m from the COM", code).group(1),
+    }
+    probe = (
+        f"\nprint(f'{{out.v1_mps:.{len(quoted['v1_mps'].split('.')[1])}f}}')"
+        f"\nprint(f'{{sweet_spot(bat, ball, 46.9, 17.87, 32.0):."
+        f"{len(quoted['sweet'].split('.')[1])}f}}')"
+    )
     res = run_command(["-c", code + probe])
     assert res.stdout.split()[-2:] == [quoted["v1_mps"], quoted["sweet"]]

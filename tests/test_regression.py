@@ -24,8 +24,9 @@ from .conftest import sound
 
 pytestmark = pytest.mark.full
 THRESHOLDS = json.loads((ROOT / "results" / "thresholds.json").read_text())
-CASES = [(base, engine) for base, spec in THRESHOLDS["baselines"].items()
-         for engine in spec["engines"]]
+CASES = [
+    (base, engine) for base, spec in THRESHOLDS["baselines"].items() for engine in spec["engines"]
+]
 
 
 @pytest.mark.parametrize("baseline,engine", CASES, ids=[f"{b}-{e}" for b, e in CASES])

@@ -47,7 +47,8 @@ def _diff(a: str, b: str) -> list[tuple[str, str]]:
 def test_committed_report_is_what_the_results_give(committed):
     # Regenerate with: python -m experiments.baselines --only report
     assert report.render(RESULTS) == committed, (
-        "results/report.md is stale: run `python -m experiments.baselines --only report`")
+        "results/report.md is stale: run `python -m experiments.baselines --only report`"
+    )
 
 
 def test_a_number_in_a_table_comes_from_its_csv(copy, committed):
@@ -67,8 +68,9 @@ def test_a_ranking_in_a_sentence_is_computed(copy, committed):
 
 def _caught(text: str, engine: str) -> str:
     """The engine's line of the out-of-the-box catches (`defaults_caught.csv`)."""
-    return next(ln for ln in text.splitlines()
-                if ln.lstrip().startswith(f"- {engine} ") and " ok at " in ln)
+    return next(
+        ln for ln in text.splitlines() if ln.lstrip().startswith(f"- {engine} ") and " ok at " in ln
+    )
 
 
 def test_a_verdict_follows_the_numbers(copy, committed):
@@ -119,8 +121,9 @@ def test_an_infinite_value_is_a_damaged_file_named_not_a_crash(copy):
     # put there by hand, and the sections reading it say so
     name = "sweep_all_reference_r161_swing.json"
     path = copy / name
-    path.write_text(re.sub(r'("v1_abs_err_max_mps": )[^,]+', r"\1Infinity", path.read_text(),
-                           count=1))
+    path.write_text(
+        re.sub(r'("v1_abs_err_max_mps": )[^,]+', r"\1Infinity", path.read_text(), count=1)
+    )
     text = report.render(copy)
     assert f"damaged (Damaged: {name} (a value Infinity, which no command writes))" in text
 
@@ -139,8 +142,9 @@ def test_the_command_writes_report_md(tmp_path, committed, capsys):
 def test_committed_engine_pages_are_what_the_results_give():
     # Regenerate with: python -m experiments.baselines --only report
     files = report.pages.pages(RESULTS)
-    assert len(files) == 1 + len(set(pd.read_csv(RESULTS / "sweep_all_reference_r161_swing.csv")
-                                     .engine))
+    assert len(files) == 1 + len(
+        set(pd.read_csv(RESULTS / "sweep_all_reference_r161_swing.csv").engine)
+    )
     for name, data in files.items():
         assert (RESULTS / name).read_bytes() == data, f"results/{name} is stale"
     for target in re.findall(r"\]\(([^)]+\.md)\)", files["engines.md"].decode()):
@@ -193,7 +197,8 @@ def test_a_record_text_is_listed_a_clause_a_line():
     assert report.base.clauses(text) == ["a (x; y) b: c", "d `e; f`", "The g (h: i)"]
     assert report.base.claim(text) == ["a (x; y) b", "c", "d `e; f`", "The g (h: i)"]
     assert report.base.lead("head:", ["one", "", "two\n- three"]) == (
-        "head:\n- one\n- two\n  - three")
+        "head:\n- one\n- two\n  - three"
+    )
 
 
 def test_the_report_does_not_repeat_the_summary_table(committed):

@@ -22,27 +22,51 @@ from experiments.core.io import ROOT
 from .conftest import cheapest
 
 ENGINE = cheapest(batched=False)
-SWEEP = [sys.executable, "-m", "experiments.sweep", "--engine", ENGINE, "--points", "3",
-         "--no-locate"]
+SWEEP = [
+    sys.executable,
+    "-m",
+    "experiments.sweep",
+    "--engine",
+    ENGINE,
+    "--points",
+    "3",
+    "--no-locate",
+]
 
 
 def _sweep(*args: str, engine: str = ENGINE, **kw) -> subprocess.CompletedProcess:
     argv = [*SWEEP[:4], engine, *SWEEP[5:], *args]
-    return subprocess.run(argv, cwd=ROOT, capture_output=True, text=True,
-                          env={**os.environ, "BATSIM_QUIET": "1"}, **kw)
+    return subprocess.run(
+        argv,
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "BATSIM_QUIET": "1"},
+        **kw,
+    )
 
 
 def test_two_identical_runs_at_once_keep_both_results(tmp_path):
     # Started together into one --out, with the same default name: each holds the name it
     # picked (runs.reserve) until it has published, so they land in distinct folders.
-    procs = [subprocess.Popen([*SWEEP, "--out", str(tmp_path)], cwd=ROOT, text=True,
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              env={**os.environ, "BATSIM_QUIET": "1"}) for _ in range(2)]
+    procs = [
+        subprocess.Popen(
+            [*SWEEP, "--out", str(tmp_path)],
+            cwd=ROOT,
+            text=True,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            env={**os.environ, "BATSIM_QUIET": "1"},
+        )
+        for _ in range(2)
+    ]
     outs = [p.communicate(timeout=120) for p in procs]
     assert [p.returncode for p in procs] == [0, 0], outs
     folders = sorted(p.name for p in tmp_path.iterdir() if p.name != runs.STAGING)
-    assert folders == [f"sweep-engine={ENGINE}_points=3_no_locate",
-                       f"sweep-engine={ENGINE}_points=3_no_locate.2"]
+    assert folders == [
+        f"sweep-engine={ENGINE}_points=3_no_locate",
+        f"sweep-engine={ENGINE}_points=3_no_locate.2",
+    ]
     for folder in folders:  # every file whole, as its manifest's digests say
         listed = json.loads((tmp_path / folder / runs.MANIFEST).read_text())["files"]
         assert set(listed) == {"sweep.csv", "sweep.json", "sweep.png"}
@@ -59,8 +83,9 @@ def test_a_name_another_run_holds_is_refused(tmp_path):
     assert not target.exists()
 
 
-@pytest.mark.parametrize("kind", ["foreign folder", "plain file", "a run.json of its own",
-                                  "a run with a file added"])
+@pytest.mark.parametrize(
+    "kind", ["foreign folder", "plain file", "a run.json of its own", "a run with a file added"]
+)
 def test_force_replaces_only_a_run(tmp_path, kind):
     # a run is its run.json and exactly the files it lists: replacing anything else would
     # delete what a user put there
@@ -78,8 +103,9 @@ def test_force_replaces_only_a_run(tmp_path, kind):
     res = _sweep("--out", str(tmp_path), "--name", "mine", "--force")
     assert res.returncode == 2, res.stderr
     assert ("is not a run" in res.stderr) or ("is a file" in res.stderr), res.stderr
-    assert (target.read_text() if kind == "plain file"
-            else (target / "thesis.tex").read_text()) == "notes"
+    assert (
+        target.read_text() if kind == "plain file" else (target / "thesis.tex").read_text()
+    ) == "notes"
     assert _sweep("--out", str(tmp_path), "--name", "run").returncode == 0
     assert _sweep("--out", str(tmp_path), "--name", "run", "--force").returncode == 0
 
@@ -104,8 +130,7 @@ def test_a_run_deletes_nothing_it_did_not_make(tmp_path):
     # A user's files in --out whose names look like a run's temporary ones (the pattern the
     # clean-up matched before runs staged in a folder of their own), a folder named as the
     # staging one but not the harness's: a run (replacing another with --force) leaves all.
-    mine = {".mydata.old-2019": "thesis", ".photos.ab12cd34.tmp": "holiday",
-            ".c.old-1": "notes"}
+    mine = {".mydata.old-2019": "thesis", ".photos.ab12cd34.tmp": "holiday", ".c.old-1": "notes"}
     for name, text in mine.items():
         (tmp_path / name).mkdir()
         (tmp_path / name / "keep.txt").write_text(text)
@@ -137,11 +162,16 @@ def test_the_run_lock_is_beside_the_runs_whatever_tmpdir_says(tmp_path):
     for k in range(2):
         tmp = tmp_path / f"tmp{k}"
         tmp.mkdir()
-        procs.append(subprocess.Popen([*SWEEP, "--out", str(tmp_path / "out"), "--name", "x"],
-                                      cwd=ROOT, text=True, stdout=subprocess.PIPE,
-                                      stderr=subprocess.PIPE,
-                                      env={**os.environ, "BATSIM_QUIET": "1",
-                                           "TMPDIR": str(tmp)}))
+        procs.append(
+            subprocess.Popen(
+                [*SWEEP, "--out", str(tmp_path / "out"), "--name", "x"],
+                cwd=ROOT,
+                text=True,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                env={**os.environ, "BATSIM_QUIET": "1", "TMPDIR": str(tmp)},
+            )
+        )
     outs = [p.communicate(timeout=120) for p in procs]
     assert sorted(p.returncode for p in procs) == [0, 2], outs
     refused = outs[[p.returncode for p in procs].index(2)][1]
@@ -169,8 +199,9 @@ def _listener(reply: bytes | None) -> tuple[socket.socket, int]:
     return srv, srv.getsockname()[1]
 
 
-@pytest.mark.parametrize("reply", [None, b"SSH-2.0-OpenSSH_9.2\r\n" + b"\xff" * 64],
-                         ids=["silent", "foreign banner"])
+@pytest.mark.parametrize(
+    "reply", [None, b"SSH-2.0-OpenSSH_9.2\r\n" + b"\xff" * 64], ids=["silent", "foreign banner"]
+)
 def test_a_scheduler_address_that_is_no_scheduler_is_refused_in_seconds(reply, capsys):
     srv, port = _listener(reply)
     t0 = time.perf_counter()
@@ -200,13 +231,24 @@ def test_library_messages_go_to_the_manifest_not_the_terminal(capsys):
     assert any("RuntimeWarning: overflow in exp" in m for m in said), said
     assert any("RuntimeError" in m and "from a callback" in m for m in said), said
     assert manifest["library_messages"] == said
-    assert manifest["files"]["a.csv"] == \
-        "2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881"  # sha256 of b"x"
+    assert (
+        manifest["files"]["a.csv"]
+        == "2d711642b726b04401627ca9fbac32f5c8530fb1903cc4db02258717921a4881"
+    )  # sha256 of b"x"
 
 
-@pytest.mark.parametrize("value,quiet", [("1", True), ("TRUE", True), ("yes", True),
-                                         ("0", False), ("false", False), ("No", False),
-                                         ("", False)])
+@pytest.mark.parametrize(
+    "value,quiet",
+    [
+        ("1", True),
+        ("TRUE", True),
+        ("yes", True),
+        ("0", False),
+        ("false", False),
+        ("No", False),
+        ("", False),
+    ],
+)
 def test_batsim_quiet_values(monkeypatch, value, quiet):
     monkeypatch.setenv("BATSIM_QUIET", value)
     assert runs.quiet() is quiet and runs.quiet_error() is None
@@ -214,8 +256,13 @@ def test_batsim_quiet_values(monkeypatch, value, quiet):
 
 @pytest.mark.parametrize("value", ["00", "off", "2", "quiet"])
 def test_batsim_quiet_refuses_other_values(value):
-    res = subprocess.run([*SWEEP], cwd=ROOT, capture_output=True, text=True,
-                         env={**os.environ, "BATSIM_QUIET": value})
+    res = subprocess.run(
+        [*SWEEP],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "BATSIM_QUIET": value},
+    )
     assert res.returncode == 2 and f"BATSIM_QUIET={value!r}" in res.stderr, res.stderr
     assert "Traceback" not in res.stderr
 
@@ -231,8 +278,18 @@ def sweep_csv(tmp_path_factory) -> str:
 def _compare(tmp_path, old: str, new: str) -> subprocess.CompletedProcess:
     (tmp_path / "old.csv").write_text(old)
     (tmp_path / "new.csv").write_text(new)
-    return subprocess.run([sys.executable, "-m", "experiments.compare", str(tmp_path / "old.csv"),
-                           str(tmp_path / "new.csv")], cwd=ROOT, capture_output=True, text=True)
+    return subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "experiments.compare",
+            str(tmp_path / "old.csv"),
+            str(tmp_path / "new.csv"),
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
 
 
 def _edit_v1(text: str, value: str) -> str:
@@ -247,17 +304,21 @@ def _edit_v1(text: str, value: str) -> str:
 @pytest.mark.parametrize("change", ["nan", "blank", "duplicated", "moved"])
 def test_compare_counts_every_damage_as_a_change(tmp_path, sweep_csv, change):
     lines = sweep_csv.splitlines(keepends=True)
-    new = {"nan": lambda: _edit_v1(sweep_csv, "nan"), "blank": lambda: _edit_v1(sweep_csv, ""),
-           "duplicated": lambda: sweep_csv + lines[-1],
-           "moved": lambda: _edit_v1(sweep_csv, "-1.0")}[change]()  # no engine returns -1 m/s
+    new = {
+        "nan": lambda: _edit_v1(sweep_csv, "nan"),
+        "blank": lambda: _edit_v1(sweep_csv, ""),
+        "duplicated": lambda: sweep_csv + lines[-1],
+        "moved": lambda: _edit_v1(sweep_csv, "-1.0"),
+    }[change]()  # no engine returns -1 m/s
     res = _compare(tmp_path, sweep_csv, new)
     assert res.returncode == 1 and "Traceback" not in res.stderr, res.stdout + res.stderr
     assert "no change apart from timing" not in res.stdout
     assert _compare(tmp_path, sweep_csv, sweep_csv).returncode == 0
 
 
-@pytest.mark.parametrize("damage", ["binary", "extra field", "truncated", "text in s_m",
-                                    "text in v1 err"])
+@pytest.mark.parametrize(
+    "damage", ["binary", "extra field", "truncated", "text in s_m", "text in v1 err"]
+)
 def test_compare_refuses_a_malformed_table_in_one_line(tmp_path, sweep_csv, damage):
     head, first, *rest = sweep_csv.splitlines()
     cols = head.split(",")
@@ -267,11 +328,13 @@ def test_compare_refuses_a_malformed_table_in_one_line(tmp_path, sweep_csv, dama
         cells[cols.index(name)] = "abc"
         return "\n".join([head, ",".join(cells), *rest]) + "\n"
 
-    bad = {"binary": lambda: head + "\n" + "\x00\xff\xfe garbage \x01\n",
-           "extra field": lambda: "\n".join([head, first + ",1,2", *rest]) + "\n",
-           "truncated": lambda: sweep_csv[: len(sweep_csv) - len(rest[-1]) // 2],
-           "text in s_m": lambda: with_cell("s_m"),
-           "text in v1 err": lambda: with_cell("v1_abs_err_mps")}[damage]()
+    bad = {
+        "binary": lambda: head + "\n" + "\x00\xff\xfe garbage \x01\n",
+        "extra field": lambda: "\n".join([head, first + ",1,2", *rest]) + "\n",
+        "truncated": lambda: sweep_csv[: len(sweep_csv) - len(rest[-1]) // 2],
+        "text in s_m": lambda: with_cell("s_m"),
+        "text in v1 err": lambda: with_cell("v1_abs_err_mps"),
+    }[damage]()
     res = _compare(tmp_path, sweep_csv, bad)
     assert res.returncode == 2, res.stdout + res.stderr
     assert res.stderr.count("\n") == 1 and "Traceback" not in res.stderr, res.stderr
@@ -285,13 +348,26 @@ def test_report_on_a_damaged_results_directory_says_which_file(tmp_path, damage)
 
     results = tmp_path / "results"
     shutil.copytree(ROOT / "results", results)
-    name = {"junk csv": "sweep_all_reference_r161_swing.csv",
-            "truncated json": "defaults.json"}[damage]
+    name = {"junk csv": "sweep_all_reference_r161_swing.csv", "truncated json": "defaults.json"}[
+        damage
+    ]
     text = (results / name).read_bytes()
     (results / name).write_bytes(b"junk,\x00\xff\n1\n" if damage == "junk csv" else text[:100])
-    res = subprocess.run([sys.executable, "-m", "experiments.report", "--results", str(results),
-                          "--out", str(tmp_path / "out")], cwd=ROOT, capture_output=True,
-                         text=True, env={**os.environ, "BATSIM_QUIET": "1"})
+    res = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "experiments.report",
+            "--results",
+            str(results),
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "BATSIM_QUIET": "1"},
+    )
     assert res.returncode == 0 and "Traceback" not in res.stderr, res.stderr
     assert "damaged" in res.stderr
     (report,) = (tmp_path / "out").glob("*/report.md")
@@ -320,8 +396,15 @@ def test_a_plastic_sweep_names_the_sweet_spot_its_rows_are_judged_by(tmp_path):
     res = _sweep("--e", "0", "--out", str(tmp_path))
     assert res.returncode == 0, res.stderr
     swing = presets.PAPER_SWING
-    case = ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=0.0,
-                      v0_mps=presets.PAPER_PITCH_MPS, u0_mps=swing.u0_mps,
-                      omega0_radps=swing.omega0_radps, e=0.0)
-    assert f"analytic: sweet spot {episode_sweet_spot(case) * 1e3:.4f} mm," in res.stdout, \
+    case = ImpactCase(
+        bat=presets.R161,
+        ball=presets.BASEBALL,
+        s_m=0.0,
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=swing.u0_mps,
+        omega0_radps=swing.omega0_radps,
+        e=0.0,
+    )
+    assert f"analytic: sweet spot {episode_sweet_spot(case) * 1e3:.4f} mm," in res.stdout, (
         res.stdout
+    )

@@ -17,10 +17,15 @@ NOT_TOLERANCES = {"APPROACH_STEPS": "chain.py: free steps before the touch (set-
 
 def _numeric_constants(path: Path) -> set[str]:
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    return {t.id for node in tree.body if isinstance(node, ast.Assign)
-            and isinstance(node.value, ast.Constant)
-            and type(node.value.value) in (int, float)
-            for t in node.targets if isinstance(t, ast.Name) and t.id.isupper()}
+    return {
+        t.id
+        for node in tree.body
+        if isinstance(node, ast.Assign)
+        and isinstance(node.value, ast.Constant)
+        and type(node.value.value) in (int, float)
+        for t in node.targets
+        if isinstance(t, ast.Name) and t.id.isupper()
+    }
 
 
 def test_every_term_has_a_value_and_a_reason():

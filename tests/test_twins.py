@@ -42,9 +42,18 @@ def _slid(name: str, settings: adapters.Settings) -> np.ndarray:
     for the soft contact's own slope."""
     slide = adapters.record(name).errors.collision_slide_m(settings, twins.firing(POINTS).bat)
     h = 1e-4
-    return np.array([2.0 * slide * abs(predict(replace(c, s_m=c.s_m + h)).v1_mps
-                                       - predict(replace(c, s_m=c.s_m - h)).v1_mps) / (2 * h)
-                     for c in twins.firing(POINTS).cases()])
+    return np.array(
+        [
+            2.0
+            * slide
+            * abs(
+                predict(replace(c, s_m=c.s_m + h)).v1_mps
+                - predict(replace(c, s_m=c.s_m - h)).v1_mps
+            )
+            / (2 * h)
+            for c in twins.firing(POINTS).cases()
+        ]
+    )
 
 
 @pytest.mark.parametrize("name", TWINNED)
@@ -57,8 +66,9 @@ def test_twin_agrees_to_rounding_once_every_cause_is_removed(name):
     assert np.all(diff <= allowed), (diff, allowed)
 
 
-@pytest.mark.parametrize("name", [n for n in TWINNED
-                                  if adapters.record(n).errors.precision == "float64"])
+@pytest.mark.parametrize(
+    "name", [n for n in TWINNED if adapters.record(n).errors.precision == "float64"]
+)
 def test_float64_twin_differs_as_configured(name):
     # each at its reference profile, the causes act (MJX's regulariser and capsule routine:
     # 8e-5 m/s on the R161's barrel), far above rounding: the comparison can fail

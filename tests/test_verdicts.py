@@ -22,18 +22,27 @@ from experiments.core.terms import ROUND_OPS, SOLVE_SAFETY
 from experiments.core.verdicts import Reference, judge, judge_columns
 
 #: The cheapest float64 single-world engine (records only: the tests name no engine).
-ENGINE = min((n for n in adapters.available() if not adapters.record(n).batched
-              and adapters.record(n).errors.precision == "float64"),
-             key=lambda n: adapters.record(n).cost.step_cost_s)
+ENGINE = min(
+    (
+        n
+        for n in adapters.available()
+        if not adapters.record(n).batched and adapters.record(n).errors.precision == "float64"
+    ),
+    key=lambda n: adapters.record(n).cost.step_cost_s,
+)
 
 
 @pytest.fixture(scope="module")
 def fired():
     """The paper's swing at s = 0.1 m, fired once."""
-    case = firings.Firing(bat=presets.R161, s_m=(0.1,), v0_mps=presets.PAPER_PITCH_MPS,
-                         u0_mps=presets.PAPER_SWING.u0_mps,
-                         omega0_radps=presets.PAPER_SWING.omega0_radps,
-                         e=presets.E_WOOD).cases()[0]
+    case = firings.Firing(
+        bat=presets.R161,
+        s_m=(0.1,),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=presets.E_WOOD,
+    ).cases()[0]
     (f,) = fire_jobs([Job(engine=ENGINE, settings=adapters.settings_for(ENGINE), case=case)])
     return f
 
@@ -70,12 +79,19 @@ def test_the_columns_judge_name_the_answer_each_impact_was_held_to():
     # frictionless and planar, a rigid float64 engine is held to rigid theory (|v1 - v1_rigid|
     # within its tolerance); with friction (mu = 0.3), to the frictional impulse it declares;
     # the verdicts are the table's, which only lays them out
-    base = firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, 3),
-                         v0_mps=presets.PAPER_PITCH_MPS, u0_mps=0.0, omega0_radps=0.0,
-                         e=presets.E_WOOD)
-    jobs = [Job(engine=ENGINE, settings=adapters.settings_for(ENGINE), case=c)
-            for firing in (base, dataclasses.replace(base, mu=0.3, theta_rad=0.3))
-            for c in firing.cases()]
+    base = firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, 3),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=0.0,
+        omega0_radps=0.0,
+        e=presets.E_WOOD,
+    )
+    jobs = [
+        Job(engine=ENGINE, settings=adapters.settings_for(ENGINE), case=c)
+        for firing in (base, dataclasses.replace(base, mu=0.3, theta_rad=0.3))
+        for c in firing.cases()
+    ]
     fired = fire_jobs(jobs)
     v = judge_columns(fired)
     rows = tables.table(fired, "")

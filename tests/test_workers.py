@@ -76,7 +76,7 @@ def test_the_item_that_kills_its_worker_is_its_only_row_lost(tmp_path):
 def test_a_worker_that_never_answers_is_stopped_at_its_limit():
     t0 = time.perf_counter()
     with Runner(workers=2) as runner:
-        (item, status, why), = list(pool_results(runner, _hang, ["x"], _lost, lambda i: 1.0))
+        ((item, status, why),) = list(pool_results(runner, _hang, ["x"], _lost, lambda i: 1.0))
     assert status is Status.TIMEOUT and "within 1 s" in why, why
     assert time.perf_counter() - t0 < 20.0
 
@@ -118,18 +118,41 @@ def _ended(proc: subprocess.Popen, workers: list, timeout_s: float) -> tuple[str
             with contextlib.suppress(psutil.Error):
                 w.kill()
         out, err = proc.communicate(timeout=30)
-        pytest.fail(f"not ended within {timeout_s:g} s; still running: "
-                    f"{[(p.pid, 'parent' if p is proc else 'worker') for p in holders]}\n{err}")
+        pytest.fail(
+            f"not ended within {timeout_s:g} s; still running: "
+            f"{[(p.pid, 'parent' if p is proc else 'worker') for p in holders]}\n{err}"
+        )
 
 
 @pytest.mark.parametrize("sig,code", [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
 def test_a_stopped_sweep_leaves_no_worker_behind(sig, code, tmp_path):
     # 600 swings: many seconds on two workers, stopped once its workers are up
-    proc = subprocess.Popen([sys.executable, "-m", "experiments.sweep", "--engine", ENGINE,
-                             "--points", "600", "--swing", "--no-locate", "--workers", "2",
-                             "--budget-h", "100", "--out", str(tmp_path), "--name", "r"],
-                            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env={**os.environ, "BATSIM_QUIET": "1", "PYTHONFAULTHANDLER": "1"})
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "experiments.sweep",
+            "--engine",
+            ENGINE,
+            "--points",
+            "600",
+            "--swing",
+            "--no-locate",
+            "--workers",
+            "2",
+            "--budget-h",
+            "100",
+            "--out",
+            str(tmp_path),
+            "--name",
+            "r",
+        ],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "BATSIM_QUIET": "1", "PYTHONFAULTHANDLER": "1"},
+    )
     parent = psutil.Process(proc.pid)
     deadline = time.monotonic() + 60.0
     while len(parent.children()) < 2 and time.monotonic() < deadline:

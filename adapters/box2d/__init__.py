@@ -138,16 +138,21 @@ class Box2dSettings(Settings):
         checks.integer("sub_steps", self.sub_steps, 1, 10_000)
         if self.max_sub_step_s is not None:
             checks.positive("max_sub_step_s", self.max_sub_step_s)
-        for name in ("contact_hertz", "contact_damping_ratio", "contact_push_mps",
-                     "restitution_threshold_mps"):
+        for name in (
+            "contact_hertz",
+            "contact_damping_ratio",
+            "contact_push_mps",
+            "restitution_threshold_mps",
+        ):
             if getattr(self, name) is not None:
                 checks.non_negative(name, getattr(self, name))
         if self.maximum_linear_speed_mps is not None:
             checks.positive("maximum_linear_speed_mps", self.maximum_linear_speed_mps)
         for name in ("continuous", "bullet"):
             if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name}={getattr(self, name)!r} is not a bool; allowed: "
-                                 "True, False")
+                raise ValueError(
+                    f"{name}={getattr(self, name)!r} is not a bool; allowed: True, False"
+                )
 
     @property
     def sub_step_count(self) -> int:
@@ -165,9 +170,10 @@ class Box2dErrors(ErrorModel):
         return SPECULATIVE_M
 
     def friction_cone(self, s) -> str:
-        return ("planar, one tangent: |P_t| <= mu P_n of the sub-steps' passes; the restitution "
-                "impulse frictionless")
-
+        return (
+            "planar, one tangent: |P_t| <= mu P_n of the sub-steps' passes; the restitution "
+            "impulse frictionless"
+        )
 
 
 RECORD = EngineRecord(
@@ -193,8 +199,13 @@ RECORD = EngineRecord(
         # 1 us leave the swung bat so far off that the ball misses it; 1 sub-step: 1.8e-5 rad).
         # No restitution threshold; the speed clamp lifted. The soft-contact values stay
         # Box2D's: they move no velocity (module docstring).
-        "reference": Box2dSettings(dt_s=1e-6, sub_steps=1, max_sub_step_s=5e-6,
-                                   restitution_threshold_mps=0.0, maximum_linear_speed_mps=1e4),
+        "reference": Box2dSettings(
+            dt_s=1e-6,
+            sub_steps=1,
+            max_sub_step_s=5e-6,
+            restitution_threshold_mps=0.0,
+            maximum_linear_speed_mps=1e4,
+        ),
         # Out of the box: the 1/60 s step and 4 sub-steps that box2d.h recommends for
         # b2World_Step, every world value left to Box2D, the contact instant mid-step as in any
         # unaligned simulation.
@@ -206,9 +217,13 @@ RECORD = EngineRecord(
         # dt/n), whose first-order terms the swing study and tests/test_dynamics.py derive.
         # Its joints are soft (60 Hz, damping ratio 2, compile-time constants pyb2d3 cannot change):
         # the hinge drifts at first order in the step.
-        integrators=(Integrator(label="semi-implicit Euler, 1 sub-step",
-                                overrides=(("sub_steps", 1), ("max_sub_step_s", None)),
-                                hinge_order=1),),
+        integrators=(
+            Integrator(
+                label="semi-implicit Euler, 1 sub-step",
+                overrides=(("sub_steps", 1), ("max_sub_step_s", None)),
+                hinge_order=1,
+            ),
+        ),
         restitution_rule=RestitutionRule.MAX,
         friction_rule=FrictionRule.GEOMETRIC,
         planar=True,
@@ -219,26 +234,30 @@ RECORD = EngineRecord(
     ),
     errors=Box2dErrors(
         chain_defect="segmented bat: one solver sweep per substep and the restitution impulse on "
-                      "the contact alone, so the ball bounces off the touched segment as if it "
-                      "were "
-                      "free (x = 0.65 m: -15.20 m/s for the chain's -5.26) and is struck again; "
-                      "the "
-                      "joint spring is a soft constraint on the two segments' own inertias, which "
-                      "leaves the lowest mode's period 1.7e-4 long at 10 us and damps it by 6% a "
-                      "period",
+        "the contact alone, so the ball bounces off the touched segment as if it "
+        "were "
+        "free (x = 0.65 m: -15.20 m/s for the chain's -5.26) and is struck again; "
+        "the "
+        "joint spring is a soft constraint on the two segments' own inertias, which "
+        "leaves the lowest mode's period 1.7e-4 long at 10 us and damps it by 6% a "
+        "period",
         precision="float32",
         friction_defect="the restitution impulse, applied after the sub-steps, carries no "
-                        "friction: "
-                         "a slide gets mu p P / (1 + e) of tangential impulse for Coulomb's mu P, "
-                         "p "
-                         "the share of the approach the speculative relax pass stops (at the "
-                         "reference's step-aligned contact 0 or 2/3 of the spin; package "
-                         "docstring)",
+        "friction: "
+        "a slide gets mu p P / (1 + e) of tangential impulse for Coulomb's mu P, "
+        "p "
+        "the share of the approach the speculative relax pass stops (at the "
+        "reference's step-aligned contact 0 or 2/3 of the spin; package "
+        "docstring)",
     ),
     # All four read back from a fresh b2DefaultWorldDef; the push speed (3 m/s) is not exposed
     # by pyb2d3 and moves no velocity here, so it is neither quoted nor measurable.
-    engine_defaults={"contact_hertz": 30.0, "contact_damping_ratio": 10.0,
-                     "restitution_threshold_mps": 1.0, "maximum_linear_speed_mps": 400.0},
+    engine_defaults={
+        "contact_hertz": 30.0,
+        "contact_damping_ratio": 10.0,
+        "restitution_threshold_mps": 1.0,
+        "maximum_linear_speed_mps": 400.0,
+    },
     cost=Cost(
         step_cost_s=4.8e-6,
     ),
@@ -247,27 +266,36 @@ RECORD = EngineRecord(
         marker="D",
         label="Box2D",
         notes=ReportNotes(
-            profile=("dt = {dt_s}, sub-steps of at most {max_sub_step_s}, restitution threshold "
-                     "0, speed clamp lifted"),
-            restitution=("max of the two shapes' restitution (bat 0, ball e); 0 below "
-                         "`restitutionThreshold` ({default_restitution_threshold_mps} m/s)"),
-            handled=("restitution is the max of the two values and dropped below "
-                     "{default_restitution_threshold_mps} m/s; the speculative margin "
-                     "(compile-time) solves an impact with the step start's normal, an error first "
-                     "order in dt (hence the {dt_s} reference); each sub-step turns a body by "
-                     "atan(omega h); `b2MakeRot` approximates cos/sin (the adapter builds "
-                     "rotations "
-                     "itself); its joints are soft (fixed in pyb2d3), so the hinge drifts at first "
-                     "order; float32 positions lose a long motion split into many tiny sub-steps; "
-                     "pyb2d3 exposes no per-body contact data, so the adapter calls a step a "
-                     "contact when the ball's velocity changed (only the bat acts on it).")),
+            profile=(
+                "dt = {dt_s}, sub-steps of at most {max_sub_step_s}, restitution threshold "
+                "0, speed clamp lifted"
+            ),
+            restitution=(
+                "max of the two shapes' restitution (bat 0, ball e); 0 below "
+                "`restitutionThreshold` ({default_restitution_threshold_mps} m/s)"
+            ),
+            handled=(
+                "restitution is the max of the two values and dropped below "
+                "{default_restitution_threshold_mps} m/s; the speculative margin "
+                "(compile-time) solves an impact with the step start's normal, an error first "
+                "order in dt (hence the {dt_s} reference); each sub-step turns a body by "
+                "atan(omega h); `b2MakeRot` approximates cos/sin (the adapter builds "
+                "rotations "
+                "itself); its joints are soft (fixed in pyb2d3), so the hinge drifts at first "
+                "order; float32 positions lose a long motion split into many tiny sub-steps; "
+                "pyb2d3 exposes no per-body contact data, so the adapter calls a step a "
+                "contact when the ball's velocity changed (only the bat acts on it)."
+            ),
+        ),
     ),
     studies=Studies(
         speed_accuracy=(
             KnobFamily(label="sub-steps of at most 5 us (reference)", quick=True),
             KnobFamily(label="1 sub-step", overrides=(("sub_steps", 1), ("max_sub_step_s", None))),
-            KnobFamily(label="4 sub-steps (Box2D's)",
-                       overrides=(("sub_steps", 4), ("max_sub_step_s", None))),
+            KnobFamily(
+                label="4 sub-steps (Box2D's)",
+                overrides=(("sub_steps", 4), ("max_sub_step_s", None)),
+            ),
         ),
         # The rule pinned with the restitution pass off (threshold above every approach speed):
         # that pass is frictionless, so with it an impact's friction is a share of mu (docstring).

@@ -20,10 +20,12 @@ def _rot(angle: float):
 
 def make_world(st):
     """A world with these settings' values (gravity 0, sleeping off); the segmented bat's too."""
-    given = {"restitution_threshold": st.restitution_threshold_mps,
-             "maximum_linear_speed": st.maximum_linear_speed_mps,
-             "contact_hertz": st.contact_hertz,
-             "contact_damping_ratio": st.contact_damping_ratio}
+    given = {
+        "restitution_threshold": st.restitution_threshold_mps,
+        "maximum_linear_speed": st.maximum_linear_speed_mps,
+        "contact_hertz": st.contact_hertz,
+        "contact_damping_ratio": st.contact_damping_ratio,
+    }
     world = b2.World(gravity=(0.0, 0.0), **{k: v for k, v in given.items() if v is not None})
     world.sleeping_enabled = False
     world.continuous_enabled = st.continuous
@@ -31,8 +33,11 @@ def make_world(st):
         wd = b2.WorldDef()
         world.set_contact_tuning(
             wd.contact_hertz if st.contact_hertz is None else st.contact_hertz,
-            wd.contact_damping_ratio if st.contact_damping_ratio is None
-            else st.contact_damping_ratio, st.contact_push_mps)
+            wd.contact_damping_ratio
+            if st.contact_damping_ratio is None
+            else st.contact_damping_ratio,
+            st.contact_push_mps,
+        )
     return world
 
 
@@ -44,9 +49,12 @@ class Box2dEngine(Engine):
     @classmethod
     def read_back_defaults(cls) -> dict:
         d = b2.WorldDef()
-        return {"contact_hertz": d.contact_hertz, "contact_damping_ratio": d.contact_damping_ratio,
-                "restitution_threshold_mps": d.restitution_threshold,
-                "maximum_linear_speed_mps": d.maximum_linear_speed}
+        return {
+            "contact_hertz": d.contact_hertz,
+            "contact_damping_ratio": d.contact_damping_ratio,
+            "restitution_threshold_mps": d.restitution_threshold,
+            "maximum_linear_speed_mps": d.maximum_linear_speed,
+        }
 
     def __init__(self, settings) -> None:
         super().__init__(settings)
@@ -67,8 +75,9 @@ class Box2dEngine(Engine):
         self._joint = None
         self._anchor = world.create_static_body(position=(0.0, 0.0))
         self._bat = world.create_dynamic_body(position=(0.0, 0.0), enable_sleep=False)
-        self._ball = world.create_dynamic_body(position=(0.0, 1.0), enable_sleep=False,
-                                               is_bullet=st.bullet)
+        self._ball = world.create_dynamic_body(
+            position=(0.0, 1.0), enable_sleep=False, is_bullet=st.bullet
+        )
         sd = b2.ShapeDef()
         sd.density = 1.0
         sd.update_body_mass = True  # shapes set the extents continuous collision uses
@@ -79,11 +88,13 @@ class Box2dEngine(Engine):
         mat.rolling_resistance = 0.0  # Box2D's default already: no rolling friction
         sd.material = mat
         self._bat_shape = self._bat.create_capsule_shape(
-            sd, b2.capsule((bat.s_min_m, 0.0), (bat.s_max_m, 0.0), bat.radius_m))
-        self._ball_shape = self._ball.create_circle_shape(sd, b2.circle((0.0, 0.0),
-                                                                        ball.radius_m))
-        for body, mass, inertia in ((self._bat, bat.mass_kg, bat.inertia_cm_kgm2),
-                                    (self._ball, ball.mass_kg, ball.inertia_kgm2)):
+            sd, b2.capsule((bat.s_min_m, 0.0), (bat.s_max_m, 0.0), bat.radius_m)
+        )
+        self._ball_shape = self._ball.create_circle_shape(sd, b2.circle((0.0, 0.0), ball.radius_m))
+        for body, mass, inertia in (
+            (self._bat, bat.mass_kg, bat.inertia_cm_kgm2),
+            (self._ball, ball.mass_kg, ball.inertia_kgm2),
+        ):
             md = b2.MassData()
             md.mass, md.center, md.rotational_inertia = mass, (0.0, 0.0), inertia
             body.mass_data = md
@@ -97,9 +108,12 @@ class Box2dEngine(Engine):
         cap = self._bat.shapes[0].capsule
         knob_x = cap.center1.x - cap.radius
         return MassProperties(
-            bat_mass_kg=bat.mass, bat_com_from_knob_m=bat.center.x - knob_x,
-            bat_inertia_kgm2=bat.rotational_inertia, ball_mass_kg=ball.mass,
-            ball_inertia_kgm2=ball.rotational_inertia)
+            bat_mass_kg=bat.mass,
+            bat_com_from_knob_m=bat.center.x - knob_x,
+            bat_inertia_kgm2=bat.rotational_inertia,
+            ball_mass_kg=ball.mass,
+            ball_inertia_kgm2=ball.rotational_inertia,
+        )
 
     def set_body_restitution(self, *, bat: float, ball: float) -> None:
         self._bat_shape.restitution, self._ball_shape.restitution = bat, ball
@@ -154,10 +168,19 @@ class Box2dEngine(Engine):
         bp, bv = ball.position, ball.linear_velocity
         cp, cv = bat.position, bat.linear_velocity
         rot = bat.rotation
-        return State(ball_x_m=bp.x, ball_y_m=bp.y, ball_vx_mps=bv.x, ball_vy_mps=bv.y,
-                     ball_omega_radps=ball.angular_velocity, bat_x_m=cp.x, bat_y_m=cp.y,
-                     bat_angle_rad=math.atan2(rot.s, rot.c), bat_vx_mps=cv.x, bat_vy_mps=cv.y,
-                     bat_omega_radps=bat.angular_velocity)
+        return State(
+            ball_x_m=bp.x,
+            ball_y_m=bp.y,
+            ball_vx_mps=bv.x,
+            ball_vy_mps=bv.y,
+            ball_omega_radps=ball.angular_velocity,
+            bat_x_m=cp.x,
+            bat_y_m=cp.y,
+            bat_angle_rad=math.atan2(rot.s, rot.c),
+            bat_vx_mps=cv.x,
+            bat_vy_mps=cv.y,
+            bat_omega_radps=bat.angular_velocity,
+        )
 
     def in_contact(self) -> bool:
         # Only the bat's contact acts on the ball: a contact impulse in the last step changed
@@ -166,4 +189,3 @@ class Box2dEngine(Engine):
             return False
         v = self._ball.linear_velocity
         return (v.x, v.y, self._ball.angular_velocity) != self._v_before
-

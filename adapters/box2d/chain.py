@@ -61,8 +61,9 @@ def spring_tuning(k: float, d: float, inertia_a: float, inertia_b: float) -> tup
     k = m (2 pi f)^2, d = 2 zeta m (2 pi f), m = 1 / (1/I_A + 1/I_B))."""
     if k == 0.0:
         if d != 0.0:
-            raise ValueError("Box2D's joint spring cannot damp without a stiffness (hertz 0 "
-                             "disables it)")
+            raise ValueError(
+                "Box2D's joint spring cannot damp without a stiffness (hertz 0 disables it)"
+            )
         return 0.0, 0.0
     m = 1.0 / (1.0 / inertia_a + 1.0 / inertia_b)
     omega = math.sqrt(k / m)
@@ -106,18 +107,22 @@ class Box2dChain(ChainEngine):
         ell, r = chain.segment_length_m, chain.bat.radius_m
         sd = self._shape_def(SEGMENT_GROUP)
         self._segs, self._shapes = [], []
-        for i, (m, c, inertia) in enumerate(zip(chain.masses_kg, chain.coms_m,
-                                                chain.inertias_kgm2, strict=True)):
+        for i, (m, c, inertia) in enumerate(
+            zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2, strict=True)
+        ):
             body = world.create_dynamic_body(position=(0.0, 0.0), enable_sleep=False)
             shape = body.create_capsule_shape(
-                sd, b2.capsule((i * ell - c, 0.0), ((i + 1) * ell - c, 0.0), r))
+                sd, b2.capsule((i * ell - c, 0.0), ((i + 1) * ell - c, 0.0), r)
+            )
             self._set_mass(body, m, inertia)
             self._segs.append(body)
             self._shapes.append(shape)
-        self._ball = world.create_dynamic_body(position=(0.0, 1.0), enable_sleep=False,
-                                               is_bullet=self.settings.bullet)
-        self._ball_shape = self._ball.create_circle_shape(self._shape_def(0),
-                                                          b2.circle((0.0, 0.0), ball.radius_m))
+        self._ball = world.create_dynamic_body(
+            position=(0.0, 1.0), enable_sleep=False, is_bullet=self.settings.bullet
+        )
+        self._ball_shape = self._ball.create_circle_shape(
+            self._shape_def(0), b2.circle((0.0, 0.0), ball.radius_m)
+        )
         self._set_mass(self._ball, ball.mass_kg, ball.inertia_kgm2)
         self._ball_shape.restitution = scene.e  # Box2D takes the larger: max(0, e) = e
         bat_mu, ball_mu = RECORD.can.friction_rule.per_body(0.0)  # sqrt(0 * 0) = 0
@@ -140,8 +145,9 @@ class Box2dChain(ChainEngine):
             joint.destroy()
         self._joints = []
         chain, ell = self._chain, self._chain.segment_length_m
-        for j, (k, d) in enumerate(zip(chain.stiffnesses_nmprad, chain.dampings_nmsprad,
-                                       strict=True)):
+        for j, (k, d) in enumerate(
+            zip(chain.stiffnesses_nmprad, chain.dampings_nmsprad, strict=True)
+        ):
             a, b = self._segs[j], self._segs[j + 1]
             end = (j + 1) * ell  # from the knob
             jd = b2.RevoluteJointDef()
@@ -150,8 +156,9 @@ class Box2dChain(ChainEngine):
             jd.local_anchor_b = (end - chain.coms_m[j + 1], 0.0)
             jd.reference_angle = 0.0
             jd.collide_connected = False
-            hertz, zeta = spring_tuning(k, d, a.mass_data.rotational_inertia,
-                                        b.mass_data.rotational_inertia)
+            hertz, zeta = spring_tuning(
+                k, d, a.mass_data.rotational_inertia, b.mass_data.rotational_inertia
+            )
             jd.enable_spring = hertz > 0.0
             jd.hertz, jd.damping_ratio = hertz, zeta
             self._joints.append(self._world.create_joint(jd))
@@ -161,8 +168,13 @@ class Box2dChain(ChainEngine):
         rows = []
         for i, body in enumerate(self._segs):
             md = body.mass_data
-            rows.append((md.mass, md.center.x - body.shapes[0].capsule.center1.x + i * ell,
-                         md.rotational_inertia))
+            rows.append(
+                (
+                    md.mass,
+                    md.center.x - body.shapes[0].capsule.center1.x + i * ell,
+                    md.rotational_inertia,
+                )
+            )
         return np.array(rows, dtype=float)
 
     def set_state(self, ball: np.ndarray, segments: np.ndarray) -> None:

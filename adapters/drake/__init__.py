@@ -166,8 +166,10 @@ class DrakeSettings(Settings):
         if self.solver not in SOLVERS:
             raise ValueError(f"solver={self.solver!r} is unknown; allowed: {', '.join(SOLVERS)}")
         if self.contact_model not in CONTACT_MODELS:
-            raise ValueError(f"contact_model={self.contact_model!r} is unknown; allowed: "
-                             f"{', '.join(CONTACT_MODELS)}")
+            raise ValueError(
+                f"contact_model={self.contact_model!r} is unknown; allowed: "
+                f"{', '.join(CONTACT_MODELS)}"
+            )
         if self.point_stiffness_npm is not None:
             checks.positive("point_stiffness_npm", self.point_stiffness_npm)
         checks.positive("restitution_speed_mps", self.restitution_speed_mps)
@@ -234,13 +236,24 @@ ACCURACIES = (1e-4, 1e-6, 1e-8)  # the continuous mode's error-control targets i
 def _speed_accuracy() -> tuple[KnobFamily, ...]:
     """Each discrete approximation (point contact), the continuous mode at three accuracies, and
     hydroelastic contact with the reference solver (lagged and continuous in --quick)."""
-    out = [KnobFamily(label=f"discrete {a}, point", quick=a == "lagged",
-                      overrides=(("solver", a),)) for a in DISCRETE]
-    out += [KnobFamily(label=f"continuous RK3 accuracy {acc:g}, point", quick=acc == 1e-6,
-                       overrides=(("solver", "continuous"), ("accuracy", acc)))
-            for acc in ACCURACIES]
-    out += [KnobFamily(label="discrete lagged, hydroelastic",
-                       overrides=(("solver", "lagged"), ("contact_model", "hydroelastic")))]
+    out = [
+        KnobFamily(label=f"discrete {a}, point", quick=a == "lagged", overrides=(("solver", a),))
+        for a in DISCRETE
+    ]
+    out += [
+        KnobFamily(
+            label=f"continuous RK3 accuracy {acc:g}, point",
+            quick=acc == 1e-6,
+            overrides=(("solver", "continuous"), ("accuracy", acc)),
+        )
+        for acc in ACCURACIES
+    ]
+    out += [
+        KnobFamily(
+            label="discrete lagged, hydroelastic",
+            overrides=(("solver", "lagged"), ("contact_model", "hydroelastic")),
+        )
+    ]
     return tuple(out)
 
 
@@ -263,24 +276,36 @@ RECORD = EngineRecord(
         # only the interval at which the harness reads the state (the contact is still seen
         # 1e-9 m deep); no SAP saturation (beta = 0), though only SAP-based solvers read it;
         # friction's stiction tolerance 1e-3 m/s (vt1 3e-4 m/s from 1e-4 at 1/13 of the cost).
-        "reference": DrakeSettings(dt_s=1e-5, solver="continuous", accuracy=1e-6,
-                                   contact_model="point", point_stiffness_npm=1e6,
-                                   sap_near_rigid_threshold=0.0, stiction_tolerance_mps=1e-3),
+        "reference": DrakeSettings(
+            dt_s=1e-5,
+            solver="continuous",
+            accuracy=1e-6,
+            contact_model="point",
+            point_stiffness_npm=1e6,
+            sap_near_rigid_threshold=0.0,
+            stiction_tolerance_mps=1e-3,
+        ),
         # Out of the box: MultibodyPlantConfig's 1 ms step, lagged approximation, hydroelastic
         # with fallback (our geometries declare no hydroelastic properties: point contact),
         # SceneGraph's default point stiffness per geometry; e mapped onto d as in the
         # reference (Drake's own d = 50 s/m would make every impact plastic); contact mid-step.
-        "default": DrakeSettings(dt_s=1e-3, solver="lagged",
-                                 contact_model="hydroelastic_with_fallback",
-                                 point_stiffness_npm=None, contact_phase=0.5),
+        "default": DrakeSettings(
+            dt_s=1e-3,
+            solver="lagged",
+            contact_model="hydroelastic_with_fallback",
+            point_stiffness_npm=None,
+            contact_phase=0.5,
+        ),
     },
     can=Capabilities(
         chain_adapter="adapters.drake.chain:DrakeChain",
         # The swing study's integrators: each discrete approximation steps semi-implicit Euler
         # (v then q); the continuous mode is not one of them, since a body-frame load is held
         # constant over each of its steps (first order, whatever RK3's own order).
-        integrators=tuple(Integrator(label=f"discrete {a}", overrides=(("solver", a),))
-                          for a in ("lagged", "sap", "tamsi")),
+        integrators=tuple(
+            Integrator(label=f"discrete {a}", overrides=(("solver", a),))
+            for a in ("lagged", "sap", "tamsi")
+        ),
         restitution_rule=RestitutionRule.MAPPED,
         friction_rule=FrictionRule.HARMONIC,
     ),
@@ -288,11 +313,14 @@ RECORD = EngineRecord(
         precision="float64",
     ),
     # Every value read back from a fresh MultibodyPlantConfig / DefaultProximityProperties.
-    engine_defaults={"dt_s": 1e-3, "solver": "lagged",
-                     "contact_model": "hydroelastic_with_fallback",
-                     "sap_near_rigid_threshold": 1.0,
-                     "point_stiffness_npm": DEFAULT_POINT_STIFFNESS_NPM,
-                     "stiction_tolerance_mps": DEFAULT_STICTION_TOLERANCE_MPS},
+    engine_defaults={
+        "dt_s": 1e-3,
+        "solver": "lagged",
+        "contact_model": "hydroelastic_with_fallback",
+        "sap_near_rigid_threshold": 1.0,
+        "point_stiffness_npm": DEFAULT_POINT_STIFFNESS_NPM,
+        "stiction_tolerance_mps": DEFAULT_STICTION_TOLERANCE_MPS,
+    },
     cost=Cost(
         step_cost_s=5.8e-4,
         # the bat alone, swung about the hands: 0.64 s an impact over 9933 steps on the hinged
@@ -304,26 +332,33 @@ RECORD = EngineRecord(
         marker="X",
         label="Drake",
         notes=ReportNotes(
-            profile=("{solver} plant, RK3 with error control at {accuracy}, read every {dt_s}; "
-                     "{contact_model} contact k = {point_stiffness_npm} N/m"),
-            restitution=("none: Hunt-Crossley dissipation d chosen so that a "
-                         "{restitution_speed_mps} m/s impact bounces with e; its e then falls "
-                         "with speed; judged against its own law"),
-            handled=("no coefficient of restitution: its point contact is Hunt-Crossley, "
-                     "F = k x (1 + d x'), whose e falls with the impact speed (d set for e at "
-                     "{restitution_speed_mps} m/s), so against rigid theory it is up to {err_mps} "
-                     "m/s off on the paper's swing by design; against its own law "
-                     "(`analytic.compliant.HuntCrossley`, exponent 1) the reference is within "
-                     "{law_err_mps} m/s. Every discrete approximation is about first order against "
-                     "that law (`convergence.csv`); SAP replaces d by a linear damper (the adapter "
-                     "sets its relaxation time for e and judges it against `LinearSpringDamper`); "
-                     "hydroelastic contact states no closed law here (`unjudged`). The bat hangs "
-                     "on "
-                     "a planar joint chain whose pivot frame moves at run time, so the hands' "
-                     "hinge "
-                     "is a lock on that chain. A small e is floored (`E_FLOOR`): a Hunt-Crossley "
-                     "contact lets go with the overlap still open and cannot separate faster than "
-                     "1/d (drake#19320), so a near-plastic ball is caught again and again.")),
+            profile=(
+                "{solver} plant, RK3 with error control at {accuracy}, read every {dt_s}; "
+                "{contact_model} contact k = {point_stiffness_npm} N/m"
+            ),
+            restitution=(
+                "none: Hunt-Crossley dissipation d chosen so that a "
+                "{restitution_speed_mps} m/s impact bounces with e; its e then falls "
+                "with speed; judged against its own law"
+            ),
+            handled=(
+                "no coefficient of restitution: its point contact is Hunt-Crossley, "
+                "F = k x (1 + d x'), whose e falls with the impact speed (d set for e at "
+                "{restitution_speed_mps} m/s), so against rigid theory it is up to {err_mps} "
+                "m/s off on the paper's swing by design; against its own law "
+                "(`analytic.compliant.HuntCrossley`, exponent 1) the reference is within "
+                "{law_err_mps} m/s. Every discrete approximation is about first order against "
+                "that law (`convergence.csv`); SAP replaces d by a linear damper (the adapter "
+                "sets its relaxation time for e and judges it against `LinearSpringDamper`); "
+                "hydroelastic contact states no closed law here (`unjudged`). The bat hangs "
+                "on "
+                "a planar joint chain whose pivot frame moves at run time, so the hands' "
+                "hinge "
+                "is a lock on that chain. A small e is floored (`E_FLOOR`): a Hunt-Crossley "
+                "contact lets go with the overlap still open and cannot separate faster than "
+                "1/d (drake#19320), so a near-plastic ball is caught again and again."
+            ),
+        ),
     ),
     studies=Studies(
         speed_accuracy=_speed_accuracy(),

@@ -40,15 +40,16 @@ from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator  # noqa
 from pydrake.systems.framework import DiagramBuilder  # noqa: E402
 
 
-def joint_rates(angle: float, tilt: float, w: tuple[float, float, float]
-                ) -> tuple[float, float, float]:
+def joint_rates(
+    angle: float, tilt: float, w: tuple[float, float, float]
+) -> tuple[float, float, float]:
     """The rates of the bat's yaw, tilt and roll joints that turn it at the world angular
     velocity ``w``: w = yaw' z + tilt' h + roll' u, with u the bat's axis and h = (sin a,
     -cos a, 0) the tilt joint's axis (-y after the yaw). A turn about z alone is the yaw's."""
     if tilt == 0.0 and w[0] == 0.0 and w[1] == 0.0:
         return w[2], 0.0, 0.0
     ca, sa, cb, sb = math.cos(angle), math.sin(angle), math.cos(tilt), math.sin(tilt)
-    along = w[0] * ca * cb + w[1] * sa * cb + w[2] * sb   # w . u (h is normal to u and z)
+    along = w[0] * ca * cb + w[1] * sa * cb + w[2] * sb  # w . u (h is normal to u and z)
     yaw = (w[2] - sb * along) / (cb * cb)
     return yaw, w[0] * sa - w[1] * ca, along - yaw * sb
 
@@ -84,25 +85,30 @@ class DrakeEngine(Engine):
     @classmethod
     def read_back_defaults(cls) -> dict:
         config = MultibodyPlantConfig()
-        return {"dt_s": config.time_step, "solver": config.discrete_contact_approximation,
-                "contact_model": config.contact_model,
-                "sap_near_rigid_threshold": config.sap_near_rigid_threshold,
-                "point_stiffness_npm": 0.5 * DefaultProximityProperties().point_stiffness,
-                "stiction_tolerance_mps": config.stiction_tolerance}
+        return {
+            "dt_s": config.time_step,
+            "solver": config.discrete_contact_approximation,
+            "contact_model": config.contact_model,
+            "sap_near_rigid_threshold": config.sap_near_rigid_threshold,
+            "point_stiffness_npm": 0.5 * DefaultProximityProperties().point_stiffness,
+            "stiction_tolerance_mps": config.stiction_tolerance,
+        }
 
     def __init__(self, settings) -> None:
         super().__init__(settings)
         self._load: Hands | None = None
-        self._failed = False    # the current state is lost to a step Drake refused
+        self._failed = False  # the current state is lost to a step Drake refused
 
     # -- building ------------------------------------------------------------------------------
 
     def build(self, scene: Scene) -> None:
         st, bat, ball = self.settings, scene.bat, scene.ball
         continuous = st.solver == "continuous"
-        config = MultibodyPlantConfig(time_step=0.0 if continuous else st.dt_s,
-                                      contact_model=st.contact_model,
-                                      use_sampled_output_ports=False)
+        config = MultibodyPlantConfig(
+            time_step=0.0 if continuous else st.dt_s,
+            contact_model=st.contact_model,
+            use_sampled_output_ports=False,
+        )
         if not continuous:
             config.discrete_contact_approximation = st.solver
         if st.sap_near_rigid_threshold is not None:
@@ -112,24 +118,40 @@ class DrakeEngine(Engine):
         builder = DiagramBuilder()
         plant, sg = AddMultibodyPlant(config, builder)
         plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, 0.0])
-        bat_body = plant.AddRigidBody("bat", SpatialInertia.MakeFromCentralInertia(
-            bat.mass_kg, np.zeros(3), RotationalInertia(bat.axial_inertia_kgm2,
-                                                        bat.inertia_cm_kgm2,
-                                                        bat.inertia_cm_kgm2)))
+        bat_body = plant.AddRigidBody(
+            "bat",
+            SpatialInertia.MakeFromCentralInertia(
+                bat.mass_kg,
+                np.zeros(3),
+                RotationalInertia(bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, bat.inertia_cm_kgm2),
+            ),
+        )
         ib = ball.inertia_kgm2
-        ball_body = plant.AddRigidBody("ball", SpatialInertia.MakeFromCentralInertia(
-            ball.mass_kg, np.zeros(3), RotationalInertia(ib, ib, ib)))
+        ball_body = plant.AddRigidBody(
+            "ball",
+            SpatialInertia.MakeFromCentralInertia(
+                ball.mass_kg, np.zeros(3), RotationalInertia(ib, ib, ib)
+            ),
+        )
         self._add_bat_chain(plant, bat_body)
         a, b = bat.s_min_m, bat.s_max_m
-        along_x = RigidTransform(RotationMatrix.MakeYRotation(math.pi / 2),
-                                 [(a + b) / 2, 0.0, 0.0])  # Drake's capsules lie along z
+        along_x = RigidTransform(
+            RotationMatrix.MakeYRotation(math.pi / 2), [(a + b) / 2, 0.0, 0.0]
+        )  # Drake's capsules lie along z
         mu_bat, mu_ball = RECORD.can.friction_rule.per_body(scene.mu)
         self._friction = (CoulombFriction(mu_bat, mu_bat), CoulombFriction(mu_ball, mu_ball))
         self._geoms = (
-            plant.RegisterCollisionGeometry(bat_body, along_x, Capsule(bat.radius_m, b - a),
-                                            "bat", self._properties(rigid=True)),
-            plant.RegisterCollisionGeometry(ball_body, RigidTransform(), Sphere(ball.radius_m),
-                                            "ball", self._properties(rigid=False)))
+            plant.RegisterCollisionGeometry(
+                bat_body, along_x, Capsule(bat.radius_m, b - a), "bat", self._properties(rigid=True)
+            ),
+            plant.RegisterCollisionGeometry(
+                ball_body,
+                RigidTransform(),
+                Sphere(ball.radius_m),
+                "ball",
+                self._properties(rigid=False),
+            ),
+        )
         plant.Finalize()
         self._bat, self._ball = bat_body, ball_body
         self._finish(builder, plant, sg)
@@ -145,15 +167,23 @@ class DrakeEngine(Engine):
         frames = [plant.world_body().body_frame()]
         for name in ("bat_slider", "bat_hand", "bat_lift", "bat_yaw", "bat_tilted"):
             frames.append(plant.AddRigidBody(name, SpatialInertia.Zero()).body_frame())
-        self._pivot = plant.AddFrame(FixedOffsetFrame("pivot", bat_body.body_frame(),
-                                                      RigidTransform()))
+        self._pivot = plant.AddFrame(
+            FixedOffsetFrame("pivot", bat_body.body_frame(), RigidTransform())
+        )
         frames.append(self._pivot)
         x, y, z, minus_y = [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]
-        kinds = ((PrismaticJoint, "bat_x", x), (PrismaticJoint, "bat_y", y),
-                 (PrismaticJoint, "bat_z", z), (RevoluteJoint, "bat_turn", z),
-                 (RevoluteJoint, "bat_tilt", minus_y), (RevoluteJoint, "bat_roll", x))
-        self._joints = [plant.AddJoint(kind(name, frames[i], frames[i + 1], axis))
-                        for i, (kind, name, axis) in enumerate(kinds)]
+        kinds = (
+            (PrismaticJoint, "bat_x", x),
+            (PrismaticJoint, "bat_y", y),
+            (PrismaticJoint, "bat_z", z),
+            (RevoluteJoint, "bat_turn", z),
+            (RevoluteJoint, "bat_tilt", minus_y),
+            (RevoluteJoint, "bat_roll", x),
+        )
+        self._joints = [
+            plant.AddJoint(kind(name, frames[i], frames[i + 1], axis))
+            for i, (kind, name, axis) in enumerate(kinds)
+        ]
 
     def _finish(self, builder: DiagramBuilder, plant, sg) -> None:
         """Build the diagram and its simulator; keep the contexts, ports and indices used."""
@@ -181,14 +211,19 @@ class DrakeEngine(Engine):
         st = self.settings
         props = ProximityProperties()
         k = None if st.point_stiffness_npm is None else 2.0 * st.point_stiffness_npm
-        AddContactMaterial(dissipation=dissipation, point_stiffness=k,
-                           friction=self._friction[0 if rigid else 1], properties=props)
+        AddContactMaterial(
+            dissipation=dissipation,
+            point_stiffness=k,
+            friction=self._friction[0 if rigid else 1],
+            properties=props,
+        )
         if st.contact_model != "point" and (st.contact_model == "hydroelastic"):
             if rigid:
                 AddRigidHydroelasticProperties(st.resolution_hint_m, props)
             else:
-                AddCompliantHydroelasticProperties(st.resolution_hint_m,
-                                                   st.hydroelastic_modulus_pa, props)
+                AddCompliantHydroelasticProperties(
+                    st.resolution_hint_m, st.hydroelastic_modulus_pa, props
+                )
         return props
 
     def mass_properties(self) -> MassProperties:
@@ -214,8 +249,7 @@ class DrakeEngine(Engine):
         for geom, rigid in zip(self._geoms, (True, False)):
             props = self._properties(rigid, dissipation=d)
             if st.solver == "sap":  # tau adds up over the two geometries
-                props.AddProperty("material", "relaxation_time",
-                                  0.5 * st.relaxation_time_s(e))
+                props.AddProperty("material", "relaxation_time", 0.5 * st.relaxation_time_s(e))
             self.sg.AssignRole(self._sg_ctx, self._source, geom, props, RoleAssign.kReplace)
 
     def set_body_friction(self, *, bat: float, ball: float) -> None:
@@ -240,14 +274,24 @@ class DrakeEngine(Engine):
         a, b = state.bat_angle_rad, state.bat_tilt_rad
         q[self._q_bat] = (state.bat_x_m, state.bat_y_m, state.bat_z_m, a, b, 0.0)
         w = (state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps)
-        v[self._v_bat] = (state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps,
-                          *joint_rates(a, b, w))
+        v[self._v_bat] = (
+            state.bat_vx_mps,
+            state.bat_vy_mps,
+            state.bat_vz_mps,
+            *joint_rates(a, b, w),
+        )
         # the ball's free joint: quaternion (w, x, y, z) then position; its velocities are the
         # spatial velocity in the world frame, angular first
         i, j = self._q_ball, self._v_ball
-        q[i:i + 7] = (1.0, 0.0, 0.0, 0.0, state.ball_x_m, state.ball_y_m, state.ball_z_m)
-        v[j:j + 6] = (state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps,
-                      state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps)
+        q[i : i + 7] = (1.0, 0.0, 0.0, 0.0, state.ball_x_m, state.ball_y_m, state.ball_z_m)
+        v[j : j + 6] = (
+            state.ball_wx_radps,
+            state.ball_wy_radps,
+            state.ball_omega_radps,
+            state.ball_vx_mps,
+            state.ball_vy_mps,
+            state.ball_vz_mps,
+        )
         plant.SetPositions(pc, q)
         plant.SetVelocities(pc, v)
         self._apply_load()
@@ -268,14 +312,28 @@ class DrakeEngine(Engine):
         vx, vy, vz, *rates = (float(c) for c in v[self._v_bat])
         w = world_rates(th, tilt, rates)
         d = pivot_to_com(self._offset, th, tilt, w)
-        return State(ball_x_m=float(q[i + 4]), ball_y_m=float(q[i + 5]),
-                     ball_vx_mps=float(v[j + 3]), ball_vy_mps=float(v[j + 4]),
-                     ball_omega_radps=float(v[j + 2]), bat_x_m=x + d[0], bat_y_m=y + d[1],
-                     bat_angle_rad=th, bat_vx_mps=vx + d[3], bat_vy_mps=vy + d[4],
-                     bat_omega_radps=w[2], ball_z_m=float(q[i + 6]),
-                     ball_vz_mps=float(v[j + 5]), ball_wx_radps=float(v[j]),
-                     ball_wy_radps=float(v[j + 1]), bat_z_m=z + d[2], bat_tilt_rad=tilt,
-                     bat_vz_mps=vz + d[5], bat_wx_radps=w[0], bat_wy_radps=w[1])
+        return State(
+            ball_x_m=float(q[i + 4]),
+            ball_y_m=float(q[i + 5]),
+            ball_vx_mps=float(v[j + 3]),
+            ball_vy_mps=float(v[j + 4]),
+            ball_omega_radps=float(v[j + 2]),
+            bat_x_m=x + d[0],
+            bat_y_m=y + d[1],
+            bat_angle_rad=th,
+            bat_vx_mps=vx + d[3],
+            bat_vy_mps=vy + d[4],
+            bat_omega_radps=w[2],
+            ball_z_m=float(q[i + 6]),
+            ball_vz_mps=float(v[j + 5]),
+            ball_wx_radps=float(v[j]),
+            ball_wy_radps=float(v[j + 1]),
+            bat_z_m=z + d[2],
+            bat_tilt_rad=tilt,
+            bat_vz_mps=vz + d[5],
+            bat_wx_radps=w[0],
+            bat_wy_radps=w[1],
+        )
 
     def step(self) -> None:
         if self._failed:
@@ -315,8 +373,10 @@ class DrakeEngine(Engine):
         f = ExternallyAppliedSpatialForce()
         f.body_index = self._bat.index()
         f.p_BoBq_B = np.array([load.arm_m, 0.0, 0.0])
-        f.F_Bq_W = SpatialForce([0.0, 0.0, load.torque_nm],
-                                [load.force_n * math.cos(q), load.force_n * math.sin(q), 0.0])
+        f.F_Bq_W = SpatialForce(
+            [0.0, 0.0, load.torque_nm],
+            [load.force_n * math.cos(q), load.force_n * math.sin(q), 0.0],
+        )
         self._force_port.FixValue(self._plant_ctx, [f])
 
     def set_drive(self, hands: Hands | None) -> None:

@@ -94,9 +94,11 @@ class DrakeChain(ChainEngine):
     def build(self, scene: ChainScene) -> None:
         st = self.settings
         self._discrete = st.solver != "continuous"
-        config = MultibodyPlantConfig(time_step=st.dt_s if self._discrete else 0.0,
-                                      contact_model=st.contact_model,
-                                      use_sampled_output_ports=False)
+        config = MultibodyPlantConfig(
+            time_step=st.dt_s if self._discrete else 0.0,
+            contact_model=st.contact_model,
+            use_sampled_output_ports=False,
+        )
         if self._discrete:
             config.discrete_contact_approximation = st.solver
         if st.sap_near_rigid_threshold is not None:
@@ -109,13 +111,25 @@ class DrakeChain(ChainEngine):
         self._segs = self._add_segments(scene)
         self._add_joints(scene)
         ib = scene.ball.inertia_kgm2
-        self._ball = plant.AddRigidBody("ball", SpatialInertia.MakeFromCentralInertia(
-            scene.ball.mass_kg, np.zeros(3), RotationalInertia(ib, ib, ib)))
-        plant.RegisterCollisionGeometry(self._ball, RigidTransform(), Sphere(scene.ball.radius_m),
-                                        "ball", self._contact_properties(False, scene.e))
+        self._ball = plant.AddRigidBody(
+            "ball",
+            SpatialInertia.MakeFromCentralInertia(
+                scene.ball.mass_kg, np.zeros(3), RotationalInertia(ib, ib, ib)
+            ),
+        )
+        plant.RegisterCollisionGeometry(
+            self._ball,
+            RigidTransform(),
+            Sphere(scene.ball.radius_m),
+            "ball",
+            self._contact_properties(False, scene.e),
+        )
         plant.Finalize()
-        sg.collision_filter_manager().Apply(CollisionFilterDeclaration().ExcludeWithin(
-            plant.CollectRegisteredGeometries(self._segs)))
+        sg.collision_filter_manager().Apply(
+            CollisionFilterDeclaration().ExcludeWithin(
+                plant.CollectRegisteredGeometries(self._segs)
+            )
+        )
         self._finish(builder, plant)
 
     def _add_segments(self, scene: ChainScene) -> list:
@@ -124,8 +138,9 @@ class DrakeChain(ChainEngine):
         ell, r = self._ell, chain.bat.radius_m
         along_x = RigidTransform(RotationMatrix.MakeYRotation(math.pi / 2), [ell / 2, 0.0, 0.0])
         bodies = []
-        for i, (m, c, J) in enumerate(zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2,
-                                          strict=True)):
+        for i, (m, c, J) in enumerate(
+            zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2, strict=True)
+        ):
             # m r^2 / 2, but from N = 32 on a handle slice's own J (its radius well under the
             # capsule's) is below m r^2 / 4: the moments would break the triangle inequality
             # (Ixx <= Iyy + Izz) and Drake refuses the body ("Spatial inertia fails
@@ -133,10 +148,12 @@ class DrakeChain(ChainEngine):
             # axis: the largest valid value, 2 J, changes nothing judged.
             axial = min(0.5 * m * r * r, 2.0 * J)
             inertia = SpatialInertia.MakeFromCentralInertia(
-                m, np.array([c - i * ell, 0.0, 0.0]), RotationalInertia(axial, J, J))
+                m, np.array([c - i * ell, 0.0, 0.0]), RotationalInertia(axial, J, J)
+            )
             body = plant.AddRigidBody(f"s{i}", inertia)
-            plant.RegisterCollisionGeometry(body, along_x, Capsule(r, ell), f"s{i}",
-                                            self._contact_properties(True, scene.e))
+            plant.RegisterCollisionGeometry(
+                body, along_x, Capsule(r, ell), f"s{i}", self._contact_properties(True, scene.e)
+            )
             bodies.append(body)
         return bodies
 
@@ -144,15 +161,21 @@ class DrakeChain(ChainEngine):
         """The root's planar joint to the world; a revolute joint about z with its spring and
         damper between each pair of neighbours, at their common end."""
         chain, plant = scene.chain, self.plant
-        self._root = plant.AddJoint(PlanarJoint("root", plant.world_frame(),
-                                                self._segs[0].body_frame()))
+        self._root = plant.AddJoint(
+            PlanarJoint("root", plant.world_frame(), self._segs[0].body_frame())
+        )
         self._hinges = []
-        for j, (k, d) in enumerate(zip(chain.stiffnesses_nmprad, chain.dampings_nmsprad,
-                                       strict=True)):
-            end = plant.AddFrame(FixedOffsetFrame(f"end{j}", self._segs[j].body_frame(),
-                                                  RigidTransform([self._ell, 0.0, 0.0])))
-            hinge = plant.AddJoint(RevoluteJoint(f"j{j + 1}", end, self._segs[j + 1].body_frame(),
-                                                 Z_AXIS, d))
+        for j, (k, d) in enumerate(
+            zip(chain.stiffnesses_nmprad, chain.dampings_nmsprad, strict=True)
+        ):
+            end = plant.AddFrame(
+                FixedOffsetFrame(
+                    f"end{j}", self._segs[j].body_frame(), RigidTransform([self._ell, 0.0, 0.0])
+                )
+            )
+            hinge = plant.AddJoint(
+                RevoluteJoint(f"j{j + 1}", end, self._segs[j + 1].body_frame(), Z_AXIS, d)
+            )
             plant.AddForceElement(RevoluteSpring(hinge, 0.0, k))  # tau = -k theta, N m/rad
             self._hinges.append(hinge)
 
@@ -200,15 +223,15 @@ class DrakeChain(ChainEngine):
         c, s = math.cos(a), math.sin(a)
         q = np.zeros(plant.num_positions())
         v = np.zeros(plant.num_velocities())
-        q[self._q_root:self._q_root + 3] = (x - c * off, y - s * off, a)
-        v[self._v_root:self._v_root + 3] = (vx + w * s * off, vy - w * c * off, w)
+        q[self._q_root : self._q_root + 3] = (x - c * off, y - s * off, a)
+        v[self._v_root : self._v_root + 3] = (vx + w * s * off, vy - w * c * off, w)
         q[self._q_hinge] = np.diff(segments[:, 2])
         v[self._v_hinge] = np.diff(segments[:, 5])
         # the ball's free joint: quaternion (w, x, y, z) then position; its velocities are the
         # spatial velocity in the world frame, angular first
         i, j = self._q_ball, self._v_ball
-        q[i:i + 7] = (1.0, 0.0, 0.0, 0.0, ball[0], ball[1], 0.0)
-        v[j:j + 6] = (0.0, 0.0, 0.0, ball[2], ball[3], 0.0)
+        q[i : i + 7] = (1.0, 0.0, 0.0, 0.0, ball[0], ball[1], 0.0)
+        v[j : j + 6] = (0.0, 0.0, 0.0, ball[2], ball[3], 0.0)
         plant.SetPositions(pc, q)
         plant.SetVelocities(pc, v)
         if not self._discrete:

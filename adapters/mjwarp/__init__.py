@@ -71,9 +71,16 @@ from ..records import (
 INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
 #: MuJoCo Warp's out-of-the-box values, read back from a freshly put model
 #: (``read_back_defaults``): MuJoCo C's, but the tolerance raised to 1e-6.
-ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
-                   "iterations": 100, "tolerance": 1e-6, "ls_iterations": 50, "dt_s": 0.002,
-                   "integrator": "Euler", "cone": "pyramidal"}
+ENGINE_DEFAULTS = {
+    "solref": (0.02, 1.0),
+    "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
+    "iterations": 100,
+    "tolerance": 1e-6,
+    "ls_iterations": 50,
+    "dt_s": 0.002,
+    "integrator": "Euler",
+    "cone": "pyramidal",
+}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -101,10 +108,14 @@ SOFT = (("contact_model", "soft"), ("soft_omega_radps", 3000.0), ("impedance", 0
 #: diagexact): float32 rounding is what is left.
 TWIN_STEPS = (
     TwinStep(label="each at its reference profile", shared=False),
-    TwinStep(label="soft w=3000, each as configured (C with diagexact)", overrides=SOFT,
-             twin_overrides=(("diagexact", True),)),
-    TwinStep(label="same model, solver stopping at tolerance 1e-8",
-             overrides=(("tolerance", 1e-8),)),
+    TwinStep(
+        label="soft w=3000, each as configured (C with diagexact)",
+        overrides=SOFT,
+        twin_overrides=(("diagexact", True),),
+    ),
+    TwinStep(
+        label="same model, solver stopping at tolerance 1e-8", overrides=(("tolerance", 1e-8),)
+    ),
     TwinStep(label="same model, 100 solver iterations", overrides=(("iterations", 100),)),
     TwinStep(label="soft w=3000, same model", overrides=SOFT),
     TwinStep(label="same model: MuJoCo Warp's regulariser, C without diagexact"),
@@ -130,18 +141,28 @@ RECORD = EngineRecord(
         # allowance). Tolerance 0: the solver iterates until its line search stalls; 10
         # iterations give the bits of 100 at a third of a hinged step's cost. Placed 1 um
         # deep: float32 positions near 0.3 m are 3e-8 m apart.
-        "reference": MjwarpSettings(dt_s=1e-5, contact_model="impulse", impedance=0.9998,
-                                    tolerance=0.0, iterations=10, overlap_m=1e-6),
+        "reference": MjwarpSettings(
+            dt_s=1e-5,
+            contact_model="impulse",
+            impedance=0.9998,
+            tolerance=0.0,
+            iterations=10,
+            overlap_m=1e-6,
+        ),
         # Out of the box: MuJoCo's 2 ms step, Euler, solref (0.02, 1), default solimp, MuJoCo
         # Warp's tolerance (1e-6) and regulariser, the contact instant mid-step.
-        "default": MjwarpSettings(dt_s=0.002, contact_model="native", tolerance=1e-6,
-                                  contact_phase=0.5, cone="pyramidal"),
+        "default": MjwarpSettings(
+            dt_s=0.002, contact_model="native", tolerance=1e-6, contact_phase=0.5, cone="pyramidal"
+        ),
     },
     can=Capabilities(
         chain_adapter="adapters.mjwarp.chain:MjwarpChain",
-        integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
-                                     order=4 if name == "RK4" else 1)
-                          for name in ("Euler", "implicitfast", "RK4")),
+        integrators=tuple(
+            Integrator(
+                label=name, overrides=(("integrator", name),), order=4 if name == "RK4" else 1
+            )
+            for name in ("Euler", "implicitfast", "RK4")
+        ),
         restitution_rule=RestitutionRule.MAPPED,
         friction_rule=FrictionRule.MAX,
         soft_contact={"contact_model": "soft"},
@@ -162,17 +183,24 @@ RECORD = EngineRecord(
         marker="<",
         label="MuJoCo Warp",
         notes=ReportNotes(
-            profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MuJoCo "
-                     "Warp's regulariser, solver tolerance {tolerance} and {iterations} "
-                     "iterations, placed {overlap_m} deep, on Warp's CPU device"),
+            profile=(
+                "dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MuJoCo "
+                "Warp's regulariser, solver tolerance {tolerance} and {iterations} "
+                "iterations, placed {overlap_m} deep, on Warp's CPU device"
+            ),
             restitution="none: mapped by the adapter, as for MuJoCo C",
-            handled=("no `diagexact` in MuJoCo Warp: the impulse is up to 3.4e-5 relative off "
-                     "on the R161 at d = {impedance} (stated); its tolerance is raised to "
-                     "{default_tolerance} as the model is put on the device, and its float32 "
-                     "solve stopped there splits the impulse between the bodies up to 1e-3 "
-                     "wrong: tolerance 0 instead"),
-            defaults=("MuJoCo Warp's solref {default_solref}, iterations, tolerance "
-                      "{default_tolerance} and {default_dt_s} step, read back")),
+            handled=(
+                "no `diagexact` in MuJoCo Warp: the impulse is up to 3.4e-5 relative off "
+                "on the R161 at d = {impedance} (stated); its tolerance is raised to "
+                "{default_tolerance} as the model is put on the device, and its float32 "
+                "solve stopped there splits the impulse between the bodies up to 1e-3 "
+                "wrong: tolerance 0 instead"
+            ),
+            defaults=(
+                "MuJoCo Warp's solref {default_solref}, iterations, tolerance "
+                "{default_tolerance} and {default_dt_s} step, read back"
+            ),
+        ),
     ),
     studies=Studies(
         speed_accuracy=(

@@ -30,8 +30,7 @@ with stdout_silenced():  # Warp's native init warns on stderr where no CUDA driv
 
 #: Overflows that lose contacts or constraints: the worlds' results are then wrong. The solver's
 #: iteration limits are not among them (a float32 solve at a small tolerance often meets them).
-LOST = int(mjw.OverflowType.ALL & ~(mjw.OverflowType.ITERATIONS
-                                    | mjw.OverflowType.LS_ITERATIONS))
+LOST = int(mjw.OverflowType.ALL & ~(mjw.OverflowType.ITERATIONS | mjw.OverflowType.LS_ITERATIONS))
 #: Per world: one contact (bat-ball) and, with the hands, three connect rows.
 NCONMAX, NJMAX = 4, 8
 #: Model fields put once per world, so that each world has its own hands.
@@ -69,18 +68,25 @@ class MjwarpEngine(BatchedEngine):
     @classmethod
     def read_back_defaults(cls) -> dict:
         m = mujoco.MjModel.from_xml_string(
-            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
+            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>'
+        )
         with wp.ScopedDevice("cpu"):
             mw = mjw.put_model(m)
         o = mw.opt
-        return {"solref": tuple(mw.geom_solref.numpy()[0, 0].tolist()),
-                "solimp": tuple(mw.geom_solimp.numpy()[0, 0].tolist()),
-                "iterations": int(o.iterations), "tolerance": float(o.tolerance.numpy()[0]),
-                "ls_iterations": int(o.ls_iterations), "dt_s": float(o.timestep.numpy()[0]),
-                "integrator": next(i for i in INTEGRATORS if int(o.integrator)
-                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")),
-                "cone": "elliptic" if int(o.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC
-                else "pyramidal"}
+        return {
+            "solref": tuple(mw.geom_solref.numpy()[0, 0].tolist()),
+            "solimp": tuple(mw.geom_solimp.numpy()[0, 0].tolist()),
+            "iterations": int(o.iterations),
+            "tolerance": float(o.tolerance.numpy()[0]),
+            "ls_iterations": int(o.ls_iterations),
+            "dt_s": float(o.timestep.numpy()[0]),
+            "integrator": next(
+                i
+                for i in INTEGRATORS
+                if int(o.integrator) == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")
+            ),
+            "cone": "elliptic" if int(o.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC else "pyramidal",
+        }
 
     def device(self) -> str:
         alias = _device(self.settings)
@@ -92,9 +98,15 @@ class MjwarpEngine(BatchedEngine):
     def build(self, scene: Scene, worlds: int) -> None:
         st = self.settings
         m = port_model(mujoco, scene, st)
-        ids = {(obj, name): mujoco.mj_name2id(m, obj, name) for obj, name in (
-            (mujoco.mjtObj.mjOBJ_BODY, "bat"), (mujoco.mjtObj.mjOBJ_BODY, "ball"),
-            (mujoco.mjtObj.mjOBJ_GEOM, "bat"), (mujoco.mjtObj.mjOBJ_SITE, "load"))}
+        ids = {
+            (obj, name): mujoco.mj_name2id(m, obj, name)
+            for obj, name in (
+                (mujoco.mjtObj.mjOBJ_BODY, "bat"),
+                (mujoco.mjtObj.mjOBJ_BODY, "ball"),
+                (mujoco.mjtObj.mjOBJ_GEOM, "bat"),
+                (mujoco.mjtObj.mjOBJ_SITE, "load"),
+            )
+        }
         self._bat, self._ball, self._geom, self._site = ids.values()
         self._ball_geom = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "ball")
         self.n, self._dev = worlds, _device(st)
@@ -132,11 +144,13 @@ class MjwarpEngine(BatchedEngine):
 
         pos, size = mw.geom_pos.numpy()[0, self._geom], mw.geom_size.numpy()[0, self._geom]
         knob_x = float(pos[0]) - float(size[1]) - float(size[0])
-        return MassProperties(bat_mass_kg=float(mass[self._bat]),
-                              bat_com_from_knob_m=float(ipos[self._bat][0]) - knob_x,
-                              bat_inertia_kgm2=about_z(self._bat),
-                              ball_mass_kg=float(mass[self._ball]),
-                              ball_inertia_kgm2=about_z(self._ball))
+        return MassProperties(
+            bat_mass_kg=float(mass[self._bat]),
+            bat_com_from_knob_m=float(ipos[self._bat][0]) - knob_x,
+            bat_inertia_kgm2=about_z(self._bat),
+            ball_mass_kg=float(mass[self._ball]),
+            ball_inertia_kgm2=about_z(self._ball),
+        )
 
     def set_state(self, states: np.ndarray) -> None:
         """Every world's pose and velocity; time, warm starts and overflow bits zeroed, the
@@ -163,8 +177,9 @@ class MjwarpEngine(BatchedEngine):
         if len(hands) != self.n:
             raise ValueError(f"{len(hands)} hands for {self.n} worlds; allowed: one per world")
         arm = np.array([h.arm_m for h in hands])
-        pivot = np.array([np.nan if h.pivot_from_com_m is None else h.pivot_from_com_m
-                          for h in hands])
+        pivot = np.array(
+            [np.nan if h.pivot_from_com_m is None else h.pivot_from_com_m for h in hands]
+        )
         pivot_xy = np.array([h.pivot_xy_m for h in hands], dtype=float).reshape(-1, 2)
         angle = np.array([h.angle_rad for h in hands])
         force = np.array([h.force_n for h in hands])
@@ -177,15 +192,19 @@ class MjwarpEngine(BatchedEngine):
         mw.site_pos.assign(site_pos)
         mw.eq_data.assign(eq_data)
         d.eq_active.assign(hinged[:, None])
-        d.ctrl.assign(np.stack([force * np.cos(angle), force * np.sin(angle),
-                                [h.torque_nm for h in hands]], axis=1).astype(np.float32))
+        d.ctrl.assign(
+            np.stack(
+                [force * np.cos(angle), force * np.sin(angle), [h.torque_nm for h in hands]], axis=1
+            ).astype(np.float32)
+        )
 
     def step(self) -> None:
         self._step()
 
     def read(self) -> np.ndarray:
-        return mujoco_rows(self.data.qpos.numpy().astype(float),
-                           self.data.qvel.numpy().astype(float), self._planar)
+        return mujoco_rows(
+            self.data.qpos.numpy().astype(float), self.data.qvel.numpy().astype(float), self._planar
+        )
 
     def in_contact(self) -> np.ndarray:
         """A contact of the world in the list and overlapping (margin 0: the list holds only
@@ -197,8 +216,7 @@ class MjwarpEngine(BatchedEngine):
 
     def failed(self) -> np.ndarray:
         d = self.data
-        finite = (np.isfinite(d.qpos.numpy()).all(axis=1)
-                  & np.isfinite(d.qvel.numpy()).all(axis=1))
+        finite = np.isfinite(d.qpos.numpy()).all(axis=1) & np.isfinite(d.qvel.numpy()).all(axis=1)
         return ~finite | (d.overflow.numpy() & LOST != 0)
 
     def close(self) -> None:
@@ -212,9 +230,14 @@ STEP_MODULES = ("forward", "smooth", "collision_primitive", "constraint", "solve
 def no_adjoints() -> str:
     """Why Warp's tape cannot differentiate ``mjw.step``: the modules of the step that
     MuJoCo Warp compiles without adjoints, as Warp reports their options."""
-    off = [n for n in STEP_MODULES
-           if not wp.get_module(f"mujoco_warp._src.{n}").options.get("enable_backward", True)]
+    off = [
+        n
+        for n in STEP_MODULES
+        if not wp.get_module(f"mujoco_warp._src.{n}").options.get("enable_backward", True)
+    ]
     if not off:
         return "MuJoCo Warp compiles its step with adjoints; this adapter records no wp.Tape"
-    return (f"MuJoCo Warp compiles {', '.join(off)} without adjoints (Warp's enable_backward "
-            "False): wp.Tape cannot differentiate mjw.step")
+    return (
+        f"MuJoCo Warp compiles {', '.join(off)} without adjoints (Warp's enable_backward "
+        "False): wp.Tape cannot differentiate mjw.step"
+    )

@@ -53,8 +53,9 @@ class MjwarpChain(ChainEngine):
 
     def mass_properties(self) -> np.ndarray:
         mw = self.model
-        return segment_rows(self._host, mw.body_mass.numpy()[0], mw.body_ipos.numpy()[0],
-                            mw.body_inertia.numpy()[0])
+        return segment_rows(
+            self._host, mw.body_mass.numpy()[0], mw.body_ipos.numpy()[0], mw.body_inertia.numpy()[0]
+        )
 
     def set_state(self, ball: np.ndarray, segments: np.ndarray) -> None:
         h, d = self._host, self.data

@@ -71,8 +71,9 @@ class MjxSettings(RegularisedSettings):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.integrator not in INTEGRATORS:
-            raise ValueError(f"integrator={self.integrator!r} is not in MJX; allowed: "
-                             f"{', '.join(INTEGRATORS)}")
+            raise ValueError(
+                f"integrator={self.integrator!r} is not in MJX; allowed: {', '.join(INTEGRATORS)}"
+            )
 
 
 class MjxErrors(RegularisedErrors):
@@ -91,17 +92,32 @@ class MjxErrors(RegularisedErrors):
 #: (SEGMENT_GUARD_M2), a declared defect.
 TWIN_STEPS = (
     TwinStep(label="each at its reference profile", shared=False),
-    TwinStep(label="same model: MJX's regulariser, C without diagexact",
-             overrides=(("invweight_scale", 1.0),)),
-    TwinStep(label="soft w=3000, same model",
-             overrides=(("invweight_scale", 1.0), ("contact_model", "soft"),
-                        ("soft_omega_radps", 3000.0), ("impedance", 0.99))),
+    TwinStep(
+        label="same model: MJX's regulariser, C without diagexact",
+        overrides=(("invweight_scale", 1.0),),
+    ),
+    TwinStep(
+        label="soft w=3000, same model",
+        overrides=(
+            ("invweight_scale", 1.0),
+            ("contact_model", "soft"),
+            ("soft_omega_radps", 3000.0),
+            ("impedance", 0.99),
+        ),
+    ),
 )
 
 #: MJX's out-of-the-box values, read back from a freshly put model (``read_back_defaults``).
-ENGINE_DEFAULTS = {"solref": (0.02, 1.0), "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
-                   "iterations": 100, "tolerance": 1e-8, "ls_iterations": 50, "dt_s": 0.002,
-                   "integrator": "Euler", "cone": "pyramidal"}
+ENGINE_DEFAULTS = {
+    "solref": (0.02, 1.0),
+    "solimp": (0.9, 0.95, 0.001, 0.5, 2.0),
+    "iterations": 100,
+    "tolerance": 1e-8,
+    "ls_iterations": 50,
+    "dt_s": 0.002,
+    "integrator": "Euler",
+    "cone": "pyramidal",
+}
 
 RECORD = EngineRecord(
     name="mjx",
@@ -121,18 +137,23 @@ RECORD = EngineRecord(
         # smaller one leaves the float32 Newton solve ill-conditioned (x 0.1 .. 1e-3: misses
         # of 0.1-1.25 m/s at random points; x 1e-10: NaN). Placed 1 um deep: float32 positions
         # near 1 m are 6e-8 m apart, so a 1 nm overlap may go unseen for a step.
-        "reference": MjxSettings(dt_s=1e-5, contact_model="impulse", impedance=0.9999,
-                                 overlap_m=1e-6),
+        "reference": MjxSettings(
+            dt_s=1e-5, contact_model="impulse", impedance=0.9999, overlap_m=1e-6
+        ),
         # Out of the box: MJX's 2 ms step, Euler, solref (0.02, 1), default solimp, its own
         # regulariser, the contact instant mid-step.
-        "default": MjxSettings(dt_s=0.002, contact_model="native", contact_phase=0.5,
-                               cone="pyramidal"),
+        "default": MjxSettings(
+            dt_s=0.002, contact_model="native", contact_phase=0.5, cone="pyramidal"
+        ),
     },
     can=Capabilities(
         chain_adapter="adapters.mjx.chain:MjxChain",
-        integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
-                                     order=4 if name == "RK4" else 1)
-                          for name in ("Euler", "RK4")),
+        integrators=tuple(
+            Integrator(
+                label=name, overrides=(("integrator", name),), order=4 if name == "RK4" else 1
+            )
+            for name in ("Euler", "RK4")
+        ),
         restitution_rule=RestitutionRule.MAPPED,
         friction_rule=FrictionRule.MAX,
         soft_contact={"contact_model": "soft"},
@@ -142,8 +163,8 @@ RECORD = EngineRecord(
     ),
     errors=MjxErrors(
         chain_defect="float32 Newton solve of a touch on a light hinged segment: its matrix's "
-                      "condition (about 3e8) is past 1/eps, the solve returns a NaN qacc and drops "
-                      "the contact (2 of 11 points at N = 8 non_finite, every point at N >= 16)",
+        "condition (about 3e8) is past 1/eps, the solve returns a NaN qacc and drops "
+        "the contact (2 of 11 points at N = 8 non_finite, every point at N >= 16)",
         precision="float32",
         # measured: float32 rows 0.086 m/s apart (2.8%) between two x86-64 hosts, float64 2e-8 m/s
         host_rounding=True,
@@ -159,21 +180,31 @@ RECORD = EngineRecord(
         marker="v",
         label="MJX",
         notes=ReportNotes(
-            profile=("dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MJX's "
-                     "regulariser, placed {overlap_m} deep"),
+            profile=(
+                "dt = {dt_s}, {integrator}, `impulse` contact (d = {impedance}), MJX's "
+                "regulariser, placed {overlap_m} deep"
+            ),
             restitution="none: mapped by the adapter, as for MuJoCo C",
-            handled=("no `diagexact` in MJX: the regulariser scaled instead (its own leaves the "
-                     "impulse 1e-4 relative off); its capsule routine adds 1e-6 m^2 to the "
-                     "segment's squared length (a 1.3 um foot bias, stated)"),
-            defaults="MJX's solref {default_solref}, iterations and {default_dt_s} step, read "
-                     "back"),
+            handled=(
+                "no `diagexact` in MJX: the regulariser scaled instead (its own leaves the "
+                "impulse 1e-4 relative off); its capsule routine adds 1e-6 m^2 to the "
+                "segment's squared length (a 1.3 um foot bias, stated)"
+            ),
+            defaults="MJX's solref {default_solref}, iterations and {default_dt_s} step, read back",
+        ),
     ),
     studies=Studies(
         speed_accuracy=(
             KnobFamily(label="impulse, MJX's regulariser", quick=True),
-            KnobFamily(label="soft w=3000, Euler", quick=True,
-                       overrides=(("contact_model", "soft"), ("soft_omega_radps", 3000.0),
-                                  ("impedance", 0.99))),
+            KnobFamily(
+                label="soft w=3000, Euler",
+                quick=True,
+                overrides=(
+                    ("contact_model", "soft"),
+                    ("soft_omega_radps", 3000.0),
+                    ("impedance", 0.99),
+                ),
+            ),
         ),
         friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
         friction_rule_overrides=NATIVE_FRICTION,
@@ -185,19 +216,44 @@ RECORD = EngineRecord(
 #: docstring): 1e-7 leaves 1e-11 relative; smaller ones lose more to the solver's conditioning
 #: (1e-8: 3e-8 m/s off at the COM, 1e-9: 5e-6 m/s).
 RECORD_64 = dataclasses.replace(
-    RECORD, name="mjx64", adapter="adapters.mjx.adapter:Mjx64Engine",
+    RECORD,
+    name="mjx64",
+    adapter="adapters.mjx.adapter:Mjx64Engine",
     errors=dataclasses.replace(RECORD.errors, precision="float64", chain_defect=""),
     can=dataclasses.replace(RECORD.can, chain_adapter="adapters.mjx.chain:Mjx64Chain"),
-    profiles={**RECORD.profiles, "reference": MjxSettings(
-        dt_s=1e-5, contact_model="impulse", impedance=0.9999, invweight_scale=1e-7)},
-    studies=dataclasses.replace(RECORD.studies, speed_accuracy=(
-        KnobFamily(label="impulse, regulariser x 1e-7", quick=True),
-        KnobFamily(label="impulse, MJX's regulariser", overrides=(("invweight_scale", 1.0),)),
-        KnobFamily(label="soft w=3000, Euler", quick=True,
-                   overrides=(("contact_model", "soft"), ("soft_omega_radps", 3000.0),
-                              ("impedance", 0.99), ("invweight_scale", 1.0))))),
+    profiles={
+        **RECORD.profiles,
+        "reference": MjxSettings(
+            dt_s=1e-5, contact_model="impulse", impedance=0.9999, invweight_scale=1e-7
+        ),
+    },
+    studies=dataclasses.replace(
+        RECORD.studies,
+        speed_accuracy=(
+            KnobFamily(label="impulse, regulariser x 1e-7", quick=True),
+            KnobFamily(label="impulse, MJX's regulariser", overrides=(("invweight_scale", 1.0),)),
+            KnobFamily(
+                label="soft w=3000, Euler",
+                quick=True,
+                overrides=(
+                    ("contact_model", "soft"),
+                    ("soft_omega_radps", 3000.0),
+                    ("impedance", 0.99),
+                    ("invweight_scale", 1.0),
+                ),
+            ),
+        ),
+    ),
     look=dataclasses.replace(
-        RECORD.look, color="yellowgreen", label="MJX (float64)",
-        notes=dataclasses.replace(RECORD.look.notes, profile=(
-            "dt = {dt_s}, {integrator}, `impulse` contact (`solref = (0, -(1+e) c/dt)`, "
-            "d = {impedance}) with `body_invweight0` x {invweight_scale}"))))
+        RECORD.look,
+        color="yellowgreen",
+        label="MJX (float64)",
+        notes=dataclasses.replace(
+            RECORD.look.notes,
+            profile=(
+                "dt = {dt_s}, {integrator}, `impulse` contact (`solref = (0, -(1+e) c/dt)`, "
+                "d = {impedance}) with `body_invweight0` x {invweight_scale}"
+            ),
+        ),
+    ),
+)

@@ -34,8 +34,10 @@ def segment_rows(host: MujocoChain, mass, ipos, inertia) -> np.ndarray:
     """Per segment (mass, COM from the knob, inertia about z) from a port's body arrays (the
     segments' principal axes are the bodies' own: ``diaginertia``, identity ``body_iquat``)."""
     ell = host._ell
-    rows = [(float(mass[b]), float(ipos[b][0]) + i * ell, float(inertia[b][2]))
-            for i, b in enumerate(host._segs)]
+    rows = [
+        (float(mass[b]), float(ipos[b][0]) + i * ell, float(inertia[b][2]))
+        for i, b in enumerate(host._segs)
+    ]
     return np.array(rows, dtype=float)
 
 

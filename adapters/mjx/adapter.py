@@ -41,9 +41,10 @@ import jax.numpy as jnp  # noqa: E402
 # subprocess, a rerun, loads them instead of compiling again (6-9 s each on a CPU; the model
 # and data helpers each take under a second, but a worker process needs a dozen of them).
 if not jax.config.jax_compilation_cache_dir:
-    jax.config.update("jax_compilation_cache_dir",
-                      os.environ.get("BATSIM_JAX_CACHE",
-                                     str(Path.home() / ".cache" / "batsim" / "jax")))
+    jax.config.update(
+        "jax_compilation_cache_dir",
+        os.environ.get("BATSIM_JAX_CACHE", str(Path.home() / ".cache" / "batsim" / "jax")),
+    )
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 
 # On a CPU, JAX's asynchronous dispatch deadlocked here (every thread waiting on a futex, at
@@ -67,8 +68,9 @@ def _advance(m, d, bad):
     finite (``read`` takes the rest of the state from the data's qpos and qvel)."""
     d = mjx.step(m, d)
     q, v = d.qpos, d.qvel
-    row = jnp.stack([q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * jnp.arctan2(q[6], q[3]),
-                     v[0], v[1], v[5]])
+    row = jnp.stack(
+        [q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * jnp.arctan2(q[6], q[3]), v[0], v[1], v[5]]
+    )
     touching = jnp.any(d._impl.contact.dist < 0.0)
     return d, row, touching, bad | ~jnp.all(jnp.isfinite(row))
 
@@ -86,6 +88,8 @@ def _traced(model_def, data_def):
         return jax.tree_util.tree_leaves(d), row, touching, bad
 
     return jax.jit(advance)
+
+
 #: The x64 mode of the last JAX call made here (``MjxEngine._scope``), None before the first.
 _LAST_X64: list[bool | None] = [None]
 
@@ -125,24 +129,36 @@ class MjxEngine(BatchedEngine):
     @classmethod
     def read_back_defaults(cls) -> dict:
         m = mujoco.MjModel.from_xml_string(
-            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
+            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>'
+        )
         mx = mjx.put_model(m, impl="jax")
         o = mx.opt
-        return {"solref": tuple(np.asarray(mx.geom_solref[0]).tolist()),
-                "solimp": tuple(np.asarray(mx.geom_solimp[0]).tolist()),
-                "iterations": int(o.iterations), "tolerance": float(o.tolerance),
-                "ls_iterations": int(o.ls_iterations), "dt_s": float(o.timestep),
-                "integrator": next(i for i in INTEGRATORS if int(o.integrator)
-                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")),
-                "cone": "elliptic" if int(o.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC
-                else "pyramidal"}
+        return {
+            "solref": tuple(np.asarray(mx.geom_solref[0]).tolist()),
+            "solimp": tuple(np.asarray(mx.geom_solimp[0]).tolist()),
+            "iterations": int(o.iterations),
+            "tolerance": float(o.tolerance),
+            "ls_iterations": int(o.ls_iterations),
+            "dt_s": float(o.timestep),
+            "integrator": next(
+                i
+                for i in INTEGRATORS
+                if int(o.integrator) == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")
+            ),
+            "cone": "elliptic" if int(o.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC else "pyramidal",
+        }
 
     def build(self, scene: Scene, worlds: int) -> None:
         st = self.settings
         m = _host_model(scene, st)
         self._site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "load")
-        self._ids = {kind: mujoco.mj_name2id(m, obj, "bat") for kind, obj in
-                     (("body", mujoco.mjtObj.mjOBJ_BODY), ("geom", mujoco.mjtObj.mjOBJ_GEOM))}
+        self._ids = {
+            kind: mujoco.mj_name2id(m, obj, "bat")
+            for kind, obj in (
+                ("body", mujoco.mjtObj.mjOBJ_BODY),
+                ("geom", mujoco.mjtObj.mjOBJ_GEOM),
+            )
+        }
         self._ball = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")
         self._geoms = (self._ids["geom"], mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "ball"))
         self.n, self.rows = worlds, bucket(worlds)
@@ -179,23 +195,28 @@ class MjxEngine(BatchedEngine):
 
         pos, size = np.asarray(mx.geom_pos[g]), np.asarray(mx.geom_size[g])
         knob_x = pos[0] - size[1] - size[0]
-        return MassProperties(bat_mass_kg=float(mass[bat]),
-                              bat_com_from_knob_m=float(ipos[bat][0] - knob_x),
-                              bat_inertia_kgm2=about_z(bat), ball_mass_kg=float(mass[ball]),
-                              ball_inertia_kgm2=about_z(ball))
+        return MassProperties(
+            bat_mass_kg=float(mass[bat]),
+            bat_com_from_knob_m=float(ipos[bat][0] - knob_x),
+            bat_inertia_kgm2=about_z(bat),
+            ball_mass_kg=float(mass[ball]),
+            ball_inertia_kgm2=about_z(ball),
+        )
 
     def set_state(self, states: np.ndarray) -> None:
         s = np.asarray(states, dtype=float)
         s = np.pad(s, ((0, self.rows - len(s)), (0, len(STATE_FIELDS) - s.shape[1])))
-        s[len(states):] = s[0]
+        s[len(states) :] = s[0]
         qpos, qvel = mujoco_coordinates(s)
         self._planar = in_plane(s)
         with self._scope():
             d = self.data
-            self.data = d.replace(qpos=jnp.asarray(qpos, d.qpos.dtype),
-                                  qvel=jnp.asarray(qvel, d.qvel.dtype),
-                                  time=jnp.zeros_like(d.time),
-                                  qacc_warmstart=jnp.zeros_like(d.qacc_warmstart))
+            self.data = d.replace(
+                qpos=jnp.asarray(qpos, d.qpos.dtype),
+                qvel=jnp.asarray(qvel, d.qvel.dtype),
+                time=jnp.zeros_like(d.time),
+                qacc_warmstart=jnp.zeros_like(d.qacc_warmstart),
+            )
             self._bad = jnp.zeros(self.rows, dtype=bool)
         self._row, self._stepped, self._touching = s, False, np.zeros(self.rows, dtype=bool)
         self._shift = np.zeros((self.rows, 2))
@@ -206,18 +227,31 @@ class MjxEngine(BatchedEngine):
         with self._scope():
             d = self.data
             if hands is None:
-                self.data = d.replace(ctrl=jnp.zeros_like(d.ctrl),
-                                      eq_active=jnp.zeros_like(d.eq_active))
+                self.data = d.replace(
+                    ctrl=jnp.zeros_like(d.ctrl), eq_active=jnp.zeros_like(d.eq_active)
+                )
                 return
             first = hands[0]
-            if any((h.arm_m, h.pivot_from_com_m) != (first.arm_m, first.pivot_from_com_m)
-                   for h in hands):
-                raise ValueError("hands of one batch must share arm_m and pivot_from_com_m; "
-                                 "allowed: equal values (they are MJX model fields)")
+            if any(
+                (h.arm_m, h.pivot_from_com_m) != (first.arm_m, first.pivot_from_com_m)
+                for h in hands
+            ):
+                raise ValueError(
+                    "hands of one batch must share arm_m and pivot_from_com_m; "
+                    "allowed: equal values (they are MJX model fields)"
+                )
             if first.pivot_from_com_m is not None:
                 self._move_pivots_to(first.pivot_xy_m, hands)
-            ctrl = np.array([(h.force_n * math.cos(h.angle_rad),
-                              h.force_n * math.sin(h.angle_rad), h.torque_nm) for h in hands])
+            ctrl = np.array(
+                [
+                    (
+                        h.force_n * math.cos(h.angle_rad),
+                        h.force_n * math.sin(h.angle_rad),
+                        h.torque_nm,
+                    )
+                    for h in hands
+                ]
+            )
             ctrl = np.concatenate([ctrl, np.repeat(ctrl[:1], self.rows - len(ctrl), axis=0)])
             mx = self.model
             site_pos = np.asarray(mx.site_pos).copy()
@@ -226,10 +260,13 @@ class MjxEngine(BatchedEngine):
             hinged = first.pivot_from_com_m is not None
             if hinged:
                 eq_data[0][:6] = (first.pivot_from_com_m, 0.0, 0.0, *first.pivot_xy_m, 0.0)
-            self.model = mx.replace(site_pos=jnp.asarray(site_pos, mx.site_pos.dtype),
-                                    eq_data=jnp.asarray(eq_data, mx.eq_data.dtype))
-            self.data = d.replace(ctrl=jnp.asarray(ctrl, d.ctrl.dtype),
-                                  eq_active=jnp.full_like(d.eq_active, hinged))
+            self.model = mx.replace(
+                site_pos=jnp.asarray(site_pos, mx.site_pos.dtype),
+                eq_data=jnp.asarray(eq_data, mx.eq_data.dtype),
+            )
+            self.data = d.replace(
+                ctrl=jnp.asarray(ctrl, d.ctrl.dtype), eq_active=jnp.full_like(d.eq_active, hinged)
+            )
 
     def _move_pivots_to(self, xy, hands: Sequence[Hands]) -> None:
         """Translate each world so that its hands' pivot lies at ``xy``, the one anchor MJX's
@@ -240,7 +277,7 @@ class MjxEngine(BatchedEngine):
         d = self.data
         qpos = np.asarray(d.qpos, dtype=float).copy()
         for col in (0, 7):  # the bat's and the ball's x, y
-            qpos[:, col:col + 2] -= shift
+            qpos[:, col : col + 2] -= shift
         self.data = d.replace(qpos=jnp.asarray(qpos, d.qpos.dtype))
         self._row = np.asarray(self._row, dtype=float).copy()
         self._row[:, [0, 1]] -= shift
@@ -282,8 +319,9 @@ class MjxEngine(BatchedEngine):
             f = self._flat
             if f.d_leaves is None:  # the data as last set or read
                 f.d_leaves = jax.tree_util.tree_leaves(self._data)
-            f.d_leaves, self._row, self._touching, self._bad = f.advance(f.m_leaves, f.d_leaves,
-                                                                         self._bad)
+            f.d_leaves, self._row, self._touching, self._bad = f.advance(
+                f.m_leaves, f.d_leaves, self._bad
+            )
             self._stepped = True
 
     def _coordinates(self) -> tuple[np.ndarray, np.ndarray]:
@@ -297,8 +335,9 @@ class MjxEngine(BatchedEngine):
         row = np.array(self._row, dtype=float)[: self.n]
         if self._stepped:  # the yaw of a row turned about z alone as MJX computed it
             qpos, qvel = self._coordinates()
-            row = mujoco_rows(qpos[: self.n], qvel[: self.n], self._planar[: self.n],
-                              angle_rad=row[:, 7])
+            row = mujoco_rows(
+                qpos[: self.n], qvel[: self.n], self._planar[: self.n], angle_rad=row[:, 7]
+            )
         shift = self._shift[: self.n]
         row[:, [0, 1]] += shift
         row[:, [5, 6]] += shift

@@ -57,8 +57,11 @@ def _traced():
     def advance(m, d):
         d = mjx.step(m, d)
         touching = jnp.any(d._impl.contact.dist < 0.0)
-        finite = (jnp.all(jnp.isfinite(d.qpos)) & jnp.all(jnp.isfinite(d.qvel))
-                  & jnp.all(jnp.isfinite(d.qacc)))
+        finite = (
+            jnp.all(jnp.isfinite(d.qpos))
+            & jnp.all(jnp.isfinite(d.qvel))
+            & jnp.all(jnp.isfinite(d.qacc))
+        )
         return d, touching, finite
 
     return jax.jit(advance, compiler_options=COMPILER_OPTIONS)
@@ -91,18 +94,24 @@ class MjxChain(ChainEngine):
 
     def mass_properties(self) -> np.ndarray:
         mx = self.model
-        return segment_rows(self._host, np.asarray(mx.body_mass), np.asarray(mx.body_ipos),
-                            np.asarray(mx.body_inertia))
+        return segment_rows(
+            self._host,
+            np.asarray(mx.body_mass),
+            np.asarray(mx.body_ipos),
+            np.asarray(mx.body_inertia),
+        )
 
     def set_state(self, ball: np.ndarray, segments: np.ndarray) -> None:
         h = self._host
         h.set_state(ball, segments)
         with self._scope():
             d = self.data
-            self.data = d.replace(qpos=_committed(h.data.qpos, d.qpos),
-                                  qvel=_committed(h.data.qvel, d.qvel),
-                                  time=jnp.zeros_like(d.time),
-                                  qacc_warmstart=jnp.zeros_like(d.qacc_warmstart))
+            self.data = d.replace(
+                qpos=_committed(h.data.qpos, d.qpos),
+                qvel=_committed(h.data.qvel, d.qvel),
+                time=jnp.zeros_like(d.time),
+                qacc_warmstart=jnp.zeros_like(d.qacc_warmstart),
+            )
         self._touching, self._bad = False, False
 
     def step(self) -> None:

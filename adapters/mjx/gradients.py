@@ -34,8 +34,24 @@ def _coordinates(row, dtype):
     for a row in the swing plane, in jnp so that JAX can differentiate it)."""
     bx, by, bvx, bvy, bw, cx, cy, a, cvx, cvy, cw = (row[i] for i in range(11))
     zero, one = jnp.zeros((), dtype), jnp.ones((), dtype)
-    qpos = jnp.stack([cx, cy, zero, jnp.cos(a / 2), zero, zero, jnp.sin(a / 2), bx, by, zero,
-                      one, zero, zero, zero])
+    qpos = jnp.stack(
+        [
+            cx,
+            cy,
+            zero,
+            jnp.cos(a / 2),
+            zero,
+            zero,
+            jnp.sin(a / 2),
+            bx,
+            by,
+            zero,
+            one,
+            zero,
+            zero,
+            zero,
+        ]
+    )
     qvel = jnp.stack([cvx, cvy, zero, zero, zero, cw, bvx, bvy, zero, zero, zero, bw])
     return qpos.astype(dtype), qvel.astype(dtype)
 
@@ -43,8 +59,9 @@ def _coordinates(row, dtype):
 def _row(d):
     """The planar state row of one world's data (``adapter._advance``'s)."""
     q, v = d.qpos, d.qvel
-    return jnp.stack([q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * jnp.arctan2(q[6], q[3]),
-                      v[0], v[1], v[5]])
+    return jnp.stack(
+        [q[7], q[8], v[6], v[7], v[11], q[0], q[1], 2.0 * jnp.arctan2(q[6], q[3]), v[0], v[1], v[5]]
+    )
 
 
 @functools.lru_cache(maxsize=16)
@@ -71,8 +88,9 @@ def _traced(model_def, steps: int, bat: int, perpendicular: tuple[int, ...]):
     return jax.jit(run)
 
 
-def derivative(engine, states: np.ndarray, tangents: np.ndarray, steps: int,
-               inertia_tangent_kgm2: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def derivative(
+    engine, states: np.ndarray, tangents: np.ndarray, steps: int, inertia_tangent_kgm2: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
     """``BatchedEngine.derivative`` for an MJX engine built with its scene (module docstring)."""
     states, tangents = np.asarray(states, float), np.asarray(tangents, float)
     if np.any(states[:, 11:] != 0.0) or np.any(tangents[:, 11:] != 0.0):
@@ -89,9 +107,13 @@ def derivative(engine, states: np.ndarray, tangents: np.ndarray, steps: int,
         m_leaves, model_def = jax.tree_util.tree_flatten(model)
         run = _traced(model_def, steps, bat, _perpendicular(model, bat))
         data = mjx.make_data(model, impl="jax")
-        ends, d_ends = run(m_leaves, data, jnp.asarray(states[:, :11], dtype),
-                           jnp.asarray(tangents[:, :11], dtype), jnp.asarray(
-                               inertia_tangent_kgm2, dtype))
+        ends, d_ends = run(
+            m_leaves,
+            data,
+            jnp.asarray(states[:, :11], dtype),
+            jnp.asarray(tangents[:, :11], dtype),
+            jnp.asarray(inertia_tangent_kgm2, dtype),
+        )
         return np.asarray(ends, float)[:n], np.asarray(d_ends, float)[:n]
 
 

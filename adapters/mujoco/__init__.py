@@ -49,9 +49,12 @@ CONES = ("pyramidal", "elliptic")
 #: The geoms' own contact (no pair), stiff and damped at dt = 1e-5 s as the impulse contact:
 #: there MuJoCo combines the geoms' friction (max); a slide's friction is mu times its normal
 #: force whatever the friction rows' reference (the test of ``friction_rule``).
-NATIVE_FRICTION = {"contact_model": "native", "solref": (0.0, -1.5e5),
-                   "solimp": (0.99, 0.99, 0.001, 0.5, 2.0)}
-DEFAULT_SOLREF = (0.02, 1.0)                       # MuJoCo's documented defaults
+NATIVE_FRICTION = {
+    "contact_model": "native",
+    "solref": (0.0, -1.5e5),
+    "solimp": (0.99, 0.99, 0.001, 0.5, 2.0),
+}
+DEFAULT_SOLREF = (0.02, 1.0)  # MuJoCo's documented defaults
 DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
 
 
@@ -83,11 +86,14 @@ class MujocoSettings(Settings):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.integrator not in INTEGRATORS:
-            raise ValueError(f"integrator={self.integrator!r} is unknown; allowed: "
-                             f"{', '.join(INTEGRATORS)}")
+            raise ValueError(
+                f"integrator={self.integrator!r} is unknown; allowed: {', '.join(INTEGRATORS)}"
+            )
         if self.contact_model not in CONTACT_MODELS:
-            raise ValueError(f"contact_model={self.contact_model!r} is unknown; allowed: "
-                             f"{', '.join(CONTACT_MODELS)}")
+            raise ValueError(
+                f"contact_model={self.contact_model!r} is unknown; allowed: "
+                f"{', '.join(CONTACT_MODELS)}"
+            )
         checks.positive("soft_omega_radps", self.soft_omega_radps)
         checks.in_range("impedance", self.impedance, 0.0001, 0.9999)
         checks.integer("iterations", self.iterations, 1, 10_000)
@@ -137,8 +143,9 @@ class MujocoErrors(ErrorModel):
         # soft: solref (-w^2, -2 zeta w) acts on J qacc, in contact space (package docstring)
         if s.contact_model != "soft":
             return None
-        return ContactSpaceSpringDamper(omega_radps=s.soft_omega_radps,
-                                        damping_ratio=damping_ratio_for(max(e, 1e-9)))
+        return ContactSpaceSpringDamper(
+            omega_radps=s.soft_omega_radps, damping_ratio=damping_ratio_for(max(e, 1e-9))
+        )
 
 
 SOFT_OMEGAS_RADPS = (1000.0, 3000.0, 10000.0)  # soft-contact stiffnesses of the speed study
@@ -149,11 +156,23 @@ def _speed_accuracy() -> tuple[KnobFamily, ...]:
     out = []
     for integrator in ("Euler", "implicitfast", "RK4"):
         quick = integrator != "implicitfast"
-        out.append(KnobFamily(label=f"impulse, {integrator}", quick=quick,
-                              overrides=(("integrator", integrator),)))
-        out += [KnobFamily(label=f"soft w={w:g}, {integrator}", quick=quick and w == 3000.0,
-                           overrides=(("integrator", integrator), ("contact_model", "soft"),
-                                      ("soft_omega_radps", w))) for w in SOFT_OMEGAS_RADPS]
+        out.append(
+            KnobFamily(
+                label=f"impulse, {integrator}", quick=quick, overrides=(("integrator", integrator),)
+            )
+        )
+        out += [
+            KnobFamily(
+                label=f"soft w={w:g}, {integrator}",
+                quick=quick and w == 3000.0,
+                overrides=(
+                    ("integrator", integrator),
+                    ("contact_model", "soft"),
+                    ("soft_omega_radps", w),
+                ),
+            )
+            for w in SOFT_OMEGAS_RADPS
+        ]
     return tuple(out)
 
 
@@ -164,27 +183,51 @@ RECORD = EngineRecord(
         package="mujoco",
         import_name="mujoco",
         oldest="2.3.7",
-        history=("2.3.7", "3.0.1", "3.1.6", "3.2.7", "3.3.7", "3.5.0", "3.8.1", "3.9.0",
-                 "3.11.0", "3.14.0", "3.17.0", "4.0.0"),
-        release_notes={"3.9.0": "added the diagexact enable flag (the exact diagonal of the "
-                                "constraint-space inertia; the reference profile needs it): "
-                                "MuJoCo 3.9.0 changelog, General 2 (commit 71d1014e)"},
+        history=(
+            "2.3.7",
+            "3.0.1",
+            "3.1.6",
+            "3.2.7",
+            "3.3.7",
+            "3.5.0",
+            "3.8.1",
+            "3.9.0",
+            "3.11.0",
+            "3.14.0",
+            "3.17.0",
+            "4.0.0",
+        ),
+        release_notes={
+            "3.9.0": "added the diagexact enable flag (the exact diagonal of the "
+            "constraint-space inertia; the reference profile needs it): "
+            "MuJoCo 3.9.0 changelog, General 2 (commit 71d1014e)"
+        },
     ),
     profiles={
         # Fidelity to the impulse model: a 10 us step (contact tilt while the bat turns stays
         # ~1e-10), Euler (the impulse mapping is exact for one explicit step), impulse contact.
-        "reference": MujocoSettings(dt_s=1e-5, integrator="Euler", contact_model="impulse",
-                                    impedance=0.99, diagexact=True),
+        "reference": MujocoSettings(
+            dt_s=1e-5, integrator="Euler", contact_model="impulse", impedance=0.99, diagexact=True
+        ),
         # Out of the box: 2 ms step, Euler, solref (0.02, 1), default solimp, no diagexact; the
         # contact instant falls mid-step as it would in an unaligned simulation.
-        "default": MujocoSettings(dt_s=0.002, integrator="Euler", contact_model="native",
-                                  diagexact=False, contact_phase=0.5, cone="pyramidal"),
+        "default": MujocoSettings(
+            dt_s=0.002,
+            integrator="Euler",
+            contact_model="native",
+            diagexact=False,
+            contact_phase=0.5,
+            cone="pyramidal",
+        ),
     },
     can=Capabilities(
         chain_adapter="adapters.mujoco.chain:MujocoChain",
-        integrators=tuple(Integrator(label=name, overrides=(("integrator", name),),
-                                     order=4 if name == "RK4" else 1)
-                          for name in ("Euler", "implicitfast", "RK4")),
+        integrators=tuple(
+            Integrator(
+                label=name, overrides=(("integrator", name),), order=4 if name == "RK4" else 1
+            )
+            for name in ("Euler", "implicitfast", "RK4")
+        ),
         restitution_rule=RestitutionRule.MAPPED,
         friction_rule=FrictionRule.MAX,
         soft_contact={"contact_model": "soft"},
@@ -192,9 +235,15 @@ RECORD = EngineRecord(
         pool_adapter="adapters.mujoco.worlds:MujocoWorlds",
     ),
     errors=MujocoErrors(),
-    engine_defaults={"solref": DEFAULT_SOLREF, "solimp": DEFAULT_SOLIMP, "iterations": 100,
-                     "tolerance": 1e-8, "dt_s": 0.002, "integrator": "Euler",
-                     "cone": "pyramidal"},
+    engine_defaults={
+        "solref": DEFAULT_SOLREF,
+        "solimp": DEFAULT_SOLIMP,
+        "iterations": 100,
+        "tolerance": 1e-8,
+        "dt_s": 0.002,
+        "integrator": "Euler",
+        "cone": "pyramidal",
+    },
     cost=Cost(
         step_cost_s=5.3e-6,
     ),
@@ -203,12 +252,18 @@ RECORD = EngineRecord(
         marker="^",
         label="MuJoCo",
         notes=ReportNotes(
-            profile=("dt = {dt_s}, {integrator}, `impulse` contact: `solref = (0, -(1+e)/dt)`, "
-                     "constant impedance, `diagexact`"),
-            restitution=("none: mapped by the adapter (`impulse`, or `soft` spring-damper "
-                         "calibrated for e)"),
-            defaults=("MuJoCo's solref {default_solref}, solimp, iterations and {default_dt_s} "
-                      "step, read back")),
+            profile=(
+                "dt = {dt_s}, {integrator}, `impulse` contact: `solref = (0, -(1+e)/dt)`, "
+                "constant impedance, `diagexact`"
+            ),
+            restitution=(
+                "none: mapped by the adapter (`impulse`, or `soft` spring-damper calibrated for e)"
+            ),
+            defaults=(
+                "MuJoCo's solref {default_solref}, solimp, iterations and {default_dt_s} "
+                "step, read back"
+            ),
+        ),
     ),
     studies=Studies(
         speed_accuracy=_speed_accuracy(),
@@ -233,8 +288,10 @@ class RegularisedSettings(MujocoSettings):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.diagexact:
-            raise ValueError("diagexact=True is not in MuJoCo's ports; allowed: False (see "
-                             "invweight_scale for an exact impulse)")
+            raise ValueError(
+                "diagexact=True is not in MuJoCo's ports; allowed: False (see "
+                "invweight_scale for an exact impulse)"
+            )
         if self.speculative:
             raise ValueError("speculative=True is not in MuJoCo's ports; allowed: False")
         checks.in_range("invweight_scale", self.invweight_scale, 1e-12, 1.0)

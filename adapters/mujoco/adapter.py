@@ -21,9 +21,14 @@ mujoco.set_mju_user_warning(lambda text: None)
 #: Warnings that mean the state blew up. MuJoCo resets the state after them, and with it the
 #: counters, before it counts the warning again: so a counter reads 1 however many blow-ups
 #: came before; ``set_state`` zeroes them and any count since is a failure.
-BLOW_UPS = tuple(int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS,
-                                  mujoco.mjtWarning.mjWARN_BADQVEL,
-                                  mujoco.mjtWarning.mjWARN_BADQACC))
+BLOW_UPS = tuple(
+    int(w)
+    for w in (
+        mujoco.mjtWarning.mjWARN_BADQPOS,
+        mujoco.mjtWarning.mjWARN_BADQVEL,
+        mujoco.mjtWarning.mjWARN_BADQACC,
+    )
+)
 
 
 @functools.lru_cache(maxsize=16)
@@ -46,8 +51,8 @@ def apply_options(m, st, cone: bool = True) -> None:
     if st.diagexact:
         m.opt.enableflags |= feature(mujoco.mjtEnableBit, "mjENBL_DIAGEXACT", "diagexact=True")
     if st.speculative:
-        m.opt.enableflags |= feature(mujoco.mjtEnableBit, "mjENBL_SPECULATIVE",
-                                     "speculative=True")
+        m.opt.enableflags |= feature(mujoco.mjtEnableBit, "mjENBL_SPECULATIVE", "speculative=True")
+
 
 class MujocoEngine(Engine):
     """MuJoCo behind the single-world interface."""
@@ -57,14 +62,21 @@ class MujocoEngine(Engine):
     @classmethod
     def read_back_defaults(cls) -> dict:
         m = mujoco.MjModel.from_xml_string(
-            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
-        return {"solref": tuple(m.geom_solref[0].tolist()),
-                "solimp": tuple(m.geom_solimp[0].tolist()), "iterations": int(m.opt.iterations),
-                "tolerance": float(m.opt.tolerance), "dt_s": float(m.opt.timestep),
-                "integrator": next(i for i in INTEGRATORS if m.opt.integrator
-                                   == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")),
-                "cone": "elliptic" if m.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
-                else "pyramidal"}
+            '<mujoco><worldbody><geom size="1"/></worldbody></mujoco>'
+        )
+        return {
+            "solref": tuple(m.geom_solref[0].tolist()),
+            "solimp": tuple(m.geom_solimp[0].tolist()),
+            "iterations": int(m.opt.iterations),
+            "tolerance": float(m.opt.tolerance),
+            "dt_s": float(m.opt.timestep),
+            "integrator": next(
+                i
+                for i in INTEGRATORS
+                if m.opt.integrator == getattr(mujoco.mjtIntegrator, f"mjINT_{i.upper()}")
+            ),
+            "cone": "elliptic" if m.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC else "pyramidal",
+        }
 
     def build(self, scene: Scene) -> None:
         st = self.settings
@@ -82,8 +94,9 @@ class MujocoEngine(Engine):
         m.eq_solref[0] = st.hinge_solref if st.hinge_solref is not None else (2 * st.dt_s, 1.0)
         m.geom_solref[:], m.geom_solimp[:] = contact_parameters(st, scene.e)
         if m.npair:
-            m.pair_solref[0], m.pair_solimp[0], m.pair_solreffriction[0] = \
-                pair_parameters(st, scene.e)
+            m.pair_solref[0], m.pair_solimp[0], m.pair_solreffriction[0] = pair_parameters(
+                st, scene.e
+            )
 
     def sibling(self) -> MujocoEngine:
         """Another world on this one's model (a data of its own): what a pool holds
@@ -127,11 +140,31 @@ class MujocoEngine(Engine):
         # free joints: qvel[3:6] is the angular velocity in the body's frame (the ball's is
         # the world's: it starts unturned)
         w = rotate(q, (state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps), True)
-        self._qpos[:] = (state.bat_x_m, state.bat_y_m, state.bat_z_m, *q, state.ball_x_m,
-                         state.ball_y_m, state.ball_z_m, 1.0, 0.0, 0.0, 0.0)
-        self._qvel[:] = (state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps, *w,
-                         state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps,
-                         state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps)
+        self._qpos[:] = (
+            state.bat_x_m,
+            state.bat_y_m,
+            state.bat_z_m,
+            *q,
+            state.ball_x_m,
+            state.ball_y_m,
+            state.ball_z_m,
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+        )
+        self._qvel[:] = (
+            state.bat_vx_mps,
+            state.bat_vy_mps,
+            state.bat_vz_mps,
+            *w,
+            state.ball_vx_mps,
+            state.ball_vy_mps,
+            state.ball_vz_mps,
+            state.ball_wx_radps,
+            state.ball_wy_radps,
+            state.ball_omega_radps,
+        )
 
     def set_drive(self, hands: Hands | None) -> None:
         # Site actuators act in the bat's frame and are evaluated at every integrator stage;
@@ -142,13 +175,15 @@ class MujocoEngine(Engine):
             self.data.eq_active[0] = 0
             return
         if hands.pivot_from_com_m is not None:
-            self.model.eq_data[0][:6] = (hands.pivot_from_com_m, 0.0, 0.0, *hands.pivot_xy_m,
-                                         0.0)
+            self.model.eq_data[0][:6] = (hands.pivot_from_com_m, 0.0, 0.0, *hands.pivot_xy_m, 0.0)
             self.data.eq_active[0] = 1
         self.model.site_pos[self._site] = (hands.arm_m, 0.0, 0.0)
         q = hands.angle_rad
-        self.data.ctrl[:] = (hands.force_n * math.cos(q), hands.force_n * math.sin(q),
-                             hands.torque_nm)
+        self.data.ctrl[:] = (
+            hands.force_n * math.cos(q),
+            hands.force_n * math.sin(q),
+            hands.torque_nm,
+        )
 
     def step(self) -> None:
         mujoco.mj_step(self.model, self.data)
@@ -158,13 +193,28 @@ class MujocoEngine(Engine):
         bat_w = rotate(q[3:7], v[3:6])
         ball_w = rotate(q[10:14], v[9:12])
         angle, tilt = angle_and_tilt(*q[3:7], self._planar)
-        return State(ball_x_m=q[7], ball_y_m=q[8], ball_vx_mps=v[6], ball_vy_mps=v[7],
-                     ball_omega_radps=ball_w[2], bat_x_m=q[0], bat_y_m=q[1],
-                     bat_angle_rad=angle, bat_vx_mps=v[0], bat_vy_mps=v[1],
-                     bat_omega_radps=bat_w[2], ball_z_m=q[9], ball_vz_mps=v[8],
-                     ball_wx_radps=ball_w[0], ball_wy_radps=ball_w[1], bat_z_m=q[2],
-                     bat_tilt_rad=tilt, bat_vz_mps=v[2], bat_wx_radps=bat_w[0],
-                     bat_wy_radps=bat_w[1])
+        return State(
+            ball_x_m=q[7],
+            ball_y_m=q[8],
+            ball_vx_mps=v[6],
+            ball_vy_mps=v[7],
+            ball_omega_radps=ball_w[2],
+            bat_x_m=q[0],
+            bat_y_m=q[1],
+            bat_angle_rad=angle,
+            bat_vx_mps=v[0],
+            bat_vy_mps=v[1],
+            bat_omega_radps=bat_w[2],
+            ball_z_m=q[9],
+            ball_vz_mps=v[8],
+            ball_wx_radps=ball_w[0],
+            ball_wy_radps=ball_w[1],
+            bat_z_m=q[2],
+            bat_tilt_rad=tilt,
+            bat_vz_mps=v[2],
+            bat_wx_radps=bat_w[0],
+            bat_wy_radps=bat_w[1],
+        )
 
     def in_contact(self) -> bool:
         return self.data.ncon > 0

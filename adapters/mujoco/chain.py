@@ -22,18 +22,24 @@ def chain_mjcf(scene: ChainScene) -> str:
     ell, r = chain.segment_length_m, chain.bat.radius_m
     ib = ball.inertia_kgm2
     opened, closed = [], []
-    for i, (m, c, J) in enumerate(zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2,
-                                      strict=True)):
+    for i, (m, c, J) in enumerate(
+        zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2, strict=True)
+    ):
         axial = min(0.5 * m * r * r, 2.0 * J)  # a valid tensor (adapters.segmented)
-        joint = ('<freejoint name="root"/>' if i == 0 else
-                 f'<joint name="j{i}" type="hinge" axis="0 0 1" '
-                 f'stiffness="{chain.stiffnesses_nmprad[i - 1]!r}" '
-                 f'damping="{chain.dampings_nmsprad[i - 1]!r}"/>')
-        opened.append(f'<body name="s{i}" pos="{0.0 if i == 0 else ell!r} 0 0">{joint}'
-                      f'<inertial pos="{c - i * ell!r} 0 0" mass="{m!r}" '
-                      f'diaginertia="{axial!r} {J!r} {J!r}"/>'
-                      f'<geom name="g{i}" type="capsule" fromto="0 0 0 {ell!r} 0 0" '
-                      f'size="{r!r}" contype="1" conaffinity="2"/>')
+        joint = (
+            '<freejoint name="root"/>'
+            if i == 0
+            else f'<joint name="j{i}" type="hinge" axis="0 0 1" '
+            f'stiffness="{chain.stiffnesses_nmprad[i - 1]!r}" '
+            f'damping="{chain.dampings_nmsprad[i - 1]!r}"/>'
+        )
+        opened.append(
+            f'<body name="s{i}" pos="{0.0 if i == 0 else ell!r} 0 0">{joint}'
+            f'<inertial pos="{c - i * ell!r} 0 0" mass="{m!r}" '
+            f'diaginertia="{axial!r} {J!r} {J!r}"/>'
+            f'<geom name="g{i}" type="capsule" fromto="0 0 0 {ell!r} 0 0" '
+            f'size="{r!r}" contype="1" conaffinity="2"/>'
+        )
         closed.append("</body>")
     return f"""<mujoco model="chain_ball">
   <compiler angle="radian" inertiafromgeom="false"/>
@@ -64,13 +70,16 @@ class MujocoChain(ChainEngine):
         self.n = scene.chain.segments
         self._ell = scene.chain.segment_length_m
         self._ball = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "ball")
-        self._segs = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"s{i}")
-                      for i in range(self.n)]
+        self._segs = [
+            mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"s{i}") for i in range(self.n)
+        ]
 
     def mass_properties(self) -> np.ndarray:
         m = self.model
-        rows = [(m.body_mass[b], m.body_ipos[b][0] + i * self._ell, m.body_inertia[b][2])
-                for i, b in enumerate(self._segs)]
+        rows = [
+            (m.body_mass[b], m.body_ipos[b][0] + i * self._ell, m.body_inertia[b][2])
+            for i, b in enumerate(self._segs)
+        ]
         return np.array(rows, dtype=float)
 
     def set_state(self, ball: np.ndarray, segments: np.ndarray) -> None:
@@ -87,10 +96,10 @@ class MujocoChain(ChainEngine):
         d.qpos[:] = 0.0
         d.qpos[0:7] = (*knob, 0.0, np.cos(a / 2), 0.0, 0.0, np.sin(a / 2))
         d.qpos[-7:] = (ball[0], ball[1], 0.0, 1.0, 0.0, 0.0, 0.0)
-        d.qpos[7:7 + self.n - 1] = np.diff(segments[:, 2])
+        d.qpos[7 : 7 + self.n - 1] = np.diff(segments[:, 2])
         d.qvel[:] = 0.0
         d.qvel[0:6] = (*v_knob, 0.0, 0.0, 0.0, w)  # angular velocity in the body's frame: z
-        d.qvel[6:6 + self.n - 1] = np.diff(segments[:, 5])
+        d.qvel[6 : 6 + self.n - 1] = np.diff(segments[:, 5])
         d.qvel[-6:] = (ball[2], ball[3], 0.0, 0.0, 0.0, 0.0)
         mujoco.mj_forward(m, d)
 
@@ -106,8 +115,9 @@ class MujocoChain(ChainEngine):
         for b in self._segs:
             mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_BODY, b, vel, 0)
             xmat = d.xmat[b]
-            rows.append((d.xipos[b][0], d.xipos[b][1], np.arctan2(xmat[3], xmat[0]), vel[3],
-                         vel[4], vel[2]))
+            rows.append(
+                (d.xipos[b][0], d.xipos[b][1], np.arctan2(xmat[3], xmat[0]), vel[3], vel[4], vel[2])
+            )
         mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_BODY, self._ball, vel, 0)
         ball = np.array([d.xipos[self._ball][0], d.xipos[self._ball][1], vel[3], vel[4]])
         return ball, np.array(rows)

@@ -19,9 +19,11 @@ def friction_xml(mu: float, paired: bool) -> tuple[str, str]:
         return 'condim="1" friction="0 0 0"', ""
     if not paired:
         return f'condim="3" friction="{mu!r} 0 0"', ""
-    return ('condim="3" friction="0 0 0"',
-            '<contact><exclude body1="bat" body2="ball"/><pair name="bat_ball" geom1="bat" '
-            f'geom2="ball" condim="3" friction="{mu!r} {mu!r} 0 0 0"/></contact>')
+    return (
+        'condim="3" friction="0 0 0"',
+        '<contact><exclude body1="bat" body2="ball"/><pair name="bat_ball" geom1="bat" '
+        f'geom2="ball" condim="3" friction="{mu!r} {mu!r} 0 0 0"/></contact>',
+    )
 
 
 def mjcf(bat: Bat, ball: Ball, mu: float = 0.0, paired: bool = True) -> str:

@@ -55,8 +55,9 @@ class MujocoWorlds(BatchedEngine):
             world.step()
 
     def read(self) -> np.ndarray:
-        return np.array([world.read() for world in self._worlds],
-                        dtype=float).reshape(-1, len(STATE_FIELDS))
+        return np.array([world.read() for world in self._worlds], dtype=float).reshape(
+            -1, len(STATE_FIELDS)
+        )
 
     def in_contact(self) -> np.ndarray:
         return np.array([world.in_contact() for world in self._worlds], dtype=bool)
@@ -66,8 +67,9 @@ class MujocoWorlds(BatchedEngine):
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
         if hands is not None and any(h != hands[0] for h in hands):
-            raise ValueError("hands: one model holds one drive; allowed: the same hands in "
-                             "every world")
+            raise ValueError(
+                "hands: one model holds one drive; allowed: the same hands in every world"
+            )
         for world in self._worlds:
             world.set_drive(None if hands is None else hands[0])
 

@@ -150,8 +150,7 @@ def penalty_damping_ratio_for(e: float) -> float:
     hi = 1.0
     while penalty_restitution(hi) > e:
         hi *= 2.0
-    return optimize.brentq(lambda z: penalty_restitution(z) - e, 0.0, hi, xtol=1e-15,
-                           rtol=1e-15)
+    return optimize.brentq(lambda z: penalty_restitution(z) - e, 0.0, hi, xtol=1e-15, rtol=1e-15)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -203,35 +202,40 @@ class NewtonSettings(Settings):
         super().__post_init__()
         for name, allowed in (("solver", SOLVERS), ("contact_model", MUJOCO_CONTACT_MODELS)):
             if getattr(self, name) not in allowed:
-                raise ValueError(f"{name}={getattr(self, name)!r} is unknown; allowed: "
-                                 f"{', '.join(allowed)}")
+                raise ValueError(
+                    f"{name}={getattr(self, name)!r} is unknown; allowed: {', '.join(allowed)}"
+                )
         if self.integrator is not None and self.integrator not in MUJOCO_INTEGRATORS:
-            raise ValueError(f"integrator={self.integrator!r} is unknown; allowed: "
-                             f"{', '.join(MUJOCO_INTEGRATORS)}")
+            raise ValueError(
+                f"integrator={self.integrator!r} is unknown; allowed: "
+                f"{', '.join(MUJOCO_INTEGRATORS)}"
+            )
         for name in ("iterations", "restitution_iterations"):
             if getattr(self, name) is not None:
                 checks.integer(name, getattr(self, name), 1, 10_000)
         if self.contact_relaxation is not None:
-            checks.in_range("contact_relaxation", self.contact_relaxation, 0.0, 1.0,
-                            lo_open=True)
+            checks.in_range("contact_relaxation", self.contact_relaxation, 0.0, 1.0, lo_open=True)
         for name in ("contact_gap_m", "angular_damping"):
             if getattr(self, name) is not None:
                 checks.non_negative(name, getattr(self, name))
         if not isinstance(self.enable_restitution, bool):
-            raise ValueError(f"enable_restitution={self.enable_restitution!r} is not a bool; "
-                             "allowed: True, False")
+            raise ValueError(
+                f"enable_restitution={self.enable_restitution!r} is not a bool; "
+                "allowed: True, False"
+            )
         checks.in_range("impedance", self.impedance, 0.0001, 0.9999)
         if self.tolerance is not None:
             checks.non_negative("tolerance", self.tolerance)
         if self.soft_omega_radps is not None:
             checks.positive("soft_omega_radps", self.soft_omega_radps)
         elif self.solver == "mujoco" and self.contact_model == "soft":
-            raise ValueError("soft_omega_radps=None leaves MuJoCo's soft contact without a "
-                             "frequency; allowed: a positive value (rad/s)")
+            raise ValueError(
+                "soft_omega_radps=None leaves MuJoCo's soft contact without a "
+                "frequency; allowed: a positive value (rad/s)"
+            )
         checks.positive("penalty_mass_kg", self.penalty_mass_kg)
         if self.cone is not None and self.cone not in CONES:
-            raise ValueError(f"cone={self.cone!r} is unknown; allowed: None, "
-                             f"{', '.join(CONES)}")
+            raise ValueError(f"cone={self.cone!r} is unknown; allowed: None, {', '.join(CONES)}")
         if self.friction_gain_nspm is not None:
             checks.positive("friction_gain_nspm", self.friction_gain_nspm)
 
@@ -270,8 +274,9 @@ class NewtonErrors(ErrorModel):
             k, c = s.penalty_gains(e)
             return PenaltyLaw(stiffness_npm=k, damping_nspm=c)
         if (s.solver, s.contact_model) == ("mujoco", "soft"):
-            return ContactSpaceSpringDamper(omega_radps=s.soft_omega_radps,
-                                            damping_ratio=damping_ratio_for(max(e, 1e-9)))
+            return ContactSpaceSpringDamper(
+                omega_radps=s.soft_omega_radps, damping_ratio=damping_ratio_for(max(e, 1e-9))
+            )
         return None
 
     def law_restitution_error(self, s, dt_over_contact: float) -> float:
@@ -299,33 +304,56 @@ def _speed_accuracy() -> tuple[KnobFamily, ...]:
     mujoco = (("solver", "mujoco"), ("tolerance", 0.0))
     return (
         KnobFamily(label="XPBD + restitution, 1 um gap (reference)", quick=True),
-        KnobFamily(label="XPBD + restitution, Newton's 0.1 m gap (speculative)", quick=True,
-                   overrides=(("contact_gap_m", None),)),
-        KnobFamily(label="XPBD + restitution, 10 iterations",
-                   overrides=(("iterations", 10),)),
-        KnobFamily(label="MuJoCo Warp, impulse solref, d = 0.9999, tolerance 0", quick=True,
-                   overrides=mujoco),
-        KnobFamily(label="MuJoCo Warp, soft w = 3000", overrides=(
-            *mujoco, ("contact_model", "soft"), ("soft_omega_radps", 3000.0))),
-        KnobFamily(label="SemiImplicit, penalty w = 3000", quick=True,
-                   overrides=(("solver", "semi_implicit"), ("soft_omega_radps", 3000.0))),
-        KnobFamily(label="Featherstone, penalty w = 3000",
-                   overrides=(("solver", "featherstone"), ("soft_omega_radps", 3000.0))),
+        KnobFamily(
+            label="XPBD + restitution, Newton's 0.1 m gap (speculative)",
+            quick=True,
+            overrides=(("contact_gap_m", None),),
+        ),
+        KnobFamily(label="XPBD + restitution, 10 iterations", overrides=(("iterations", 10),)),
+        KnobFamily(
+            label="MuJoCo Warp, impulse solref, d = 0.9999, tolerance 0",
+            quick=True,
+            overrides=mujoco,
+        ),
+        KnobFamily(
+            label="MuJoCo Warp, soft w = 3000",
+            overrides=(*mujoco, ("contact_model", "soft"), ("soft_omega_radps", 3000.0)),
+        ),
+        KnobFamily(
+            label="SemiImplicit, penalty w = 3000",
+            quick=True,
+            overrides=(("solver", "semi_implicit"), ("soft_omega_radps", 3000.0)),
+        ),
+        KnobFamily(
+            label="Featherstone, penalty w = 3000",
+            overrides=(("solver", "featherstone"), ("soft_omega_radps", 3000.0)),
+        ),
     )
 
 
 #: Newton's own values, read back by ``adapters.newton.defaults.read_back``: XPBD's constructor
 #: defaults, the builder's contact gap, and the cradle example's step (60 fps, 10 substeps).
-ENGINE_DEFAULTS = {"dt_s": 1 / 600, "iterations": 2, "contact_relaxation": 0.8,
-                   "restitution_iterations": 2, "contact_gap_m": DEFAULT_GAP_M,
-                   "angular_damping": 0.0, "friction_gain_nspm": 1000.0, "cone": DEFAULT_CONE}
+ENGINE_DEFAULTS = {
+    "dt_s": 1 / 600,
+    "iterations": 2,
+    "contact_relaxation": 0.8,
+    "restitution_iterations": 2,
+    "contact_gap_m": DEFAULT_GAP_M,
+    "angular_damping": 0.0,
+    "friction_gain_nspm": 1000.0,
+    "cone": DEFAULT_CONE,
+}
 
 RECORD = EngineRecord(
     name="newton",
     adapter="adapters.newton.adapter:NewtonEngine",
     install=Install(
-        package="newton", import_name="newton", extra="newton", requires=("warp",),
-        oldest="1.6.1", history=("1.6.1", "1.7.0", "1.8.0"),
+        package="newton",
+        import_name="newton",
+        extra="newton",
+        requires=("warp",),
+        oldest="1.6.1",
+        history=("1.6.1", "1.7.0", "1.8.0"),
     ),
     profiles={
         # XPBD with restitution: a rigid impulse. A 10 us step: the velocity pass takes the
@@ -352,17 +380,17 @@ RECORD = EngineRecord(
     errors=NewtonErrors(
         precision="float32",
         chain_defect="XPBD: a joint's anchor correction is relaxed by 0.7 linearly and 0.4 "
-                      "angularly (no force at the anchor: the 8-segment chain's lowest mode at "
-                      "0.79 of its period, angular momentum not kept), and restitution solves a "
-                      "contact with the struck segment's own mass (first touch at x = 0.66 m: "
-                      "-7.49 m/s against -2.20 through the joints)",
+        "angularly (no force at the anchor: the 8-segment chain's lowest mode at "
+        "0.79 of its period, angular momentum not kept), and restitution solves a "
+        "contact with the struck segment's own mass (first touch at x = 0.66 m: "
+        "-7.49 m/s against -2.20 through the joints)",
         friction_defect="XPBD's friction is positional, capped by its position pass's normal "
-                         "correction: the restitution pass carries none, so a slide gets mu P / "
-                         "(1 + e) of tangential impulse for Coulomb's mu P (2/3 at e = 0.5; "
-                         "package docstring)",
+        "correction: the restitution pass carries none, so a slide gets mu P / "
+        "(1 + e) of tangential impulse for Coulomb's mu P (2/3 at e = 0.5; "
+        "package docstring)",
         gradient_defect="wp.Tape through XPBD, contacts frozen as found: paper's swing, dv1/ds "
-                        "0.38 for 14.0 (m/s)/m at s = 0.05 m, 0.014 for -67.0 at 0.24; dv1/dv0 "
-                        "-0.25 for +0.28; dv1/dJ 0.373 of the closed form everywhere",
+        "0.38 for 14.0 (m/s)/m at s = 0.05 m, 0.014 for -67.0 at 0.24; dv1/dv0 "
+        "-0.25 for +0.28; dv1/dJ 0.373 of the closed form everywhere",
     ),
     engine_defaults=ENGINE_DEFAULTS,
     cost=Cost(step_cost_s=2.7e-3, world_step_cost_s=2e-6, start_s=0.3),
@@ -371,28 +399,41 @@ RECORD = EngineRecord(
         marker="X",
         label="Newton",
         notes=ReportNotes(
-            profile=("dt = {dt_s}, XPBD with `enable_restitution`, contact gap {contact_gap_m} "
-                     "per shape ({default_contact_gap_m} by default)"),
-            restitution=("each shape's restitution, combined as their mean (XPBD; both set to "
-                         "e); ignored unless the solver's `enable_restitution` is on (off by "
-                         "default)"),
-            handled=("XPBD's velocity pass uses the lever arms of the pose after the step's "
-                     "integration (first order in dt); Newton projects the ball onto the "
-                     "capsule's axis with a 1e-6 m^2 regulariser (a micrometre "
-                     "off along a 0.78 m bat: the axis starts at the barrel end); contacts are "
-                     "found {default_contact_gap_m} per shape ahead by default and solved from "
-                     "that step's start (speculative); no hands (no set_drive)."),
-            defaults=("XPBD's iterations, relaxation and the builder's gap read back from fresh "
-                      "objects; the step from Newton's cradle example's source")),
+            profile=(
+                "dt = {dt_s}, XPBD with `enable_restitution`, contact gap {contact_gap_m} "
+                "per shape ({default_contact_gap_m} by default)"
+            ),
+            restitution=(
+                "each shape's restitution, combined as their mean (XPBD; both set to "
+                "e); ignored unless the solver's `enable_restitution` is on (off by "
+                "default)"
+            ),
+            handled=(
+                "XPBD's velocity pass uses the lever arms of the pose after the step's "
+                "integration (first order in dt); Newton projects the ball onto the "
+                "capsule's axis with a 1e-6 m^2 regulariser (a micrometre "
+                "off along a 0.78 m bat: the axis starts at the barrel end); contacts are "
+                "found {default_contact_gap_m} per shape ahead by default and solved from "
+                "that step's start (speculative); no hands (no set_drive)."
+            ),
+            defaults=(
+                "XPBD's iterations, relaxation and the builder's gap read back from fresh "
+                "objects; the step from Newton's cradle example's source"
+            ),
+        ),
     ),
     studies=Studies(
         speed_accuracy=_speed_accuracy(),
         friction_families=(
             KnobFamily(label="XPBD, relaxation 1", overrides=(("contact_relaxation", 1.0),)),
-            KnobFamily(label="MuJoCo Warp, impulse solref, elliptic cone, tolerance 0",
-                       overrides=(("solver", "mujoco"), ("tolerance", 0.0), ("cone", "elliptic"))),
-            KnobFamily(label="SemiImplicit, penalty w = 3000, Newton's kf",
-                       overrides=(("solver", "semi_implicit"),)),
+            KnobFamily(
+                label="MuJoCo Warp, impulse solref, elliptic cone, tolerance 0",
+                overrides=(("solver", "mujoco"), ("tolerance", 0.0), ("cone", "elliptic")),
+            ),
+            KnobFamily(
+                label="SemiImplicit, penalty w = 3000, Newton's kf",
+                overrides=(("solver", "semi_implicit"),),
+            ),
         ),
     ),
 )

@@ -10,8 +10,9 @@ from . import RECORD, NewtonSettings
 from . import scene as sc
 
 newton, wp = sc.newton, sc.wp
-(BX, BY, BVX, BVY, BW, CX, CY, CA, CVX, CVY, CW, BZ, BVZ, BWX, BWY, CZ, CT, CVZ, CWX,
- CWY) = range(len(STATE_FIELDS))
+(BX, BY, BVX, BVY, BW, CX, CY, CA, CVX, CVY, CW, BZ, BVZ, BWX, BWY, CZ, CT, CVZ, CWX, CWY) = range(
+    len(STATE_FIELDS)
+)
 
 
 class StateRows(np.ndarray):
@@ -72,7 +73,9 @@ class NewtonEngine(BatchedEngine):
             bat_mass_kg=float(mass[sc.BAT]),
             bat_com_from_knob_m=float(com[sc.BAT][0] - knob_x),
             bat_inertia_kgm2=float(inertia[sc.BAT][2, 2]),
-            ball_mass_kg=float(mass[sc.BALL]), ball_inertia_kgm2=float(inertia[sc.BALL][2, 2]))
+            ball_mass_kg=float(mass[sc.BALL]),
+            ball_inertia_kgm2=float(inertia[sc.BALL][2, 2]),
+        )
 
     def set_state(self, states: np.ndarray) -> None:
         """Both bodies of every world; Newton's twists are (v_com, omega), both in the world
@@ -111,7 +114,8 @@ class NewtonEngine(BatchedEngine):
         # only a contact changes the ball's velocity: no gravity, no damping on it (its vz
         # counts only out of the plane: in it, it is float32 rounding, never read before)
         moved = np.any(v[:, :2] != self.ball_v[:, :2], axis=1) | (
-            ~self.planar & (v[:, 2] != self.ball_v[:, 2]))
+            ~self.planar & (v[:, 2] != self.ball_v[:, 2])
+        )
         self.touching = self._listed() & moved
         self.ball_v = v.copy()
 
@@ -141,8 +145,7 @@ class NewtonEngine(BatchedEngine):
         out[:, [CVX, CVY, CVZ, CWX, CWY, CW]] = qd[:, sc.BAT]
         yaw, out[:, CT] = angles_and_tilts(q[:, sc.BAT, [6, 3, 4, 5]])
         # a world set in the plane: its yaw as it was always read (``frames_batch``)
-        out[:, CA] = np.where(self.planar, 2.0 * np.arctan2(q[:, sc.BAT, 5], q[:, sc.BAT, 6]),
-                              yaw)
+        out[:, CA] = np.where(self.planar, 2.0 * np.arctan2(q[:, sc.BAT, 5], q[:, sc.BAT, 6]), yaw)
         return out.view(StateRows)
 
     def in_contact(self) -> np.ndarray:
@@ -155,8 +158,9 @@ class NewtonEngine(BatchedEngine):
 
     def failed(self) -> np.ndarray:
         s = self.states[0]
-        bad = ~(np.isfinite(s.body_q.numpy()).all(axis=1) & np.isfinite(s.body_qd.numpy()).all(
-            axis=1))
+        bad = ~(
+            np.isfinite(s.body_q.numpy()).all(axis=1) & np.isfinite(s.body_qd.numpy()).all(axis=1)
+        )
         return bad.reshape(self.n, 2).any(axis=1)
 
     def set_body_restitution(self, *, bat: float, ball: float) -> None:
@@ -176,4 +180,3 @@ class NewtonEngine(BatchedEngine):
 
     def close(self) -> None:
         self.model = self.solver = self.pipeline = self.contacts = None
-

@@ -61,8 +61,9 @@ from . import scene as sc
 newton, wp = sc.newton, sc.wp
 
 
-def xpbd_gains(k: float, c: float, w: float, dt: float, iterations: int,
-               relaxation: float) -> tuple[float, float]:
+def xpbd_gains(
+    k: float, c: float, w: float, dt: float, iterations: int, relaxation: float
+) -> tuple[float, float]:
     """(target_ke, target_kd) of XPBD's revolute drive giving a torque of k N m/rad (c N m s/rad)
     on a joint of angular inverse inertia w (1/(kg m^2)), small bends (module docstring)."""
     if k == 0.0:
@@ -71,9 +72,11 @@ def xpbd_gains(k: float, c: float, w: float, dt: float, iterations: int,
     one_less_f = 1.0 - (1.0 + a_k) ** (-1.0 / iterations)
     if one_less_f >= relaxation:  # even a rigid drive (ke infinite) takes less per step
         bound = (1.0 - relaxation) ** -iterations - 1.0
-        raise ValueError(f"XPBD's joint drive cannot reach k = {k:.4g} N m/rad: k w dt^2 = "
-                         f"{a_k:.3g} > {bound:.3g} at {iterations} iterations, relaxation "
-                         f"{relaxation}, dt = {dt:.3g} s")
+        raise ValueError(
+            f"XPBD's joint drive cannot reach k = {k:.4g} N m/rad: k w dt^2 = "
+            f"{a_k:.3g} > {bound:.3g} at {iterations} iterations, relaxation "
+            f"{relaxation}, dt = {dt:.3g} s"
+        )
     ke = 4.0 * one_less_f / (relaxation - one_less_f) / (w * dt * dt)
     return ke, c * ke / k
 
@@ -88,34 +91,61 @@ def chain_builder(scene: ChainScene, st: NewtonSettings):
         newton.solvers.SolverMuJoCo.register_custom_attributes(b)
     cfg = sc._shape_config(SimpleNamespace(e=scene.e, mu=0.0), st)
     joints, shapes = [], []
-    for i, (m, c, J) in enumerate(zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2,
-                                      strict=True)):
+    for i, (m, c, J) in enumerate(
+        zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2, strict=True)
+    ):
         ax = 0.5 * m * r * r
-        body = b.add_link(xform=wp.transform(wp.vec3(c - x_cm, 0.0, 0.0), wp.quat_identity()),
-                          mass=m, inertia=wp.mat33(ax, 0, 0, 0, J, 0, 0, 0, J), label=f"s{i}",
-                          lock_inertia=True)
-        shapes.append(b.add_shape_capsule(
-            body, xform=wp.transform(wp.vec3((i + 0.5) * ell - c, 0.0, 0.0),
-                                     wp.quat(*sc.Z_TO_MINUS_X)),
-            radius=r, half_height=0.5 * ell, cfg=cfg, label=f"s{i}"))
+        body = b.add_link(
+            xform=wp.transform(wp.vec3(c - x_cm, 0.0, 0.0), wp.quat_identity()),
+            mass=m,
+            inertia=wp.mat33(ax, 0, 0, 0, J, 0, 0, 0, J),
+            label=f"s{i}",
+            lock_inertia=True,
+        )
+        shapes.append(
+            b.add_shape_capsule(
+                body,
+                xform=wp.transform(
+                    wp.vec3((i + 0.5) * ell - c, 0.0, 0.0), wp.quat(*sc.Z_TO_MINUS_X)
+                ),
+                radius=r,
+                half_height=0.5 * ell,
+                cfg=cfg,
+                label=f"s{i}",
+            )
+        )
         if i == 0:
             joints.append(b.add_joint_free(body, label="root"))
             continue
         prev = chain.coms_m[i - 1]
-        joints.append(b.add_joint_revolute(
-            body - 1, body, parent_xform=wp.transform(wp.vec3(i * ell - prev, 0.0, 0.0),
-                                                      wp.quat_identity()),
-            child_xform=wp.transform(wp.vec3(i * ell - c, 0.0, 0.0), wp.quat_identity()),
-            axis=(0.0, 0.0, 1.0), target_q=0.0, target_ke=0.0, target_kd=0.0,
-            stiffness=0.0, damping=0.0, label=f"j{i}", collision_filter_parent=True))
+        joints.append(
+            b.add_joint_revolute(
+                body - 1,
+                body,
+                parent_xform=wp.transform(wp.vec3(i * ell - prev, 0.0, 0.0), wp.quat_identity()),
+                child_xform=wp.transform(wp.vec3(i * ell - c, 0.0, 0.0), wp.quat_identity()),
+                axis=(0.0, 0.0, 1.0),
+                target_q=0.0,
+                target_ke=0.0,
+                target_kd=0.0,
+                stiffness=0.0,
+                damping=0.0,
+                label=f"j{i}",
+                collision_filter_parent=True,
+            )
+        )
     b.add_articulation(joints, label="bat")
     for i in range(len(shapes)):
         for j in range(i + 2, len(shapes)):
             b.add_shape_collision_filter_pair(shapes[i], shapes[j])
     ib = ball.inertia_kgm2
-    body = b.add_body(mass=ball.mass_kg, inertia=wp.mat33(ib, 0, 0, 0, ib, 0, 0, 0, ib),
-                      xform=wp.transform(wp.vec3(0.0, 1.0, 0.0), wp.quat_identity()),
-                      label="ball", lock_inertia=True)
+    body = b.add_body(
+        mass=ball.mass_kg,
+        inertia=wp.mat33(ib, 0, 0, 0, ib, 0, 0, 0, ib),
+        xform=wp.transform(wp.vec3(0.0, 1.0, 0.0), wp.quat_identity()),
+        label="ball",
+        lock_inertia=True,
+    )
     b.add_shape_sphere(body, radius=ball.radius_m, cfg=cfg, label="ball")
     return b
 
@@ -136,16 +166,22 @@ class NewtonChain(ChainEngine):
         self.n = scene.chain.segments
         # no inertia "correction": from N = 32 a short segment's axial 0.5 m r^2 exceeds 2 J,
         # and Newton would raise J to meet the triangle inequality (x8.8 at N = 64)
-        self.model = m = chain_builder(scene, st).finalize(device=sc.DEVICE,
-                                                           skip_validation_inertia=True)
+        self.model = m = chain_builder(scene, st).finalize(
+            device=sc.DEVICE, skip_validation_inertia=True
+        )
         if st.solver == "mujoco":
             sc._mujoco_contact(m, SimpleNamespace(e=scene.e, mu=0.0), st)
         self._springs(scene)
         self.solver = sc.solver(m, st)
         if st.solver == "xpbd":
             self._xpbd_springs(scene)
-        self.pipeline = None if st.solver == "mujoco" else newton.CollisionPipeline(
-            m, broad_phase="explicit", rigid_contact_max=8 * self.n, verify_buffers=False)
+        self.pipeline = (
+            None
+            if st.solver == "mujoco"
+            else newton.CollisionPipeline(
+                m, broad_phase="explicit", rigid_contact_max=8 * self.n, verify_buffers=False
+            )
+        )
         self.contacts = self.pipeline.contacts() if self.pipeline is not None else None
         self.control = m.control()
         self.states = [m.state(), m.state()]
@@ -164,11 +200,18 @@ class NewtonChain(ChainEngine):
     def _xpbd_springs(self, scene: ChainScene) -> None:
         """XPBD's drive gains for k_j, c_j at the solver's iterations and relaxation."""
         ch, s = scene.chain, self.solver
-        inv_i = self.model.body_inv_inertia.numpy()[:self.n, 2, 2].astype(float)
-        gains = [xpbd_gains(k, c, inv_i[j] + inv_i[j + 1], self.settings.dt_s, s.iterations,
-                            s.joint_angular_relaxation)
-                 for j, (k, c) in enumerate(zip(ch.stiffnesses_nmprad, ch.dampings_nmsprad,
-                                                strict=True))]
+        inv_i = self.model.body_inv_inertia.numpy()[: self.n, 2, 2].astype(float)
+        gains = [
+            xpbd_gains(
+                k,
+                c,
+                inv_i[j] + inv_i[j + 1],
+                self.settings.dt_s,
+                s.iterations,
+                s.joint_angular_relaxation,
+            )
+            for j, (k, c) in enumerate(zip(ch.stiffnesses_nmprad, ch.dampings_nmsprad, strict=True))
+        ]
         self.model.joint_target_ke.assign(self._per_dof([g[0] for g in gains]))
         self.model.joint_target_kd.assign(self._per_dof([g[1] for g in gains]))
         self.solver.notify_model_changed(newton.ModelFlags.JOINT_DOF_FORCE_PROPERTIES)
@@ -176,7 +219,7 @@ class NewtonChain(ChainEngine):
     def _per_dof(self, per_joint) -> np.ndarray:
         """Per-joint values at the revolute joints' DOFs (6 free DOFs first, the ball's last)."""
         out = np.zeros(self.model.joint_dof_count, dtype=np.float32)
-        out[6:6 + self.n - 1] = per_joint
+        out[6 : 6 + self.n - 1] = per_joint
         return out
 
     def _read_knob_x(self) -> float:
@@ -189,10 +232,11 @@ class NewtonChain(ChainEngine):
 
     def mass_properties(self) -> np.ndarray:
         m = self.model
-        mass, inertia = m.body_mass.numpy()[:self.n], m.body_inertia.numpy()[:self.n]
-        com_x = m.body_q.numpy()[:self.n, 0] + m.body_com.numpy()[:self.n, 0]
-        return np.column_stack([mass.astype(float), com_x.astype(float) - self._knob_x,
-                                inertia[:, 2, 2].astype(float)])
+        mass, inertia = m.body_mass.numpy()[: self.n], m.body_inertia.numpy()[: self.n]
+        com_x = m.body_q.numpy()[: self.n, 0] + m.body_com.numpy()[: self.n, 0]
+        return np.column_stack(
+            [mass.astype(float), com_x.astype(float) - self._knob_x, inertia[:, 2, 2].astype(float)]
+        )
 
     def set_state(self, ball: np.ndarray, segments: np.ndarray) -> None:
         """Body poses and twists (v_com, omega: world frame), joint coordinates from them."""
@@ -238,8 +282,16 @@ class NewtonChain(ChainEngine):
         s = self.states[0]
         q, qd = s.body_q.numpy().astype(float), s.body_qd.numpy().astype(float)
         n = self.n
-        segs = np.column_stack([q[:n, 0], q[:n, 1], 2.0 * np.arctan2(q[:n, 5], q[:n, 6]),
-                                qd[:n, 0], qd[:n, 1], qd[:n, 5]])
+        segs = np.column_stack(
+            [
+                q[:n, 0],
+                q[:n, 1],
+                2.0 * np.arctan2(q[:n, 5], q[:n, 6]),
+                qd[:n, 0],
+                qd[:n, 1],
+                qd[:n, 5],
+            ]
+        )
         return np.array([q[n, 0], q[n, 1], qd[n, 0], qd[n, 1]]), segs
 
     def in_contact(self) -> bool:
@@ -251,4 +303,3 @@ class NewtonChain(ChainEngine):
 
     def close(self) -> None:
         self.model = self.solver = self.pipeline = self.contacts = None
-

@@ -36,13 +36,16 @@ def read_back() -> dict:
     builder = newton.ModelBuilder(gravity=(0.0, 0.0, 0.0))
     builder.add_body(mass=1.0, inertia=wp.mat33(1, 0, 0, 0, 1, 0, 0, 0, 1))
     solver = newton.solvers.SolverXPBD(builder.finalize(device=sc.DEVICE))
-    return {"dt_s": example_dt_s(), "iterations": solver.iterations,
-            "contact_relaxation": solver.rigid_contact_relaxation,
-            "restitution_iterations": solver.rigid_contact_restitution_iterations,
-            "contact_gap_m": newton.ModelBuilder().rigid_gap,
-            "angular_damping": solver.angular_damping,
-            "friction_gain_nspm": newton.ModelBuilder.ShapeConfig().kf,
-            "cone": _mujoco_cone()}
+    return {
+        "dt_s": example_dt_s(),
+        "iterations": solver.iterations,
+        "contact_relaxation": solver.rigid_contact_relaxation,
+        "restitution_iterations": solver.rigid_contact_restitution_iterations,
+        "contact_gap_m": newton.ModelBuilder().rigid_gap,
+        "angular_damping": solver.angular_damping,
+        "friction_gain_nspm": newton.ModelBuilder.ShapeConfig().kf,
+        "cone": _mujoco_cone(),
+    }
 
 
 def _mujoco_cone() -> str:
@@ -54,5 +57,8 @@ def _mujoco_cone() -> str:
     body = builder.add_body(mass=1.0, inertia=wp.mat33(1, 0, 0, 0, 1, 0, 0, 0, 1))
     builder.add_shape_sphere(body, radius=0.1)
     solver = sc.mujoco_solver(builder.finalize(device=sc.DEVICE))
-    return "elliptic" if int(solver.mjw_model.opt.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC \
+    return (
+        "elliptic"
+        if int(solver.mjw_model.opt.cone) == mujoco.mjtCone.mjCONE_ELLIPTIC
         else "pyramidal"
+    )

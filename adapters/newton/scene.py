@@ -37,9 +37,14 @@ def _shape_config(scene: Scene, st: NewtonSettings):
     """Massless shapes bouncing with e (the penalty solvers' ke, kd for e), each with friction
     mu (every solver combines two shapes' into the same mu: the mean, MuJoCo's max), no
     torsional or rolling friction; frictionless, the penalty's friction gain kf is 0 too."""
-    cfg = newton.ModelBuilder.ShapeConfig(density=0.0, mu=scene.mu, mu_torsional=0.0,
-                                          mu_rolling=0.0, restitution=scene.e,
-                                          gap=st.contact_gap_m)
+    cfg = newton.ModelBuilder.ShapeConfig(
+        density=0.0,
+        mu=scene.mu,
+        mu_torsional=0.0,
+        mu_rolling=0.0,
+        restitution=scene.e,
+        gap=st.contact_gap_m,
+    )
     if st.solver in PENALTY_SOLVERS:
         cfg.ke, cfg.kd = st.penalty_gains(scene.e)
         if scene.mu == 0.0:
@@ -58,14 +63,28 @@ def world_builder(scene: Scene, st: NewtonSettings):
         newton.solvers.SolverMuJoCo.register_custom_attributes(b)
     cfg = _shape_config(scene, st)
     ia, ic, ib = bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, ball.inertia_kgm2
-    body = b.add_body(mass=bat.mass_kg, inertia=wp.mat33(ia, 0, 0, 0, ic, 0, 0, 0, ic),
-                      label="bat", lock_inertia=True)
+    body = b.add_body(
+        mass=bat.mass_kg,
+        inertia=wp.mat33(ia, 0, 0, 0, ic, 0, 0, 0, ic),
+        label="bat",
+        lock_inertia=True,
+    )
     mid, half = 0.5 * (bat.s_min_m + bat.s_max_m), 0.5 * (bat.s_max_m - bat.s_min_m)
-    b.add_shape_capsule(body, xform=wp.transform(wp.vec3(mid, 0.0, 0.0), wp.quat(*Z_TO_MINUS_X)),
-                        radius=bat.radius_m, half_height=half, cfg=cfg, label="bat")
-    body = b.add_body(mass=ball.mass_kg, inertia=wp.mat33(ib, 0, 0, 0, ib, 0, 0, 0, ib),
-                      xform=wp.transform(wp.vec3(0.0, 1.0, 0.0), wp.quat_identity()),
-                      label="ball", lock_inertia=True)
+    b.add_shape_capsule(
+        body,
+        xform=wp.transform(wp.vec3(mid, 0.0, 0.0), wp.quat(*Z_TO_MINUS_X)),
+        radius=bat.radius_m,
+        half_height=half,
+        cfg=cfg,
+        label="bat",
+    )
+    body = b.add_body(
+        mass=ball.mass_kg,
+        inertia=wp.mat33(ib, 0, 0, 0, ib, 0, 0, 0, ib),
+        xform=wp.transform(wp.vec3(0.0, 1.0, 0.0), wp.quat_identity()),
+        label="ball",
+        lock_inertia=True,
+    )
     b.add_shape_sphere(body, radius=ball.radius_m, cfg=cfg, label="ball")
     return b
 
@@ -108,14 +127,19 @@ def solver(m, st: NewtonSettings, mu: float = 0.0):
     friction (MuJoCo's cone is set only with friction)."""
     solvers = newton.solvers
     if st.solver == "xpbd":
-        return solvers.SolverXPBD(m, enable_restitution=st.enable_restitution, **_given(
-            iterations=st.iterations, rigid_contact_relaxation=st.contact_relaxation,
-            rigid_contact_restitution_iterations=st.restitution_iterations,
-            angular_damping=st.angular_damping))
+        return solvers.SolverXPBD(
+            m,
+            enable_restitution=st.enable_restitution,
+            **_given(
+                iterations=st.iterations,
+                rigid_contact_relaxation=st.contact_relaxation,
+                rigid_contact_restitution_iterations=st.restitution_iterations,
+                angular_damping=st.angular_damping,
+            ),
+        )
     if st.solver == "mujoco":
         return _mujoco_solver(m, st, st.cone if mu > 0.0 else None)
-    cls = solvers.SolverSemiImplicit if st.solver == "semi_implicit" else \
-        solvers.SolverFeatherstone
+    cls = solvers.SolverSemiImplicit if st.solver == "semi_implicit" else solvers.SolverFeatherstone
     return cls(m, **_given(angular_damping=st.angular_damping))
 
 
@@ -125,8 +149,7 @@ def _mujoco_solver(m, st: NewtonSettings, cone: str | None):
     often does): dropped."""
     from mujoco_warp import OverflowType
 
-    out = mujoco_solver(m, **_given(iterations=st.iterations, integrator=st.integrator,
-                                    cone=cone))
+    out = mujoco_solver(m, **_given(iterations=st.iterations, integrator=st.integrator, cone=cone))
     if st.tolerance is not None:  # MuJoCo Warp raises a model's tolerance to 1e-6 as it loads it
         out.mjw_model.opt.tolerance.fill_(st.tolerance)
     quiet = ~int(OverflowType.ITERATIONS | OverflowType.LS_ITERATIONS)
@@ -146,5 +169,6 @@ def pipeline(m, st: NewtonSettings):
     """Newton's collision pipeline (None for MuJoCo, which collides on its own)."""
     if st.solver == "mujoco":
         return None
-    return newton.CollisionPipeline(m, broad_phase="explicit", rigid_contact_max=4 * m.world_count,
-                                    verify_buffers=False)
+    return newton.CollisionPipeline(
+        m, broad_phase="explicit", rigid_contact_max=4 * m.world_count, verify_buffers=False
+    )

@@ -126,24 +126,33 @@ class PhysxSettings(Settings):
             raise ValueError(f"solver={self.solver!r} is unknown; allowed: {', '.join(SOLVERS)}")
         for name in ("enable_pcm", "friction_every_iteration"):
             if getattr(self, name) is not None and not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name}={getattr(self, name)!r} is not a bool; allowed: True, "
-                                 "False")
+                raise ValueError(
+                    f"{name}={getattr(self, name)!r} is not a bool; allowed: True, False"
+                )
         for name in ("bounce_threshold_mps", "rest_offset_m", "sleep_threshold"):
             if getattr(self, name) is not None:
                 checks.non_negative(name, getattr(self, name))
-        for name in ("contact_offset_m", "max_angular_velocity_radps",
-                     "max_depenetration_velocity_mps"):
+        for name in (
+            "contact_offset_m",
+            "max_angular_velocity_radps",
+            "max_depenetration_velocity_mps",
+        ):
             if getattr(self, name) is not None:
                 checks.positive(name, getattr(self, name))
         if self.position_iterations is not None:
             checks.integer("position_iterations", self.position_iterations, 1, 255)
         if self.velocity_iterations is not None:
             checks.integer("velocity_iterations", self.velocity_iterations, 0, 255)
-        if (self.contact_offset_m is not None and self.rest_offset_m is not None
-                and self.rest_offset_m >= self.contact_offset_m):
-            raise ValueError(f"rest_offset_m={self.rest_offset_m!r} is not below contact_offset_m"
-                             f"={self.contact_offset_m!r}; allowed: rest_offset_m < "
-                             "contact_offset_m (PhysX rejects the shape otherwise)")
+        if (
+            self.contact_offset_m is not None
+            and self.rest_offset_m is not None
+            and self.rest_offset_m >= self.contact_offset_m
+        ):
+            raise ValueError(
+                f"rest_offset_m={self.rest_offset_m!r} is not below contact_offset_m"
+                f"={self.contact_offset_m!r}; allowed: rest_offset_m < "
+                "contact_offset_m (PhysX rejects the shape otherwise)"
+            )
 
 
 class PhysxErrors(ErrorModel):
@@ -185,9 +194,13 @@ RECORD = EngineRecord(
         # 150 break the plastic slide even with speculative contacts (2.45 m/s off). No bounce
         # threshold; the spin cap lifted so that a blow-up shows as it is; no body may sleep;
         # a 10 us step; friction in every iteration (SAPIEN's choice; TGS ignores it).
-        "reference": PhysxSettings(dt_s=1e-5, bounce_threshold_mps=0.0,
-                                   max_angular_velocity_radps=1e4, sleep_threshold=0.0,
-                                   friction_every_iteration=True),
+        "reference": PhysxSettings(
+            dt_s=1e-5,
+            bounce_threshold_mps=0.0,
+            max_angular_velocity_radps=1e4,
+            sleep_threshold=0.0,
+            friction_every_iteration=True,
+        ),
         # Out of the box: SAPIEN's 10 ms step and every solver value left to SAPIEN (TGS,
         # bounce threshold 2 m/s, 10 mm contact offset), the contact instant mid-step as in any
         # unaligned simulation.
@@ -203,20 +216,27 @@ RECORD = EngineRecord(
     errors=PhysxErrors(
         precision="float32",  # PhysX computes and stores in single precision
         friction_defect="TGS ends an impact that slips then sticks within a step wrong (on a wall "
-                         "at mu = 1 the spin comes out -158 to -315 rad/s for -187.1, by where the "
-                         "contact falls in the step and the iteration count, not dt; a slide "
-                         "throughout is exact): its strong friction pulls the anchors back, and "
-                         "SAPIEN exposes no flag to turn it off (package docstring); PGS is right",
+        "at mu = 1 the spin comes out -158 to -315 rad/s for -187.1, by where the "
+        "contact falls in the step and the iteration count, not dt; a slide "
+        "throughout is exact): its strong friction pulls the anchors back, and "
+        "SAPIEN exposes no flag to turn it off (package docstring); PGS is right",
     ),
     # All read back from a fresh system, body and shape (SAPIEN's process-wide defaults, which
     # PhysX copies at creation; the adapter restores them after building its own scene).
-    engine_defaults={"dt_s": 0.01, "solver": "TGS", "bounce_threshold_mps": 2.0,
-                     "enable_pcm": True, "contact_offset_m": DEFAULT_CONTACT_OFFSET_M,
-                     "rest_offset_m": 0.0,
-                     "position_iterations": 10, "velocity_iterations": 1,
-                     "max_angular_velocity_radps": 100.0,
-                     "max_depenetration_velocity_mps": 1e32, "sleep_threshold": 0.005,
-                     "friction_every_iteration": True},
+    engine_defaults={
+        "dt_s": 0.01,
+        "solver": "TGS",
+        "bounce_threshold_mps": 2.0,
+        "enable_pcm": True,
+        "contact_offset_m": DEFAULT_CONTACT_OFFSET_M,
+        "rest_offset_m": 0.0,
+        "position_iterations": 10,
+        "velocity_iterations": 1,
+        "max_angular_velocity_radps": 100.0,
+        "max_depenetration_velocity_mps": 1e32,
+        "sleep_threshold": 0.005,
+        "friction_every_iteration": True,
+    },
     cost=Cost(
         step_cost_s=2.3e-5,
     ),
@@ -225,26 +245,37 @@ RECORD = EngineRecord(
         marker="P",
         label="PhysX",
         notes=ReportNotes(
-            profile=("dt = {dt_s}, TGS, bounce threshold 0, spin cap lifted "
-                     "({default_max_angular_velocity_radps} rad/s by default), no sleeping"),
-            restitution=("mean of both bodies' restitution (both set to e); 0 below "
-                         "`bounce_threshold` ({default_bounce_threshold_mps} m/s)"),
-            handled=("restitution is dropped below the {default_bounce_threshold_mps} m/s bounce "
-                     "threshold (PhysX #351); the default spin cap of "
-                     "{default_max_angular_velocity_radps} rad/s clips a bat hit at the barrel "
-                     "after a fast swing; PGS splits an impact that falls late in a step over two "
-                     "steps, losing part of the rebound, where TGS is exact; contacts are made "
-                     "`contact_offset` ({default_contact_offset_m} per shape) ahead and solved "
-                     "with "
-                     "the step's starting geometry (a speculative contact, see the judge); "
-                     "SAPIEN's "
-                     "scene CCD flag does nothing without the per-body flag it does not expose.")),
+            profile=(
+                "dt = {dt_s}, TGS, bounce threshold 0, spin cap lifted "
+                "({default_max_angular_velocity_radps} rad/s by default), no sleeping"
+            ),
+            restitution=(
+                "mean of both bodies' restitution (both set to e); 0 below "
+                "`bounce_threshold` ({default_bounce_threshold_mps} m/s)"
+            ),
+            handled=(
+                "restitution is dropped below the {default_bounce_threshold_mps} m/s bounce "
+                "threshold (PhysX #351); the default spin cap of "
+                "{default_max_angular_velocity_radps} rad/s clips a bat hit at the barrel "
+                "after a fast swing; PGS splits an impact that falls late in a step over two "
+                "steps, losing part of the rebound, where TGS is exact; contacts are made "
+                "`contact_offset` ({default_contact_offset_m} per shape) ahead and solved "
+                "with "
+                "the step's starting geometry (a speculative contact, see the judge); "
+                "SAPIEN's "
+                "scene CCD flag does nothing without the per-body flag it does not expose."
+            ),
+        ),
     ),
     studies=Studies(
         speed_accuracy=(
             KnobFamily(label="reference solver (TGS, 10 position iterations)", quick=True),
-            *(KnobFamily(label=f"TGS, {n} position iterations",
-                         overrides=(("position_iterations", n),)) for n in (1, 4, 50)),
+            *(
+                KnobFamily(
+                    label=f"TGS, {n} position iterations", overrides=(("position_iterations", n),)
+                )
+                for n in (1, 4, 50)
+            ),
             KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),
         ),
         friction_families=(KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),),

@@ -22,8 +22,11 @@ physx = sapien.physx
 def _sapien_defaults(st: PhysxSettings) -> Iterator[None]:
     """Within the block, SAPIEN creates systems, bodies and shapes with these settings (None:
     its own); its process-wide defaults are restored afterwards."""
-    scene, body, shape = (physx.get_scene_config(), physx.get_body_config(),
-                          physx.get_shape_config())
+    scene, body, shape = (
+        physx.get_scene_config(),
+        physx.get_body_config(),
+        physx.get_shape_config(),
+    )
     try:
         physx.set_scene_config(
             gravity=[0.0, 0.0, 0.0],
@@ -32,16 +35,19 @@ def _sapien_defaults(st: PhysxSettings) -> Iterator[None]:
             enable_tgs=scene.enable_tgs if st.solver is None else st.solver == "TGS",
             enable_ccd=scene.enable_ccd,
             enable_enhanced_determinism=scene.enable_enhanced_determinism,
-            enable_friction_every_iteration=_or(st.friction_every_iteration,
-                                                scene.enable_friction_every_iteration))
+            enable_friction_every_iteration=_or(
+                st.friction_every_iteration, scene.enable_friction_every_iteration
+            ),
+        )
         physx.set_body_config(
-            solver_position_iterations=_or(st.position_iterations,
-                                           body.solver_position_iterations),
-            solver_velocity_iterations=_or(st.velocity_iterations,
-                                           body.solver_velocity_iterations),
-            sleep_threshold=_or(st.sleep_threshold, body.sleep_threshold))
-        physx.set_shape_config(contact_offset=_or(st.contact_offset_m, shape.contact_offset),
-                               rest_offset=_or(st.rest_offset_m, shape.rest_offset))
+            solver_position_iterations=_or(st.position_iterations, body.solver_position_iterations),
+            solver_velocity_iterations=_or(st.velocity_iterations, body.solver_velocity_iterations),
+            sleep_threshold=_or(st.sleep_threshold, body.sleep_threshold),
+        )
+        physx.set_shape_config(
+            contact_offset=_or(st.contact_offset_m, shape.contact_offset),
+            rest_offset=_or(st.rest_offset_m, shape.rest_offset),
+        )
         yield
     finally:
         physx.set_scene_config(scene)
@@ -51,7 +57,6 @@ def _sapien_defaults(st: PhysxSettings) -> Iterator[None]:
 
 def _or(value, default):
     return default if value is None else value
-
 
 
 def setup_body(body, shape, mass: float, inertia: tuple[float, float, float], st):
@@ -72,6 +77,7 @@ def setup_body(body, shape, mass: float, inertia: tuple[float, float, float], st
         body.max_depenetration_velocity = st.max_depenetration_velocity_mps
     return body
 
+
 class PhysxEngine(Engine):
     """PhysX (through SAPIEN) behind the single-world interface."""
 
@@ -83,15 +89,20 @@ class PhysxEngine(Engine):
         body = physx.PhysxRigidDynamicComponent()
         shape = physx.PhysxCollisionShapeSphere(1.0, physx.get_default_material())
         cfg = system.config
-        return {"dt_s": system.timestep, "solver": "TGS" if cfg.enable_tgs else "PGS",
-                "friction_every_iteration": cfg.enable_friction_every_iteration,
-                "bounce_threshold_mps": cfg.bounce_threshold, "enable_pcm": cfg.enable_pcm,
-                "contact_offset_m": shape.contact_offset, "rest_offset_m": shape.rest_offset,
-                "position_iterations": body.solver_position_iterations,
-                "velocity_iterations": body.solver_velocity_iterations,
-                "max_angular_velocity_radps": getattr(body, "max_angular_velocity", None),
-                "max_depenetration_velocity_mps": body.max_depenetration_velocity,
-                "sleep_threshold": body.sleep_threshold}
+        return {
+            "dt_s": system.timestep,
+            "solver": "TGS" if cfg.enable_tgs else "PGS",
+            "friction_every_iteration": cfg.enable_friction_every_iteration,
+            "bounce_threshold_mps": cfg.bounce_threshold,
+            "enable_pcm": cfg.enable_pcm,
+            "contact_offset_m": shape.contact_offset,
+            "rest_offset_m": shape.rest_offset,
+            "position_iterations": body.solver_position_iterations,
+            "velocity_iterations": body.solver_velocity_iterations,
+            "max_angular_velocity_radps": getattr(body, "max_angular_velocity", None),
+            "max_depenetration_velocity_mps": body.max_depenetration_velocity,
+            "sleep_threshold": body.sleep_threshold,
+        }
 
     def __init__(self, settings) -> None:
         super().__init__(settings)
@@ -118,9 +129,11 @@ class PhysxEngine(Engine):
             capsule = physx.PhysxCollisionShapeCapsule(r, 0.5 * (b - a), self._bat_material)
             capsule.set_local_pose(sapien.Pose([0.5 * (a + b), 0.0, 0.0]))
             sphere = physx.PhysxCollisionShapeSphere(ball.radius_m, self._ball_material)
-            self._bat = self._body(capsule, bat.mass_kg,
-                                   (bat.axial_inertia_kgm2, bat.inertia_cm_kgm2,
-                                    bat.inertia_cm_kgm2))
+            self._bat = self._body(
+                capsule,
+                bat.mass_kg,
+                (bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, bat.inertia_cm_kgm2),
+            )
             self._ball = self._body(sphere, ball.mass_kg, (ball.inertia_kgm2,) * 3)
         self._pair = {id(self._bat), id(self._ball)}
         self.set_body_restitution(bat=scene.e, ball=scene.e)  # PhysX averages the two
@@ -129,8 +142,7 @@ class PhysxEngine(Engine):
             self.set_body_friction(bat=bat_mu, ball=ball_mu)
 
     def _body(self, shape, mass: float, inertia: tuple[float, float, float]):
-        body = setup_body(physx.PhysxRigidDynamicComponent(), shape, mass, inertia,
-                          self.settings)
+        body = setup_body(physx.PhysxRigidDynamicComponent(), shape, mass, inertia, self.settings)
         entity = sapien.Entity()
         entity.add_component(body)
         self._scene.add_entity(entity)
@@ -142,9 +154,12 @@ class PhysxEngine(Engine):
         knob_x = float(shape.local_pose.p[0]) - shape.half_length - shape.radius
         com_x = float(bat.cmass_local_pose.p[0])
         return MassProperties(
-            bat_mass_kg=bat.mass, bat_com_from_knob_m=com_x - knob_x,
-            bat_inertia_kgm2=float(bat.inertia[2]), ball_mass_kg=ball.mass,
-            ball_inertia_kgm2=float(ball.inertia[2]))
+            bat_mass_kg=bat.mass,
+            bat_com_from_knob_m=com_x - knob_x,
+            bat_inertia_kgm2=float(bat.inertia[2]),
+            ball_mass_kg=ball.mass,
+            ball_inertia_kgm2=float(ball.inertia[2]),
+        )
 
     def set_body_restitution(self, *, bat: float, ball: float) -> None:
         self._bat_material.restitution = bat
@@ -159,12 +174,19 @@ class PhysxEngine(Engine):
         # SAPIEN's quaternions are (w, x, y, z), as ours; velocities are the world frame's
         q = bat_quaternion(state.bat_angle_rad, state.bat_tilt_rad)
         for body, pose, v, w in (
-                (self._bat, sapien.Pose([state.bat_x_m, state.bat_y_m, state.bat_z_m], q),
-                 (state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps),
-                 (state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps)),
-                (self._ball, sapien.Pose([state.ball_x_m, state.ball_y_m, state.ball_z_m]),
-                 (state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps),
-                 (state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps))):
+            (
+                self._bat,
+                sapien.Pose([state.bat_x_m, state.bat_y_m, state.bat_z_m], q),
+                (state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps),
+                (state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps),
+            ),
+            (
+                self._ball,
+                sapien.Pose([state.ball_x_m, state.ball_y_m, state.ball_z_m]),
+                (state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps),
+                (state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps),
+            ),
+        ):
             body.entity.pose = pose
             body.linear_velocity = v
             body.angular_velocity = w
@@ -191,8 +213,9 @@ class PhysxEngine(Engine):
             f, q, torque = self._load  # force through the COM + its constant torque
             qw, _, _, qz = self._bat.entity.pose.q.tolist()
             angle = 2.0 * math.atan2(qz, qw) + q
-            self._bat.add_force_torque([f * math.cos(angle), f * math.sin(angle), 0.0],
-                                       [0.0, 0.0, torque])
+            self._bat.add_force_torque(
+                [f * math.cos(angle), f * math.sin(angle), 0.0], [0.0, 0.0, torque]
+            )
         self._system.step()
 
     def read(self) -> State:
@@ -203,12 +226,28 @@ class PhysxEngine(Engine):
         bv, bw = bat.linear_velocity.tolist(), bat.angular_velocity.tolist()
         cv, cw = ball.linear_velocity.tolist(), ball.angular_velocity.tolist()
         angle, tilt = angle_and_tilt(*bq, self._planar)
-        return State(ball_x_m=cp[0], ball_y_m=cp[1], ball_vx_mps=cv[0], ball_vy_mps=cv[1],
-                     ball_omega_radps=cw[2], bat_x_m=bp[0], bat_y_m=bp[1], bat_angle_rad=angle,
-                     bat_vx_mps=bv[0], bat_vy_mps=bv[1], bat_omega_radps=bw[2], ball_z_m=cp[2],
-                     ball_vz_mps=cv[2], ball_wx_radps=cw[0], ball_wy_radps=cw[1],
-                     bat_z_m=bp[2], bat_tilt_rad=tilt, bat_vz_mps=bv[2], bat_wx_radps=bw[0],
-                     bat_wy_radps=bw[1])
+        return State(
+            ball_x_m=cp[0],
+            ball_y_m=cp[1],
+            ball_vx_mps=cv[0],
+            ball_vy_mps=cv[1],
+            ball_omega_radps=cw[2],
+            bat_x_m=bp[0],
+            bat_y_m=bp[1],
+            bat_angle_rad=angle,
+            bat_vx_mps=bv[0],
+            bat_vy_mps=bv[1],
+            bat_omega_radps=bw[2],
+            ball_z_m=cp[2],
+            ball_vz_mps=cv[2],
+            ball_wx_radps=cw[0],
+            ball_wy_radps=cw[1],
+            bat_z_m=bp[2],
+            bat_tilt_rad=tilt,
+            bat_vz_mps=bv[2],
+            bat_wx_radps=bw[0],
+            bat_wy_radps=bw[1],
+        )
 
     def in_contact(self) -> bool:
         for contact in self._system.get_contacts():
@@ -216,4 +255,3 @@ class PhysxEngine(Engine):
                 if point.separation <= 0.0 or any(point.impulse):
                     return True
         return False
-

@@ -71,8 +71,14 @@ def _planar(pose, v, w) -> tuple[float, ...]:
     """(x, y, angle about z, vx, vy, omega) of a body whose frame is at its COM."""
     p, q = pose.p, pose.q
     angle = 2.0 * np.arctan2(float(q[3]), float(q[0]))
-    return (float(p[0]), float(p[1]), float(np.arctan2(np.sin(angle), np.cos(angle))),
-            float(v[0]), float(v[1]), float(w[2]))
+    return (
+        float(p[0]),
+        float(p[1]),
+        float(np.arctan2(np.sin(angle), np.cos(angle))),
+        float(v[0]),
+        float(v[1]),
+        float(w[2]),
+    )
 
 
 def _as_rigid_body(link) -> None:
@@ -122,8 +128,9 @@ class PhysxChain(ChainEngine):
         chain = scene.chain
         ell, r = chain.segment_length_m, chain.bat.radius_m
         links, entities = [], []
-        for i, (m, c, inertia) in enumerate(zip(chain.masses_kg, chain.coms_m,
-                                                chain.inertias_kgm2, strict=True)):
+        for i, (m, c, inertia) in enumerate(
+            zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2, strict=True)
+        ):
             capsule = physx.PhysxCollisionShapeCapsule(r, 0.5 * ell, self._bat_material)
             capsule.set_local_pose(sapien.Pose([(i + 0.5) * ell - c, 0.0, 0.0]))
             capsule.set_collision_groups(_SEGMENT_GROUPS)
@@ -132,8 +139,13 @@ class PhysxChain(ChainEngine):
             axial = min(0.5 * m * r * r, 2.0 * inertia)  # a valid tensor (adapters.segmented)
             setup_body(link, capsule, m, (axial, inertia, inertia), self.settings)
             if i > 0:
-                self._hinge(link.joint, i * ell - chain.coms_m[i - 1], i * ell - c,
-                            chain.stiffnesses_nmprad[i - 1], chain.dampings_nmsprad[i - 1])
+                self._hinge(
+                    link.joint,
+                    i * ell - chain.coms_m[i - 1],
+                    i * ell - c,
+                    chain.stiffnesses_nmprad[i - 1],
+                    chain.dampings_nmsprad[i - 1],
+                )
             entity = sapien.Entity()
             entity.add_component(link)
             entity.pose = sapien.Pose([c - chain.bat.com_from_knob_m, 0.0, 0.0])
@@ -157,10 +169,10 @@ class PhysxChain(ChainEngine):
         joint.set_drive_target(0.0)
         joint.set_drive_velocity_target(0.0)
 
-
     def _ball_body(self, shape, mass: float, inertia: float):
-        body = setup_body(physx.PhysxRigidDynamicComponent(), shape, mass, (inertia,) * 3,
-                          self.settings)
+        body = setup_body(
+            physx.PhysxRigidDynamicComponent(), shape, mass, (inertia,) * 3, self.settings
+        )
         entity = sapien.Entity()
         entity.add_component(body)
         entity.pose = sapien.Pose([0.0, 10.0, 0.0])
@@ -172,10 +184,12 @@ class PhysxChain(ChainEngine):
         own copies)."""
         st, art = self.settings, self._articulation
         body = physx.get_body_config()
-        art.set_solver_position_iterations(_or(st.position_iterations,
-                                               body.solver_position_iterations))
-        art.set_solver_velocity_iterations(_or(st.velocity_iterations,
-                                               body.solver_velocity_iterations))
+        art.set_solver_position_iterations(
+            _or(st.position_iterations, body.solver_position_iterations)
+        )
+        art.set_solver_velocity_iterations(
+            _or(st.velocity_iterations, body.solver_velocity_iterations)
+        )
         art.set_sleep_threshold(_or(st.sleep_threshold, body.sleep_threshold))
 
     def mass_properties(self) -> np.ndarray:
@@ -205,8 +219,12 @@ class PhysxChain(ChainEngine):
         self._system.step()
 
     def read(self) -> tuple[np.ndarray, np.ndarray]:
-        segs = np.array([_planar(link.entity.pose, link.linear_velocity, link.angular_velocity)
-                         for link in self._links])
+        segs = np.array(
+            [
+                _planar(link.entity.pose, link.linear_velocity, link.angular_velocity)
+                for link in self._links
+            ]
+        )
         b = self._ball
         p, v = b.entity.pose.p, b.linear_velocity
         return np.array([p[0], p[1], v[0], v[1]], dtype=float), segs

@@ -104,15 +104,20 @@ class PybulletSettings(Settings):
         for name in ("contact_erp", "erp", "friction_erp"):
             if getattr(self, name) is not None:
                 checks.in_range(name, getattr(self, name), 0.0, 1.0)
-        for name in ("contact_slop", "restitution_velocity_threshold",
-                     "contact_breaking_threshold", "ccd_swept_sphere_radius"):
+        for name in (
+            "contact_slop",
+            "restitution_velocity_threshold",
+            "contact_breaking_threshold",
+            "ccd_swept_sphere_radius",
+        ):
             if getattr(self, name) is not None:
                 checks.non_negative(name, getattr(self, name))
         if self.max_joint_velocity_radps is not None:
             checks.positive("max_joint_velocity_radps", self.max_joint_velocity_radps)
         if self.cone_friction is not None and not isinstance(self.cone_friction, bool):
-            raise ValueError(f"cone_friction={self.cone_friction!r} is not a bool; allowed: "
-                             "True, False, None")
+            raise ValueError(
+                f"cone_friction={self.cone_friction!r} is not a bool; allowed: True, False, None"
+            )
 
 
 class PybulletErrors(ErrorModel):
@@ -143,10 +148,17 @@ RECORD = EngineRecord(
         # bounded by Bullet's cone, whose bound is Coulomb's (its box lets a slip across both
         # friction directions take up to sqrt(2) mu N); contacts made only within 1 um, so
         # none is solved before touching (see the package docstring); 10 us step.
-        "reference": PybulletSettings(dt_s=1e-5, contact_erp=0.0, erp=1.0, friction_erp=0.0,
-                                      contact_slop=0.0, restitution_velocity_threshold=0.0,
-                                      max_joint_velocity_radps=1e4, cone_friction=True,
-                                      contact_breaking_threshold=1e-6),
+        "reference": PybulletSettings(
+            dt_s=1e-5,
+            contact_erp=0.0,
+            erp=1.0,
+            friction_erp=0.0,
+            contact_slop=0.0,
+            restitution_velocity_threshold=0.0,
+            max_joint_velocity_radps=1e4,
+            cone_friction=True,
+            contact_breaking_threshold=1e-6,
+        ),
         # Out of the box: 1/240 s, every solver parameter left at Bullet's value, the contact
         # instant mid-step as in any unaligned simulation.
         "default": PybulletSettings(dt_s=1 / 240, contact_phase=0.5),
@@ -166,8 +178,13 @@ RECORD = EngineRecord(
     # the default solver's impacts bit for bit); the iteration count it reports; the cone
     # measured by read_back_defaults (an oblique slide, bit for bit the cone's, not the box's).
     errors=PybulletErrors(),
-    engine_defaults={"contact_erp": 0.08, "contact_slop": 1e-5, "solver_iterations": 50,
-                     "dt_s": 1 / 240, "cone_friction": True},
+    engine_defaults={
+        "contact_erp": 0.08,
+        "contact_slop": 1e-5,
+        "solver_iterations": 50,
+        "dt_s": 1 / 240,
+        "cone_friction": True,
+    },
     cost=Cost(
         step_cost_s=5.8e-6,
     ),
@@ -176,22 +193,33 @@ RECORD = EngineRecord(
         marker="s",
         label="PyBullet",
         notes=ReportNotes(
-            profile=("dt = {dt_s}, `contactERP = erp = 0`, `contactSlop = 0`, no restitution "
-                     "threshold, no damping, `contactBreakingThreshold = 1 um`, cone friction"),
-            restitution=("product of both bodies' `restitution`; 0 below "
-                         "`restitutionVelocityThreshold`"),
-            defaults=("PyBullet's {default_solver_iterations} solver iterations and {default_dt_s} "
-                      "step, read back; its contactERP {default_contact_erp} and contactSlop "
-                      "{default_contact_slop} m, measured (set explicitly, they reproduce the "
-                      "default solver's impacts bit for bit, and another value changes them)")),
+            profile=(
+                "dt = {dt_s}, `contactERP = erp = 0`, `contactSlop = 0`, no restitution "
+                "threshold, no damping, `contactBreakingThreshold = 1 um`, cone friction"
+            ),
+            restitution=(
+                "product of both bodies' `restitution`; 0 below `restitutionVelocityThreshold`"
+            ),
+            defaults=(
+                "PyBullet's {default_solver_iterations} solver iterations and {default_dt_s} "
+                "step, read back; its contactERP {default_contact_erp} and contactSlop "
+                "{default_contact_slop} m, measured (set explicitly, they reproduce the "
+                "default solver's impacts bit for bit, and another value changes them)"
+            ),
+        ),
     ),
     studies=Studies(
         speed_accuracy=(
             KnobFamily(label="reference solver (ERP 0, slop 0)", quick=True),
-            *(KnobFamily(label=f"reference solver, {n} iterations",
-                         overrides=(("solver_iterations", n),)) for n in (1, 10, 200)),
+            *(
+                KnobFamily(
+                    label=f"reference solver, {n} iterations", overrides=(("solver_iterations", n),)
+                )
+                for n in (1, 10, 200)
+            ),
         ),
-        friction_families=(KnobFamily(label="box friction (cone off)",
-                                      overrides=(("cone_friction", False),)),),
+        friction_families=(
+            KnobFamily(label="box friction (cone off)", overrides=(("cone_friction", False),)),
+        ),
     ),
 )

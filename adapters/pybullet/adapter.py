@@ -27,8 +27,11 @@ class PybulletEngine(Engine):
             got = pb.getPhysicsEngineParameters(physicsClientId=client)
         finally:
             pb.disconnect(physicsClientId=client)
-        return {"solver_iterations": got["numSolverIterations"], "dt_s": got["fixedTimeStep"],
-                "cone_friction": _measured_cone_friction()}
+        return {
+            "solver_iterations": got["numSolverIterations"],
+            "dt_s": got["fixedTimeStep"],
+            "cone_friction": _measured_cone_friction(),
+        }
 
     def __init__(self, settings) -> None:
         super().__init__(settings)
@@ -99,9 +102,12 @@ def pair_mass_properties(c: int, bat: int, ball: int) -> MassProperties:
     height, radius = shape[3][0], shape[3][1]
     knob_x = shape[5][0] - height / 2 - radius
     return MassProperties(
-        bat_mass_kg=bat_info[0], bat_com_from_knob_m=bat_info[3][0] - knob_x,
-        bat_inertia_kgm2=bat_info[2][2], ball_mass_kg=ball_info[0],
-        ball_inertia_kgm2=ball_info[2][2])
+        bat_mass_kg=bat_info[0],
+        bat_com_from_knob_m=bat_info[3][0] - knob_x,
+        bat_inertia_kgm2=bat_info[2][2],
+        ball_mass_kg=ball_info[0],
+        ball_inertia_kgm2=ball_info[2][2],
+    )
 
 
 def acting(point) -> bool:
@@ -112,10 +118,12 @@ def acting(point) -> bool:
 def configure(c: int, st) -> None:
     """A reset client's world: no gravity, the settings' step (no substeps) and parameters."""
     pb.setGravity(0, 0, 0, physicsClientId=c)
-    params = {kw: getattr(st, name) for name, kw in ENGINE_PARAMETERS.items()
-              if getattr(st, name) is not None}
-    pb.setPhysicsEngineParameter(fixedTimeStep=st.dt_s, numSubSteps=0, physicsClientId=c,
-                                 **params)
+    params = {
+        kw: getattr(st, name)
+        for name, kw in ENGINE_PARAMETERS.items()
+        if getattr(st, name) is not None
+    }
+    pb.setPhysicsEngineParameter(fixedTimeStep=st.dt_s, numSubSteps=0, physicsClientId=c, **params)
 
 
 def add_pair(c: int, scene: Scene, st) -> tuple[int, int]:
@@ -125,27 +133,44 @@ def add_pair(c: int, scene: Scene, st) -> tuple[int, int]:
     bat, ball = scene.bat, scene.ball
     a, b = bat.s_min_m, bat.s_max_m
     along_x = pb.getQuaternionFromEuler([0.0, math.pi / 2, 0.0])  # capsules lie along z
-    bat_shape = pb.createCollisionShape(pb.GEOM_CAPSULE, radius=bat.radius_m, height=b - a,
-                                        collisionFramePosition=[(a + b) / 2, 0.0, 0.0],
-                                        collisionFrameOrientation=along_x, physicsClientId=c)
-    ball_shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=ball.radius_m,
-                                         physicsClientId=c)
+    bat_shape = pb.createCollisionShape(
+        pb.GEOM_CAPSULE,
+        radius=bat.radius_m,
+        height=b - a,
+        collisionFramePosition=[(a + b) / 2, 0.0, 0.0],
+        collisionFrameOrientation=along_x,
+        physicsClientId=c,
+    )
+    ball_shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=ball.radius_m, physicsClientId=c)
     bat_id = pb.createMultiBody(bat.mass_kg, bat_shape, physicsClientId=c)
-    ball_id = pb.createMultiBody(ball.mass_kg, ball_shape, basePosition=[0.0, 1.0, 0.0],
-                                 physicsClientId=c)
+    ball_id = pb.createMultiBody(
+        ball.mass_kg, ball_shape, basePosition=[0.0, 1.0, 0.0], physicsClientId=c
+    )
     ib = ball.inertia_kgm2
-    inertia = {bat_id: [bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, bat.inertia_cm_kgm2],
-               ball_id: [ib, ib, ib]}
+    inertia = {
+        bat_id: [bat.axial_inertia_kgm2, bat.inertia_cm_kgm2, bat.inertia_cm_kgm2],
+        ball_id: [ib, ib, ib],
+    }
     extra = {}
     if st.max_joint_velocity_radps is not None:
         extra["maxJointVelocity"] = st.max_joint_velocity_radps
     if st.ccd_swept_sphere_radius > 0.0:
         extra["ccdSweptSphereRadius"] = st.ccd_swept_sphere_radius
     for body, mass in ((bat_id, bat.mass_kg), (ball_id, ball.mass_kg)):
-        pb.changeDynamics(body, -1, mass=mass, localInertiaDiagonal=inertia[body],
-                          lateralFriction=0.0, spinningFriction=0.0, rollingFriction=0.0,
-                          linearDamping=0.0, angularDamping=0.0, restitution=1.0,
-                          physicsClientId=c, **extra)
+        pb.changeDynamics(
+            body,
+            -1,
+            mass=mass,
+            localInertiaDiagonal=inertia[body],
+            lateralFriction=0.0,
+            spinningFriction=0.0,
+            rollingFriction=0.0,
+            linearDamping=0.0,
+            angularDamping=0.0,
+            restitution=1.0,
+            physicsClientId=c,
+            **extra,
+        )
     set_restitution(c, (bat_id, ball_id), bat=1.0, ball=scene.e)  # Bullet multiplies the two
     if scene.mu > 0.0:  # frictionless: both stay at 0, as every frictionless run was built
         bat_mu, ball_mu = RECORD.can.friction_rule.per_body(scene.mu)  # mu * 1.0 = mu
@@ -168,16 +193,26 @@ def set_pair(c: int, bat: int, ball: int, state: State) -> None:
     velocity is the world's)."""
     w, x, y, z = bat_quaternion(state.bat_angle_rad, state.bat_tilt_rad)
     pb.resetBasePositionAndOrientation(
-        bat, [state.bat_x_m, state.bat_y_m, state.bat_z_m], [x, y, z, w], physicsClientId=c)
+        bat, [state.bat_x_m, state.bat_y_m, state.bat_z_m], [x, y, z, w], physicsClientId=c
+    )
     pb.resetBaseVelocity(
-        bat, [state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps],
-        [state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps], physicsClientId=c)
+        bat,
+        [state.bat_vx_mps, state.bat_vy_mps, state.bat_vz_mps],
+        [state.bat_wx_radps, state.bat_wy_radps, state.bat_omega_radps],
+        physicsClientId=c,
+    )
     pb.resetBasePositionAndOrientation(
-        ball, [state.ball_x_m, state.ball_y_m, state.ball_z_m], [0.0, 0.0, 0.0, 1.0],
-        physicsClientId=c)
+        ball,
+        [state.ball_x_m, state.ball_y_m, state.ball_z_m],
+        [0.0, 0.0, 0.0, 1.0],
+        physicsClientId=c,
+    )
     pb.resetBaseVelocity(
-        ball, [state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps],
-        [state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps], physicsClientId=c)
+        ball,
+        [state.ball_vx_mps, state.ball_vy_mps, state.ball_vz_mps],
+        [state.ball_wx_radps, state.ball_wy_radps, state.ball_omega_radps],
+        physicsClientId=c,
+    )
 
 
 def drive_pair(c: int, bat: int, hands: Hands | None):
@@ -186,9 +221,17 @@ def drive_pair(c: int, bat: int, hands: Hands | None):
         return None, None
     joint = None
     if hands.pivot_from_com_m is not None:
-        joint = pb.createConstraint(bat, -1, -1, -1, pb.JOINT_POINT2POINT, [0.0, 0.0, 0.0],
-                                    [hands.pivot_from_com_m, 0.0, 0.0], [*hands.pivot_xy_m, 0.0],
-                                    physicsClientId=c)
+        joint = pb.createConstraint(
+            bat,
+            -1,
+            -1,
+            -1,
+            pb.JOINT_POINT2POINT,
+            [0.0, 0.0, 0.0],
+            [hands.pivot_from_com_m, 0.0, 0.0],
+            [*hands.pivot_xy_m, 0.0],
+            physicsClientId=c,
+        )
     return joint, (hands.force_n, hands.angle_rad, hands.torque_about_com_nm)
 
 
@@ -197,8 +240,14 @@ def load_pair(c: int, bat: int, load: tuple[float, float, float]) -> None:
     f, q, torque = load
     pos, (_, _, qz, qw) = pb.getBasePositionAndOrientation(bat, physicsClientId=c)
     angle = 2.0 * math.atan2(qz, qw) + q
-    pb.applyExternalForce(bat, -1, [f * math.cos(angle), f * math.sin(angle), 0.0], pos,
-                          pb.WORLD_FRAME, physicsClientId=c)
+    pb.applyExternalForce(
+        bat,
+        -1,
+        [f * math.cos(angle), f * math.sin(angle), 0.0],
+        pos,
+        pb.WORLD_FRAME,
+        physicsClientId=c,
+    )
     pb.applyExternalTorque(bat, -1, [0.0, 0.0, torque], pb.WORLD_FRAME, physicsClientId=c)
 
 
@@ -208,30 +257,66 @@ def read_pair(c: int, bat: int, ball: int, planar: bool) -> State:
     (cx, cy, cz), (qx, qy, qz, qw) = pb.getBasePositionAndOrientation(bat, physicsClientId=c)
     (cvx, cvy, cvz), (cwx, cwy, cw) = pb.getBaseVelocity(bat, physicsClientId=c)
     angle, tilt = angle_and_tilt(qw, qx, qy, qz, planar)
-    return State(ball_x_m=bx, ball_y_m=by, ball_vx_mps=bvx, ball_vy_mps=bvy,
-                 ball_omega_radps=bw, bat_x_m=cx, bat_y_m=cy, bat_angle_rad=angle,
-                 bat_vx_mps=cvx, bat_vy_mps=cvy, bat_omega_radps=cw, ball_z_m=bz,
-                 ball_vz_mps=bvz, ball_wx_radps=bwx, ball_wy_radps=bwy, bat_z_m=cz,
-                 bat_tilt_rad=tilt, bat_vz_mps=cvz, bat_wx_radps=cwx, bat_wy_radps=cwy)
+    return State(
+        ball_x_m=bx,
+        ball_y_m=by,
+        ball_vx_mps=bvx,
+        ball_vy_mps=bvy,
+        ball_omega_radps=bw,
+        bat_x_m=cx,
+        bat_y_m=cy,
+        bat_angle_rad=angle,
+        bat_vx_mps=cvx,
+        bat_vy_mps=cvy,
+        bat_omega_radps=cw,
+        ball_z_m=bz,
+        ball_vz_mps=bvz,
+        ball_wx_radps=bwx,
+        ball_wy_radps=bwy,
+        bat_z_m=cz,
+        bat_tilt_rad=tilt,
+        bat_vz_mps=cvz,
+        bat_wx_radps=cwx,
+        bat_wy_radps=cwy,
+    )
 
 
 def _oblique_slide(cone: bool | None) -> State:
     """The state after a ball slides across a heavy still bat at 45 degrees out of the swing
     plane (both friction directions loaded, slipping throughout), with ``cone_friction``
     set to ``cone``."""
-    wall = Bat(name="wall", length_m=0.84, radius_m=0.03, mass_kg=1e3, com_from_knob_m=0.42,
-               inertia_cm_kgm2=1e3, inertia_axial_kgm2=1e3)
+    wall = Bat(
+        name="wall",
+        length_m=0.84,
+        radius_m=0.03,
+        mass_kg=1e3,
+        com_from_knob_m=0.42,
+        inertia_cm_kgm2=1e3,
+        inertia_axial_kgm2=1e3,
+    )
     ball = Ball(name="ball", radius_m=0.0366, mass_kg=0.145)
     settings = dataclasses.replace(RECORD.profiles["reference"], cone_friction=cone)
     engine = PybulletEngine(settings)
     try:
         engine.build(Scene(bat=wall, ball=ball, e=0.5, mu=0.5))
         v, dt = 10.0, settings.dt_s
-        engine.set_state(State(
-            ball_x_m=-6 * v * dt, ball_y_m=wall.radius_m + ball.radius_m + 2 * v * dt,
-            ball_z_m=-6 * v * dt, ball_vx_mps=3 * v, ball_vy_mps=-v, ball_vz_mps=3 * v,
-            ball_omega_radps=0.0, bat_x_m=0.0, bat_y_m=0.0, bat_angle_rad=0.0, bat_vx_mps=0.0,
-            bat_vy_mps=0.0, bat_omega_radps=0.0))
+        engine.set_state(
+            State(
+                ball_x_m=-6 * v * dt,
+                ball_y_m=wall.radius_m + ball.radius_m + 2 * v * dt,
+                ball_z_m=-6 * v * dt,
+                ball_vx_mps=3 * v,
+                ball_vy_mps=-v,
+                ball_vz_mps=3 * v,
+                ball_omega_radps=0.0,
+                bat_x_m=0.0,
+                bat_y_m=0.0,
+                bat_angle_rad=0.0,
+                bat_vx_mps=0.0,
+                bat_vy_mps=0.0,
+                bat_omega_radps=0.0,
+            )
+        )
         for _ in range(4):
             engine.step()
         return engine.read()

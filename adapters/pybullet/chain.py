@@ -69,15 +69,20 @@ class PybulletChain(ChainEngine):
         c, st = self._client, self.settings
         pb.resetSimulation(physicsClientId=c)
         pb.setGravity(0, 0, 0, physicsClientId=c)
-        params = {kw: getattr(st, name) for name, kw in ENGINE_PARAMETERS.items()
-                  if getattr(st, name) is not None}
-        pb.setPhysicsEngineParameter(fixedTimeStep=st.dt_s, numSubSteps=0, physicsClientId=c,
-                                     **params)
+        params = {
+            kw: getattr(st, name)
+            for name, kw in ENGINE_PARAMETERS.items()
+            if getattr(st, name) is not None
+        }
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=st.dt_s, numSubSteps=0, physicsClientId=c, **params
+        )
         self._bat = self._chain_body(scene)
         ball = scene.ball
         shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=ball.radius_m, physicsClientId=c)
-        self._ball = pb.createMultiBody(ball.mass_kg, shape, basePosition=[0.0, 1.0, 0.0],
-                                        physicsClientId=c)
+        self._ball = pb.createMultiBody(
+            ball.mass_kg, shape, basePosition=[0.0, 1.0, 0.0], physicsClientId=c
+        )
         ib = ball.inertia_kgm2
         self._dynamics(self._ball, -1, ball.mass_kg, [ib, ib, ib], restitution=scene.e)
         self._springs(scene)
@@ -88,29 +93,44 @@ class PybulletChain(ChainEngine):
         c, chain = self._client, scene.chain
         ell, r, n = chain.segment_length_m, chain.bat.radius_m, chain.segments
         along_x = pb.getQuaternionFromEuler([0.0, math.pi / 2, 0.0])  # capsules lie along z
-        shapes = [pb.createCollisionShape(pb.GEOM_CAPSULE, radius=r, height=ell,
-                                          collisionFramePosition=[ell / 2, 0.0, 0.0],
-                                          collisionFrameOrientation=along_x, physicsClientId=c)
-                  for _ in range(n)]
+        shapes = [
+            pb.createCollisionShape(
+                pb.GEOM_CAPSULE,
+                radius=r,
+                height=ell,
+                collisionFramePosition=[ell / 2, 0.0, 0.0],
+                collisionFrameOrientation=along_x,
+                physicsClientId=c,
+            )
+            for _ in range(n)
+        ]
         offsets = [[com - i * ell, 0.0, 0.0] for i, com in enumerate(chain.coms_m)]
         links = n - 1
         body = pb.createMultiBody(
-            chain.masses_kg[0], shapes[0], basePosition=[-chain.bat.com_from_knob_m, 0.0, 0.0],
-            baseInertialFramePosition=offsets[0], linkMasses=list(chain.masses_kg[1:]),
-            linkCollisionShapeIndices=shapes[1:], linkVisualShapeIndices=[-1] * links,
-            linkPositions=[[ell, 0.0, 0.0]] * links, linkOrientations=[[0, 0, 0, 1]] * links,
+            chain.masses_kg[0],
+            shapes[0],
+            basePosition=[-chain.bat.com_from_knob_m, 0.0, 0.0],
+            baseInertialFramePosition=offsets[0],
+            linkMasses=list(chain.masses_kg[1:]),
+            linkCollisionShapeIndices=shapes[1:],
+            linkVisualShapeIndices=[-1] * links,
+            linkPositions=[[ell, 0.0, 0.0]] * links,
+            linkOrientations=[[0, 0, 0, 1]] * links,
             linkInertialFramePositions=offsets[1:],
             linkInertialFrameOrientations=[[0, 0, 0, 1]] * links,
-            linkParentIndices=list(range(links)), linkJointTypes=[pb.JOINT_REVOLUTE] * links,
-            linkJointAxis=[[0.0, 0.0, 1.0]] * links, physicsClientId=c)
-        for i, (m, inertia) in enumerate(zip(chain.masses_kg, chain.inertias_kgm2,
-                                             strict=True)):
+            linkParentIndices=list(range(links)),
+            linkJointTypes=[pb.JOINT_REVOLUTE] * links,
+            linkJointAxis=[[0.0, 0.0, 1.0]] * links,
+            physicsClientId=c,
+        )
+        for i, (m, inertia) in enumerate(zip(chain.masses_kg, chain.inertias_kgm2, strict=True)):
             axial = min(0.5 * m * r * r, 2.0 * inertia)  # a valid tensor (adapters.segmented)
             self._dynamics(body, i - 1, m, [axial, inertia, inertia], restitution=1.0)
         return body
 
-    def _dynamics(self, body: int, link: int, mass: float, inertia: list[float],
-                  restitution: float) -> None:
+    def _dynamics(
+        self, body: int, link: int, mass: float, inertia: list[float], restitution: float
+    ) -> None:
         """The bat adapter's per-body values: mass, inertia, no friction, restitution (bat 1,
         ball e: Bullet multiplies them); the multibody's own values set apart (see
         ``_multibody``)."""
@@ -119,10 +139,19 @@ class PybulletChain(ChainEngine):
         extra = {}
         if self.settings.ccd_swept_sphere_radius > 0.0:  # per collider
             extra["ccdSweptSphereRadius"] = self.settings.ccd_swept_sphere_radius
-        pb.changeDynamics(body, link, mass=mass, localInertiaDiagonal=inertia,
-                          lateralFriction=0.0, spinningFriction=0.0, rollingFriction=0.0,
-                          jointDamping=0.0, restitution=restitution,
-                          physicsClientId=self._client, **extra)
+        pb.changeDynamics(
+            body,
+            link,
+            mass=mass,
+            localInertiaDiagonal=inertia,
+            lateralFriction=0.0,
+            spinningFriction=0.0,
+            rollingFriction=0.0,
+            jointDamping=0.0,
+            restitution=restitution,
+            physicsClientId=self._client,
+            **extra,
+        )
 
     def _multibody(self, body: int) -> None:
         """No damping, the angular cap lifted: values of the whole multibody, set on its base
@@ -130,8 +159,9 @@ class PybulletChain(ChainEngine):
         angularDamping or maxJointVelocity puts that link's mass and inertia on the BASE)."""
         cap = self.settings.max_joint_velocity_radps
         extra = {} if cap is None else {"maxJointVelocity": cap}
-        pb.changeDynamics(body, -1, linearDamping=0.0, angularDamping=0.0,
-                          physicsClientId=self._client, **extra)
+        pb.changeDynamics(
+            body, -1, linearDamping=0.0, angularDamping=0.0, physicsClientId=self._client, **extra
+        )
 
     def _springs(self, scene: ChainScene) -> None:
         """Velocity motors off; the PD drive kp = k_j (N m/rad), kd = c_j (N m s/rad) toward
@@ -139,13 +169,20 @@ class PybulletChain(ChainEngine):
         chain, c = scene.chain, self._client
         joints = list(range(chain.segments - 1))
         zeros = [0.0] * len(joints)
-        pb.setJointMotorControlArray(self._bat, joints, pb.VELOCITY_CONTROL, forces=zeros,
-                                     physicsClientId=c)
         pb.setJointMotorControlArray(
-            self._bat, joints, pb.PD_CONTROL, targetPositions=zeros, targetVelocities=zeros,
+            self._bat, joints, pb.VELOCITY_CONTROL, forces=zeros, physicsClientId=c
+        )
+        pb.setJointMotorControlArray(
+            self._bat,
+            joints,
+            pb.PD_CONTROL,
+            targetPositions=zeros,
+            targetVelocities=zeros,
             positionGains=list(chain.stiffnesses_nmprad),
             velocityGains=list(chain.dampings_nmsprad),
-            forces=[NO_CLAMP_NM] * len(joints), physicsClientId=c)
+            forces=[NO_CLAMP_NM] * len(joints),
+            physicsClientId=c,
+        )
 
     def mass_properties(self) -> np.ndarray:
         """Masses and inertias as held; each COM from the knob chained through the joints'
@@ -167,16 +204,19 @@ class PybulletChain(ChainEngine):
         c = self._client
         x, y, a, vx, vy, w = segments[0]
         pb.resetBasePositionAndOrientation(  # base calls refer to the COM; (x, y, z, w)
-            self._bat, [x, y, 0.0], [0.0, 0.0, math.sin(a / 2), math.cos(a / 2)],
-            physicsClientId=c)
+            self._bat, [x, y, 0.0], [0.0, 0.0, math.sin(a / 2), math.cos(a / 2)], physicsClientId=c
+        )
         pb.resetBaseVelocity(self._bat, [vx, vy, 0.0], [0.0, 0.0, w], physicsClientId=c)
-        for j, (q, qd) in enumerate(zip(np.diff(segments[:, 2]), np.diff(segments[:, 5]),
-                                        strict=True)):
+        for j, (q, qd) in enumerate(
+            zip(np.diff(segments[:, 2]), np.diff(segments[:, 5]), strict=True)
+        ):
             pb.resetJointState(self._bat, j, float(q), float(qd), physicsClientId=c)
-        pb.resetBasePositionAndOrientation(self._ball, [ball[0], ball[1], 0.0],
-                                           [0.0, 0.0, 0.0, 1.0], physicsClientId=c)
-        pb.resetBaseVelocity(self._ball, [ball[2], ball[3], 0.0], [0.0, 0.0, 0.0],
-                             physicsClientId=c)
+        pb.resetBasePositionAndOrientation(
+            self._ball, [ball[0], ball[1], 0.0], [0.0, 0.0, 0.0, 1.0], physicsClientId=c
+        )
+        pb.resetBaseVelocity(
+            self._ball, [ball[2], ball[3], 0.0], [0.0, 0.0, 0.0], physicsClientId=c
+        )
 
     def step(self) -> None:
         pb.stepSimulation(physicsClientId=self._client)
@@ -188,8 +228,13 @@ class PybulletChain(ChainEngine):
         vel, omega = pb.getBaseVelocity(self._bat, physicsClientId=c)
         frames = [(pos, orn, vel, omega)]
         if n > 1:
-            states = pb.getLinkStates(self._bat, list(range(n - 1)), computeLinkVelocity=1,
-                                      computeForwardKinematics=1, physicsClientId=c)
+            states = pb.getLinkStates(
+                self._bat,
+                list(range(n - 1)),
+                computeLinkVelocity=1,
+                computeForwardKinematics=1,
+                physicsClientId=c,
+            )
             frames += [(s[0], s[1], s[6], s[7]) for s in states]  # COM frame, world velocity
         rows = [(p[0], p[1], _yaw(q), v[0], v[1], w[2]) for p, q, v, w in frames]
         (bx, by, _), _ = pb.getBasePositionAndOrientation(self._ball, physicsClientId=c)
@@ -205,8 +250,12 @@ class PybulletChain(ChainEngine):
         joint rate to +-maxJointVelocity each step, which hides a blow-up (measured: the
         explicit springs at omega_max dt > 2 saturate at the cap, finite, not diverging)."""
         c, cap = self._client, self.settings.max_joint_velocity_radps or ENGINE_RATE_CAP
-        rates = [q[1] for q in pb.getJointStates(
-            self._bat, list(range(self._scene.chain.segments - 1)), physicsClientId=c)]
+        rates = [
+            q[1]
+            for q in pb.getJointStates(
+                self._bat, list(range(self._scene.chain.segments - 1)), physicsClientId=c
+            )
+        ]
         for body in (self._bat, self._ball):
             rates += [x for part in pb.getBaseVelocity(body, physicsClientId=c) for x in part]
         return max(abs(x) for x in rates) >= cap

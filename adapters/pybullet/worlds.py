@@ -71,11 +71,11 @@ class PybulletWorlds(BatchedEngine):
             for bit in range(min(PAIRS_PER_CLIENT, worlds - k * PAIRS_PER_CLIENT)):
                 bat, ball = add_pair(c, scene, self.settings)
                 for body in (bat, ball):
-                    pb.setCollisionFilterGroupMask(body, -1, 1 << bit, 1 << bit,
-                                                   physicsClientId=c)
+                    pb.setCollisionFilterGroupMask(body, -1, 1 << bit, 1 << bit, physicsClientId=c)
                 self._built.append((c, bat, ball))
-        self._body_world = {(c, body): i for i, (c, bat, ball) in enumerate(self._built)
-                            for body in (bat, ball)}
+        self._body_world = {
+            (c, body): i for i, (c, bat, ball) in enumerate(self._built) for body in (bat, ball)
+        }
         self._scene = scene
         self._joints: list[int | None] = [None] * worlds
 
@@ -100,28 +100,33 @@ class PybulletWorlds(BatchedEngine):
         for i, (c, bat, _) in enumerate(self._pairs):
             if self._joints[i] is not None:
                 pb.removeConstraint(self._joints[i], physicsClientId=c)
-            self._joints[i], self._loads[i] = drive_pair(c, bat, None if hands is None
-                                                         else hands[i])
+            self._joints[i], self._loads[i] = drive_pair(
+                c, bat, None if hands is None else hands[i]
+            )
 
     def step(self) -> None:
         for (c, bat, _), load in zip(self._pairs, self._loads):
             if load is not None:
                 load_pair(c, bat, load)
-        for c in self._clients[:math.ceil(len(self._pairs) / PAIRS_PER_CLIENT)]:
+        for c in self._clients[: math.ceil(len(self._pairs) / PAIRS_PER_CLIENT)]:
             pb.stepSimulation(physicsClientId=c)
 
     def read(self) -> np.ndarray:
-        return np.array([read_pair(c, bat, ball, planar)
-                         for (c, bat, ball), planar in zip(self._pairs, self._planar)],
-                        dtype=float).reshape(-1, len(STATE_FIELDS))
+        return np.array(
+            [
+                read_pair(c, bat, ball, planar)
+                for (c, bat, ball), planar in zip(self._pairs, self._planar)
+            ],
+            dtype=float,
+        ).reshape(-1, len(STATE_FIELDS))
 
     def in_contact(self) -> np.ndarray:
         out = np.zeros(len(self._built), dtype=bool)
-        for c in self._clients[:math.ceil(len(self._pairs) / PAIRS_PER_CLIENT)]:
+        for c in self._clients[: math.ceil(len(self._pairs) / PAIRS_PER_CLIENT)]:
             for pt in pb.getContactPoints(physicsClientId=c):
                 if acting(pt):
                     out[self._body_world[c, pt[1]]] = True
-        return out[:len(self._pairs)]
+        return out[: len(self._pairs)]
 
     def set_body_restitution(self, *, bat: float, ball: float) -> None:
         self._scene = None  # the pairs no longer hold the scene as built

@@ -107,8 +107,12 @@ RECORD = EngineRecord(
         planar=True,
     ),
     errors=PymunkErrors(),
-    engine_defaults={"iterations": 10, "collision_slop": CHIPMUNK_SLOP,
-                     "collision_bias": CHIPMUNK_BIAS, "joint_error_bias": CHIPMUNK_BIAS},
+    engine_defaults={
+        "iterations": 10,
+        "collision_slop": CHIPMUNK_SLOP,
+        "collision_bias": CHIPMUNK_BIAS,
+        "joint_error_bias": CHIPMUNK_BIAS,
+    },
     cost=Cost(
         step_cost_s=3.2e-6,
     ),
@@ -119,13 +123,17 @@ RECORD = EngineRecord(
         notes=ReportNotes(
             profile="dt = {dt_s}, Chipmunk's own solver values (exact for one contact)",
             restitution="product of the shapes' `elasticity` (bat 1, ball e)",
-            defaults=("pymunk's slop ({default_collision_slop}) and bias ({default_collision_bias},"
-                      " not 0.9^60: Chipmunk computes them in single precision), read back")),
+            defaults=(
+                "pymunk's slop ({default_collision_slop}) and bias ({default_collision_bias},"
+                " not 0.9^60: Chipmunk computes them in single precision), read back"
+            ),
+        ),
     ),
     studies=Studies(
-        speed_accuracy=(KnobFamily(label="iterations 1", overrides=(("iterations", 1),)),
-                        KnobFamily(label="iterations 10", overrides=(("iterations", 10),),
-                                   quick=True),
-                        KnobFamily(label="iterations 100", overrides=(("iterations", 100),))),
+        speed_accuracy=(
+            KnobFamily(label="iterations 1", overrides=(("iterations", 1),)),
+            KnobFamily(label="iterations 10", overrides=(("iterations", 10),), quick=True),
+            KnobFamily(label="iterations 100", overrides=(("iterations", 100),)),
+        ),
     ),
 )

@@ -11,7 +11,6 @@ from . import RECORD
 pymunk = import_engine(RECORD)
 
 
-
 def make_space(st) -> pymunk.Space:
     """A space with these settings' solver values, no gravity, no damping; the segmented
     bat's too."""
@@ -23,6 +22,7 @@ def make_space(st) -> pymunk.Space:
     space.collision_bias = st.collision_bias
     return space
 
+
 class PymunkEngine(Engine):
     """pymunk behind the single-world interface."""
 
@@ -32,15 +32,20 @@ class PymunkEngine(Engine):
     def read_back_defaults(cls) -> dict:
         space = pymunk.Space()
         joint = pymunk.PivotJoint(space.static_body, pymunk.Body(1.0, 1.0), (0.0, 0.0))
-        return {"iterations": space.iterations, "collision_slop": space.collision_slop,
-                "collision_bias": space.collision_bias, "joint_error_bias": joint.error_bias}
+        return {
+            "iterations": space.iterations,
+            "collision_slop": space.collision_slop,
+            "collision_bias": space.collision_bias,
+            "joint_error_bias": joint.error_bias,
+        }
 
     def build(self, scene: Scene) -> None:
         st, bat, ball = self.settings, scene.bat, scene.ball
         space = make_space(st)
         self._bat = pymunk.Body(bat.mass_kg, bat.inertia_cm_kgm2)
-        self._bat_shape = pymunk.Segment(self._bat, (bat.s_min_m, 0.0), (bat.s_max_m, 0.0),
-                                         bat.radius_m)
+        self._bat_shape = pymunk.Segment(
+            self._bat, (bat.s_min_m, 0.0), (bat.s_max_m, 0.0), bat.radius_m
+        )
         self._ball = pymunk.Body(ball.mass_kg, ball.inertia_kgm2)
         self._ball_shape = pymunk.Circle(self._ball, ball.radius_m)
         space.add(self._bat, self._bat_shape, self._ball, self._ball_shape)
@@ -94,8 +99,9 @@ class PymunkEngine(Engine):
                 self._joint = None
             return
         if hands.pivot_from_com_m is not None:
-            self._joint = pymunk.PivotJoint(self._space.static_body, self._bat, hands.pivot_xy_m,
-                                            (hands.pivot_from_com_m, 0.0))
+            self._joint = pymunk.PivotJoint(
+                self._space.static_body, self._bat, hands.pivot_xy_m, (hands.pivot_from_com_m, 0.0)
+            )
             self._joint.collide_bodies = False
             self._joint.error_bias = self.settings.joint_error_bias
             self._space.add(self._joint)
@@ -119,10 +125,19 @@ class PymunkEngine(Engine):
         ball, bat = self._ball, self._bat
         (bx, by), (bvx, bvy) = ball.position, ball.velocity
         (cx, cy), (cvx, cvy) = bat.position, bat.velocity
-        return State(ball_x_m=bx, ball_y_m=by, ball_vx_mps=bvx, ball_vy_mps=bvy,
-                     ball_omega_radps=ball.angular_velocity, bat_x_m=cx, bat_y_m=cy,
-                     bat_angle_rad=bat.angle, bat_vx_mps=cvx, bat_vy_mps=cvy,
-                     bat_omega_radps=bat.angular_velocity)
+        return State(
+            ball_x_m=bx,
+            ball_y_m=by,
+            ball_vx_mps=bvx,
+            ball_vy_mps=bvy,
+            ball_omega_radps=ball.angular_velocity,
+            bat_x_m=cx,
+            bat_y_m=cy,
+            bat_angle_rad=bat.angle,
+            bat_vx_mps=cvx,
+            bat_vy_mps=cvy,
+            bat_omega_radps=bat.angular_velocity,
+        )
 
     def in_contact(self) -> bool:
         # Chipmunk lists only the arbiters that touched in the last step (cached ones are not).

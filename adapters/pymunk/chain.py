@@ -58,8 +58,9 @@ class PymunkChain(ChainEngine):
         ell, r = chain.segment_length_m, chain.bat.radius_m
         group = pymunk.ShapeFilter(group=SEGMENT_GROUP)
         self._segs, self._shapes = [], []
-        for i, (m, c, inertia) in enumerate(zip(chain.masses_kg, chain.coms_m,
-                                                chain.inertias_kgm2, strict=True)):
+        for i, (m, c, inertia) in enumerate(
+            zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2, strict=True)
+        ):
             body = pymunk.Body(m, inertia)  # origin at the COM: position/velocity are the COM's
             shape = pymunk.Segment(body, (i * ell - c, 0.0), ((i + 1) * ell - c, 0.0), r)
             shape.filter = group
@@ -82,12 +83,14 @@ class PymunkChain(ChainEngine):
         space.remove(*self._joints)
         self._joints = []
         ell = chain.segment_length_m
-        for j, (k, d) in enumerate(zip(chain.stiffnesses_nmprad, chain.dampings_nmsprad,
-                                       strict=True)):
+        for j, (k, d) in enumerate(
+            zip(chain.stiffnesses_nmprad, chain.dampings_nmsprad, strict=True)
+        ):
             a, b = self._segs[j], self._segs[j + 1]
             end = (j + 1) * ell  # from the knob
-            pivot = pymunk.PivotJoint(a, b, (end - chain.coms_m[j], 0.0),
-                                      (end - chain.coms_m[j + 1], 0.0))
+            pivot = pymunk.PivotJoint(
+                a, b, (end - chain.coms_m[j], 0.0), (end - chain.coms_m[j + 1], 0.0)
+            )
             pivot.error_bias = self.settings.joint_error_bias
             # torque on b = k (a.angle - b.angle): k is N m/rad as it stands (module docstring)
             spring = pymunk.DampedRotarySpring(a, b, 0.0, k, d)
@@ -98,8 +101,10 @@ class PymunkChain(ChainEngine):
 
     def mass_properties(self) -> np.ndarray:
         ell = self._chain.segment_length_m
-        rows = [(body.mass, body.center_of_gravity.x - shape.a.x + i * ell, body.moment)
-                for i, (body, shape) in enumerate(zip(self._segs, self._shapes, strict=True))]
+        rows = [
+            (body.mass, body.center_of_gravity.x - shape.a.x + i * ell, body.moment)
+            for i, (body, shape) in enumerate(zip(self._segs, self._shapes, strict=True))
+        ]
         return np.array(rows, dtype=float)
 
     def set_state(self, ball: np.ndarray, segments: np.ndarray) -> None:

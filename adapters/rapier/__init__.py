@@ -151,22 +151,36 @@ class RapierSettings(Settings):
         checks.integer("pgs_iterations", self.pgs_iterations, 1, 10_000)
         checks.integer("stabilization_iterations", self.stabilization_iterations, 0, 10_000)
         checks.integer("max_ccd_substeps", self.max_ccd_substeps, 0, 10_000)
-        for name in ("contact_frequency_hz", "contact_damping_ratio", "max_linear_velocity_mps",
-                     "hinge_frequency_hz", "hinge_damping_ratio"):
+        for name in (
+            "contact_frequency_hz",
+            "contact_damping_ratio",
+            "max_linear_velocity_mps",
+            "hinge_frequency_hz",
+            "hinge_damping_ratio",
+        ):
             checks.positive(name, getattr(self, name))
-        for name in ("allowed_linear_error_m", "max_corrective_velocity_mps",
-                     "prediction_distance_m", "soft_ccd_prediction_m"):
+        for name in (
+            "allowed_linear_error_m",
+            "max_corrective_velocity_mps",
+            "prediction_distance_m",
+            "soft_ccd_prediction_m",
+        ):
             checks.non_negative(name, getattr(self, name))
         checks.in_range("warmstart_coefficient", self.warmstart_coefficient, 0.0, 1.0)
         for name in ("allow_fast_rotation", "contact_recycling", "friction_in_bias_pass"):
             if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"{name}={getattr(self, name)!r} is not a bool; allowed: "
-                                 "True, False")
-        for name, allowed in (("ccd_bodies", CCD_BODIES), ("hinge", HINGES),
-                              ("friction_model", FRICTION_MODELS)):
+                raise ValueError(
+                    f"{name}={getattr(self, name)!r} is not a bool; allowed: True, False"
+                )
+        for name, allowed in (
+            ("ccd_bodies", CCD_BODIES),
+            ("hinge", HINGES),
+            ("friction_model", FRICTION_MODELS),
+        ):
             if getattr(self, name) not in allowed:
-                raise ValueError(f"{name}={getattr(self, name)!r} is unknown; allowed: "
-                                 f"{', '.join(allowed)}")
+                raise ValueError(
+                    f"{name}={getattr(self, name)!r} is unknown; allowed: {', '.join(allowed)}"
+                )
 
 
 class RapierErrors(ErrorModel):
@@ -177,10 +191,12 @@ class RapierErrors(ErrorModel):
 
     def friction_cone(self, s) -> str:
         # a ball on a capsule is a one-point manifold: no twist lever, both models alike
-        model = ("one per point" if s.friction_model == "coulomb"
-                 else "one per manifold + twist")
-        return (f"circular, |P_t| <= mu P_n of the substeps ({model}); the restitution "
-                "impulse frictionless")
+        model = "one per point" if s.friction_model == "coulomb" else "one per manifold + twist"
+        return (
+            f"circular, |P_t| <= mu P_n of the substeps ({model}); the restitution "
+            "impulse frictionless"
+        )
+
 
 RECORD = EngineRecord(
     name="rapier",
@@ -202,11 +218,18 @@ RECORD = EngineRecord(
         # 9e-3 m/s instead of 0.18, bounces unchanged); the speed caps lifted so that a blow-up
         # shows as it is; the hands a multibody joint (omega exact, see the module docstring);
         # Coulomb's friction constraint at each contact point.
-        "reference": RapierSettings(dt_s=1e-5, solver_iterations=1, prediction_distance_m=1e-6,
-                                    contact_frequency_hz=1e4, contact_damping_ratio=1.0,
-                                    contact_recycling=False, max_linear_velocity_mps=F32_MAX,
-                                    allow_fast_rotation=True, hinge="multibody",
-                                    friction_model="coulomb"),
+        "reference": RapierSettings(
+            dt_s=1e-5,
+            solver_iterations=1,
+            prediction_distance_m=1e-6,
+            contact_frequency_hz=1e4,
+            contact_damping_ratio=1.0,
+            contact_recycling=False,
+            max_linear_velocity_mps=F32_MAX,
+            allow_fast_rotation=True,
+            hinge="multibody",
+            friction_model="coulomb",
+        ),
         # Out of the box: 1/60 s, every solver value Rapier's own, the hands an impulse joint
         # (Rapier's usual joint) of default softness; the contact instant mid-step as in any
         # unaligned simulation.
@@ -221,20 +244,33 @@ RECORD = EngineRecord(
     errors=RapierErrors(
         precision="float32",
         friction_defect="the restitution impulse, applied once after the substeps, carries no "
-                         "friction: a slide gets mu P / (1 + e) of tangential impulse for "
-                         "Coulomb's "
-                         "mu P (2/3 of the spin at e = 0.5; package docstring)",
+        "friction: a slide gets mu P / (1 + e) of tangential impulse for "
+        "Coulomb's "
+        "mu P (2/3 of the spin at e = 0.5; package docstring)",
     ),
     # Every value read back from a fresh IntegrationParameters, rigid body and joint.
-    engine_defaults={"dt_s": 1 / 60, "solver_iterations": 4, "pgs_iterations": 1,
-                     "stabilization_iterations": 1, "contact_frequency_hz": 30.0,
-                     "contact_damping_ratio": 10.0, "allowed_linear_error_m": 0.005,
-                     "max_corrective_velocity_mps": 3.0, "prediction_distance_m": 0.02,
-                     "max_linear_velocity_mps": 400.0, "allow_fast_rotation": False,
-                     "warmstart_coefficient": 1.0, "contact_recycling": True,
-                     "max_ccd_substeps": 1, "ccd_bodies": "none", "soft_ccd_prediction_m": 0.0,
-                     "hinge_frequency_hz": 1.0e6, "hinge_damping_ratio": 1.0,
-                     "friction_model": "simplified", "friction_in_bias_pass": False},
+    engine_defaults={
+        "dt_s": 1 / 60,
+        "solver_iterations": 4,
+        "pgs_iterations": 1,
+        "stabilization_iterations": 1,
+        "contact_frequency_hz": 30.0,
+        "contact_damping_ratio": 10.0,
+        "allowed_linear_error_m": 0.005,
+        "max_corrective_velocity_mps": 3.0,
+        "prediction_distance_m": 0.02,
+        "max_linear_velocity_mps": 400.0,
+        "allow_fast_rotation": False,
+        "warmstart_coefficient": 1.0,
+        "contact_recycling": True,
+        "max_ccd_substeps": 1,
+        "ccd_bodies": "none",
+        "soft_ccd_prediction_m": 0.0,
+        "hinge_frequency_hz": 1.0e6,
+        "hinge_damping_ratio": 1.0,
+        "friction_model": "simplified",
+        "friction_in_bias_pass": False,
+    },
     cost=Cost(
         step_cost_s=2.7e-5,
     ),
@@ -243,34 +279,45 @@ RECORD = EngineRecord(
         marker="v",
         label="Rapier",
         notes=ReportNotes(
-            profile=("dt = {dt_s}, {solver_iterations} substep, prediction distance "
-                     "{prediction_distance_m}, contact recycling off, speed caps lifted, hinge a "
-                     "{hinge} joint"),
-            restitution=("mean of both colliders' restitution (the default combine rule; both "
-                         "set to e); no threshold"),
-            handled=("speculative contacts (prediction distance {default_prediction_distance_m} by "
-                     "default) solve the impact from the step start's geometry (with "
-                     "{prediction_distance_m}, the reference is {err_mps} m/s off on the swing); "
-                     "contact recycling keeps stale points; a free body turns 2 atan(omega dt/2) "
-                     "per step, not omega dt; angular speed is clamped to (pi/4)/dt unless fast "
-                     "rotation is allowed; CCD between two \"bullets\" never sweeps (rapier#984); "
-                     "the relax pass costs an impulse joint first-order spin (hence the multibody "
-                     "hinge). Restitution works in {version} (rapier#974's loss is gone).")),
+            profile=(
+                "dt = {dt_s}, {solver_iterations} substep, prediction distance "
+                "{prediction_distance_m}, contact recycling off, speed caps lifted, hinge a "
+                "{hinge} joint"
+            ),
+            restitution=(
+                "mean of both colliders' restitution (the default combine rule; both "
+                "set to e); no threshold"
+            ),
+            handled=(
+                "speculative contacts (prediction distance {default_prediction_distance_m} by "
+                "default) solve the impact from the step start's geometry (with "
+                "{prediction_distance_m}, the reference is {err_mps} m/s off on the swing); "
+                "contact recycling keeps stale points; a free body turns 2 atan(omega dt/2) "
+                "per step, not omega dt; angular speed is clamped to (pi/4)/dt unless fast "
+                'rotation is allowed; CCD between two "bullets" never sweeps (rapier#984); '
+                "the relax pass costs an impulse joint first-order spin (hence the multibody "
+                "hinge). Restitution works in {version} (rapier#974's loss is gone)."
+            ),
+        ),
     ),
     studies=Studies(
         speed_accuracy=(
             KnobFamily(label="reference solver", quick=True),
             KnobFamily(label="4 substeps", overrides=(("solver_iterations", 4),)),
-            KnobFamily(label="speculative 0.02 m", overrides=(("prediction_distance_m", 0.02),),
-                       quick=True),
-            KnobFamily(label="soft contact 30 Hz",
-                       overrides=(("contact_frequency_hz", 30.0), ("contact_damping_ratio", 10.0))),
+            KnobFamily(
+                label="speculative 0.02 m", overrides=(("prediction_distance_m", 0.02),), quick=True
+            ),
+            KnobFamily(
+                label="soft contact 30 Hz",
+                overrides=(("contact_frequency_hz", 30.0), ("contact_damping_ratio", 10.0)),
+            ),
             KnobFamily(label="CCD on the ball", overrides=(("ccd_bodies", "ball"),)),
         ),
         friction_families=(
             KnobFamily(label="simplified friction", overrides=(("friction_model", "simplified"),)),
-            KnobFamily(label="friction in the bias pass",
-                       overrides=(("friction_in_bias_pass", True),)),
+            KnobFamily(
+                label="friction in the bias pass", overrides=(("friction_in_bias_pass", True),)
+            ),
         ),
     ),
 )

@@ -23,24 +23,28 @@ class RapierEngine(Engine):
         unit = p.length_unit
         body = rapier.RigidBody.dynamic().build()
         joint = rapier.SphericalJoint().softness
-        return {"dt_s": p.dt, "solver_iterations": p.num_solver_iterations,
-                "pgs_iterations": p.num_internal_pgs_iterations,
-                "stabilization_iterations": p.num_internal_stabilization_iterations,
-                "contact_frequency_hz": p.contact_softness.natural_frequency,
-                "contact_damping_ratio": p.contact_softness.damping_ratio,
-                "allowed_linear_error_m": p.normalized_allowed_linear_error * unit,
-                "max_corrective_velocity_mps": p.normalized_max_corrective_velocity * unit,
-                "prediction_distance_m": p.normalized_prediction_distance * unit,
-                "max_linear_velocity_mps": p.normalized_max_linear_velocity * unit,
-                "allow_fast_rotation": body.allow_fast_rotation,
-                "warmstart_coefficient": p.warmstart_coefficient,
-                "contact_recycling": p.contact_recycling, "max_ccd_substeps": p.max_ccd_substeps,
-                "ccd_bodies": "both" if body.ccd_enabled else "none",
-                "soft_ccd_prediction_m": body.soft_ccd_prediction,
-                "hinge_frequency_hz": joint.natural_frequency,
-                "hinge_damping_ratio": joint.damping_ratio,
-                "friction_model": FRICTION_MODELS[int(p.friction_model)],
-                "friction_in_bias_pass": p.friction_in_bias_pass}
+        return {
+            "dt_s": p.dt,
+            "solver_iterations": p.num_solver_iterations,
+            "pgs_iterations": p.num_internal_pgs_iterations,
+            "stabilization_iterations": p.num_internal_stabilization_iterations,
+            "contact_frequency_hz": p.contact_softness.natural_frequency,
+            "contact_damping_ratio": p.contact_softness.damping_ratio,
+            "allowed_linear_error_m": p.normalized_allowed_linear_error * unit,
+            "max_corrective_velocity_mps": p.normalized_max_corrective_velocity * unit,
+            "prediction_distance_m": p.normalized_prediction_distance * unit,
+            "max_linear_velocity_mps": p.normalized_max_linear_velocity * unit,
+            "allow_fast_rotation": body.allow_fast_rotation,
+            "warmstart_coefficient": p.warmstart_coefficient,
+            "contact_recycling": p.contact_recycling,
+            "max_ccd_substeps": p.max_ccd_substeps,
+            "ccd_bodies": "both" if body.ccd_enabled else "none",
+            "soft_ccd_prediction_m": body.soft_ccd_prediction,
+            "hinge_frequency_hz": joint.natural_frequency,
+            "hinge_damping_ratio": joint.damping_ratio,
+            "friction_model": FRICTION_MODELS[int(p.friction_model)],
+            "friction_in_bias_pass": p.friction_in_bias_pass,
+        }
 
     def __init__(self, settings) -> None:
         super().__init__(settings)
@@ -59,8 +63,9 @@ class RapierEngine(Engine):
         p.num_solver_iterations = st.solver_iterations
         p.num_internal_pgs_iterations = st.pgs_iterations
         p.num_internal_stabilization_iterations = st.stabilization_iterations
-        p.contact_softness = rapier.SpringCoefficients(st.contact_frequency_hz,
-                                                       st.contact_damping_ratio)
+        p.contact_softness = rapier.SpringCoefficients(
+            st.contact_frequency_hz, st.contact_damping_ratio
+        )
         p.length_unit = 1.0
         p.normalized_allowed_linear_error = st.allowed_linear_error_m
         p.normalized_max_corrective_velocity = st.max_corrective_velocity_mps
@@ -75,16 +80,27 @@ class RapierEngine(Engine):
         self._world = w
         ib = ball.inertia_kgm2
         self._bat = self._add_body(
-            rapier.MassProperties(local_com=(0.0, 0.0, 0.0), mass=bat.mass_kg,
-                                  principal_inertia=(bat.axial_inertia_kgm2, bat.inertia_cm_kgm2,
-                                                     bat.inertia_cm_kgm2)),
-            rapier.Collider.capsule_from_endpoints((bat.s_min_m, 0.0, 0.0),
-                                                   (bat.s_max_m, 0.0, 0.0), bat.radius_m),
-            ccd=st.ccd_bodies == "both")
+            rapier.MassProperties(
+                local_com=(0.0, 0.0, 0.0),
+                mass=bat.mass_kg,
+                principal_inertia=(
+                    bat.axial_inertia_kgm2,
+                    bat.inertia_cm_kgm2,
+                    bat.inertia_cm_kgm2,
+                ),
+            ),
+            rapier.Collider.capsule_from_endpoints(
+                (bat.s_min_m, 0.0, 0.0), (bat.s_max_m, 0.0, 0.0), bat.radius_m
+            ),
+            ccd=st.ccd_bodies == "both",
+        )
         self._ball = self._add_body(
-            rapier.MassProperties(local_com=(0.0, 0.0, 0.0), mass=ball.mass_kg,
-                                  principal_inertia=(ib, ib, ib)),
-            rapier.Collider.ball(ball.radius_m), ccd=st.ccd_bodies != "none")
+            rapier.MassProperties(
+                local_com=(0.0, 0.0, 0.0), mass=ball.mass_kg, principal_inertia=(ib, ib, ib)
+            ),
+            rapier.Collider.ball(ball.radius_m),
+            ccd=st.ccd_bodies != "none",
+        )
         self._bat_col = w.rigid_bodies[self._bat].colliders[0]
         self._ball_col = w.rigid_bodies[self._ball].colliders[0]
         self._anchor = w.add_body(rapier.RigidBody.fixed())  # the world end of the hinge
@@ -97,10 +113,16 @@ class RapierEngine(Engine):
     def _add_body(self, mprops, collider, ccd: bool):
         """A dynamic body with exactly ``mprops`` (its collider massless), undamped, awake."""
         st, w = self.settings, self._world
-        body = (rapier.RigidBody.dynamic().additional_mass_properties(mprops).can_sleep(False)
-                .linear_damping(0.0).angular_damping(0.0).ccd_enabled(ccd)
-                .soft_ccd_prediction(st.soft_ccd_prediction_m)
-                .allow_fast_rotation(st.allow_fast_rotation))
+        body = (
+            rapier.RigidBody.dynamic()
+            .additional_mass_properties(mprops)
+            .can_sleep(False)
+            .linear_damping(0.0)
+            .angular_damping(0.0)
+            .ccd_enabled(ccd)
+            .soft_ccd_prediction(st.soft_ccd_prediction_m)
+            .allow_fast_rotation(st.allow_fast_rotation)
+        )
         handle = w.add_body(body, [collider.density(0.0).friction(0.0).restitution(0.0)])
         # Rapier folds additional mass properties in at the next step; read-back needs them now.
         w.rigid_bodies[handle].recompute_mass_properties_from_colliders(w.colliders)
@@ -119,8 +141,12 @@ class RapierEngine(Engine):
             return float(sum(frame[2, k] ** 2 * mp.principal_inertia[k] for k in range(3)))
 
         return MassProperties(
-            bat_mass_kg=mb.mass, bat_com_from_knob_m=mb.local_com.x - knob_x,
-            bat_inertia_kgm2=izz(mb), ball_mass_kg=ms.mass, ball_inertia_kgm2=izz(ms))
+            bat_mass_kg=mb.mass,
+            bat_com_from_knob_m=mb.local_com.x - knob_x,
+            bat_inertia_kgm2=izz(mb),
+            ball_mass_kg=ms.mass,
+            ball_inertia_kgm2=izz(ms),
+        )
 
     def set_body_restitution(self, *, bat: float, ball: float) -> None:
         self._world.colliders[self._bat_col].restitution = bat
@@ -170,24 +196,28 @@ class RapierEngine(Engine):
         bat = w.rigid_bodies[self._bat]
         self._pivot = pivot_xy_m
         if st.hinge == "impulse":
-            joint = (rapier.SphericalJoint.builder()
-                     .local_anchor1((pivot_xy_m[0], pivot_xy_m[1], 0.0))
-                     .local_anchor2((pivot_from_com_m, 0.0, 0.0))
-                     .softness(rapier.SpringCoefficients(st.hinge_frequency_hz,
-                                                         st.hinge_damping_ratio))
-                     .build())
+            joint = (
+                rapier.SphericalJoint.builder()
+                .local_anchor1((pivot_xy_m[0], pivot_xy_m[1], 0.0))
+                .local_anchor2((pivot_from_com_m, 0.0, 0.0))
+                .softness(rapier.SpringCoefficients(st.hinge_frequency_hz, st.hinge_damping_ratio))
+                .build()
+            )
             self._joint = w.impulse_joints.insert(self._anchor, self._bat, joint)
             return
         # A revolute joint about z in reduced coordinates: a new link sits at coordinate 0, so
         # the frames put the bat's present pose there.
-        free_z = (rapier.JointAxesMask.LIN_AXES | rapier.JointAxesMask.ANG_X
-                  | rapier.JointAxesMask.ANG_Y)
-        joint = (rapier.GenericJointBuilder(free_z)
-                 .local_frame1(rapier.Isometry3((pivot_xy_m[0], pivot_xy_m[1], 0.0),
-                                                bat.rotation))
-                 .local_frame2(rapier.Isometry3((pivot_from_com_m, 0.0, 0.0),
-                                                rapier.Rotation3.identity()))
-                 .build())
+        free_z = (
+            rapier.JointAxesMask.LIN_AXES | rapier.JointAxesMask.ANG_X | rapier.JointAxesMask.ANG_Y
+        )
+        joint = (
+            rapier.GenericJointBuilder(free_z)
+            .local_frame1(rapier.Isometry3((pivot_xy_m[0], pivot_xy_m[1], 0.0), bat.rotation))
+            .local_frame2(
+                rapier.Isometry3((pivot_from_com_m, 0.0, 0.0), rapier.Rotation3.identity())
+            )
+            .build()
+        )
         self._joint = w.multibody_joints.insert(self._anchor, self._bat, joint)
         links = w.multibody_joints.multibody(self._joint)
         links.set_damping([0.0] * links.ndofs)  # multibody links are damped (0.1) by default
@@ -239,11 +269,28 @@ class RapierEngine(Engine):
         cwx, cwy, cwz = bat.angvel.to_tuple()
         rot = bat.rotation
         angle, tilt = angle_and_tilt(rot.w, rot.i, rot.j, rot.k, self._planar)
-        return State(ball_x_m=bx, ball_y_m=by, ball_vx_mps=bvx, ball_vy_mps=bvy,
-                     ball_omega_radps=bwz, bat_x_m=cx, bat_y_m=cy, bat_angle_rad=angle,
-                     bat_vx_mps=cvx, bat_vy_mps=cvy, bat_omega_radps=cwz, ball_z_m=bz,
-                     ball_vz_mps=bvz, ball_wx_radps=bwx, ball_wy_radps=bwy, bat_z_m=cz,
-                     bat_tilt_rad=tilt, bat_vz_mps=cvz, bat_wx_radps=cwx, bat_wy_radps=cwy)
+        return State(
+            ball_x_m=bx,
+            ball_y_m=by,
+            ball_vx_mps=bvx,
+            ball_vy_mps=bvy,
+            ball_omega_radps=bwz,
+            bat_x_m=cx,
+            bat_y_m=cy,
+            bat_angle_rad=angle,
+            bat_vx_mps=cvx,
+            bat_vy_mps=cvy,
+            bat_omega_radps=cwz,
+            ball_z_m=bz,
+            ball_vz_mps=bvz,
+            ball_wx_radps=bwx,
+            ball_wy_radps=bwy,
+            bat_z_m=cz,
+            bat_tilt_rad=tilt,
+            bat_vz_mps=cvz,
+            bat_wx_radps=cwx,
+            bat_wy_radps=cwy,
+        )
 
     def in_contact(self) -> bool:
         # A speculative contact (bodies apart, no impulse) is not a touch.
@@ -254,4 +301,3 @@ class RapierEngine(Engine):
 
     def failed(self) -> bool:
         return self._failed
-

@@ -76,25 +76,35 @@ class RapierChain(ChainEngine):
         w.remove_body(rig._bat)  # the rigid bat's place goes to the segments
         self._rig, self._ball, self._ball_col = rig, rig._ball, rig._ball_col
         w.colliders[self._ball_col].collision_groups = rapier.InteractionGroups(
-            rapier.Group.GROUP_2, rapier.Group.GROUP_1)
+            rapier.Group.GROUP_2, rapier.Group.GROUP_1
+        )
         ell, r = chain.segment_length_m, chain.bat.radius_m
         self._segs, self._cols = [], []
-        for i, (m, c, J) in enumerate(zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2,
-                                          strict=True)):
-            mprops = rapier.MassProperties(local_com=(0.0, 0.0, 0.0), mass=m,
-                                           principal_inertia=(min(0.5 * m * r * r, 2.0 * J), J, J))
-            capsule = (rapier.Collider.capsule_from_endpoints((i * ell - c, 0.0, 0.0),
-                                                              ((i + 1) * ell - c, 0.0, 0.0), r)
-                       .collision_groups(rapier.InteractionGroups(rapier.Group.GROUP_1,
-                                                                  rapier.Group.GROUP_2)))
+        for i, (m, c, J) in enumerate(
+            zip(chain.masses_kg, chain.coms_m, chain.inertias_kgm2, strict=True)
+        ):
+            mprops = rapier.MassProperties(
+                local_com=(0.0, 0.0, 0.0),
+                mass=m,
+                principal_inertia=(min(0.5 * m * r * r, 2.0 * J), J, J),
+            )
+            capsule = rapier.Collider.capsule_from_endpoints(
+                (i * ell - c, 0.0, 0.0), ((i + 1) * ell - c, 0.0, 0.0), r
+            ).collision_groups(rapier.InteractionGroups(rapier.Group.GROUP_1, rapier.Group.GROUP_2))
             handle = rig._add_body(mprops, capsule, ccd=st.ccd_bodies == "both")
             self._segs.append(handle)
             self._cols.append(w.rigid_bodies[handle].colliders[0])
             w.colliders[self._cols[-1]].restitution = scene.e  # as set_body_restitution
-        self._anchors = [((j + 1) * ell - chain.coms_m[j], (j + 1) * ell - chain.coms_m[j + 1])
-                         for j in range(chain.segments - 1)]
-        self._joints = [self._join(j, k, d) for j, (k, d) in enumerate(
-            zip(chain.stiffnesses_nmprad, chain.dampings_nmsprad, strict=True))]
+        self._anchors = [
+            ((j + 1) * ell - chain.coms_m[j], (j + 1) * ell - chain.coms_m[j + 1])
+            for j in range(chain.segments - 1)
+        ]
+        self._joints = [
+            self._join(j, k, d)
+            for j, (k, d) in enumerate(
+                zip(chain.stiffnesses_nmprad, chain.dampings_nmsprad, strict=True)
+            )
+        ]
         if st.hinge == "multibody":
             links = self._multibody()
             links.set_damping([0.0] * links.ndofs)  # multibody links are damped (0.1) by default
@@ -103,14 +113,19 @@ class RapierChain(ChainEngine):
         """Segments j and j+1 hinged about z at their common end, the motor their spring."""
         st, w = self.settings, self._world
         a1, a2 = self._anchors[j]
-        joint = (rapier.RevoluteJoint.builder((0.0, 0.0, 1.0))
-                 .local_anchor1((a1, 0.0, 0.0)).local_anchor2((a2, 0.0, 0.0))
-                 .contacts_enabled(False)
-                 .softness(rapier.SpringCoefficients(st.hinge_frequency_hz,
-                                                     st.hinge_damping_ratio)))
+        joint = (
+            rapier.RevoluteJoint.builder((0.0, 0.0, 1.0))
+            .local_anchor1((a1, 0.0, 0.0))
+            .local_anchor2((a2, 0.0, 0.0))
+            .contacts_enabled(False)
+            .softness(rapier.SpringCoefficients(st.hinge_frequency_hz, st.hinge_damping_ratio))
+        )
         if k > 0.0 or d > 0.0:  # k = d = 0 would lock the joint (module docstring)
-            joint = (joint.motor_position(0.0, k, d)  # target 0: no torque when straight
-                     .motor_model(rapier.MotorModel.FORCE_BASED))  # torque k theta
+            joint = joint.motor_position(
+                0.0, k, d
+            ).motor_model(  # target 0: no torque when straight
+                rapier.MotorModel.FORCE_BASED
+            )  # torque k theta
         joint = joint.build()
         joints = w.impulse_joints if st.hinge == "impulse" else w.multibody_joints
         return joints.insert(self._segs[j], self._segs[j + 1], joint)
@@ -158,8 +173,7 @@ class RapierChain(ChainEngine):
         links.apply_displacements([0.0] * 6 + list(bends - q[6:]))
         links.forward_kinematics(self._world.rigid_bodies, True)
         _, _, _, vx, vy, om = segments[0]
-        links.set_generalized_velocity([vx, vy, 0.0, 0.0, 0.0, om,
-                                        *np.diff(segments[:, 5])])
+        links.set_generalized_velocity([vx, vy, 0.0, 0.0, 0.0, om, *np.diff(segments[:, 5])])
 
     def step(self) -> None:
         self._rig.step()  # no hands: a plain world step and the quarantine check
@@ -193,13 +207,15 @@ class RapierChain(ChainEngine):
             rx, ry = px - x, py - y
             sx, sy = segs[j + 1, 0] - px, segs[j + 1, 1] - py
             segs[j + 1, 3:6] = (vx - om * ry - om2 * sy, vy + om * rx + om2 * sx, om2)
+
     def in_contact(self) -> bool:
         # The bat adapter's test: a speculative contact (apart, no impulse) is not a touch.
         narrow = self._world.narrow_phase
         for col in self._cols:
             pair = narrow.contact_pair(col, self._ball_col)
-            if pair is not None and any(pt.impulse > 0.0 or pt.dist < 0.0
-                                        for m in pair.manifolds for pt in m.points):
+            if pair is not None and any(
+                pt.impulse > 0.0 or pt.dist < 0.0 for m in pair.manifolds for pt in m.points
+            ):
                 return True
         return False
 

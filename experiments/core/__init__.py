@@ -39,6 +39,22 @@ from .placement import SwingPlan, start_state, swing_case
 from .runner import Runner
 from .tables import COLUMNS, table
 
-__all__ = ["COLUMNS", "CheckReport", "Fired", "Firing", "Job", "MEASURED", "Runner",
-           "SceneMismatch", "SimOutcome", "Status", "SwingPlan", "check_engine", "fire_jobs",
-           "grid", "start_state", "swing_case", "table"]
+__all__ = [
+    "COLUMNS",
+    "CheckReport",
+    "Fired",
+    "Firing",
+    "Job",
+    "MEASURED",
+    "Runner",
+    "SceneMismatch",
+    "SimOutcome",
+    "Status",
+    "SwingPlan",
+    "check_engine",
+    "fire_jobs",
+    "grid",
+    "start_state",
+    "swing_case",
+    "table",
+]

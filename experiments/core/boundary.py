@@ -93,8 +93,9 @@ def _raised(signum: int) -> BaseException:
     return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
 
 
-def entry(main: Callable[[list[str] | None], int], prog: str | None = None
-          ) -> Callable[[list[str] | None], int]:
+def entry(
+    main: Callable[[list[str] | None], int], prog: str | None = None
+) -> Callable[[list[str] | None], int]:
     """A command's ``main(argv)`` behind the boundary (module docstring); ``prog`` names it in
     its messages (default: ``python -m`` and the module ``main`` is in)."""
     prog = prog or f"python -m {_module_name(main)}"
@@ -112,8 +113,7 @@ def entry(main: Callable[[list[str] | None], int], prog: str | None = None
                 report_stop("interrupted", 130)
                 return 130
             except Terminated as stop:
-                report_stop(f"stopped by {signal.Signals(stop.signum).name}",
-                            128 + stop.signum)
+                report_stop(f"stopped by {signal.Signals(stop.signum).name}", 128 + stop.signum)
                 return 128 + stop.signum
             except OutputLost as err:
                 _drop_stdout(stdout)
@@ -201,12 +201,16 @@ def environment_error() -> str | None:
     every chart goes to a file)."""
     raw = os.environ.get("BATSIM_DEBUG", "")
     if raw.strip().lower() not in DEBUG_VALUES:
-        return (f"BATSIM_DEBUG={raw!r} is not allowed; allowed: 1, true or yes (tracebacks), "
-                "0, false, no or empty")
+        return (
+            f"BATSIM_DEBUG={raw!r} is not allowed; allowed: 1, true or yes (tracebacks), "
+            "0, false, no or empty"
+        )
     device = os.environ.get("BATSIM_WARP_DEVICE", "")
     if device and not WARP_DEVICE.match(device):
-        return (f"BATSIM_WARP_DEVICE={device!r} is not a Warp device; allowed: cpu, cuda or "
-                "cuda:N (N a GPU's number), or unset (the CPU)")
+        return (
+            f"BATSIM_WARP_DEVICE={device!r} is not a Warp device; allowed: cpu, cuda or "
+            "cuda:N (N a GPU's number), or unset (the CPU)"
+        )
     backend = os.environ.pop("MPLBACKEND", None)
     # what matplotlib says of its own cache (unwritable: it makes a temporary one) is not the
     # run's business: its errors only
@@ -221,8 +225,10 @@ def environment_error() -> str | None:
     try:
         rcsetup.validate_backend(backend)
     except ValueError:
-        return (f"MPLBACKEND={backend!r} is not a matplotlib backend; allowed: unset it, or a "
-                "backend's name such as agg (the charts are drawn to files with Agg)")
+        return (
+            f"MPLBACKEND={backend!r} is not a matplotlib backend; allowed: unset it, or a "
+            "backend's name such as agg (the charts are drawn to files with Agg)"
+        )
     return None
 
 

@@ -60,8 +60,9 @@ class ChainTolerance:
     round_ops: float = ROUND_OPS
     judged_share: float = CHAIN_JUDGED_SHARE
 
-    def mps(self, impact: ChainImpact, settings, errors: adapters.ErrorModel,
-            ref: ChainOutcome) -> float:
+    def mps(
+        self, impact: ChainImpact, settings, errors: adapters.ErrorModel, ref: ChainOutcome
+    ) -> float:
         chain, dt = impact.chain, settings.dt_s
         closing = impact.v0_mps + impact.u0_mps + impact.omega0_radps * impact.s_m
         M, K, _ = chain.matrices
@@ -73,8 +74,9 @@ class ChainTolerance:
         if errors.contact_law(settings, impact.e) is not None:
             reach = chain.bat.radius_m + impact.ball.radius_m
             geometric = reach * ref.peak_turn_rad**2 / 2 / max(ref.peak_overlap_m, 1e-12)
-            return tol + closing * (errors.law_restitution_error(settings, dt / ref.contact_s)
-                                    + geometric)
+            return tol + closing * (
+                errors.law_restitution_error(settings, dt / ref.contact_s) + geometric
+            )
         if ref.contacts > 1:
             return tol + closing * float(chain.modes[0].max()) * dt
         return tol
@@ -93,8 +95,9 @@ def reference_for_law(impact: ChainImpact, law) -> ChainOutcome:
     return compliant_reference(impact, law, max_s=CHAIN_MAX_EPISODE_S)
 
 
-def start_states(impact: ChainImpact, dt_s: float,
-                 overlap_m: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def start_states(
+    impact: ChainImpact, dt_s: float, overlap_m: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
     """The ball (4,) and segments (N, 6) ``APPROACH_STEPS`` steps before the touch, the ball
     ``overlap_m`` deeper (the settings' overlap at the first step that sees the contact: an
     engine that detects after it moves would otherwise meet the ball a whole step deep)."""
@@ -131,19 +134,31 @@ def bending_energy_j(chain: Chain, segments: np.ndarray) -> float:
         return float(ke + pe - (p @ p) / (2 * total_m) - ang**2 / (2 * chain.bat.inertia_cm_kgm2))
 
 
-def fire_chain(name: str, settings, impact: ChainImpact,
-               tolerance: ChainTolerance = ChainTolerance(),
-               known: ChainOutcome | None = None) -> dict:
+def fire_chain(
+    name: str,
+    settings,
+    impact: ChainImpact,
+    tolerance: ChainTolerance = ChainTolerance(),
+    known: ChainOutcome | None = None,
+) -> dict:
     """One row: the engine's exit speed and bending energy beside the chain's reference
     (``known``, when the caller has solved it already). A reference that did not end
     (ever shorter bounces, or the time limit) judges nothing: the row is 'unjudged'."""
     rec = adapters.record(name)
     ref = known or reference(rec.errors, settings, impact)
     closing = impact.v0_mps + impact.u0_mps + impact.omega0_radps * impact.s_m
-    row = {"engine": name, "segments": impact.chain.segments, "dt_s": settings.dt_s,
-           "x_m": impact.x_m, "v0_mps": impact.v0_mps, "e": impact.e,
-           "v1_ref_mps": ref.v1_mps, "vibration_ref_j": ref.vibration_j,
-           "contacts_ref": ref.contacts, "ended_ref": ref.ended}
+    row = {
+        "engine": name,
+        "segments": impact.chain.segments,
+        "dt_s": settings.dt_s,
+        "x_m": impact.x_m,
+        "v0_mps": impact.v0_mps,
+        "e": impact.e,
+        "v1_ref_mps": ref.v1_mps,
+        "vibration_ref_j": ref.vibration_j,
+        "contacts_ref": ref.contacts,
+        "ended_ref": ref.ended,
+    }
     row["tol_mps"] = tolerance.mps(impact, settings, rec.errors, ref)
     if rec.can.chain_adapter is None:
         return row | _failed(Status.UNSUPPORTED, "no segmented-bat adapter")
@@ -157,11 +172,15 @@ def fire_chain(name: str, settings, impact: ChainImpact,
     row |= got | {"wall_s": time.perf_counter() - t0}
     if row["status"] == Status.OK.value:
         row["err_mps"] = abs(row["v1_mps"] - ref.v1_mps)
-        judged = (ref.ended == "separated" and row["tol_mps"] <= tolerance.judged_share * closing
-                  and not _patch_reaches_a_joint(impact, ref))
+        judged = (
+            ref.ended == "separated"
+            and row["tol_mps"] <= tolerance.judged_share * closing
+            and not _patch_reaches_a_joint(impact, ref)
+        )
         nan = [math.nan]
-        row["status"] = judge.verdict([row["status"]], [row["err_mps"]],
-                                      [row["tol_mps"] if judged else math.nan], nan, nan)[0]
+        row["status"] = judge.verdict(
+            [row["status"]], [row["err_mps"]], [row["tol_mps"] if judged else math.nan], nan, nan
+        )[0]
     return row
 
 
@@ -181,8 +200,15 @@ class _Mismatch(RuntimeError):
 
 
 def _failed(status: Status, why: str) -> dict:
-    return {"status": status.value, "why": why, "v1_mps": math.nan, "vibration_j": math.nan,
-            "err_mps": math.nan, "steps": 0, "wall_s": math.nan}
+    return {
+        "status": status.value,
+        "why": why,
+        "v1_mps": math.nan,
+        "vibration_j": math.nan,
+        "err_mps": math.nan,
+        "steps": 0,
+        "wall_s": math.nan,
+    }
 
 
 def _run(rec, settings, impact: ChainImpact, ref: ChainOutcome) -> dict:
@@ -193,8 +219,11 @@ def _run(rec, settings, impact: ChainImpact, ref: ChainOutcome) -> dict:
         _check_mass(engine.mass_properties(), chain, rec.eps)
         ball, segs = start_states(impact, settings.dt_s, settings.overlap_m)
         engine.set_state(ball, segs)
-        before = 0.5 * impact.ball.mass_kg * impact.v0_mps**2 + bending_energy_j(chain, segs) \
+        before = (
+            0.5 * impact.ball.mass_kg * impact.v0_mps**2
+            + bending_energy_j(chain, segs)
             + _rigid_ke(chain, segs)
+        )
         return _step(engine, chain, impact, ref, settings.dt_s, before)
     finally:
         engine.close()
@@ -202,8 +231,10 @@ def _run(rec, settings, impact: ChainImpact, ref: ChainOutcome) -> dict:
 
 def _rigid_ke(chain: Chain, segs: np.ndarray) -> float:
     m = np.asarray(chain.masses_kg)
-    return 0.5 * float(np.sum(m * np.sum(segs[:, 3:5] ** 2, axis=1))
-                       + np.sum(np.asarray(chain.inertias_kgm2) * segs[:, 5] ** 2))
+    return 0.5 * float(
+        np.sum(m * np.sum(segs[:, 3:5] ** 2, axis=1))
+        + np.sum(np.asarray(chain.inertias_kgm2) * segs[:, 5] ** 2)
+    )
 
 
 def _check_mass(got: np.ndarray, chain: Chain, eps: float) -> None:
@@ -217,8 +248,9 @@ class _ChainEpisode:
     """The chain's episode as a task of ``episode.run_episode``: over when no contact has come
     for a lowest-mode period past the reference's end; ``row`` what it measured."""
 
-    def __init__(self, chain: Chain, impact: ChainImpact, ref: ChainOutcome, dt: float,
-                 before: float) -> None:
+    def __init__(
+        self, chain: Chain, impact: ChainImpact, ref: ChainOutcome, dt: float, before: float
+    ) -> None:
         self.chain, self.impact, self.dt, self.before = chain, impact, dt, before
         self.quiet = 2 * math.pi / float(chain.modes[0][chain.modes[0] > 0].min())
         self.end = APPROACH_STEPS * dt + ref.contact_s + self.quiet
@@ -242,8 +274,7 @@ class _ChainEpisode:
         return True
 
     def budget_spent(self, engine) -> None:
-        self.row = _failed(Status.NO_SEPARATION, "still in contact") | {
-            "steps": self.max_steps}
+        self.row = _failed(Status.NO_SEPARATION, "still in contact") | {"steps": self.max_steps}
 
     def _ended(self, ball: np.ndarray, segs: np.ndarray, step: int) -> dict:
         if not self.touched:
@@ -252,13 +283,23 @@ class _ChainEpisode:
         vib = bending_energy_j(chain, segs)
         with np.errstate(over="ignore", invalid="ignore"):  # a huge but finite chain: inf
             springs = np.asarray(chain.stiffnesses_nmprad) * np.diff(segs[:, 2]) ** 2
-            after = 0.5 * self.impact.ball.mass_kg * float(ball[2:] @ ball[2:]) \
-                + _rigid_ke(chain, segs) + 0.5 * float(np.sum(springs))
+            after = (
+                0.5 * self.impact.ball.mass_kg * float(ball[2:] @ ball[2:])
+                + _rigid_ke(chain, segs)
+                + 0.5 * float(np.sum(springs))
+            )
         gained = after > self.before * (1 + CHAIN_ENERGY_SLACK)
         status = Status.ENERGY_GAINED if gained else Status.OK
-        return {"status": status.value, "why": "", "v1_mps": float(ball[3]), "vibration_j": vib,
-                "err_mps": math.nan, "steps": step, "energy_before_j": self.before,
-                "energy_after_j": after}
+        return {
+            "status": status.value,
+            "why": "",
+            "v1_mps": float(ball[3]),
+            "vibration_j": vib,
+            "err_mps": math.nan,
+            "steps": step,
+            "energy_before_j": self.before,
+            "energy_after_j": after,
+        }
 
 
 def _step(engine, chain, impact, ref, dt, before) -> dict:
@@ -280,22 +321,24 @@ def mode_states(chain: Chain, mode: int, speed_mps: float) -> np.ndarray:
     segs = np.zeros((chain.segments, 6))
     for i, c in enumerate(chain.coms_m):
         row = np.zeros(chain.segments + 1)
-        row[0], row[1:i + 1] = 1.0, chain.segment_length_m
+        row[0], row[1 : i + 1] = 1.0, chain.segment_length_m
         row[i + 1] = c - i * chain.segment_length_m
         segs[i] = (c - x_cm, 0.0, 0.0, 0.0, row @ qd, qd[i + 1])
     return segs
 
 
-def measured_period_s(engine, chain: Chain, ball_parked: np.ndarray, segs: np.ndarray,
-                      dt_s: float, periods: int = 3) -> float:
+def measured_period_s(
+    engine, chain: Chain, ball_parked: np.ndarray, segs: np.ndarray, dt_s: float, periods: int = 3
+) -> float:
     """The period of the first joint's angle, from its zero crossings over ``periods``
     periods of the lowest mode (the ball parked out of reach)."""
     engine.set_state(ball_parked, segs)
     omega = chain.modes[0]
     steps = int(periods * 2 * math.pi / float(omega[omega > 0].min()) / dt_s) + 1
     angles: list[float] = []
-    run_episode(engine, Recorder(lambda world: angles.append(np.diff(world.read()[1][:, 2])[0])),
-                steps)
+    run_episode(
+        engine, Recorder(lambda world: angles.append(np.diff(world.read()[1][:, 2])[0])), steps
+    )
     a = np.asarray(angles)
     ups = np.flatnonzero((a[:-1] < 0.0) & (a[1:] >= 0.0))
     t = (ups + a[ups] / (a[ups] - a[ups + 1]) + 1) * dt_s

@@ -58,8 +58,12 @@ class Ctx:
 
     def fire(self, cases, settings: adapters.Settings | None = None, swing=None):
         st = settings or self.settings
-        return [f.outcome for f in fire_jobs([Job(engine=self.name, settings=st, case=c,
-                                                  swing=swing) for c in cases])]
+        return [
+            f.outcome
+            for f in fire_jobs(
+                [Job(engine=self.name, settings=st, case=c, swing=swing) for c in cases]
+            )
+        ]
 
 
 def _expect(ok: bool, message: str) -> None:
@@ -72,15 +76,20 @@ def _matches_theory(ctx: Ctx, cases, fields=("v1_mps", "u1_mps", "omega1_radps")
     single impulse (analytic.predict). Returns the largest error in units of its tolerance."""
     worst = 0.0
     for case, out in zip(cases, ctx.fire(cases)):
-        _expect(out.status is Status.OK, f"s = {case.s_m:.3f} m, e = {case.e}: status "
-                                         f"{out.status.value} ({out.ended})")
+        _expect(
+            out.status is Status.OK,
+            f"s = {case.s_m:.3f} m, e = {case.e}: status {out.status.value} ({out.ended})",
+        )
         ref = predict(case)
         for field in fields:
             allowed = judge.output_tolerance(case, ctx.settings, ctx.record.errors, field)
             err = abs(getattr(out, field) - getattr(ref, field))
-            _expect(err <= allowed, f"{field} at s = {case.s_m:.3f} m: {getattr(out, field)!r} "
-                                    f"vs theory {getattr(ref, field)!r} (|diff| {err:.3g} > "
-                                    f"allowed {allowed:.3g})")
+            _expect(
+                err <= allowed,
+                f"{field} at s = {case.s_m:.3f} m: {getattr(out, field)!r} "
+                f"vs theory {getattr(ref, field)!r} (|diff| {err:.3g} > "
+                f"allowed {allowed:.3g})",
+            )
             worst = max(worst, err / allowed)
     return worst
 
@@ -92,12 +101,18 @@ def mass_read_back(ctx: Ctx) -> str:
     for bat in (R161, R161.corked(), presets.EASTON31):
         host.batch(Scene(bat=bat, ball=BALL, e=0.5), 1)  # builds and checks
     got = host.adapter.mass_properties()
-    for field, changed in (("bat_mass_kg", dict(mass_kg=0.9)),
-                           ("bat_com_from_knob_m", dict(com_from_knob_m=0.5)),
-                           ("bat_inertia_kgm2", dict(inertia_cm_kgm2=0.04))):
+    for field, changed in (
+        ("bat_mass_kg", dict(mass_kg=0.9)),
+        ("bat_com_from_knob_m", dict(com_from_knob_m=0.5)),
+        ("bat_inertia_kgm2", dict(inertia_cm_kgm2=0.04)),
+    ):
         try:
-            check_mass_properties(ctx.name, got, Scene(bat=replace(presets.EASTON31, **changed),
-                                                       ball=BALL, e=0.5), ctx.record.eps)
+            check_mass_properties(
+                ctx.name,
+                got,
+                Scene(bat=replace(presets.EASTON31, **changed), ball=BALL, e=0.5),
+                ctx.record.eps,
+            )
         except SceneMismatch as err:
             _expect(field in str(err), f"a changed {field} was reported as {err}")
             continue
@@ -110,22 +125,31 @@ def restitution(ctx: Ctx) -> str:
     (at e = 0 ball and bat may move on together, to rounding: the episode then ends at the
     budget, no_separation: 2 ms of it, as long as 0.1 s would say); within
     ``judge.precision_rel``."""
-    cases = [ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=40.0, e=e)
-             for e in (0.0, 0.3, 0.5, 1.0)]
+    cases = [
+        ImpactCase(bat=R161, ball=BALL, s_m=0.0, v0_mps=40.0, e=e) for e in (0.0, 0.3, 0.5, 1.0)
+    ]
     tol = judge.precision_rel(ctx.settings, ctx.record.errors, cases[0])
     short = replace(ctx.settings, max_contact_s=2e-3)
     for case, out in zip(cases, ctx.fire(cases, settings=short)):
         e = (out.v1_mps - out.u1_mps) / case.v0_mps
         sound = (Status.OK, Status.NO_SEPARATION) if case.e == 0.0 else (Status.OK,)
-        _expect(out.status in sound and abs(e - case.e) <= tol,
-                f"e = {case.e}: measured {e!r} ({out.status.value}), allowed +-{tol:.2g}")
+        _expect(
+            out.status in sound and abs(e - case.e) <= tol,
+            f"e = {case.e}: measured {e!r} ({out.status.value}), allowed +-{tol:.2g}",
+        )
     return f"e = 0, 0.3, 0.5, 1 within {tol:.1g}"
 
 
 def still_bat(ctx: Ctx) -> str:
     """A still bat across the barrel, e = 0.5 and 1: P = (1+e) v0 / (1/m + 1/M + s^2/J)."""
-    worst = _matches_theory(ctx, [ImpactCase(bat=R161, ball=BALL, s_m=s, v0_mps=40.0, e=e)
-                                  for e in (0.5, 1.0) for s in S_GRID])
+    worst = _matches_theory(
+        ctx,
+        [
+            ImpactCase(bat=R161, ball=BALL, s_m=s, v0_mps=40.0, e=e)
+            for e in (0.5, 1.0)
+            for s in S_GRID
+        ],
+    )
     return f"20 impacts, worst {worst:.2g} of the tolerance"
 
 
@@ -135,16 +159,19 @@ def energy_at_e1(ctx: Ctx) -> str:
     case = ImpactCase(bat=R161, ball=BALL, s_m=0.15, e=1.0, **SWING)
     out = ctx.fire([case])[0]
     rel = abs(out.ke_after_j / out.ke_before_j - 1.0)
-    allowed = max(10 * judge.precision_rel(ctx.settings, ctx.record.errors, case),
-                  judge.energy_allowance(ctx.record.errors, ctx.settings))
+    allowed = max(
+        10 * judge.precision_rel(ctx.settings, ctx.record.errors, case),
+        judge.energy_allowance(ctx.record.errors, ctx.settings),
+    )
     _expect(rel <= allowed, f"KE changed by {rel:.3g} relative (allowed {allowed:.2g})")
     return f"|dKE|/KE = {rel:.2g}"
 
 
 def swinging_bat(ctx: Ctx) -> str:
     """The paper's swing across the barrel: v1 = q v0 + (1+q)(u0 + omega0 s)."""
-    worst = _matches_theory(ctx, [ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, **SWING)
-                                  for s in S_GRID])
+    worst = _matches_theory(
+        ctx, [ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, **SWING) for s in S_GRID]
+    )
     return f"10 impacts, worst {worst:.2g} of the tolerance"
 
 
@@ -156,16 +183,20 @@ def large_batch(ctx: Ctx) -> str:
     """A batched engine fires 512 of the paper's swings across the barrel as one batch, each
     as the answer that applies says: the single impulse v1 = q v0 + (1+q)(u0 + omega0 s)
     for a rigid contact, its own law (``judge.soft_judgement``) for a compliant one."""
-    cases = [ImpactCase(bat=R161, ball=BALL, s_m=float(s), e=0.5, **SWING)
-             for s in np.linspace(S_GRID[0], S_GRID[-1], LARGE_BATCH)]
+    cases = [
+        ImpactCase(bat=R161, ball=BALL, s_m=float(s), e=0.5, **SWING)
+        for s in np.linspace(S_GRID[0], S_GRID[-1], LARGE_BATCH)
+    ]
     if ctx.rigid:
         worst = _matches_theory(ctx, cases, fields=("v1_mps",))
     else:
         worst = 0.0
         for case, out in zip(cases, ctx.fire(cases)):
             want, allowed = judge.soft_judgement(case, out)
-            _expect(out.status is Status.OK and not abs(out.v1_mps - want) > allowed,
-                    f"s = {case.s_m:.3f}: {out.status.value}, v1 {out.v1_mps!r} vs law {want!r}")
+            _expect(
+                out.status is Status.OK and not abs(out.v1_mps - want) > allowed,
+                f"s = {case.s_m:.3f}: {out.status.value}, v1 {out.v1_mps!r} vs law {want!r}",
+            )
             worst = max(worst, abs(out.v1_mps - want) / allowed if allowed > 0 else 0.0)
     return f"{LARGE_BATCH} impacts in one batch, worst {worst:.2g} of the tolerance"
 
@@ -173,25 +204,36 @@ def large_batch(ctx: Ctx) -> str:
 def corked_bat(ctx: Ctx) -> str:
     """A corked bat's own M, x_cm and J go through the same impulse formula."""
     bat = R161.corked()
-    worst = _matches_theory(ctx, [ImpactCase(bat=bat, ball=BALL, s_m=float(s), e=0.5, **SWING)
-                                  for s in np.linspace(bat.s_min_m + 0.3, bat.s_max_m, 5)])
+    worst = _matches_theory(
+        ctx,
+        [
+            ImpactCase(bat=bat, ball=BALL, s_m=float(s), e=0.5, **SWING)
+            for s in np.linspace(bat.s_min_m + 0.3, bat.s_max_m, 5)
+        ],
+    )
     return f"5 impacts, worst {worst:.2g} of the tolerance"
 
 
 def oblique(ctx: Ctx) -> str:
     """Frictionless oblique impacts: normal parts as in a normal impact, tangential velocities
     kept (up to the impulse leaked through the normal the turning bat tilted)."""
-    cases = [ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, theta_rad=t, phi_rad=p, **SWING)
-             for t, p in ((0.3, 0.0), (-0.4, 0.25), (0.6, -0.5)) for s in (-0.1, 0.05, 0.2)]
+    cases = [
+        ImpactCase(bat=R161, ball=BALL, s_m=s, e=0.5, theta_rad=t, phi_rad=p, **SWING)
+        for t, p in ((0.3, 0.0), (-0.4, 0.25), (0.6, -0.5))
+        for s in (-0.1, 0.05, 0.2)
+    ]
     worst = _matches_theory(ctx, cases)
     for case, out in zip(cases, ctx.fire(cases)):
         ref = predict(case)
         for field, mass in (("v1_t_mps", BALL.mass_kg), ("u1_t_mps", R161.mass_kg)):
-            allowed = friction_judge.tangential_tolerance(case, ctx.settings, ctx.record.errors,
-                                                          ref.impulse_ns, mass)
+            allowed = friction_judge.tangential_tolerance(
+                case, ctx.settings, ctx.record.errors, ref.impulse_ns, mass
+            )
             err = abs(getattr(out, field) - getattr(ref, field))
-            _expect(err <= allowed, f"{field} at theta {case.theta_rad}: |diff| {err:.3g} > "
-                                    f"{allowed:.3g}")
+            _expect(
+                err <= allowed,
+                f"{field} at theta {case.theta_rad}: |diff| {err:.3g} > {allowed:.3g}",
+            )
     return f"9 impacts, worst {worst:.2g} of the tolerance"
 
 
@@ -201,8 +243,9 @@ def cop_located(ctx: Ctx) -> str:
     (plus the engine's collision bias, ``ErrorModel.collision_slide_m``)."""
 
     def hand(s: float) -> float:
-        return ctx.fire([ImpactCase(bat=R161, ball=BALL, s_m=s, v0_mps=40.0, e=0.5,
-                                    hands_from_knob_m=0.1)])[0].hand_dv_mps
+        return ctx.fire(
+            [ImpactCase(bat=R161, ball=BALL, s_m=s, v0_mps=40.0, e=0.5, hands_from_knob_m=0.1)]
+        )[0].hand_dv_mps
 
     root = optimize.brentq(hand, 0.0, 0.2, xtol=1e-9)
     want = center_of_percussion(R161, 0.1)
@@ -223,12 +266,17 @@ def tunnelling_bound(ctx: Ctx) -> str:
     fired = fire_jobs([Job(engine=ctx.name, settings=st, case=case) for st in each])
     for phase, st, f in zip(phases, each, fired):
         out = f.outcome
-        want = bool(judge.caught_in_theory(100.0, 1e-3, phase, reach, st.overlap_m,
-                                           ctx.record.errors.speculative_margin_m(st)))
+        want = bool(
+            judge.caught_in_theory(
+                100.0, 1e-3, phase, reach, st.overlap_m, ctx.record.errors.speculative_margin_m(st)
+            )
+        )
         # caught: any status but a miss (whether its energy is right is energy_at_e1's)
         caught = out.status not in (Status.TUNNELLED, Status.NO_CONTACT)
-        _expect(caught == want, f"phase {phase:.3f}: {out.status.value}, theory says "
-                                f"{'caught' if want else 'missed'}")
+        _expect(
+            caught == want,
+            f"phase {phase:.3f}: {out.status.value}, theory says {'caught' if want else 'missed'}",
+        )
     coarse = replace(ctx.settings, dt_s=1 / 60, contact_phase=0.5)
     out = ctx.fire([ImpactCase(bat=R161, ball=BALL, s_m=0.1, e=0.5, **SWING)], coarse)[0]
     _expect(out.status is Status.TUNNELLED, f"1/60 s mid-step: {out.status.value}")
@@ -240,10 +288,20 @@ def stateless(ctx: Ctx) -> str:
     the same case gives the same bits on a used adapter and on a fresh one (NaN for NaN, the
     same status): no warm start or cache leaks from one impact to the next. An impact that
     measured nothing (an error, a timeout) has no bits to compare: the check fails."""
-    jobs = [Job(engine=ctx.name, settings=ctx.settings, case=ImpactCase(
-        bat=bat, ball=BALL, s_m=s, e=e, **SWING)) for bat, s, e in (
-        (R161, 0.1, 0.5), (R161, -0.2, 0.5), (R161, 0.2, 0.5), (R161, 0.0, 1.0),
-        (R161.corked(), 0.1, 0.3))]
+    jobs = [
+        Job(
+            engine=ctx.name,
+            settings=ctx.settings,
+            case=ImpactCase(bat=bat, ball=BALL, s_m=s, e=e, **SWING),
+        )
+        for bat, s, e in (
+            (R161, 0.1, 0.5),
+            (R161, -0.2, 0.5),
+            (R161, 0.2, 0.5),
+            (R161, 0.0, 1.0),
+            (R161.corked(), 0.1, 0.3),
+        )
+    ]
     if ctx.record.drives_bat:  # a short swing (0.1 rad, 6 ms) uses the drive as a long one
         jobs.append(replace(jobs[0], swing=HingedSwing.for_omega(R161, 32.0, angle_rad=0.1)))
     used = fire_jobs(jobs + jobs)
@@ -252,22 +310,28 @@ def stateless(ctx: Ctx) -> str:
         want = guarded(fresh, [job])[0].outcome
         fresh.close()
         for out in (used[i].outcome, used[i + len(jobs)].outcome, want):
-            _expect(out.status not in UNMEASURED, f"impact {i}: {out.status} ({out.ended}): "
-                                                  "nothing measured to compare")
+            _expect(
+                out.status not in UNMEASURED,
+                f"impact {i}: {out.status} ({out.ended}): nothing measured to compare",
+            )
         for out in (used[i].outcome, used[i + len(jobs)].outcome):
             got = (out.status, out.v1_mps, out.u1_mps, out.omega1_radps, out.steps)
             expected = (want.status, want.v1_mps, want.u1_mps, want.omega1_radps, want.steps)
-            _expect(all(a == b or a != a and b != b for a, b in zip(got, expected)),
-                    f"impact {i}: used {got} != fresh {expected}")
+            _expect(
+                all(a == b or a != a and b != b for a, b in zip(got, expected)),
+                f"impact {i}: used {got} != fresh {expected}",
+            )
     return f"{len(jobs)} impacts, twice, bit for bit"
 
 
 def bad_settings_rejected(ctx: Ctx) -> str:
     """Settings are validated when made: a bad value names the field and what is allowed; every
     profile, knob family and integrator of the record is a valid setting."""
-    for overrides, piece in (({"dt_s": -1e-3}, "dt_s=-0.001 is out of range"),
-                             ({"contact_phase": 1.0}, "contact_phase=1.0 is out of range"),
-                             ({"no_such_knob": 1}, "setting 'no_such_knob' is unknown")):
+    for overrides, piece in (
+        ({"dt_s": -1e-3}, "dt_s=-0.001 is out of range"),
+        ({"contact_phase": 1.0}, "contact_phase=1.0 is out of range"),
+        ({"no_such_knob": 1}, "setting 'no_such_knob' is unknown"),
+    ):
         try:
             adapters.settings_for(ctx.name, **overrides)
         except ValueError as err:
@@ -298,9 +362,11 @@ def law_conformance(ctx: Ctx) -> str:
                 if math.isnan(allowed):
                     continue
                 judged += 1
-                _expect(abs(out.v1_mps - want) <= allowed,
-                        f"e = {e}, s = {case.s_m:.3f}: v1 {out.v1_mps!r} vs law {want!r} "
-                        f"(allowed {allowed:.3g})")
+                _expect(
+                    abs(out.v1_mps - want) <= allowed,
+                    f"e = {e}, s = {case.s_m:.3f}: v1 {out.v1_mps!r} vs law {want!r} "
+                    f"(allowed {allowed:.3g})",
+                )
     _expect(judged >= 6 * (len(S_GRID) - 2), f"only {judged} impacts judged")
     return f"{judged} impacts within the law's bound"
 
@@ -310,16 +376,20 @@ def friction_wall(ctx: Ctx) -> str:
     that slides throughout (mu = 0.05: dv_t = -mu dv_n, spin 5 mu dv_n / (2 r)) and one that
     leaves rolling (mu = 1: v_t = 5/7 of its own), each ok against the engine's frictional law
     (``friction_judge``; at a wall the one-step law meets Routh's and these closed forms)."""
-    wall = replace(R161, name="wall", mass_kg=1e3, inertia_cm_kgm2=1e3,
-                   inertia_axial_kgm2=1e3)
-    cases = [ImpactCase(bat=wall, ball=BALL, s_m=0.0, v0_mps=20.0, theta_rad=0.5, e=0.5,
-                        mu=mu) for mu in (0.05, 1.0)]
-    rows = table(fire_jobs([Job(engine=ctx.name, settings=ctx.settings, case=c)
-                            for c in cases]), "check")
+    wall = replace(R161, name="wall", mass_kg=1e3, inertia_cm_kgm2=1e3, inertia_axial_kgm2=1e3)
+    cases = [
+        ImpactCase(bat=wall, ball=BALL, s_m=0.0, v0_mps=20.0, theta_rad=0.5, e=0.5, mu=mu)
+        for mu in (0.05, 1.0)
+    ]
+    rows = table(
+        fire_jobs([Job(engine=ctx.name, settings=ctx.settings, case=c) for c in cases]), "check"
+    )
     for r in rows.itertuples():
-        _expect(r.status == Status.OK.value,
-                f"mu = {r.mu:g}: {r.status} ({r.episode_end}); vt1 {r.vt1_engine_mps!r} vs "
-                f"{r.vt1_law_mps!r}, spin {r.spin1_engine_radps!r} vs {r.spin1_law_radps!r}")
+        _expect(
+            r.status == Status.OK.value,
+            f"mu = {r.mu:g}: {r.status} ({r.episode_end}); vt1 {r.vt1_engine_mps!r} vs "
+            f"{r.vt1_law_mps!r}, spin {r.spin1_engine_radps!r} vs {r.spin1_law_radps!r}",
+        )
     return "a slide and a grip within their tolerance of the law"
 
 
@@ -327,12 +397,24 @@ def friction_wall(ctx: Ctx) -> str:
 #: (a compliant contact, held to its own law), "batched" (an engine that steps many worlds) or
 #: "friction" (a rigid contact with friction and no declared friction defect).
 CHECKS: dict[str, tuple[Callable[[Ctx], str], str]] = {
-    f.__name__: (f, applies) for f, applies in (
-        (mass_read_back, "all"), (bad_settings_rejected, "all"), (restitution, "rigid"),
-        (still_bat, "rigid"), (energy_at_e1, "rigid"), (swinging_bat, "rigid"),
-        (corked_bat, "rigid"), (large_batch, "batched"), (oblique, "rigid"), (cop_located, "rigid"),
-        (tunnelling_bound, "rigid"), (stateless, "all"), (law_conformance, "law"),
-        (friction_wall, "friction"))}
+    f.__name__: (f, applies)
+    for f, applies in (
+        (mass_read_back, "all"),
+        (bad_settings_rejected, "all"),
+        (restitution, "rigid"),
+        (still_bat, "rigid"),
+        (energy_at_e1, "rigid"),
+        (swinging_bat, "rigid"),
+        (corked_bat, "rigid"),
+        (large_batch, "batched"),
+        (oblique, "rigid"),
+        (cop_located, "rigid"),
+        (tunnelling_bound, "rigid"),
+        (stateless, "all"),
+        (law_conformance, "law"),
+        (friction_wall, "friction"),
+    )
+}
 
 
 def _context(name: str) -> Ctx:
@@ -342,9 +424,16 @@ def _context(name: str) -> Ctx:
 def applicable(name: str) -> tuple[str, ...]:
     """The checks that apply to an engine's reference contact and kind (reads its record)."""
     ctx = _context(name)
-    kinds = {"all", "rigid" if ctx.rigid else "law", "batched" if ctx.record.batched else "",
-             "friction" if ctx.rigid and ctx.record.can.friction_rule is not None
-             and not ctx.record.errors.friction_defect else ""}
+    kinds = {
+        "all",
+        "rigid" if ctx.rigid else "law",
+        "batched" if ctx.record.batched else "",
+        "friction"
+        if ctx.rigid
+        and ctx.record.can.friction_rule is not None
+        and not ctx.record.errors.friction_defect
+        else "",
+    }
     return tuple(c for c, (_, applies) in CHECKS.items() if applies in kinds)
 
 
@@ -357,12 +446,12 @@ def run_check(name: str, check: str) -> CheckResult:
             detail, passed = CHECKS[check][0](ctx), True
     except (Exception, SystemExit, clock.TimedOut, clock.ProcessExit) as err:  # noqa: BLE001
         detail, passed = f"{type(err).__name__}: {err}", False  # the adapter's failure fails it
-    return CheckResult(name=check, passed=passed, detail=detail,
-                       seconds=time.perf_counter() - t0)
+    return CheckResult(name=check, passed=passed, detail=detail, seconds=time.perf_counter() - t0)
 
 
 def check_engine(name: str, checks: tuple[str, ...] | None = None) -> CheckReport:
     """Run every check that applies to the engine (or those named) at its reference profile;
     never raises for a failed check: the report says what failed and by how much."""
-    return CheckReport(engine=name, results=tuple(run_check(name, c)
-                                                  for c in (checks or applicable(name))))
+    return CheckReport(
+        engine=name, results=tuple(run_check(name, c) for c in (checks or applicable(name)))
+    )

@@ -41,8 +41,12 @@ class CheckReport:
 
     def __str__(self) -> str:
         width = max(len(r.name) for r in self.results)
-        lines = [f"check_engine({self.engine!r}): {sum(r.passed for r in self.results)} of "
-                 f"{len(self.results)} checks passed"]
-        lines += [f"  {'ok' if r.passed else 'FAILED':6} {r.name:{width}}  {r.detail}"
-                  for r in self.results]
+        lines = [
+            f"check_engine({self.engine!r}): {sum(r.passed for r in self.results)} of "
+            f"{len(self.results)} checks passed"
+        ]
+        lines += [
+            f"  {'ok' if r.passed else 'FAILED':6} {r.name:{width}}  {r.detail}"
+            for r in self.results
+        ]
         return "\n".join(lines)

@@ -51,8 +51,11 @@ class Parser(argparse.ArgumentParser):
 
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, allow_abbrev=False, **kwargs)
-        self.add_argument("--debug", action="store_true",
-                          help="show the traceback of a failure (also BATSIM_DEBUG=1)")
+        self.add_argument(
+            "--debug",
+            action="store_true",
+            help="show the traceback of a failure (also BATSIM_DEBUG=1)",
+        )
 
     def error(self, message: str):  # noqa: D102 - argparse's hook
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
@@ -62,9 +65,11 @@ class Parser(argparse.ArgumentParser):
         for action in self._actions:
             given = [t for t in argv if t.split("=", 1)[0] in action.option_strings]
             if len(given) > 1 and action.dest != "help":
-                self.error(f"{action.option_strings[-1]} given {len(given)} times "
-                           f"({', '.join(given)}); allowed: once (several engines or checks: "
-                           "one comma-separated list)")
+                self.error(
+                    f"{action.option_strings[-1]} given {len(given)} times "
+                    f"({', '.join(given)}); allowed: once (several engines or checks: "
+                    "one comma-separated list)"
+                )
         parsed = super().parse_args(argv, namespace)
         if (complaint := quiet_error() or boundary.environment_error()) is not None:
             self.error(complaint)
@@ -72,10 +77,12 @@ class Parser(argparse.ArgumentParser):
 
 
 #: What every command's exit code means (its --help ends with it).
-EXIT_CODES = ("exit codes: 0 done; 1 a failure, told in one line (--debug: its traceback); 2 a "
-              "bad option or input file, refused before any work; 130 interrupted (Ctrl-C), "
-              "143, 129 or 152 stopped (SIGTERM, SIGHUP, SIGXCPU): earlier files left as they "
-              "were; 141 its output pipe closed")
+EXIT_CODES = (
+    "exit codes: 0 done; 1 a failure, told in one line (--debug: its traceback); 2 a "
+    "bad option or input file, refused before any work; 130 interrupted (Ctrl-C), "
+    "143, 129 or 152 stopped (SIGTERM, SIGHUP, SIGXCPU): earlier files left as they "
+    "were; 141 its output pipe closed"
+)
 
 
 def summary(doc: str | None) -> str:
@@ -88,13 +95,18 @@ def _join_negative_values(parser: argparse.ArgumentParser, argv):
     """['--dt', '-1e-5'] -> ['--dt=-1e-5'] for options taking one value: argparse would take
     '-1e-5' for an option (it only recognizes plain negative numbers like -1 or -0.5)."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    single = {s for a in parser._actions if a.nargs is None and a.option_strings
-              for s in a.option_strings}
+    single = {
+        s for a in parser._actions if a.nargs is None and a.option_strings for s in a.option_strings
+    }
     out, i = [], 0
     while i < len(argv):
         tok = argv[i]
-        if tok in single and i + 1 < len(argv) and argv[i + 1].startswith("-") \
-                and _is_number(argv[i + 1]):
+        if (
+            tok in single
+            and i + 1 < len(argv)
+            and argv[i + 1].startswith("-")
+            and _is_number(argv[i + 1])
+        ):
             out.append(f"{tok}={argv[i + 1]}")
             i += 2
             continue
@@ -113,9 +125,12 @@ def _is_number(text: str) -> bool:
 
 # -- option types: each raises ArgumentTypeError naming the value and what is allowed --------
 
-def number(lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False,
-           unit: str = "") -> Callable[[str], float]:
+
+def number(
+    lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False, unit: str = ""
+) -> Callable[[str], float]:
     """A finite float in [lo, hi] (lo excluded with lo_open)."""
+
     def parse(text: str) -> float:
         try:
             x = float(text)
@@ -126,16 +141,19 @@ def number(lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False
             low = f"> {lo:g}" if lo_open else f">= {lo:g}"
             span = low if hi == math.inf else f"{low} and <= {hi:g}"
             span = "" if (lo, hi) == (-math.inf, math.inf) else span
-            raise argparse.ArgumentTypeError(f"{text!r} is not allowed; allowed: a finite "
-                                             f"number {span}{' ' + unit if unit else ''}"
-                                             .replace("  ", " ").rstrip())
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not allowed; allowed: a finite "
+                f"number {span}{' ' + unit if unit else ''}".replace("  ", " ").rstrip()
+            )
         return x
+
     return parse
 
 
 def integer(lo: int, hi: int) -> Callable[[str], int]:
     """An integer in [lo, hi], written as one (42) or as a whole number in a float's way (1e3,
     as the help writes large ranges)."""
+
     def parse(text: str) -> int:
         try:
             n = int(text)
@@ -146,9 +164,11 @@ def integer(lo: int, hi: int) -> Callable[[str], int]:
                 x = math.nan
             n = int(x) if math.isfinite(x) and x.is_integer() else None
         if n is None or not lo <= n <= hi:
-            raise argparse.ArgumentTypeError(f"{text!r} is not allowed; allowed: an integer "
-                                             f"{lo}..{hi}")
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not allowed; allowed: an integer {lo}..{hi}"
+            )
         return n
+
     return parse
 
 
@@ -165,13 +185,15 @@ def engines_arg(value: str) -> tuple[str, ...]:
     picked = tuple(dict.fromkeys(v.strip() for v in value.split(",") if v.strip()))
     for name in picked:
         if name in adapters.broken() and name not in known:
-            raise argparse.ArgumentTypeError(f"{name!r} is a broken plug-in: "
-                                             f"{adapters.broken()[name]}")
+            raise argparse.ArgumentTypeError(
+                f"{name!r} is a broken plug-in: {adapters.broken()[name]}"
+            )
     bad = [v for v in picked if v not in known]
     if bad or not picked:
         raise argparse.ArgumentTypeError(
             f"{value!r}: {bad[0] if bad else 'no engine'} is not an engine; allowed: all, or a "
-            f"comma-separated list of {', '.join(known)}")
+            f"comma-separated list of {', '.join(known)}"
+        )
     for name in picked:  # found or not, without importing it
         if name in adapters.missing():
             raise argparse.ArgumentTypeError(adapters.missing()[name])
@@ -183,7 +205,8 @@ def stem_arg(value: str) -> str:
     if not STEM.match(value) or value in (".", ".."):
         raise argparse.ArgumentTypeError(
             f"{value!r} is not a plain name; allowed: ASCII letters, digits and . _ = + , - (no "
-            "slashes, at most 100 characters, not starting with a dot)")
+            "slashes, at most 100 characters, not starting with a dot)"
+        )
     return value
 
 
@@ -191,17 +214,21 @@ def resolved_path(value: str) -> Path:
     """``value`` as an absolute path, or an ArgumentTypeError naming it: empty, unresolvable
     (~nosuchuser, a loop of links) or with a name longer than the filesystem allows."""
     if not value.strip():
-        raise argparse.ArgumentTypeError(f"{value!r} is not a directory; allowed: a directory's "
-                                         "path")
+        raise argparse.ArgumentTypeError(
+            f"{value!r} is not a directory; allowed: a directory's path"
+        )
     try:
         path = Path(value).expanduser().resolve()
     except (RuntimeError, OSError) as err:  # ~nosuchuser, a loop of links
-        raise argparse.ArgumentTypeError(f"{value!r} cannot be resolved ({err}); allowed: a "
-                                         "directory's path") from None
+        raise argparse.ArgumentTypeError(
+            f"{value!r} cannot be resolved ({err}); allowed: a directory's path"
+        ) from None
     long = [part for part in path.parts if len(os.fsencode(part)) > NAME_MAX]
     if long:
-        raise argparse.ArgumentTypeError(f"{value!r}: a name of {len(os.fsencode(long[0]))} bytes; "
-                                         f"allowed: names of at most {NAME_MAX} bytes")
+        raise argparse.ArgumentTypeError(
+            f"{value!r}: a name of {len(os.fsencode(long[0]))} bytes; "
+            f"allowed: names of at most {NAME_MAX} bytes"
+        )
     return path
 
 
@@ -212,7 +239,8 @@ def directory_arg(value: str) -> Path:
     if path == RESULTS or RESULTS in path.parents:
         raise argparse.ArgumentTypeError(
             f"{value!r} is inside results/, which only `python -m experiments.baselines` "
-            "writes; allowed: any other directory (default runs/)")
+            "writes; allowed: any other directory (default runs/)"
+        )
     probe = path
     while not probe.exists():
         probe = probe.parent
@@ -223,7 +251,8 @@ def directory_arg(value: str) -> Path:
     except OSError as err:
         raise argparse.ArgumentTypeError(
             f"{value!r}: cannot create files in {probe} ({err.strerror or type(err).__name__})"
-            "; allowed: a directory you can write to") from None
+            "; allowed: a directory you can write to"
+        ) from None
     return path
 
 
@@ -235,38 +264,65 @@ def scheduler_arg(value: str) -> str:
     try:
         _runner.connect(value).close()
     except (OSError, ValueError, TypeError) as err:
-        raise argparse.ArgumentTypeError(f"{value!r}: {err}; allowed: 'local', or the address "
-                                         "of a running scheduler (tcp://host:8786)") from None
+        raise argparse.ArgumentTypeError(
+            f"{value!r}: {err}; allowed: 'local', or the address "
+            "of a running scheduler (tcp://host:8786)"
+        ) from None
     return value
 
 
 # -- the shared options ---------------------------------------------------------------------
 
+
 def add_engine(p: argparse.ArgumentParser, default: str = "all") -> None:
     # a str default is converted by engines_arg only when --engine is not given
-    broken = "".join(f"; broken plug-in {n!r} left out ({why})"
-                     for n, why in adapters.broken().items())
-    p.add_argument("--engine", type=engines_arg, default=default,
-                   metavar="NAME[,NAME...]|all",
-                   help=f"engines to run (default {default}); registered: "
-                        f"{', '.join(adapters.names())}{broken.replace('%', '%%')}")
+    broken = "".join(
+        f"; broken plug-in {n!r} left out ({why})" for n, why in adapters.broken().items()
+    )
+    p.add_argument(
+        "--engine",
+        type=engines_arg,
+        default=default,
+        metavar="NAME[,NAME...]|all",
+        help=f"engines to run (default {default}); registered: "
+        f"{', '.join(adapters.names())}{broken.replace('%', '%%')}",
+    )
 
 
 def add_runner(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--workers", type=integer(1, MAX_WORKERS), default=1, metavar="N",
-                   help="local processes to spread impacts over (used when the work pays for "
-                        "them)")
-    p.add_argument("--scheduler", type=scheduler_arg, default=None, metavar="ADDRESS",
-                   help="run impacts on a Dask cluster: its scheduler address (tcp://host:8786) "
-                        "or 'local' for a LocalCluster of --workers processes")
+    p.add_argument(
+        "--workers",
+        type=integer(1, MAX_WORKERS),
+        default=1,
+        metavar="N",
+        help="local processes to spread impacts over (used when the work pays for them)",
+    )
+    p.add_argument(
+        "--scheduler",
+        type=scheduler_arg,
+        default=None,
+        metavar="ADDRESS",
+        help="run impacts on a Dask cluster: its scheduler address (tcp://host:8786) "
+        "or 'local' for a LocalCluster of --workers processes",
+    )
 
 
 def add_output(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--out", type=directory_arg, default=RUNS, metavar="DIR",
-                   help="where runs go (default runs/, which git ignores)")
-    p.add_argument("--name", type=stem_arg, default=None, metavar="STEM",
-                   help="the run's directory name (default: the experiment and every option "
-                        "that differs from its default, or a short hash of them)")
+    p.add_argument(
+        "--out",
+        type=directory_arg,
+        default=RUNS,
+        metavar="DIR",
+        help="where runs go (default runs/, which git ignores)",
+    )
+    p.add_argument(
+        "--name",
+        type=stem_arg,
+        default=None,
+        metavar="STEM",
+        help="the run's directory name (default: the experiment and every option "
+        "that differs from its default, or a short hash of them)",
+    )
     p.add_argument("--force", action="store_true", help="replace an existing run of that name")
 
 
@@ -288,8 +344,10 @@ def library_messages_kept():
 
     def keep(unraisable) -> None:
         if not isinstance(unraisable.exc_value, KeyboardInterrupt):  # the flag stops the run
-            runs.UNRAISABLE.append(f"{type(unraisable.exc_value).__name__} in "
-                                   f"{unraisable.object!r}: {unraisable.exc_value}")
+            runs.UNRAISABLE.append(
+                f"{type(unraisable.exc_value).__name__} in "
+                f"{unraisable.object!r}: {unraisable.exc_value}"
+            )
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")  # each warning once per place: a hot loop adds none
@@ -329,8 +387,11 @@ class Command:
 
     def parser(self) -> Parser:
         """The command's parser: its own options, then the shared ones."""
-        p = Parser(prog=f"python -m experiments.{self.name}", description=summary(self.doc),
-                   epilog=EXIT_CODES)
+        p = Parser(
+            prog=f"python -m experiments.{self.name}",
+            description=summary(self.doc),
+            epilog=EXIT_CODES,
+        )
         if self.quick:
             p.add_argument("--quick", action="store_true", help=self.quick)
         if self.options:

@@ -36,13 +36,16 @@ def record_of(target) -> adapters.EngineRecord:
     rec = getattr(target, "record", None)
     if isinstance(target, type) and isinstance(rec, adapters.EngineRecord):
         return rec
-    raise TypeError(f"{target!r} is not an engine; allowed: an adapters.EngineRecord, an "
-                    "adapter class with its record, or a registered engine's name")
+    raise TypeError(
+        f"{target!r} is not an engine; allowed: an adapters.EngineRecord, an "
+        "adapter class with its record, or a registered engine's name"
+    )
 
 
 def checker(name: str) -> Callable[[adapters.EngineRecord], None]:
     """The check ``name`` as a callable on a record: CheckFailed (its report's line) if the
     engine fails it."""
+
     def check(rec: adapters.EngineRecord) -> None:
         registered = rec.name in adapters.names()
         if not registered:
@@ -68,10 +71,12 @@ def parametrize_with_checks(targets: Iterable, expected_failures: Mapping[str, s
     for target in targets:
         rec = record_of(target)
         for name in _applicable(rec):
-            marks = ([pytest.mark.xfail(reason=expected[name], strict=True, raises=CheckFailed)]
-                     if name in expected else [])
-            params.append(pytest.param(rec, checker(name), id=f"{rec.name}-{name}",
-                                       marks=marks))
+            marks = (
+                [pytest.mark.xfail(reason=expected[name], strict=True, raises=CheckFailed)]
+                if name in expected
+                else []
+            )
+            params.append(pytest.param(rec, checker(name), id=f"{rec.name}-{name}", marks=marks))
     return pytest.mark.parametrize("engine, check", params)
 
 

@@ -31,8 +31,9 @@ def swing_into_place(batch, plans: list[SwingPlan], starts, bat):
     return xp.with_bat(starts, swung), (cols[g.BAT_W], cols[g.BAT_ANGLE])
 
 
-def run_motion(name: str, settings: Settings, bat, drive, t_s: float,
-               angle_rad: float = 0.0) -> MotionState:
+def run_motion(
+    name: str, settings: Settings, bat, drive, t_s: float, angle_rad: float = 0.0
+) -> MotionState:
     """Drive the bat alone (the ball parked far away) from rest at ``angle_rad`` for
     round(t/dt) steps under ``drive`` (an ``analytic.dynamics.Drive``), hinged at the world's
     origin if the drive has a pivot; the bat's state at the end, as ``analytic.dynamics``
@@ -40,15 +41,31 @@ def run_motion(name: str, settings: Settings, bat, drive, t_s: float,
     host = hosted(name, settings)
     batch = host.batch(Scene(bat=bat, ball=presets.BASEBALL, e=presets.E_WOOD), 1)
     s0 = motion_start(bat, drive, angle_rad)
-    rest = State(ball_x_m=0.0, ball_y_m=PARKED_BALL_Y_M, ball_vx_mps=0.0, ball_vy_mps=0.0,
-                 ball_omega_radps=0.0, bat_x_m=s0.x_m, bat_y_m=s0.y_m, bat_angle_rad=angle_rad,
-                 bat_vx_mps=0.0, bat_vy_mps=0.0, bat_omega_radps=0.0)
+    rest = State(
+        ball_x_m=0.0,
+        ball_y_m=PARKED_BALL_Y_M,
+        ball_vx_mps=0.0,
+        ball_vy_mps=0.0,
+        ball_omega_radps=0.0,
+        bat_x_m=s0.x_m,
+        bat_y_m=s0.y_m,
+        bat_angle_rad=angle_rad,
+        bat_vx_mps=0.0,
+        bat_vy_mps=0.0,
+        bat_omega_radps=0.0,
+    )
     batch.set_state(batch.xp.stack([rest]))
     steps = round(t_s / settings.dt_s)
     batch.set_drive([hands_for(drive, bat)])
     run_episode(batch, Coast(), steps)
     batch.set_drive(None)
     r = [float(v) for v in batch.xp.row(batch.read(), 0)]
-    return MotionState(t_s=steps * settings.dt_s, x_m=r[g.BAT_X], y_m=r[g.BAT_Y],
-                       angle_rad=r[g.BAT_ANGLE], vx_mps=r[g.BAT_VX], vy_mps=r[g.BAT_VY],
-                       omega_radps=r[g.BAT_W])
+    return MotionState(
+        t_s=steps * settings.dt_s,
+        x_m=r[g.BAT_X],
+        y_m=r[g.BAT_Y],
+        angle_rad=r[g.BAT_ANGLE],
+        vx_mps=r[g.BAT_VX],
+        vy_mps=r[g.BAT_VY],
+        omega_radps=r[g.BAT_W],
+    )

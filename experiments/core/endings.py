@@ -40,12 +40,14 @@ def classify(xp, ended, first, peak_m, side_m, reach_m: float, ke0, ke1, allowan
     (``Ending`` codes), in the namespace ``xp``: every physical verdict is made here, the first
     rule that holds. ``allowance``: the relative energy gain that is rounding
     (``judge.energy_allowance``)."""
-    rules = (((ended == Ending.NON_FINITE) | (ended == Ending.JUMPED), Status.NON_FINITE),
-             (ended == Ending.CONTACT_FLAG, Status.ERROR),
-             ((ended == Ending.PASSED) | ((ended == Ending.BUDGET) & (first < 0)),
-              Status.TUNNELLED),
-             (ended == Ending.MISSED, Status.NO_CONTACT),
-             (ended == Ending.BUDGET, Status.NO_SEPARATION),
-             (side_m <= 0.0, Status.TUNNELLED), (peak_m > reach_m, Status.PENETRATION),
-             (ke1 > ke0 * (1.0 + allowance), Status.ENERGY_GAINED))
+    rules = (
+        ((ended == Ending.NON_FINITE) | (ended == Ending.JUMPED), Status.NON_FINITE),
+        (ended == Ending.CONTACT_FLAG, Status.ERROR),
+        ((ended == Ending.PASSED) | ((ended == Ending.BUDGET) & (first < 0)), Status.TUNNELLED),
+        (ended == Ending.MISSED, Status.NO_CONTACT),
+        (ended == Ending.BUDGET, Status.NO_SEPARATION),
+        (side_m <= 0.0, Status.TUNNELLED),
+        (peak_m > reach_m, Status.PENETRATION),
+        (ke1 > ke0 * (1.0 + allowance), Status.ENERGY_GAINED),
+    )
     return xp.select([c for c, _ in rules], [s.value for _, s in rules], Status.OK.value)

@@ -140,16 +140,18 @@ class _Stepper:
     batch's namespace (``geometry.ARRAYS`` or ``geometry.SCALARS``): no loop over worlds but
     for the rare free-flight search."""
 
-    def __init__(self, batch, bat: Bat, ball: Ball, settings: Settings, spatial: bool,
-                 rigid: bool) -> None:
+    def __init__(
+        self, batch, bat: Bat, ball: Ball, settings: Settings, spatial: bool, rigid: bool
+    ) -> None:
         self.batch, self.xp, self.bat, self.ball, self.st = batch, batch.xp, bat, ball, settings
         # out of the swing plane: the 3D measures (geometry module docstring)
         self.spatial = spatial
         self.geometry = g.contact_geometry_3d if spatial else g.contact_geometry
         self.jumped = g.jumped_3d if spatial else g.jumped
         xp, n = self.xp, batch.n
-        self.max_steps = settings.approach_steps + math.ceil(settings.max_contact_s
-                                                             / settings.dt_s) + 2
+        self.max_steps = (
+            settings.approach_steps + math.ceil(settings.max_contact_s / settings.dt_s) + 2
+        )
         # a rigid contact slides off the cylinder's end only in sustained contact, as in
         # collide; a soft one may be milliseconds long and slide past it within one impact
         self.rigid = rigid
@@ -164,12 +166,18 @@ class _Stepper:
         """Step from ``starts`` until every world's episode is over (module docstring)."""
         batch, xp, n = self.batch, self.xp, self.batch.n
         self.prev = cols = xp.columns(starts)
-        self.out = Episodes(ended=xp.full(n, Ending.NONE), steps=xp.full(n, self.max_steps),
-                            end=cols, first=None, last=None, peak_m=None,
-                            side_m=xp.full(n, math.nan))
+        self.out = Episodes(
+            ended=xp.full(n, Ending.NONE),
+            steps=xp.full(n, self.max_steps),
+            end=cols,
+            first=None,
+            last=None,
+            peak_m=None,
+            side_m=xp.full(n, math.nan),
+        )
         self.came_from = xp.where(g.side_of_axis(xp, cols) < 0.0, -1.0, 1.0)
         vx0, vy0 = cols[g.BALL_VX], cols[g.BALL_VY]
-        self.ball_v0 = (vx0, vy0, DEFLECTED ** 2 * (vx0 * vx0 + vy0 * vy0))
+        self.ball_v0 = (vx0, vy0, DEFLECTED**2 * (vx0 * vx0 + vy0 * vy0))
         batch.set_state(starts)
         run_episode(batch, self, self.max_steps)
         o = self.out
@@ -183,8 +191,11 @@ class _Stepper:
         flight before the planned contact step cannot go wrong but by a blow-up, which the
         final reading still catches: the state is read from that step on."""
         xp = self.xp
-        if (step < self.st.approach_steps and not xp.any(self.first >= 0)
-                and not batch.any_contact()):
+        if (
+            step < self.st.approach_steps
+            and not xp.any(self.first >= 0)
+            and not batch.any_contact()
+        ):
             return False
         self.observe(step, batch.in_contact(), self.xp.columns(batch.read()))
         return not xp.any(self.active)
@@ -228,16 +239,14 @@ class _Stepper:
         look = self.active & (touching | (self.first >= 0) | (step >= st.approach_steps))
         finite = xp.finite(S)
         self.finish(look & no(finite), Ending.NON_FINITE, step, S)
-        jumped = self.jumped(xp, self.prev, S, (step - self.prev_step) * st.dt_s,
-                             self.limit_m)
+        jumped = self.jumped(xp, self.prev, S, (step - self.prev_step) * st.dt_s, self.limit_m)
         self.finish(look & finite & jumped, Ending.JUMPED, step, S)
         ok = look & finite & no(jumped)
         if not xp.any(ok):
             return
         self.prev = xp.pick(ok, S, self.prev)
         self.prev_step = xp.where(ok, step, self.prev_step)
-        pen, apart, off_span, side = self.geometry(xp, self.bat, self.ball, S,
-                                                   self.came_from)
+        pen, apart, off_span, side = self.geometry(xp, self.bat, self.ball, S, self.came_from)
         self.peak = xp.where(ok, xp.maximum(self.peak, pen), self.peak)
         self.flag_check(ok & touching & (pen < -self.flag_gap_m), step, S, pen, side)
         # a contact that began and ended between two readings shows in the ball's velocity
@@ -247,11 +256,11 @@ class _Stepper:
         t = ok & (touching | (deflected & (self.first < 0)))
         self.first = xp.where(t & (self.first < 0), step, self.first)
         self.last = xp.where(t, step, self.last)
-        self.off_steps = xp.where(t, xp.where(self.rigid & (off_span > 0.0),
-                                              self.off_steps + 1, 0), self.off_steps)
+        self.off_steps = xp.where(
+            t, xp.where(self.rigid & (off_span > 0.0), self.off_steps + 1, 0), self.off_steps
+        )
         self.finish(t & (self.off_steps > OFF_SPAN_STEPS), Ending.LEFT_CYLINDER, step, S, side)
-        self.flight_end(ok & no(touching) & (self.first >= 0), step, S, apart, off_span,
-                        side)
+        self.flight_end(ok & no(touching) & (self.first >= 0), step, S, apart, off_span, side)
         due = ok & no(touching) & (self.first < 0) & (step > st.approach_steps + 1)
         self.finish(due & (side <= 0.0), Ending.PASSED, step, S, side)
         self.finish(due & (side > 0.0), Ending.MISSED, step, S, side)
@@ -265,8 +274,13 @@ class _Stepper:
         if not xp.any(far):
             return
         arm = max(abs(self.bat.s_min_m), abs(self.bat.s_max_m)) + self.bat.radius_m
-        speeds = (xp.hypot(S[g.BALL_VX], S[g.BALL_VY]) + xp.hypot(S[g.BAT_VX], S[g.BAT_VY])
-                  + abs(S[g.BALL_VZ]) + abs(S[g.BAT_VZ]) + abs(S[g.BAT_W]) * arm)
+        speeds = (
+            xp.hypot(S[g.BALL_VX], S[g.BALL_VY])
+            + xp.hypot(S[g.BAT_VX], S[g.BAT_VY])
+            + abs(S[g.BALL_VZ])
+            + abs(S[g.BAT_VZ])
+            + abs(S[g.BAT_W]) * arm
+        )
         moved = 2.0 * self.st.dt_s * speeds
         self.finish(far & (pen < -(self.flag_gap_m + moved)), Ending.CONTACT_FLAG, step, S, side)
 
@@ -282,27 +296,46 @@ class _Stepper:
         after = after & self.active & apart
         t_left, dt = (self.max_steps - step) * self.st.dt_s, self.st.dt_s
         # out of the plane there is no cheap bound: the 3D search decides (``analytic.spatial``)
-        gone = after & (False if self.spatial else xp.separates(
-            S, reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
-            t_max_s=t_left))
+        gone = after & (
+            False
+            if self.spatial
+            else xp.separates(
+                S, reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m, t_max_s=t_left
+            )
+        )
         self.finish(gone, Ending.SEPARATED, step, S, side)
         search = after & no(gone) & (self.check_at <= step)
         if not xp.any(search):
             return
-        kw = dict(reach_m=bat.radius_m + ball.radius_m, ball_radius_m=ball.radius_m,
-                  s_min_m=bat.s_min_m, s_max_m=bat.s_max_m, t_max_s=t_left)
-        t, ahead, left = (g.free_flights_3d(xp, S, search, **kw) if self.spatial
-                          else xp.free_flights(S, search, **kw))
+        kw = dict(
+            reach_m=bat.radius_m + ball.radius_m,
+            ball_radius_m=ball.radius_m,
+            s_min_m=bat.s_min_m,
+            s_max_m=bat.s_max_m,
+            t_max_s=t_left,
+        )
+        t, ahead, left = (
+            g.free_flights_3d(xp, S, search, **kw)
+            if self.spatial
+            else xp.free_flights(S, search, **kw)
+        )
         self.finish(search & left, Ending.LEFT_CYLINDER, step, S, side)
         self.finish(search & no(ahead), Ending.SEPARATED, step, S, side)
-        self.check_at = xp.where(search & ahead,
-                                 step + xp.maximum(1, xp.floor(t / dt) - 1), self.check_at)
+        self.check_at = xp.where(
+            search & ahead, step + xp.maximum(1, xp.floor(t / dt) - 1), self.check_at
+        )
 
 
-def step_episodes(batch, bat: Bat, ball: Ball, settings: Settings, starts,
-                  spatial: bool = False, rigid: bool = True) -> Episodes:
+def step_episodes(
+    batch,
+    bat: Bat,
+    ball: Ball,
+    settings: Settings,
+    starts,
+    spatial: bool = False,
+    rigid: bool = True,
+) -> Episodes:
     """Step every world of ``batch`` (a ``OneWorld`` or ``ManyWorlds``) from its start until
     its episode is over (module docstring); ``spatial``: measured in 3D (out of the plane);
     ``rigid``: the contact converges to a rigid impulse (``ErrorModel.contact_reference``)."""
     return _Stepper(batch, bat, ball, settings, spatial, rigid).run(starts)
-

@@ -49,8 +49,7 @@ SAMPLES = 5
 SEARCH_SIMULATIONS = 25
 
 
-def contact_s(case: ImpactCase, settings: adapters.Settings,
-              errors: adapters.ErrorModel) -> float:
+def contact_s(case: ImpactCase, settings: adapters.Settings, errors: adapters.ErrorModel) -> float:
     """How long the contact lasts in the model the engine converges to (s): its law's contact
     time for a compliant contact, the rigid episode's for a rigid one (0 for one impulse); an
     untuned contact's own time where the engine knows it."""
@@ -74,8 +73,10 @@ def coast_steps(job: Job) -> float:
 def observed_steps(job: Job, contact_time_s: float) -> float:
     """The steps of an impact the harness reads: the contact's and those after it."""
     st = job.settings
-    return min(max(1.0, contact_time_s / st.dt_s) + AFTER_CONTACT_STEPS,
-               math.ceil(st.max_contact_s / st.dt_s) + 2)
+    return min(
+        max(1.0, contact_time_s / st.dt_s) + AFTER_CONTACT_STEPS,
+        math.ceil(st.max_contact_s / st.dt_s) + 2,
+    )
 
 
 def run_s(jobs: Sequence[Job]) -> dict[str, float]:
@@ -94,16 +95,24 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
         if not rec.drives_bat and mine[0].swing is not None:  # unsupported: nothing stepped
             out[name] = len(mine) * OVERHEAD_S
         elif rec.cost.world_step_cost_s is None:
-            out[name] = sum(coast_steps(j) * coast + observed_steps(j, contact)
-                            * (cost + OBSERVED_STEP_S) + OVERHEAD_S for j in mine)
+            out[name] = sum(
+                coast_steps(j) * coast
+                + observed_steps(j, contact) * (cost + OBSERVED_STEP_S)
+                + OVERHEAD_S
+                for j in mine
+            )
         else:
             batches = runs(mine)
             world = rec.cost.world_step_cost_s
-            out[name] = rec.cost.start_s * len({(run[0].settings, len(run)) for run in batches}) \
-                + sum(max(map(coast_steps, run)) * (coast + len(run) * world)
-                      + max(observed_steps(j, contact) for j in run)
-                      * (cost + len(run) * world + OBSERVED_STEP_S) + len(run) * OVERHEAD_S
-                      for run in batches)
+            out[name] = rec.cost.start_s * len(
+                {(run[0].settings, len(run)) for run in batches}
+            ) + sum(
+                max(map(coast_steps, run)) * (coast + len(run) * world)
+                + max(observed_steps(j, contact) for j in run)
+                * (cost + len(run) * world + OBSERVED_STEP_S)
+                + len(run) * OVERHEAD_S
+                for run in batches
+            )
     return out
 
 

@@ -74,9 +74,15 @@ class Jobs(Sequence):
     at each job, and no ``Job`` is made per impact until one is asked for. ``distinct``: the
     distinct cases (``placement.distinct_cases``), where known."""
 
-    def __init__(self, *, engine: str, settings: Settings, cases: Sequence[ImpactCase],
-                 swing: HingedSwing | None = None,
-                 distinct: tuple[np.ndarray, np.ndarray] | None = None) -> None:
+    def __init__(
+        self,
+        *,
+        engine: str,
+        settings: Settings,
+        cases: Sequence[ImpactCase],
+        swing: HingedSwing | None = None,
+        distinct: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> None:
         self.engine, self.settings, self.cases, self.swing = engine, settings, cases, swing
         self.distinct = distinct
 
@@ -85,16 +91,24 @@ class Jobs(Sequence):
 
     def __getitem__(self, i):
         if isinstance(i, slice):
-            return Jobs(engine=self.engine, settings=self.settings, cases=self.cases[i],
-                        swing=self.swing)
-        return Job(engine=self.engine, settings=self.settings, case=self.cases[i],
-                   swing=self.swing)
+            return Jobs(
+                engine=self.engine, settings=self.settings, cases=self.cases[i], swing=self.swing
+            )
+        return Job(engine=self.engine, settings=self.settings, case=self.cases[i], swing=self.swing)
 
     def known(self) -> Jobs:
         """These jobs with their distinct cases known (worked out once for a firing)."""
-        return self if self.distinct is not None else Jobs(
-            engine=self.engine, settings=self.settings, cases=self.cases, swing=self.swing,
-            distinct=distinct_cases(self.cases))
+        return (
+            self
+            if self.distinct is not None
+            else Jobs(
+                engine=self.engine,
+                settings=self.settings,
+                cases=self.cases,
+                swing=self.swing,
+                distinct=distinct_cases(self.cases),
+            )
+        )
 
     def one_scene(self) -> bool:
         """Whether every case shares the scene (bat, ball, e, mu): a look at each distinct
@@ -145,19 +159,20 @@ def _fired_batches(run: Sequence[Job]):
 TIMEOUTS_IN_A_ROW = 2
 
 
-def guarded(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
-            ) -> Sequence[Fired]:
+def guarded(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None) -> Sequence[Fired]:
     """``fire_group`` within the engine's wall-clock limit (``watchdog``), whatever the engine
     does: past the limit its batch's rows are 'timeout'; where it raised, called sys.exit or
     holds mass properties other than the scene's, 'error' (``ended`` says which), and its
     adapters are made anew for the next batch; where it cannot fire them, 'unsupported'."""
     t0 = time.perf_counter()
-    limit = watchdog.limit_s(host.record, host.settings, len(jobs), _swing_steps(host, jobs),
-                             batched=host.batched)
+    limit = watchdog.limit_s(
+        host.record, host.settings, len(jobs), _swing_steps(host, jobs), batched=host.batched
+    )
     try:
         if (timeouts := TIMEOUTS.get(host.name, 0)) >= TIMEOUTS_IN_A_ROW:
-            raise NotFired(Status.TIMEOUT, f"not fired: {host.name} timed out {timeouts} "
-                                           "times in a row")
+            raise NotFired(
+                Status.TIMEOUT, f"not fired: {host.name} timed out {timeouts} times in a row"
+            )
         with clock.limited(limit), clock.exits_raise():
             host.renew_if_failed()
             fired = fire_group(host, jobs, placed)
@@ -195,15 +210,23 @@ def _why(err: BaseException) -> str:
 
 def _swing_steps(host: Hosted, jobs: Sequence[Job]) -> int:
     swing = jobs[0].swing
-    return 0 if swing is None else math.ceil(swing.duration_s(jobs[0].case.bat)
-                                             / host.settings.dt_s)
+    return (
+        0 if swing is None else math.ceil(swing.duration_s(jobs[0].case.bat) / host.settings.dt_s)
+    )
 
 
 def _unmeasured(jobs: Sequence[Job], failure: NotFired, wall_s: float) -> list[Fired]:
     """The rows of a batch that ``failure`` stopped (its re-planned cases, where it has them)."""
     cases, each, _ = _cases(jobs)
-    return unmeasured(jobs[0].engine, failure.cases or cases, each, failure.plans,
-                      failure.status, failure.why, wall_s / len(cases))
+    return unmeasured(
+        jobs[0].engine,
+        failure.cases or cases,
+        each,
+        failure.plans,
+        failure.status,
+        failure.why,
+        wall_s / len(cases),
+    )
 
 
 def _groups(host: Hosted, run: Sequence[Job]):
@@ -219,7 +242,7 @@ def _groups(host: Hosted, run: Sequence[Job]):
         size = 1 if run[0].swing is not None else host.pool_size(len(run), len(run) - at)
         if size > 1 and placed is None:
             placed = Placed.of(host, run)
-        yield run[at:at + size], placed and placed.rows(at, size)
+        yield run[at : at + size], placed and placed.rows(at, size)
         at += size
 
 
@@ -236,11 +259,12 @@ class Placed:
         cases, each, distinct = _cases(jobs)
         cc = case_columns(g.ARRAYS, cases, distinct)
         cc.contact_phase = _contact_phase(each)
-        return cls(cc=cc, starts=start_states(g.ARRAYS, cases[0].bat, cases[0].ball, cc,
-                                              host.settings)[0])
+        return cls(
+            cc=cc, starts=start_states(g.ARRAYS, cases[0].bat, cases[0].ball, cc, host.settings)[0]
+        )
 
     def rows(self, at: int, n: int) -> Placed:
-        return Placed(cc=take_rows(self.cc, slice(at, at + n)), starts=self.starts[at:at + n])
+        return Placed(cc=take_rows(self.cc, slice(at, at + n)), starts=self.starts[at : at + n])
 
 
 def _cases(jobs: Sequence[Job]) -> tuple[list, list, tuple | None]:
@@ -251,14 +275,16 @@ def _cases(jobs: Sequence[Job]) -> tuple[list, list, tuple | None]:
 
 
 def _contact_phase(each: list[Settings]):
-    return (each[0].contact_phase if each.count(each[0]) == len(each)
-            else np.array([k.contact_phase for k in each]))
+    return (
+        each[0].contact_phase
+        if each.count(each[0]) == len(each)
+        else np.array([k.contact_phase for k in each])
+    )
 
 
 #: What the jobs of one batch share: engine, settings, swing, bat, ball, e and mu (equal tuples
 #: compare their shared objects by identity first, so a grid's jobs compare fast).
-batch_key = attrgetter("engine", "settings", "swing", "case.bat", "case.ball", "case.e",
-                       "case.mu")
+batch_key = attrgetter("engine", "settings", "swing", "case.bat", "case.ball", "case.e", "case.mu")
 #: What the cases of one batch share.
 scene_key = attrgetter("bat", "ball", "e", "mu")
 
@@ -285,8 +311,7 @@ def runs(jobs: Sequence[Job]) -> list[Sequence[Job]]:
     return [jobs[a:b] for a, b in spans]
 
 
-def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
-               ) -> Sequence[Fired]:
+def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None) -> Sequence[Fired]:
     """Fire jobs that share engine, settings, scene and swing as one batch (module docstring):
     a ``FiredBlock`` on a batched engine, a list of one ``Fired`` on a single-world one.
     ``placed``: the jobs' ``Placed``, where their run worked it out."""
@@ -296,10 +321,21 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
     cases, each, distinct = _cases(jobs)
     if jobs[0].swing is not None:
         with _harness():
-            planned = [swing_case(c.bat, c.ball, s_m=c.s_m, v0_mps=c.v0_mps, e=c.e,
-                                  swing=jobs[0].swing, settings=k, mu=c.mu,
-                                  undercut_m=c.undercut_m, spin_radps=c.spin_radps)
-                       for c, k in zip(cases, each)]
+            planned = [
+                swing_case(
+                    c.bat,
+                    c.ball,
+                    s_m=c.s_m,
+                    v0_mps=c.v0_mps,
+                    e=c.e,
+                    swing=jobs[0].swing,
+                    settings=k,
+                    mu=c.mu,
+                    undercut_m=c.undercut_m,
+                    spin_radps=c.spin_radps,
+                )
+                for c, k in zip(cases, each)
+            ]
         cases, plans = [p[0] for p in planned], [p[1] for p in planned]
     bat, ball = cases[0].bat, cases[0].ball
     xp = g.ARRAYS if host.batched or len(cases) > 1 else g.SCALARS
@@ -311,8 +347,9 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
     else:
         cc = placed.cc
     t = cc.turned  # ImpactCase.out_of_plane, over the columns
-    spatial = t is not None and bool(np.any((t.undercut_m != 0.0) | (t.spin_x != 0.0)
-                                            | (t.spin_y != 0.0)))
+    spatial = t is not None and bool(
+        np.any((t.undercut_m != 0.0) | (t.spin_x != 0.0) | (t.spin_y != 0.0))
+    )
     lacking = _lacking(host.record, cases[0].mu, spatial)
     if lacking:
         raise NotFired(Status.UNSUPPORTED, lacking, cases, plans)
@@ -338,13 +375,22 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None
     cols["steps"] = cols["steps"] + (plans[0].steps if plans else 0)
     wall = (time.perf_counter() - t0) / len(cases)
     if isinstance(batch, OneWorld):
-        return [Fired(cases[0], outcome(cols, None, engine=host.name, settings=st, wall_s=wall),
-                      *analytic_release(plans[0] if plans else None))]
-    cols.update(nan_release(len(cases)) if plans is None else {
-        "release_omega_analytic_radps": np.array([p.omega_release_radps for p in plans]),
-        "release_angle_analytic_rad": np.array([p.angle_release_rad for p in plans])})
-    return FiredBlock(cases, cols, engine=host.name, settings=each, wall_s=wall,
-                      distinct=distinct)
+        return [
+            Fired(
+                cases[0],
+                outcome(cols, None, engine=host.name, settings=st, wall_s=wall),
+                *analytic_release(plans[0] if plans else None),
+            )
+        ]
+    cols.update(
+        nan_release(len(cases))
+        if plans is None
+        else {
+            "release_omega_analytic_radps": np.array([p.omega_release_radps for p in plans]),
+            "release_angle_analytic_rad": np.array([p.angle_release_rad for p in plans]),
+        }
+    )
+    return FiredBlock(cases, cols, engine=host.name, settings=each, wall_s=wall, distinct=distinct)
 
 
 class CaseError(ValueError):
@@ -374,20 +420,40 @@ def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:
     V = cc.u0n_mps + cc.omega0_radps * cc.s_m
     allowance = energy_allowance(host.record.errors, host.settings)
     return {
-        "v1_mps": v1, "u1_mps": u1, "omega1_radps": w1,
-        "impulse_ns": ball.mass_kg * (v1 + cc.v0n_mps), "q": (v1 - V) / (cc.v0n_mps + V),
+        "v1_mps": v1,
+        "u1_mps": u1,
+        "omega1_radps": w1,
+        "impulse_ns": ball.mass_kg * (v1 + cc.v0n_mps),
+        "q": (v1 - V) / (cc.v0n_mps + V),
         "closing_speed_mps": cc.closing_speed_mps,
         "hand_dv_mps": (u1 - S0[g.BAT_VY])
         + (w1 - S0[g.BAT_W]) * (cc.hands_from_knob_m - bat.com_from_knob_m),
-        "ke_before_j": ke0, "ke_after_j": ke1, "v1_t_mps": S1[g.BALL_VX],
+        "ke_before_j": ke0,
+        "ke_after_j": ke1,
+        "v1_t_mps": S1[g.BALL_VX],
         "u1_t_mps": S1[g.BAT_VX],
-        "status": classify(xp, ep.ended, ep.first, ep.peak_m, ep.side_m,
-                           bat.radius_m + ball.radius_m, ke0, ke1, allowance),
-        "contact_duration_s": xp.where(ep.first >= 0,
-                                       (ep.last - ep.first + 1) * host.settings.dt_s, 0.0),
-        "peak_penetration_m": ep.peak_m, "steps": ep.steps, "ended": LABELS[ep.ended],
-        "ball_side_m": ep.side_m, "v1_z_mps": S1[g.BALL_VZ], "spin1_radps": S1[g.BALL_W],
-        "backspin1_radps": S1[g.BALL_WX]}
+        "status": classify(
+            xp,
+            ep.ended,
+            ep.first,
+            ep.peak_m,
+            ep.side_m,
+            bat.radius_m + ball.radius_m,
+            ke0,
+            ke1,
+            allowance,
+        ),
+        "contact_duration_s": xp.where(
+            ep.first >= 0, (ep.last - ep.first + 1) * host.settings.dt_s, 0.0
+        ),
+        "peak_penetration_m": ep.peak_m,
+        "steps": ep.steps,
+        "ended": LABELS[ep.ended],
+        "ball_side_m": ep.side_m,
+        "v1_z_mps": S1[g.BALL_VZ],
+        "spin1_radps": S1[g.BALL_W],
+        "backspin1_radps": S1[g.BALL_WX],
+    }
 
 
 def _lacking(record: adapters.EngineRecord, mu: float, spatial: bool) -> str:

@@ -24,11 +24,27 @@ from .episode import SimOutcome
 from .judge import Status
 
 #: The outcome fields a block holds as float columns.
-FLOAT_FIELDS = ("v1_mps", "u1_mps", "omega1_radps", "impulse_ns", "q", "closing_speed_mps",
-                "hand_dv_mps", "ke_before_j", "ke_after_j", "v1_t_mps", "u1_t_mps",
-                "contact_duration_s", "peak_penetration_m", "ball_side_m",
-                "release_omega_radps", "release_angle_rad", "v1_z_mps", "spin1_radps",
-                "backspin1_radps")
+FLOAT_FIELDS = (
+    "v1_mps",
+    "u1_mps",
+    "omega1_radps",
+    "impulse_ns",
+    "q",
+    "closing_speed_mps",
+    "hand_dv_mps",
+    "ke_before_j",
+    "ke_after_j",
+    "v1_t_mps",
+    "u1_t_mps",
+    "contact_duration_s",
+    "peak_penetration_m",
+    "ball_side_m",
+    "release_omega_radps",
+    "release_angle_rad",
+    "v1_z_mps",
+    "spin1_radps",
+    "backspin1_radps",
+)
 
 
 class Fired(NamedTuple):
@@ -41,13 +57,20 @@ class Fired(NamedTuple):
     release_angle_rad: float
 
 
-def outcome(cols: dict, i: int | None, *, engine: str, settings: Settings,
-            wall_s: float) -> SimOutcome:
+def outcome(
+    cols: dict, i: int | None, *, engine: str, settings: Settings, wall_s: float
+) -> SimOutcome:
     """The outcome at row ``i`` of columns (``i`` None: the columns are one impact's values)."""
     pick = (lambda k: cols[k]) if i is None else (lambda k: cols[k][i])
-    return SimOutcome(**{k: float(pick(k)) for k in FLOAT_FIELDS},
-                      status=Status(pick("status")), steps=int(pick("steps")),
-                      ended=str(pick("ended")), engine=engine, settings=settings, wall_s=wall_s)
+    return SimOutcome(
+        **{k: float(pick(k)) for k in FLOAT_FIELDS},
+        status=Status(pick("status")),
+        steps=int(pick("steps")),
+        ended=str(pick("ended")),
+        engine=engine,
+        settings=settings,
+        wall_s=wall_s,
+    )
 
 
 class FiredBlock(Sequence):
@@ -56,9 +79,16 @@ class FiredBlock(Sequence):
     each job's own settings (its worlds may differ in ``contact_phase``), and its distinct cases
     where known (``placement.distinct_cases``)."""
 
-    def __init__(self, cases: Sequence[ImpactCase], cols: dict[str, np.ndarray], *,
-                 engine: str, settings: Sequence[Settings], wall_s: float,
-                 distinct: tuple[np.ndarray, np.ndarray] | None = None) -> None:
+    def __init__(
+        self,
+        cases: Sequence[ImpactCase],
+        cols: dict[str, np.ndarray],
+        *,
+        engine: str,
+        settings: Sequence[Settings],
+        wall_s: float,
+        distinct: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> None:
         self.cases, self.cols = list(cases), cols
         self.engine, self.settings, self.wall_s = engine, settings, wall_s
         self.distinct = distinct
@@ -70,10 +100,15 @@ class FiredBlock(Sequence):
         if isinstance(i, slice):
             return [self[k] for k in range(*i.indices(len(self)))]
         i = range(len(self))[i]
-        out = outcome(self.cols, i, engine=self.engine, settings=self.settings[i],
-                      wall_s=self.wall_s)
-        return Fired(self.cases[i], out, float(self.cols["release_omega_analytic_radps"][i]),
-                     float(self.cols["release_angle_analytic_rad"][i]))
+        out = outcome(
+            self.cols, i, engine=self.engine, settings=self.settings[i], wall_s=self.wall_s
+        )
+        return Fired(
+            self.cases[i],
+            out,
+            float(self.cols["release_omega_analytic_radps"][i]),
+            float(self.cols["release_angle_analytic_rad"][i]),
+        )
 
 
 class NotFired(Exception):
@@ -81,39 +116,70 @@ class NotFired(Exception):
     ``why`` as how its episode ended, and no measurement; ``cases`` and ``plans``: the cases as
     the batch re-planned them under a swing, and their swing plans, where it did."""
 
-    def __init__(self, status: Status, why: str, cases: Sequence[ImpactCase] | None = None,
-                 plans: Sequence | None = None) -> None:
+    def __init__(
+        self,
+        status: Status,
+        why: str,
+        cases: Sequence[ImpactCase] | None = None,
+        plans: Sequence | None = None,
+    ) -> None:
         super().__init__(why)
         self.status, self.why, self.cases, self.plans = status, why, cases, plans
 
 
-def unmeasured(engine: str, cases: Sequence[ImpactCase], each: Sequence[Settings], plans,
-               status: Status, why: str, wall_s: float) -> list[Fired]:
+def unmeasured(
+    engine: str,
+    cases: Sequence[ImpactCase],
+    each: Sequence[Settings],
+    plans,
+    status: Status,
+    why: str,
+    wall_s: float,
+) -> list[Fired]:
     """Every job of a batch with no measurement: ``status``, NaN numbers, ``ended`` = why;
     ``plans``: their swing plans (``placement.SwingPlan``), or None."""
     nan = math.nan
     out = []
     for case, settings, plan in zip(cases, each, plans or [None] * len(cases)):
-        o = SimOutcome(v1_mps=nan, u1_mps=nan, omega1_radps=nan, impulse_ns=nan, q=nan,
-                       closing_speed_mps=case.closing_speed_mps, hand_dv_mps=nan,
-                       ke_before_j=nan, ke_after_j=nan, v1_t_mps=nan, u1_t_mps=nan,
-                       engine=engine, status=status, contact_duration_s=0.0,
-                       peak_penetration_m=nan, steps=0, wall_s=wall_s, settings=settings,
-                       ended=why, ball_side_m=nan)
+        o = SimOutcome(
+            v1_mps=nan,
+            u1_mps=nan,
+            omega1_radps=nan,
+            impulse_ns=nan,
+            q=nan,
+            closing_speed_mps=case.closing_speed_mps,
+            hand_dv_mps=nan,
+            ke_before_j=nan,
+            ke_after_j=nan,
+            v1_t_mps=nan,
+            u1_t_mps=nan,
+            engine=engine,
+            status=status,
+            contact_duration_s=0.0,
+            peak_penetration_m=nan,
+            steps=0,
+            wall_s=wall_s,
+            settings=settings,
+            ended=why,
+            ball_side_m=nan,
+        )
         out.append(Fired(case, o, *analytic_release(plan)))
     return out
 
 
 def analytic_release(plan) -> tuple[float, float]:
     """A swing plan's analytic omega and angle at release (rad/s, rad); NaN without one."""
-    return (math.nan, math.nan) if plan is None else (plan.omega_release_radps,
-                                                      plan.angle_release_rad)
+    return (
+        (math.nan, math.nan) if plan is None else (plan.omega_release_radps, plan.angle_release_rad)
+    )
 
 
 def nan_release(n: int) -> dict[str, np.ndarray]:
     """The analytic release columns of a batch fired without a swing."""
-    return {"release_omega_analytic_radps": np.full(n, math.nan),
-            "release_angle_analytic_rad": np.full(n, math.nan)}
+    return {
+        "release_omega_analytic_radps": np.full(n, math.nan),
+        "release_angle_analytic_rad": np.full(n, math.nan),
+    }
 
 
 class FiredSeq(Sequence):
@@ -165,16 +231,29 @@ class Gathered:
         c = {k: self.cols[k][rows].astype(float).tolist() for k in (*FLOAT_FIELDS, "wall_s")}
         c.update({k: self.cols[k][rows].tolist() for k in ("steps", "ended")})
         status = [Status(v) for v in self.cols["status"][rows].tolist()]
-        return [SimOutcome(**{k: c[k][j] for k in FLOAT_FIELDS}, status=status[j],
-                           steps=int(c["steps"][j]), ended=str(c["ended"][j]),
-                           engine=self.engines[i], settings=self.settings[i],
-                           wall_s=c["wall_s"][j])
-                for j, i in enumerate(rows.tolist())]
+        return [
+            SimOutcome(
+                **{k: c[k][j] for k in FLOAT_FIELDS},
+                status=status[j],
+                steps=int(c["steps"][j]),
+                ended=str(c["ended"][j]),
+                engine=self.engines[i],
+                settings=self.settings[i],
+                wall_s=c["wall_s"][j],
+            )
+            for j, i in enumerate(rows.tolist())
+        ]
 
 
 #: The columns ``gather`` makes besides FLOAT_FIELDS.
-_OTHER = ("status", "steps", "ended", "wall_s", "release_omega_analytic_radps",
-          "release_angle_analytic_rad")
+_OTHER = (
+    "status",
+    "steps",
+    "ended",
+    "wall_s",
+    "release_omega_analytic_radps",
+    "release_angle_analytic_rad",
+)
 
 
 def _block_columns(part: Sequence[Fired]) -> tuple[list, list, list, dict]:
@@ -186,28 +265,35 @@ def _block_columns(part: Sequence[Fired]) -> tuple[list, list, list, dict]:
         return part.cases, list(part.settings), [part.engine] * n, cols
     outs = [f.outcome for f in part]
     cols = {k: np.array([getattr(o, k) for o in outs], dtype=float) for k in FLOAT_FIELDS}
-    cols.update(status=np.array([o.status.value for o in outs]),
-                steps=np.array([o.steps for o in outs]), ended=np.array([o.ended for o in outs]),
-                wall_s=np.array([o.wall_s for o in outs], dtype=float),
-                release_omega_analytic_radps=np.array([f.release_omega_radps for f in part],
-                                                      dtype=float),
-                release_angle_analytic_rad=np.array([f.release_angle_rad for f in part],
-                                                    dtype=float))
-    return ([f.case for f in part], [o.settings for o in outs], [o.engine for o in outs],
-            cols)
+    cols.update(
+        status=np.array([o.status.value for o in outs]),
+        steps=np.array([o.steps for o in outs]),
+        ended=np.array([o.ended for o in outs]),
+        wall_s=np.array([o.wall_s for o in outs], dtype=float),
+        release_omega_analytic_radps=np.array([f.release_omega_radps for f in part], dtype=float),
+        release_angle_analytic_rad=np.array([f.release_angle_rad for f in part], dtype=float),
+    )
+    return ([f.case for f in part], [o.settings for o in outs], [o.engine for o in outs], cols)
 
 
 def gather(fired: Sequence[Fired]) -> Gathered:
     """``fired`` as columns (a batch's block read as it is, without an outcome per impact)."""
-    parts = [_block_columns(p) for p in (fired.parts if isinstance(fired, FiredSeq)
-                                         else [fired]) if len(p)]
+    parts = [
+        _block_columns(p)
+        for p in (fired.parts if isinstance(fired, FiredSeq) else [fired])
+        if len(p)
+    ]
     if not parts:
         parts = [_block_columns([])]
     one = fired.parts[0] if isinstance(fired, FiredSeq) and len(fired.parts) == 1 else fired
+
     def joined(i: int) -> list:
         return list(itertools.chain.from_iterable(p[i] for p in parts))
 
-    return Gathered(cases=joined(0), settings=joined(1), engines=joined(2),
-                    cols={k: np.concatenate([p[3][k] for p in parts])
-                          for k in (*FLOAT_FIELDS, *_OTHER)},
-                    distinct=one.distinct if isinstance(one, FiredBlock) else None)
+    return Gathered(
+        cases=joined(0),
+        settings=joined(1),
+        engines=joined(2),
+        cols={k: np.concatenate([p[3][k] for p in parts]) for k in (*FLOAT_FIELDS, *_OTHER)},
+        distinct=one.distinct if isinstance(one, FiredBlock) else None,
+    )

@@ -37,10 +37,20 @@ class Firing:
 
     def case(self, s_m: float) -> ImpactCase:
         """The impact at one grid point (validates every field)."""
-        return ImpactCase(bat=self.bat, ball=presets.BASEBALL, s_m=s_m, v0_mps=self.v0_mps,
-                          u0_mps=self.u0_mps, omega0_radps=self.omega0_radps, e=self.e,
-                          theta_rad=self.theta_rad, hands_from_knob_m=self.hands_from_knob_m,
-                          mu=self.mu, undercut_m=self.undercut_m, spin_radps=self.spin_radps)
+        return ImpactCase(
+            bat=self.bat,
+            ball=presets.BASEBALL,
+            s_m=s_m,
+            v0_mps=self.v0_mps,
+            u0_mps=self.u0_mps,
+            omega0_radps=self.omega0_radps,
+            e=self.e,
+            theta_rad=self.theta_rad,
+            hands_from_knob_m=self.hands_from_knob_m,
+            mu=self.mu,
+            undercut_m=self.undercut_m,
+            spin_radps=self.spin_radps,
+        )
 
     def cases(self) -> list[ImpactCase]:
         return [self.case(s) for s in self.s_m]
@@ -50,8 +60,9 @@ class Firing:
         return Jobs(engine=engine, settings=settings, cases=self.cases(), swing=self.swing)
 
 
-def grid(bat: Bat, points: int, s_min_m: float | None = None,
-         s_max_m: float | None = None) -> tuple[float, ...]:
+def grid(
+    bat: Bat, points: int, s_min_m: float | None = None, s_max_m: float | None = None
+) -> tuple[float, ...]:
     """``points`` evenly spaced impact points over the bat's hittable length (or a part of it)."""
     lo = bat.s_min_m if s_min_m is None else s_min_m
     hi = bat.s_max_m if s_max_m is None else s_max_m
@@ -59,9 +70,11 @@ def grid(bat: Bat, points: int, s_min_m: float | None = None,
         raise ValueError(f"points={points} is too few; allowed: points >= 2")
     for name, value in (("s_min", lo), ("s_max", hi)):
         if not bat.s_min_m - 1e-12 <= value <= bat.s_max_m + 1e-12:
-            raise ValueError(f"{name}={value:g} m is off the bat '{bat.name}'; allowed: "
-                             f"{bat.s_min_m:.4f} <= s <= {bat.s_max_m:.4f} m (the capsule's "
-                             "cylinder, from the COM)")
+            raise ValueError(
+                f"{name}={value:g} m is off the bat '{bat.name}'; allowed: "
+                f"{bat.s_min_m:.4f} <= s <= {bat.s_max_m:.4f} m (the capsule's "
+                "cylinder, from the COM)"
+            )
     if not lo < hi:
         raise ValueError(f"s_min={lo:g} >= s_max={hi:g}; allowed: s_min < s_max")
     return tuple(float(x) for x in np.linspace(lo, hi, points))

@@ -60,20 +60,26 @@ UNITS = {"velocity": "mps", "spin": "radps"}
 CASE_COLUMNS = ("mu", "undercut_m", "spin0_x_radps", "spin0_y_radps", "spin0_z_radps")
 
 
-
-
-def tangential_tolerance(case: ImpactCase, settings: adapters.Settings,
-                         errors: adapters.ErrorModel, impulse_ns: float,
-                         mass_kg: float) -> float:
+def tangential_tolerance(
+    case: ImpactCase,
+    settings: adapters.Settings,
+    errors: adapters.ErrorModel,
+    impulse_ns: float,
+    mass_kg: float,
+) -> float:
     """Allowed error of a tangential velocity after a frictionless impact: rounding, and the
     normal tilted by the bat's turn omega0 delta / v_c when the contact is seen (and by a
     collision routine's own bias, its slide over r1 + r2), which leaks the impulse P/mass
     times that tilt into it."""
-    tilt = (abs(case.omega0_radps) * settings.overlap_m / case.closing_speed_mps
-            + errors.collision_slide_m(settings, case.bat) / (case.bat.radius_m
-                                                               + case.ball.radius_m))
-    return (judge.precision_rel(settings, errors, case) * case.v0_mps
-            + terms.GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt)
+    tilt = abs(
+        case.omega0_radps
+    ) * settings.overlap_m / case.closing_speed_mps + errors.collision_slide_m(
+        settings, case.bat
+    ) / (case.bat.radius_m + case.ball.radius_m)
+    return (
+        judge.precision_rel(settings, errors, case) * case.v0_mps
+        + terms.GEOM_SAFETY * abs(impulse_ns) / mass_kg * tilt
+    )
 
 
 def _analytic(ep, stem: str, case: ImpactCase) -> float:
@@ -81,24 +87,28 @@ def _analytic(ep, stem: str, case: ImpactCase) -> float:
     planar episode's (the ball leaves in the plane, its spin as it came)."""
     index, _, kind = OUTPUTS[stem]
     if not hasattr(ep, "friction"):
-        return (ep.v1_t_mps, ep.v1_mps, 0.0)[index] if kind == "velocity" \
-            else case.spin_radps[index]
+        return (
+            (ep.v1_t_mps, ep.v1_mps, 0.0)[index] if kind == "velocity" else case.spin_radps[index]
+        )
     vector = ep.ball_velocity_mps if kind == "velocity" else ep.ball_spin_radps
     return float(vector[index])
 
 
-def _late(case: ImpactCase, st: adapters.Settings,
-          errors: adapters.ErrorModel) -> tuple[float, float]:
+def _late(
+    case: ImpactCase, st: adapters.Settings, errors: adapters.ErrorModel
+) -> tuple[float, float]:
     """(slide along the axis, m; tilt of the normal, rad) of a contact seen late."""
     v_n = case.closing_speed_mps * math.cos(case.tilt_rad)
     reach = case.bat.radius_m + case.ball.radius_m
     early = min(errors.speculative_margin_m(st), v_n * st.dt_s)
     bias = errors.collision_slide_m(st, case.bat)
     delta = st.overlap_m + max(st.contact_phase * v_n * st.dt_s, early)
-    slide = ((reach * abs(case.omega0_radps) + judge._tangential(case)) * delta / v_n
-             + bias)
-    tilt = (abs(case.omega0_radps) * delta / v_n + bias / reach
-            + (delta / reach if case.undercut_m else 0.0))
+    slide = (reach * abs(case.omega0_radps) + judge._tangential(case)) * delta / v_n + bias
+    tilt = (
+        abs(case.omega0_radps) * delta / v_n
+        + bias / reach
+        + (delta / reach if case.undercut_m else 0.0)
+    )
     return slide, tilt
 
 
@@ -117,16 +127,19 @@ def _neighbours(case: ImpactCase, st: adapters.Settings, which: str) -> tuple[li
     return eps, min(case.s_m - lo, hi - case.s_m) or h
 
 
-def tolerances(case: ImpactCase, settings: adapters.Settings,
-               errors: adapters.ErrorModel) -> dict[str, float]:
+def tolerances(
+    case: ImpactCase, settings: adapters.Settings, errors: adapters.ErrorModel
+) -> dict[str, float]:
     """Allowed |engine - one-step law| of v1 and of every OUTPUTS stem (module docstring); NaN
     for each where no frictional answer applies."""
     nan = dict.fromkeys(("v1", *OUTPUTS), math.nan)
     if errors.contact_reference(settings) is not adapters.ContactReference.RIGID_IMPULSE:
         return nan
     episodes, h = _neighbours(case, settings, errors.friction_law(settings))
-    if any(ep.ended == "meets_again" for ep in episodes) \
-            or judge.rigid(case, settings.max_contact_s).ended == "meets_again":
+    if (
+        any(ep.ended == "meets_again" for ep in episodes)
+        or judge.rigid(case, settings.max_contact_s).ended == "meets_again"
+    ):
         return nan
     ball = case.ball
     slide, tilt = _late(case, settings, errors)
@@ -143,8 +156,9 @@ def tolerances(case: ImpactCase, settings: adapters.Settings,
         curvature = abs(x[2] - 2.0 * x[1] + x[0]) / h**2
         geometric = slope * slide + 0.5 * curvature * slide**2
         if spin:
-            out[stem] = ((rounding + 2.5 * mapping) / ball.radius_m
-                         + terms.GEOM_SAFETY * (geometric + 2.5 * leak / ball.radius_m))
+            out[stem] = (rounding + 2.5 * mapping) / ball.radius_m + terms.GEOM_SAFETY * (
+                geometric + 2.5 * leak / ball.radius_m
+            )
         else:
             out[stem] = rounding + mapping + terms.GEOM_SAFETY * (geometric + leak) + lingering
     return out
@@ -165,10 +179,14 @@ def columns(cases, outcomes, errors, episodes) -> tuple[dict, np.ndarray, np.nda
         for axis, w in zip("xyz", c.spin_radps):
             cols[f"spin0_{axis}_radps"].append(w)
     plain = [c.frictionless_planar for c in cases]
-    laws = [ep if p else law(c, o.settings.max_contact_s, err.friction_law(o.settings))
-            for c, o, err, ep, p in zip(cases, outcomes, errors, episodes, plain)]
-    tols = [dict.fromkeys(("v1", *OUTPUTS), math.nan) if p else tolerances(c, o.settings, err)
-            for c, o, err, p in zip(cases, outcomes, errors, plain)]
+    laws = [
+        ep if p else law(c, o.settings.max_contact_s, err.friction_law(o.settings))
+        for c, o, err, ep, p in zip(cases, outcomes, errors, episodes, plain)
+    ]
+    tols = [
+        dict.fromkeys(("v1", *OUTPUTS), math.nan) if p else tolerances(c, o.settings, err)
+        for c, o, err, p in zip(cases, outcomes, errors, plain)
+    ]
     within = np.ones(n, dtype=bool)
     for stem, (_, field, kind) in OUTPUTS.items():
         unit = UNITS[kind]
@@ -181,10 +199,13 @@ def columns(cases, outcomes, errors, episodes) -> tuple[dict, np.ndarray, np.nda
         cols[f"{stem}_engine_{unit}"] = got
         cols[f"{stem}_abs_err_{unit}"] = np.abs(got - want)
         cols[f"{stem}_law_err_{unit}"], cols[f"{stem}_tol_{unit}"] = np.abs(got - at_law), tol
-    cols["friction_phases"] = [",".join(p for p, _ in ep.friction.phases)
-                               if hasattr(ep, "friction") else "" for ep in episodes]
-    cols["slip0_mps"] = [ep.friction.slip0_mps if hasattr(ep, "friction") else math.nan
-                         for ep in episodes]
+    cols["friction_phases"] = [
+        ",".join(p for p, _ in ep.friction.phases) if hasattr(ep, "friction") else ""
+        for ep in episodes
+    ]
+    cols["slip0_mps"] = [
+        ep.friction.slip0_mps if hasattr(ep, "friction") else math.nan for ep in episodes
+    ]
     cols["friction_cone"] = [err.friction_cone(o.settings) for o, err in zip(outcomes, errors)]
     cols["friction_law"] = [err.friction_law(o.settings) for o, err in zip(outcomes, errors)]
     v1_law = np.column_stack([[ep.v1_mps for ep in laws], [t["v1"] for t in tols]])

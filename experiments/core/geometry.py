@@ -22,9 +22,28 @@ from analytic.batch_ends import free_flight_many, separates_for_good_many
 from analytic.collide import PlanarState, free_flight, separates_for_good
 from analytic.spatial import free_flight_3d
 
-(BALL_X, BALL_Y, BALL_VX, BALL_VY, BALL_W, BAT_X, BAT_Y, BAT_ANGLE, BAT_VX, BAT_VY, BAT_W,
- BALL_Z, BALL_VZ, BALL_WX, BALL_WY, BAT_Z, BAT_TILT, BAT_VZ, BAT_WX,
- BAT_WY) = range(len(STATE_FIELDS))
+(
+    BALL_X,
+    BALL_Y,
+    BALL_VX,
+    BALL_VY,
+    BALL_W,
+    BAT_X,
+    BAT_Y,
+    BAT_ANGLE,
+    BAT_VX,
+    BAT_VY,
+    BAT_W,
+    BALL_Z,
+    BALL_VZ,
+    BALL_WX,
+    BALL_WY,
+    BAT_Z,
+    BAT_TILT,
+    BAT_VZ,
+    BAT_WX,
+    BAT_WY,
+) = range(len(STATE_FIELDS))
 #: The bat's columns (the planar ones, then those out of the plane).
 BAT_COLUMNS = (*range(BAT_X, BAT_W + 1), *range(BAT_Z, BAT_WY + 1))
 
@@ -89,8 +108,18 @@ def _state_with_bat(start: State, swung: State) -> State:
 
 
 def _planar_cols(S) -> tuple:
-    return (S[BALL_X], S[BALL_Y], S[BALL_VX], S[BALL_VY], S[BAT_X], S[BAT_Y], S[BAT_VX],
-            S[BAT_VY], S[BAT_ANGLE], S[BAT_W])
+    return (
+        S[BALL_X],
+        S[BALL_Y],
+        S[BALL_VX],
+        S[BALL_VY],
+        S[BAT_X],
+        S[BAT_Y],
+        S[BAT_VX],
+        S[BAT_VY],
+        S[BAT_ANGLE],
+        S[BAT_W],
+    )
 
 
 def _free_flights(S, mask, **kw) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -125,34 +154,61 @@ def _hypot(x: float, y: float) -> float:
 #: adapter's ``read`` hands over a new array each call)). The two namespaces round alike
 #: (``sqrt``, not ``** 0.5``: Python's pow and numpy's differ in the last bit).
 ARRAYS = SimpleNamespace(
-    cos=np.cos, sin=np.sin, hypot=np.hypot, sqrt=np.sqrt, clip=np.clip, where=np.where,
-    maximum=np.maximum, any=np.ndarray.any, not_=np.logical_not, full=np.full,
-    pick=_pick, ended_at=_ended_at, select=_select, cols=lambda states: states.T,
+    cos=np.cos,
+    sin=np.sin,
+    hypot=np.hypot,
+    sqrt=np.sqrt,
+    clip=np.clip,
+    where=np.where,
+    maximum=np.maximum,
+    any=np.ndarray.any,
+    not_=np.logical_not,
+    full=np.full,
+    pick=_pick,
+    ended_at=_ended_at,
+    select=_select,
+    cols=lambda states: states.T,
     row=lambda states, i: states[i],
     columns=lambda states: np.ascontiguousarray(states.T),
     stack=lambda rows: np.array(rows, dtype=float),
-    finite=lambda cols: np.isfinite(cols).all(axis=0), indices=_indices,
-    with_bat=_with_bat, from_cols=_from_cols,
+    finite=lambda cols: np.isfinite(cols).all(axis=0),
+    indices=_indices,
+    with_bat=_with_bat,
+    from_cols=_from_cols,
     separates=lambda S, **kw: separates_for_good_many(_planar_cols(S), **kw),
-    free_flights=_free_flights, floor=np.floor)
+    free_flights=_free_flights,
+    floor=np.floor,
+)
 
 #: Python floats for one world: a value, a bool, one State.
 SCALARS = SimpleNamespace(
-    cos=math.cos, sin=math.sin, hypot=_hypot, sqrt=math.sqrt,
-    clip=lambda x, lo, hi: min(max(x, lo), hi), where=lambda c, a, b: a if c else b,
-    maximum=max, any=bool, not_=lambda flag: not flag, full=lambda n, value: value,
+    cos=math.cos,
+    sin=math.sin,
+    hypot=_hypot,
+    sqrt=math.sqrt,
+    clip=lambda x, lo, hi: min(max(x, lo), hi),
+    where=lambda c, a, b: a if c else b,
+    maximum=max,
+    any=bool,
+    not_=lambda flag: not flag,
+    full=lambda n, value: value,
     pick=lambda flag, a, b: a if flag else b,
     ended_at=lambda start, ends: ends[-1][1] if ends else start,
     select=lambda conditions, values, default: next(
-        (v for c, v in zip(conditions, values) if c), default),
-    cols=lambda state: state, row=lambda state, i: state, columns=lambda state: state,
-    stack=lambda rows: State(*rows[0]), finite=lambda state: math.isfinite(sum(state)),
+        (v for c, v in zip(conditions, values) if c), default
+    ),
+    cols=lambda state: state,
+    row=lambda state, i: state,
+    columns=lambda state: state,
+    stack=lambda rows: State(*rows[0]),
+    finite=lambda state: math.isfinite(sum(state)),
     indices=lambda flag: (0,) if flag else (),
     with_bat=_state_with_bat,
     from_cols=lambda cols: State(*cols),
     separates=lambda S, **kw: separates_for_good(planar(S), **kw),
     free_flights=_free_flight,
-    floor=math.floor)
+    floor=math.floor,
+)
 
 
 def contact_geometry(xp, bat: Bat, ball: Ball, S, came_from=1.0):
@@ -193,10 +249,12 @@ def side_of_axis(xp, S):
 
 def kinetic_energy_j(bat: Bat, ball: Ball, S):
     """Kinetic energy of both bodies with the scene's mass properties (J); ``S`` the columns."""
-    return 0.5 * (ball.mass_kg * (S[BALL_VX]**2 + S[BALL_VY]**2)
-                  + ball.inertia_kgm2 * S[BALL_W]**2
-                  + bat.mass_kg * (S[BAT_VX]**2 + S[BAT_VY]**2)
-                  + bat.inertia_cm_kgm2 * S[BAT_W]**2)
+    return 0.5 * (
+        ball.mass_kg * (S[BALL_VX] ** 2 + S[BALL_VY] ** 2)
+        + ball.inertia_kgm2 * S[BALL_W] ** 2
+        + bat.mass_kg * (S[BAT_VX] ** 2 + S[BAT_VY] ** 2)
+        + bat.inertia_cm_kgm2 * S[BAT_W] ** 2
+    )
 
 
 def jumped(xp, before, after, elapsed_s, limit_m: float):
@@ -214,10 +272,18 @@ def jumped(xp, before, after, elapsed_s, limit_m: float):
 def planar(row) -> PlanarState:
     """One world's state as ``analytic.collide`` takes it."""
     r = [float(v) for v in row]
-    return PlanarState(ball_x_m=r[BALL_X], ball_y_m=r[BALL_Y], ball_vx_mps=r[BALL_VX],
-                       ball_vy_mps=r[BALL_VY], bat_x_m=r[BAT_X], bat_y_m=r[BAT_Y],
-                       bat_vx_mps=r[BAT_VX], bat_vy_mps=r[BAT_VY], bat_angle_rad=r[BAT_ANGLE],
-                       bat_omega_radps=r[BAT_W])
+    return PlanarState(
+        ball_x_m=r[BALL_X],
+        ball_y_m=r[BALL_Y],
+        ball_vx_mps=r[BALL_VX],
+        ball_vy_mps=r[BALL_VY],
+        bat_x_m=r[BAT_X],
+        bat_y_m=r[BAT_Y],
+        bat_vx_mps=r[BAT_VX],
+        bat_vy_mps=r[BAT_VY],
+        bat_angle_rad=r[BAT_ANGLE],
+        bat_omega_radps=r[BAT_W],
+    )
 
 
 def contact_geometry_3d(xp, bat: Bat, ball: Ball, S, came_from=1.0):
@@ -252,21 +318,27 @@ def kinetic_energy_3d(bat: Bat, ball: Ball, S):
     wx, wy, wz = S[BAT_WX], S[BAT_WY], S[BAT_W]
     w_axial = wx * ax + wy * ay + wz * az
     w2 = wx * wx + wy * wy + wz * wz
-    return 0.5 * (ball.mass_kg * (S[BALL_VX]**2 + S[BALL_VY]**2 + S[BALL_VZ]**2)
-                  + ball.inertia_kgm2 * (S[BALL_W]**2 + S[BALL_WX]**2 + S[BALL_WY]**2)
-                  + bat.mass_kg * (S[BAT_VX]**2 + S[BAT_VY]**2 + S[BAT_VZ]**2)
-                  + bat.axial_inertia_kgm2 * w_axial**2
-                  + bat.inertia_cm_kgm2 * (w2 - w_axial**2))
+    return 0.5 * (
+        ball.mass_kg * (S[BALL_VX] ** 2 + S[BALL_VY] ** 2 + S[BALL_VZ] ** 2)
+        + ball.inertia_kgm2 * (S[BALL_W] ** 2 + S[BALL_WX] ** 2 + S[BALL_WY] ** 2)
+        + bat.mass_kg * (S[BAT_VX] ** 2 + S[BAT_VY] ** 2 + S[BAT_VZ] ** 2)
+        + bat.axial_inertia_kgm2 * w_axial**2
+        + bat.inertia_cm_kgm2 * (w2 - w_axial**2)
+    )
 
 
 def jumped_3d(xp, before, after, elapsed_s, limit_m: float):
     """``jumped`` with the bodies' z in their displacement and speed."""
     out = False
-    for x, y, z, vx, vy, vz in ((BALL_X, BALL_Y, BALL_Z, BALL_VX, BALL_VY, BALL_VZ),
-                                (BAT_X, BAT_Y, BAT_Z, BAT_VX, BAT_VY, BAT_VZ)):
+    for x, y, z, vx, vy, vz in (
+        (BALL_X, BALL_Y, BALL_Z, BALL_VX, BALL_VY, BALL_VZ),
+        (BAT_X, BAT_Y, BAT_Z, BAT_VX, BAT_VY, BAT_VZ),
+    ):
         dx, dy, dz = after[x] - before[x], after[y] - before[y], after[z] - before[z]
-        speed2 = xp.maximum(before[vx] ** 2 + before[vy] ** 2 + before[vz] ** 2,
-                            after[vx] ** 2 + after[vy] ** 2 + after[vz] ** 2)
+        speed2 = xp.maximum(
+            before[vx] ** 2 + before[vy] ** 2 + before[vz] ** 2,
+            after[vx] ** 2 + after[vy] ** 2 + after[vz] ** 2,
+        )
         allowed = 2.0 * elapsed_s * xp.sqrt(speed2) + limit_m
         out = out | (dx * dx + dy * dy + dz * dz > allowed * allowed)
     return out
@@ -283,8 +355,9 @@ def free_flights_3d(xp, S, mask, **kw) -> tuple:
             out.append((0.0, ""))
             continue
         cb = math.cos(r[BAT_TILT])
-        axis = np.array([math.cos(r[BAT_ANGLE]) * cb, math.sin(r[BAT_ANGLE]) * cb,
-                         math.sin(r[BAT_TILT])])
+        axis = np.array(
+            [math.cos(r[BAT_ANGLE]) * cb, math.sin(r[BAT_ANGLE]) * cb, math.sin(r[BAT_TILT])]
+        )
         rel = np.array([r[BALL_X] - r[BAT_X], r[BALL_Y] - r[BAT_Y], r[BALL_Z] - r[BAT_Z]])
         rv = np.array([r[BALL_VX] - r[BAT_VX], r[BALL_VY] - r[BAT_VY], r[BALL_VZ] - r[BAT_VZ]])
         omega = np.array([r[BAT_WX], r[BAT_WY], r[BAT_W]])

@@ -71,15 +71,35 @@ def scale_of(case: ImpactCase, name: str) -> float:
 def rigid_v1(case: ImpactCase) -> float:
     """The single impulse's v1 (``analytic.gradients.normal_fields``)."""
     b = case.bat
-    return float(normal_fields(case.ball.mass_kg, b.mass_kg, b.inertia_cm_kgm2, case.s_m,
-                               case.v0n_mps, case.u0n_mps, case.omega0_radps, case.e)["v1_mps"])
+    return float(
+        normal_fields(
+            case.ball.mass_kg,
+            b.mass_kg,
+            b.inertia_cm_kgm2,
+            case.s_m,
+            case.v0n_mps,
+            case.u0n_mps,
+            case.omega0_radps,
+            case.e,
+        )["v1_mps"]
+    )
 
 
 def analytic(case: ImpactCase, name: str) -> float:
     """The closed form dv1/d``name`` (``analytic.gradients.derivatives``)."""
-    return float(derivatives(case.bat, case.ball, s_m=case.s_m, v0_mps=case.v0_mps,
-                             u0_mps=case.u0_mps, omega0_radps=case.omega0_radps, e=case.e,
-                             theta_rad=case.theta_rad, phi_rad=case.phi_rad)["v1_mps"][name])
+    return float(
+        derivatives(
+            case.bat,
+            case.ball,
+            s_m=case.s_m,
+            v0_mps=case.v0_mps,
+            u0_mps=case.u0_mps,
+            omega0_radps=case.omega0_radps,
+            e=case.e,
+            theta_rad=case.theta_rad,
+            phi_rad=case.phi_rad,
+        )["v1_mps"][name]
+    )
 
 
 def _room(case: ImpactCase, name: str) -> float:
@@ -102,8 +122,9 @@ def law_v1(name: str, settings: adapters.Settings, case: ImpactCase) -> float:
     return float(law_answer(case, contact_law(name, settings, case)).v1_mps)
 
 
-def fd_step(case: ImpactCase, settings: adapters.Settings, name: str,
-            wrt: str) -> tuple[float, float]:
+def fd_step(
+    case: ImpactCase, settings: adapters.Settings, name: str, wrt: str
+) -> tuple[float, float]:
     """(h, tolerance): the central-difference step for dv1/d``wrt`` from engine ``name``'s
     error model (module docstring), and the slope error it allows ((m/s) per unit of x). A
     soft contact's velocity tolerance is its law's (``judge.soft_judgement``); the closed
@@ -117,15 +138,23 @@ def fd_step(case: ImpactCase, settings: adapters.Settings, name: str,
     hs = hs[hs <= _room(case, wrt)]
     if not len(hs) or not math.isfinite(tol_v):
         return (float(hs[-1]) if len(hs) else math.nan), math.nan
-    trunc = np.array([abs((rigid_v1(moved(case, wrt, x + h))
-                           - rigid_v1(moved(case, wrt, x - h))) / (2 * h) - d) for h in hs])
+    trunc = np.array(
+        [
+            abs(
+                (rigid_v1(moved(case, wrt, x + h)) - rigid_v1(moved(case, wrt, x - h))) / (2 * h)
+                - d
+            )
+            for h in hs
+        ]
+    )
     total = tol_v / hs + trunc
     k = int(np.argmin(total))
     return float(hs[k]), float(total[k])
 
 
-def autodiff_tolerance(case: ImpactCase, settings: adapters.Settings,
-                       errors: adapters.ErrorModel, name: str) -> float:
+def autodiff_tolerance(
+    case: ImpactCase, settings: adapters.Settings, errors: adapters.ErrorModel, name: str
+) -> float:
     """The judge's tolerance of an output (``judge.single_impulse_tolerance``) with dv1/d``name``
     as that output: its rounding on the largest |dv1/d``name``| along the bat, and the contact
     seen late moving it by its own slope and curvature in s."""
@@ -136,8 +165,9 @@ def autodiff_tolerance(case: ImpactCase, settings: adapters.Settings,
 
     slope = abs(g(s + k) - g(s - k)) / (2 * k)
     curvature = abs(g(s + k) - 2 * g(s) + g(s - k)) / k**2
-    return single_impulse_tolerance(case, settings, errors, slope, curvature,
-                                    _terms_scale(case, name))
+    return single_impulse_tolerance(
+        case, settings, errors, slope, curvature, _terms_scale(case, name)
+    )
 
 
 def _terms_scale(case: ImpactCase, name: str) -> float:
@@ -145,9 +175,17 @@ def _terms_scale(case: ImpactCase, name: str) -> float:
     (-d v0n/dx), added as magnitudes and maxed along the bat: rounding and a biased impulse
     scale with them, not with their sum (dv1/dv0 = -1 + 1.2 = 0.2 on the sweet spot)."""
     s = np.linspace(case.bat.s_min_m, case.bat.s_max_m, 41)
-    d = derivatives(case.bat, case.ball, s_m=s, v0_mps=case.v0_mps, u0_mps=case.u0_mps,
-                    omega0_radps=case.omega0_radps, e=case.e, theta_rad=case.theta_rad,
-                    phi_rad=case.phi_rad)
+    d = derivatives(
+        case.bat,
+        case.ball,
+        s_m=s,
+        v0_mps=case.v0_mps,
+        u0_mps=case.u0_mps,
+        omega0_radps=case.omega0_radps,
+        e=case.e,
+        theta_rad=case.theta_rad,
+        phi_rad=case.phi_rad,
+    )
     impulse = d["impulse_ns"][name] / case.ball.mass_kg
     return float(np.max(np.abs(impulse) + np.abs(d["v1_mps"][name] - impulse)))
 
@@ -165,8 +203,21 @@ def judge_gradient(value: float, truth: float, tol: float) -> GradStatus:
     return GradStatus.BIASED
 
 
-def _row(name, settings, method, case, wrt, value, truth, tol, h, v1_status, why,
-         cost_s, failed: GradStatus | None = None) -> dict:
+def _row(
+    name,
+    settings,
+    method,
+    case,
+    wrt,
+    value,
+    truth,
+    tol,
+    h,
+    v1_status,
+    why,
+    cost_s,
+    failed: GradStatus | None = None,
+) -> dict:
     law = contact_law(name, settings, case)
     if failed is not None:  # no gradient to judge: why the engine gave none
         status, tol = failed, math.nan
@@ -174,16 +225,31 @@ def _row(name, settings, method, case, wrt, value, truth, tol, h, v1_status, why
         status = GradStatus.UNJUDGED
     else:
         status = judge_gradient(value, truth, tol)
-    return {"engine": name, "precision": adapters.record(name).errors.precision,
-            "method": method, "input": wrt, "s_m": case.s_m, "v0_mps": case.v0_mps,
-            "e": case.e, "dt_s": settings.dt_s, "value": value, "analytic": truth,
-            "reference": "rigid impulse" if law is None else type(law).__name__,
-            "abs_err": abs(value - truth), "tolerance": tol, "step": h,
-            "v1_status": v1_status, "status": status.value, "why": why, "cost_s": cost_s}
+    return {
+        "engine": name,
+        "precision": adapters.record(name).errors.precision,
+        "method": method,
+        "input": wrt,
+        "s_m": case.s_m,
+        "v0_mps": case.v0_mps,
+        "e": case.e,
+        "dt_s": settings.dt_s,
+        "value": value,
+        "analytic": truth,
+        "reference": "rigid impulse" if law is None else type(law).__name__,
+        "abs_err": abs(value - truth),
+        "tolerance": tol,
+        "step": h,
+        "v1_status": v1_status,
+        "status": status.value,
+        "why": why,
+        "cost_s": cost_s,
+    }
 
 
-def finite_differences(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase],
-                       wrt: str) -> list[dict]:
+def finite_differences(
+    name: str, settings: adapters.Settings, cases: Sequence[ImpactCase], wrt: str
+) -> list[dict]:
     """One row per case: dv1/d``wrt`` by central differences through the harness, against the
     closed form (a soft contact: its law's v1 differenced over the same step), and the episode
     steps the middle impact took (for the autodiff rows), in ``row['steps']``."""
@@ -191,8 +257,9 @@ def finite_differences(name: str, settings: adapters.Settings, cases: Sequence[I
     jobs = []
     for c, (h, _) in zip(cases, steps):
         x = value_of(c, wrt)
-        jobs += [Job(engine=name, settings=settings, case=moved(c, wrt, x + k * h))
-                 for k in (-1, 0, 1)]
+        jobs += [
+            Job(engine=name, settings=settings, case=moved(c, wrt, x + k * h)) for k in (-1, 0, 1)
+        ]
     t0 = time.perf_counter()
     fired = fire_jobs(jobs)
     cost = (time.perf_counter() - t0) / len(cases)
@@ -200,12 +267,27 @@ def finite_differences(name: str, settings: adapters.Settings, cases: Sequence[I
     for i, (c, (h, tol)) in enumerate(zip(cases, steps)):
         lo, mid, hi = (fired[3 * i + k] for k in range(3))
         value = (hi.outcome.v1_mps - lo.outcome.v1_mps) / (2 * h)
-        truth = analytic(c, wrt) if contact_law(name, settings, c) is None else (
-            law_v1(name, settings, hi.case) - law_v1(name, settings, lo.case)) / (2 * h)
+        truth = (
+            analytic(c, wrt)
+            if contact_law(name, settings, c) is None
+            else (law_v1(name, settings, hi.case) - law_v1(name, settings, lo.case)) / (2 * h)
+        )
         statuses = {f.outcome.status for f in (lo, mid, hi)}
         why = "" if statuses == {Status.OK.value} else "impacts: " + ", ".join(sorted(statuses))
-        row = _row(name, settings, "finite_difference", c, wrt, value, truth, tol, h,
-                   mid.outcome.status, why, cost)
+        row = _row(
+            name,
+            settings,
+            "finite_difference",
+            c,
+            wrt,
+            value,
+            truth,
+            tol,
+            h,
+            mid.outcome.status,
+            why,
+            cost,
+        )
         rows.append(row | {"steps": int(max(f.outcome.steps for f in (lo, mid, hi)))})
     return rows
 
@@ -223,24 +305,30 @@ def tangents(cases: Sequence[ImpactCase], settings: adapters.Settings, wrt: str)
     return np.array(out)
 
 
-def autodiff(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase], wrt: str,
-             steps: int) -> tuple[np.ndarray, np.ndarray, GradStatus | None, str]:
+def autodiff(
+    name: str, settings: adapters.Settings, cases: Sequence[ImpactCase], wrt: str, steps: int
+) -> tuple[np.ndarray, np.ndarray, GradStatus | None, str]:
     """(v1, dv1/d``wrt``, failed, why) by the engine's own ``derivative`` over ``steps``
     steps, for cases that share bat, ball and e; where it has none (``failed`` UNSUPPORTED)
     or it raised (ERROR), NaN and the reason."""
     host = hosted(name, settings)
     nan = np.full(len(cases), math.nan)
     if not host.batched:
-        return nan, nan, GradStatus.UNSUPPORTED, \
-            f"{name} is a single-world engine with no automatic differentiation"
+        return (
+            nan,
+            nan,
+            GradStatus.UNSUPPORTED,
+            f"{name} is a single-world engine with no automatic differentiation",
+        )
     c = cases[0]
     scene = Scene(bat=c.bat, ball=c.ball, e=c.e)
     # the scene built (its world count kept: the derivative takes its own), not rebuilt
     host.batch(scene, host.worlds if host.scene == scene else len(cases))
     starts = np.array([start_state(k, settings)[0] for k in cases], dtype=float)
     try:
-        ends, d_ends = host.adapter.derivative(starts, tangents(cases, settings, wrt),
-                                               steps, float(wrt == "bat_inertia_kgm2"))
+        ends, d_ends = host.adapter.derivative(
+            starts, tangents(cases, settings, wrt), steps, float(wrt == "bat_inertia_kgm2")
+        )
     except NotImplementedError as why:
         return nan, nan, GradStatus.UNSUPPORTED, str(why)
     except Exception as err:  # the engine failed: a row that says so, not a crash
@@ -248,18 +336,33 @@ def autodiff(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase]
     return ends[:, 3], d_ends[:, 3], None, ""
 
 
-def gradient_rows(name: str, settings: adapters.Settings, cases: Sequence[ImpactCase],
-                  wrt: str) -> list[dict]:
+def gradient_rows(
+    name: str, settings: adapters.Settings, cases: Sequence[ImpactCase], wrt: str
+) -> list[dict]:
     """Finite-difference rows, then autodiff rows, for cases sharing bat, ball and e."""
     fd = finite_differences(name, settings, cases, wrt)
     if wrt not in AUTODIFF_INPUTS:
         return fd
     t0 = time.perf_counter()
-    _, values, failed, why = autodiff(name, settings, cases, wrt,
-                                      max(r["steps"] for r in fd))
+    _, values, failed, why = autodiff(name, settings, cases, wrt, max(r["steps"] for r in fd))
     cost = (time.perf_counter() - t0) / len(cases)
     errors = adapters.record(name).errors
-    ad = [_row(name, settings, "autodiff", c, wrt, float(v), analytic(c, wrt),
-               autodiff_tolerance(c, settings, errors, wrt), math.nan, r["v1_status"], why,
-               cost, failed) for c, v, r in zip(cases, values, fd)]
+    ad = [
+        _row(
+            name,
+            settings,
+            "autodiff",
+            c,
+            wrt,
+            float(v),
+            analytic(c, wrt),
+            autodiff_tolerance(c, settings, errors, wrt),
+            math.nan,
+            r["v1_status"],
+            why,
+            cost,
+            failed,
+        )
+        for c, v, r in zip(cases, values, fd)
+    ]
     return fd + (ad[:1] if why else ad)  # an engine without: one row says why

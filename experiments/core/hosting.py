@@ -28,7 +28,6 @@ class SceneMismatch(RuntimeError):
     """The engine holds mass properties other than the scene's (an adapter bug, not physics)."""
 
 
-
 #: The most single-world engines one ``Hosted`` steps together as one batch (``EngineWorlds``),
 #: and the fewest worth it: the batch's numpy work on a step (about 0.3 ms here) must be shared
 #: by enough worlds to cost less than a world alone does in Python floats.
@@ -173,8 +172,11 @@ CLOSE_LIMIT_S = 10.0
 def _close(adapter) -> None:
     """Close an adapter within CLOSE_LIMIT_S, whatever it does: one that raises, exits or hangs
     there is left to the process's end (its results are in already)."""
-    with contextlib.suppress(Exception, SystemExit, clock.TimedOut, clock.ProcessExit), \
-            clock.limited(CLOSE_LIMIT_S), clock.exits_raise():
+    with (
+        contextlib.suppress(Exception, SystemExit, clock.TimedOut, clock.ProcessExit),
+        clock.limited(CLOSE_LIMIT_S),
+        clock.exits_raise(),
+    ):
         adapter.close()
 
 
@@ -191,15 +193,21 @@ def check_mass_properties(name: str, got: MassProperties, scene: Scene, eps: flo
     """Raise SceneMismatch unless the engine holds the scene's mass properties, to
     ``judge.mass_allowance`` of its precision."""
     bat, ball = scene.bat, scene.ball
-    want = MassProperties(bat_mass_kg=bat.mass_kg, bat_com_from_knob_m=bat.com_from_knob_m,
-                          bat_inertia_kgm2=bat.inertia_cm_kgm2, ball_mass_kg=ball.mass_kg,
-                          ball_inertia_kgm2=ball.inertia_kgm2)
+    want = MassProperties(
+        bat_mass_kg=bat.mass_kg,
+        bat_com_from_knob_m=bat.com_from_knob_m,
+        bat_inertia_kgm2=bat.inertia_cm_kgm2,
+        ball_mass_kg=ball.mass_kg,
+        ball_inertia_kgm2=ball.inertia_kgm2,
+    )
     rel = mass_allowance(eps)
     for field in MassProperties.__dataclass_fields__:
         a, b = getattr(got, field), getattr(want, field)
         if not math.isclose(a, b, rel_tol=rel, abs_tol=1e-15):
-            raise SceneMismatch(f"{name}: {field} read back as {a!r}, the scene has {b!r} "
-                                f"(allowed relative difference {rel:g})")
+            raise SceneMismatch(
+                f"{name}: {field} read back as {a!r}, the scene has {b!r} "
+                f"(allowed relative difference {rel:g})"
+            )
 
 
 _HOSTED: OrderedDict[tuple[str, Settings], Hosted] = OrderedDict()

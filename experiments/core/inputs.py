@@ -57,38 +57,80 @@ class Schema:
 
 
 #: Rows are matched on these in a comparison: a sweep names them on every row.
-SWEEP_KEYS = ("engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e",
-              "theta_rad")
-SWEEP = Schema(kind="a sweep table (sweep.csv of a run)", names=SWEEP_KEYS[:3],
-               numbers=SWEEP_KEYS[3:], maybe_numbers=("v1_abs_err_mps",), others=("status",))
+SWEEP_KEYS = (
+    "engine",
+    "profile",
+    "bat",
+    "s_m",
+    "v0_mps",
+    "u0_mps",
+    "omega0_radps",
+    "e",
+    "theta_rad",
+)
+SWEEP = Schema(
+    kind="a sweep table (sweep.csv of a run)",
+    names=SWEEP_KEYS[:3],
+    numbers=SWEEP_KEYS[3:],
+    maybe_numbers=("v1_abs_err_mps",),
+    others=("status",),
+)
 #: The table ``experiments.parts.throughput.measure`` writes (bench_batches.csv), every column.
 THROUGHPUT = Schema(
     kind="a throughput table (bench_batches.csv of a bench_engines run)",
     names=("engine", "precision", "device"),
-    numbers=("batch", "impacts_per_s", "wall_s", "us_per_impact", "bare_us_per_impact",
-             "harness_us_per_impact", "max_abs_err_mps"),
-    maybe_numbers=("step_us_per_impact", "read_us_per_impact", "steps_median", "repeats", "ok",
-                   "judged"),
-    others=("batched",), engines="engine", devices="device",
-    unique=("engine", "batch", "device"))
+    numbers=(
+        "batch",
+        "impacts_per_s",
+        "wall_s",
+        "us_per_impact",
+        "bare_us_per_impact",
+        "harness_us_per_impact",
+        "max_abs_err_mps",
+    ),
+    maybe_numbers=(
+        "step_us_per_impact",
+        "read_us_per_impact",
+        "steps_median",
+        "repeats",
+        "ok",
+        "judged",
+    ),
+    others=("batched",),
+    engines="engine",
+    devices="device",
+    unique=("engine", "batch", "device"),
+)
 #: A twins run's table (twins.csv); on a GPU machine it adds the device.
-TWINS = Schema(kind="a twins table (twins.csv of a twins run)", names=("engine", "step"),
-               maybe_numbers=("max_abs_diff_mps", "median_abs_diff_mps"), others=("statuses",))
-TWINS_ON_DEVICE = Schema(kind=TWINS.kind, names=(*TWINS.names, "device"),
-                         maybe_numbers=TWINS.maybe_numbers, others=TWINS.others,
-                         devices="device")
+TWINS = Schema(
+    kind="a twins table (twins.csv of a twins run)",
+    names=("engine", "step"),
+    maybe_numbers=("max_abs_diff_mps", "median_abs_diff_mps"),
+    others=("statuses",),
+)
+TWINS_ON_DEVICE = Schema(
+    kind=TWINS.kind,
+    names=(*TWINS.names, "device"),
+    maybe_numbers=TWINS.maybe_numbers,
+    others=TWINS.others,
+    devices="device",
+)
 #: The kind of device a row's ``device`` names, by its platform (the text before its first
 #: colon): what adapters' ``device()`` write (Warp's ``cpu``, ``cuda:N: name``; JAX's
 #: ``cpu: cpu``, ``gpu: name``, ``rocm`` for AMD). The benchmarks' charts and the GPU runs'
 #: gathering sort rows into these two kinds; a row of another (a TPU's) belongs to neither.
 DEVICE_KINDS = {"cpu": "CPU", "cuda": "GPU", "gpu": "GPU", "rocm": "GPU"}
 #: A stability run's tables: every impact, and the map's cells.
-STABILITY = Schema(kind="a stability table (stability.csv of a stability run)",
-                   names=("map",), others=("status",))
-STABILITY_CELLS = Schema(kind="a stability map's cells (stability_cells.csv of a stability run)",
-                         names=("map",), numbers=("dt_s",),
-                         maybe_numbers=("v0_mps", "soft_omega_radps", "fraction_ok"),
-                         others=("failure",))
+STABILITY = Schema(
+    kind="a stability table (stability.csv of a stability run)", names=("map",), others=("status",)
+)
+STABILITY_CELLS = Schema(
+    kind="a stability map's cells (stability_cells.csv of a stability run)",
+    names=("map",),
+    numbers=("dt_s",),
+    maybe_numbers=("v0_mps", "soft_omega_radps", "fraction_ok"),
+    others=("failure",),
+)
 
 
 def device_kind(device: str) -> str | None:
@@ -107,8 +149,9 @@ def _exists(path: Path, allowed: str) -> bool:
     try:
         return path.exists()
     except OSError as err:
-        raise bad(path, f"cannot be looked up ({err.strerror or type(err).__name__})",
-                  allowed) from None
+        raise bad(
+            path, f"cannot be looked up ({err.strerror or type(err).__name__})", allowed
+        ) from None
 
 
 def existing_file(path: Path, allowed: str) -> bytes:
@@ -123,8 +166,7 @@ def existing_file(path: Path, allowed: str) -> bytes:
     try:
         data = path.read_bytes()
     except OSError as err:
-        raise bad(path, f"cannot be read ({err.strerror or type(err).__name__})",
-                  allowed) from None
+        raise bad(path, f"cannot be read ({err.strerror or type(err).__name__})", allowed) from None
     if not data.strip():
         raise bad(path, "is empty", allowed)
     return data
@@ -149,11 +191,16 @@ def text_file(path: Path, allowed: str) -> str:
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as err:
-        raise bad(path, f"is not a text file (byte 0x{data[err.start]:02x} at offset "
-                        f"{err.start} is not UTF-8: a binary file?)", allowed) from None
+        raise bad(
+            path,
+            f"is not a text file (byte 0x{data[err.start]:02x} at offset "
+            f"{err.start} is not UTF-8: a binary file?)",
+            allowed,
+        ) from None
     if "\0" in text:
-        raise bad(path, f"holds a NUL byte at offset {text.index(chr(0))} (a binary file?)",
-                  allowed)
+        raise bad(
+            path, f"holds a NUL byte at offset {text.index(chr(0))} (a binary file?)", allowed
+        )
     return text
 
 
@@ -171,8 +218,12 @@ def _rows(path: Path, text: str, allowed: str) -> None:
         _last_row(path, rows, allowed)
     for n, row in enumerate(rows[1:], start=2):
         if row and len(row) != len(header):  # (pandas skips blank lines too)
-            raise bad(path, f"is not a CSV table: line {n} has {len(row)} fields, its "
-                            f"header {len(header)} (a damaged or cut file?)", allowed)
+            raise bad(
+                path,
+                f"is not a CSV table: line {n} has {len(row)} fields, its "
+                f"header {len(header)} (a damaged or cut file?)",
+                allowed,
+            )
     blank = [i for i, name in enumerate(header, start=1) if not name.strip()]
     if blank:
         raise bad(path, f"has a header without a name in column {blank[0]}", allowed)
@@ -186,13 +237,21 @@ def _last_row(path: Path, rows: list[list[str]], allowed: str) -> None:
     in every column whose other rows all hold numbers; else the file was cut short."""
     header, last, above = rows[0], rows[-1], [r for r in rows[1:-1] if len(r) == len(rows[0])]
     if len(last) != len(header):
-        raise bad(path, f"ends mid-line: its last line has {len(last)} fields, its header "
-                        f"{len(header)} (the file was cut short?)", allowed)
+        raise bad(
+            path,
+            f"ends mid-line: its last line has {len(last)} fields, its header "
+            f"{len(header)} (the file was cut short?)",
+            allowed,
+        )
     for i, value in enumerate(last):
         numeric = above and all(_number(r[i]) for r in above if r[i].strip())
         if numeric and value.strip() and not _number(value):
-            raise bad(path, f"ends mid-line: its last line's {header[i]!r} is {value!r}, not a "
-                            "number as above it (the file was cut short?)", allowed)
+            raise bad(
+                path,
+                f"ends mid-line: its last line's {header[i]!r} is {value!r}, not a "
+                "number as above it (the file was cut short?)",
+                allowed,
+            )
 
 
 def _plain(value):
@@ -221,8 +280,12 @@ def table(path: Path, schema: Schema) -> pd.DataFrame:
         raise bad(path, "has a header but no rows", schema.kind)
     missing = [c for c in schema.columns if c not in df.columns]
     if missing:
-        raise bad(path, f"is not {schema.kind.split(' (')[0]}: no column {missing[0]!r} "
-                        f"({len(df.columns)} columns: {_listed(df.columns)})", schema.kind)
+        raise bad(
+            path,
+            f"is not {schema.kind.split(' (')[0]}: no column {missing[0]!r} "
+            f"({len(df.columns)} columns: {_listed(df.columns)})",
+            schema.kind,
+        )
     for col in schema.names:
         _names(path, df[col], schema.kind)
     for col in (*schema.numbers, *schema.maybe_numbers):
@@ -230,8 +293,11 @@ def table(path: Path, schema: Schema) -> pd.DataFrame:
     if schema.engines:
         unknown = sorted(set(df[schema.engines]) - set(adapters.names()))
         if unknown:
-            raise bad(path, f"names engine {unknown[0]!r}, which is not registered",
-                      f"{schema.kind}, of the engines {', '.join(adapters.names())}")
+            raise bad(
+                path,
+                f"names engine {unknown[0]!r}, which is not registered",
+                f"{schema.kind}, of the engines {', '.join(adapters.names())}",
+            )
     _devices_and_keys(path, df, schema)
     return df
 
@@ -242,18 +308,25 @@ def _devices_and_keys(path: Path, df: pd.DataFrame, schema: Schema) -> None:
         unknown = [device_kind(d) is None for d in df[schema.devices]]
         if any(unknown):
             at = unknown.index(True)
-            raise bad(path, f"has device {df[schema.devices].iloc[at]!r} on row {at + 1}, a "
-                            "kind of device the harness does not know",
-                      f"{schema.kind}, its devices a CPU (cpu) or a GPU (cuda:N, gpu, rocm)")
+            raise bad(
+                path,
+                f"has device {df[schema.devices].iloc[at]!r} on row {at + 1}, a "
+                "kind of device the harness does not know",
+                f"{schema.kind}, its devices a CPU (cpu) or a GPU (cuda:N, gpu, rocm)",
+            )
     if schema.unique:
         twice = df.duplicated(list(schema.unique))
         if twice.any():
             at = int(twice.argmax())
-            first = int((df[list(schema.unique)] == df[list(schema.unique)].iloc[at])
-                        .all(axis=1).argmax())
+            first = int(
+                (df[list(schema.unique)] == df[list(schema.unique)].iloc[at]).all(axis=1).argmax()
+            )
             said = ", ".join(f"{c} {_plain(df[c].iloc[at])!r}" for c in schema.unique)
-            raise bad(path, f"has row {at + 1} the same as row {first + 1} ({said})",
-                      f"{schema.kind}, one row per {', '.join(schema.unique)}")
+            raise bad(
+                path,
+                f"has row {at + 1} the same as row {first + 1} ({said})",
+                f"{schema.kind}, one row per {', '.join(schema.unique)}",
+            )
 
 
 def _listed(names: Sequence[str], most: int = 6) -> str:
@@ -266,11 +339,13 @@ def _names(path: Path, col: pd.Series, allowed: str) -> None:
     if col.isna().all():
         raise bad(path, f"has column {col.name!r} blank on every row", allowed)
     if pd.api.types.is_numeric_dtype(col) or pd.api.types.is_bool_dtype(col):
-        raise bad(path, f"has numbers in column {col.name!r} (row 1: {str(col.iloc[0])!r}), "
-                        "not names", allowed)
+        raise bad(
+            path,
+            f"has numbers in column {col.name!r} (row 1: {str(col.iloc[0])!r}), not names",
+            allowed,
+        )
     if col.isna().any():
-        raise bad(path, f"has row {int(col.isna().argmax()) + 1} without its {col.name!r}",
-                  allowed)
+        raise bad(path, f"has row {int(col.isna().argmax()) + 1} without its {col.name!r}", allowed)
 
 
 def _numbers(path: Path, col: pd.Series, allowed: str, *, blank: bool) -> None:
@@ -278,11 +353,14 @@ def _numbers(path: Path, col: pd.Series, allowed: str, *, blank: bool) -> None:
     if pd.api.types.is_bool_dtype(col) or not pd.api.types.is_numeric_dtype(col):
         values = pd.to_numeric(col, errors="coerce")
         at = int((values.isna() & col.notna()).argmax())
-        raise bad(path, f"has text in column {col.name!r} (row {at + 1}: "
-                        f"{str(col.iloc[at])!r}), where numbers belong", allowed)
+        raise bad(
+            path,
+            f"has text in column {col.name!r} (row {at + 1}: "
+            f"{str(col.iloc[at])!r}), where numbers belong",
+            allowed,
+        )
     if not blank and col.isna().any():
-        raise bad(path, f"has row {int(col.isna().argmax()) + 1} without its {col.name!r}",
-                  allowed)
+        raise bad(path, f"has row {int(col.isna().argmax()) + 1} without its {col.name!r}", allowed)
 
 
 def json_object(path: Path, allowed: str, keys: dict[str, type | tuple[type, ...]]) -> dict:
@@ -309,8 +387,14 @@ def _tuple(kind: type | tuple[type, ...]) -> tuple[type, ...]:
 
 
 def _kinds(kind: type | tuple[type, ...]) -> str:
-    names = {"str": "text", "dict": "JSON object", "list": "JSON list", "bool": "true/false",
-             "int": "number", "float": "number"}
+    names = {
+        "str": "text",
+        "dict": "JSON object",
+        "list": "JSON list",
+        "bool": "true/false",
+        "int": "number",
+        "float": "number",
+    }
     return " or ".join(dict.fromkeys(names.get(k.__name__, k.__name__) for k in _tuple(kind)))
 
 
@@ -323,8 +407,7 @@ def run_date(path: Path) -> datetime.datetime:
     try:
         date = datetime.datetime.fromisoformat(data["date_utc"])
     except ValueError:
-        raise bad(path, f"has date_utc = {data['date_utc']!r}, not an ISO date",
-                  RUN_JSON) from None
+        raise bad(path, f"has date_utc = {data['date_utc']!r}, not an ISO date", RUN_JSON) from None
     return date if date.tzinfo else date.replace(tzinfo=datetime.UTC)
 
 
@@ -332,8 +415,11 @@ def directory(path: Path, allowed: str) -> Path:
     """``path``: a directory that exists."""
     path = Path(path)
     if not _exists(path, allowed):
-        raise bad(path, f"is not a directory: {_absent(path)}" if path.is_symlink()
-                  else "does not exist", allowed)
+        raise bad(
+            path,
+            f"is not a directory: {_absent(path)}" if path.is_symlink() else "does not exist",
+            allowed,
+        )
     if not path.is_dir():
         raise bad(path, "is not a directory", allowed)
     return path
@@ -352,8 +438,11 @@ def writable_directory(path: Path, allowed: str) -> Path:
     try:
         shutil.rmtree(tempfile.mkdtemp(dir=probe, prefix=".batsim-probe-"))
     except OSError as err:
-        raise bad(path, f"cannot hold new files ({err.strerror or type(err).__name__} in "
-                        f"{probe})", allowed) from None
+        raise bad(
+            path,
+            f"cannot hold new files ({err.strerror or type(err).__name__} in {probe})",
+            allowed,
+        ) from None
     return path
 
 

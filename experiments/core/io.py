@@ -45,6 +45,8 @@ def make_public(path: Path, directory: bool = False) -> None:
         os.chmod(path, 0o777 & ~UMASK)
     else:
         os.chmod(path, 0o666 & ~UMASK)
+
+
 #: Libraries every result depends on; each engine's package comes from its record.
 PACKAGES = ("numpy", "scipy", "pandas", "matplotlib")
 
@@ -99,6 +101,7 @@ def figure_png(fig, dpi: int = 120) -> bytes:
 
 def md_table(df, fmt: Callable[[float], str]) -> str:
     """A pandas frame as a GitHub markdown table, floats through ``fmt``."""
+
     def cell(v: object) -> str:
         if isinstance(v, float | np.floating):
             return fmt(float(v))
@@ -116,8 +119,9 @@ def json_bytes(obj: Any) -> bytes:
 
 def _git(*args: str) -> str:
     try:
-        return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True,
-                              timeout=10, check=True).stdout.strip()
+        return subprocess.run(
+            ["git", *args], cwd=ROOT, capture_output=True, text=True, timeout=10, check=True
+        ).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return ""
 
@@ -148,12 +152,16 @@ def provenance(**extra: Any) -> dict[str, Any]:
     return {
         "commit": _git("rev-parse", "HEAD") or "unknown",
         # results/ is what a run rewrites; dirty means the code differs from the commit
-        "dirty": bool(_git("status", "--porcelain", "--untracked-files=no", "--", ".",
-                           ":!results")),
+        "dirty": bool(
+            _git("status", "--porcelain", "--untracked-files=no", "--", ".", ":!results")
+        ),
         "command": _command_line(),
         "date_utc": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
-        "machine": {"platform": platform.platform(), "processor": platform.machine(),
-                    "cpus": os.cpu_count()},
+        "machine": {
+            "platform": platform.platform(),
+            "processor": platform.machine(),
+            "cpus": os.cpu_count(),
+        },
         "versions": versions(),
         "broken_plugins": dict(adapters.broken()),
         **extra,

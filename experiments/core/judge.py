@@ -54,16 +54,17 @@ class Status(StrEnum):
     """How a fired impact ended. Only ``ok`` rows matched the answer that applies. A member is
     its value as a string (``str(Status.OK) == "ok"``, in f-strings and CSV alike): modules
     outside the judge name statuses only through it, never by their words."""
+
     OK = "ok"
-    TUNNELLED = "tunnelled"    #: the ball's centre ended beyond the bat's axis: it passed
+    TUNNELLED = "tunnelled"  #: the ball's centre ended beyond the bat's axis: it passed
     NO_CONTACT = "no_contact"  #: no contact seen when due, and the ball did not pass either
     #: NaN or inf in the state, a failure the engine reported (a blow-up it caught, a solver
     #: that gave up), or a state that jumped (a silent reset)
     NON_FINITE = "non_finite"
     ENERGY_GAINED = "energy_gained"  #: kinetic energy after > before (beyond rounding)
-    PENETRATION = "penetration"      #: deeper than r_ball + r_bat at some step
+    PENETRATION = "penetration"  #: deeper than r_ball + r_bat at some step
     NO_SEPARATION = "no_separation"  #: the episode outlasted the settings' max_contact_s
-    UNSUPPORTED = "unsupported"      #: the engine cannot do what the impact needs (a swing)
+    UNSUPPORTED = "unsupported"  #: the engine cannot do what the impact needs (a swing)
     #: the engine raised, exited, or its adapter broke its contract (a contact flag its own
     #: geometry denies, a state of the wrong shape); ``ended`` says which
     ERROR = "error"
@@ -105,13 +106,17 @@ def errors_of(o, models=None) -> adapters.ErrorModel:
 def mass_allowance(eps: float) -> float:  # relative, between mass properties set and read back
     return max(MASS_CHECK_REL, MASS_CHECK_ULPS * eps)
 
+
 def energy_allowance(errors: adapters.ErrorModel, settings: adapters.Settings) -> float:
     """Relative kinetic-energy gain allowed before ``energy_gained``: rounding, 4 times a
     mapping's stated bias (an impulse that much too large, at e = 1) and twice a stiff solve's
     velocity error (SOLVE_SAFETY cond eps; MJX float32: +0.08 to +0.37% measured, 0.95% let)."""
     eps = errors.eps
-    return (max(ENERGY_GAIN_REL, ENERGY_GAIN_ULPS * eps) + 4.0 * errors.mapping_error_rel(settings)
-            + 2.0 * SOLVE_SAFETY * errors.solve_conditioning(settings) * eps)
+    return (
+        max(ENERGY_GAIN_REL, ENERGY_GAIN_ULPS * eps)
+        + 4.0 * errors.mapping_error_rel(settings)
+        + 2.0 * SOLVE_SAFETY * errors.solve_conditioning(settings) * eps
+    )
 
 
 def derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -129,11 +134,16 @@ def derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, n
         s = np.array([c.s_m for c in cs])
         lo = np.maximum(s - FD_STEP_M, bat.s_min_m)
         hi = np.minimum(s + FD_STEP_M, bat.s_max_m)
-        s3 = np.clip(np.clip(s[:, None] + np.array([-h, 0.0, h]), bat.s_min_m - h,
-                             bat.s_max_m + h), -bat.com_from_knob_m, bat.s_barrel_end_m)
+        s3 = np.clip(
+            np.clip(s[:, None] + np.array([-h, 0.0, h]), bat.s_min_m - h, bat.s_max_m + h),
+            -bat.com_from_knob_m,
+            bat.s_barrel_end_m,
+        )
         points = np.column_stack([lo, hi, s3])  # rows x 5
-        kw = {f: np.repeat([getattr(c, f) for c in cs], 5).reshape(-1, 5) for f in (
-            "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad")}
+        kw = {
+            f: np.repeat([getattr(c, f) for c in cs], 5).reshape(-1, 5)
+            for f in ("v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad")
+        }
         v = predict_arrays(bat, ball, s_m=points, **kw)[field]
         value[idx] = v[:, 3]
         slope[idx] = np.abs(v[:, 1] - v[:, 0]) / (hi - lo)
@@ -141,16 +151,19 @@ def derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, n
     return value, slope, curvature
 
 
-def precision_rel(settings: adapters.Settings, errors: adapters.ErrorModel,
-                  case: ImpactCase) -> float:
+def precision_rel(
+    settings: adapters.Settings, errors: adapters.ErrorModel, case: ImpactCase
+) -> float:
     """Relative error of an impact's velocities without a geometric cause: ROUND_OPS eps, a
     stiff solve's rounding (SOLVE_SAFETY eps ``ErrorModel.solve_conditioning``), the bias the
     mapping of e leaves (``ErrorModel.mapping_error_rel``), and the approach lost along a
     normal the collision routine tilts (``ErrorModel.collision_slide_m`` over r1 + r2)^2."""
-    tilt = errors.collision_slide_m(settings, case.bat) / (case.bat.radius_m
-                                                           + case.ball.radius_m)
-    return ((ROUND_OPS + SOLVE_SAFETY * errors.solve_conditioning(settings)) * errors.eps
-            + errors.mapping_error_rel(settings) + tilt * tilt)
+    tilt = errors.collision_slide_m(settings, case.bat) / (case.bat.radius_m + case.ball.radius_m)
+    return (
+        (ROUND_OPS + SOLVE_SAFETY * errors.solve_conditioning(settings)) * errors.eps
+        + errors.mapping_error_rel(settings)
+        + tilt * tilt
+    )
 
 
 def _lingering(case: ImpactCase, dt_s: float, tangential_mps: float) -> float:
@@ -180,9 +193,14 @@ def rigid(case: ImpactCase, max_episode_s: float) -> CollisionEpisode:
     return collide(case, max_episode_s=max_episode_s)
 
 
-def single_impulse_tolerance(case: ImpactCase, settings: adapters.Settings,
-                             errors: adapters.ErrorModel, slope: float, curvature: float,
-                             scale_mps: float | None = None) -> float:
+def single_impulse_tolerance(
+    case: ImpactCase,
+    settings: adapters.Settings,
+    errors: adapters.ErrorModel,
+    slope: float,
+    curvature: float,
+    scale_mps: float | None = None,
+) -> float:
     """Allowed |engine - single impulse| of an output whose |d/ds| and |d2/ds2| are given:
     ROUND_OPS eps times ``scale_mps`` (default the impact's speed scale) for rounding, the
     slide of a contact seen late (a speculative one up to a step early), and what a lingering
@@ -195,34 +213,46 @@ def single_impulse_tolerance(case: ImpactCase, settings: adapters.Settings,
     # it: as far off as the gap it had then (up to the margin, or a whole step)
     early = min(errors.speculative_margin_m(st), v_c * st.dt_s)
     delta = st.overlap_m + max(st.contact_phase * v_c * st.dt_s, early)
-    slide = ((reach * abs(case.omega0_radps) + tangential) * delta / v_c
-             + errors.collision_slide_m(st, case.bat))
+    slide = (reach * abs(case.omega0_radps) + tangential) * delta / v_c + errors.collision_slide_m(
+        st, case.bat
+    )
     # the same delay turns the normal by omega0 delta / v_c, so the impulse, (1 + e) times the
     # approach along it, takes in that share of the tangential speed
     leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * delta / v_c
     # (and a collision routine's own bias moves it too: ``ErrorModel.collision_slide_m``)
     seen_late = GEOM_SAFETY * (slope * slide + 0.5 * curvature * slide**2 + leak)
     scale = _speed(case) if scale_mps is None else scale_mps
-    return (precision_rel(st, errors, case) * scale + seen_late
-            + _lingering(case, st.dt_s, tangential))
+    return (
+        precision_rel(st, errors, case) * scale + seen_late + _lingering(case, st.dt_s, tangential)
+    )
 
 
-def tolerances(cases, outcomes, errors_each, release_omega_radps, rigid_episodes,
-               derivatives: tuple | None = None) -> np.ndarray:
+def tolerances(
+    cases,
+    outcomes,
+    errors_each,
+    release_omega_radps,
+    rigid_episodes,
+    derivatives: tuple | None = None,
+) -> np.ndarray:
     """Allowed |v1 engine - v1 rigid| per impact (m/s; NaN where not judged), each outcome
     judged with its error model (``errors_each``); ``derivatives``: the cases' single-impulse
     v1 and its derivatives (``derivatives``), if already worked out."""
     out = np.full(len(cases), math.nan)
     v1, slopes, curvatures = derivatives or derivatives(cases)
-    for i, (case, o, errors, w_r, ep) in enumerate(zip(cases, outcomes, errors_each,
-                                                       release_omega_radps, rigid_episodes)):
+    for i, (case, o, errors, w_r, ep) in enumerate(
+        zip(cases, outcomes, errors_each, release_omega_radps, rigid_episodes)
+    ):
         st = o.settings
-        if (errors.contact_reference(st) is not adapters.ContactReference.RIGID_IMPULSE
-                or not case.frictionless_planar):  # (friction: ``friction_judge``)
+        if (
+            errors.contact_reference(st) is not adapters.ContactReference.RIGID_IMPULSE
+            or not case.frictionless_planar
+        ):  # (friction: ``friction_judge``)
             continue
         if ep.impacts > 1 or ep.sustained_contact_s > 0.0:
-            out[i] = _episode_tolerance(case, ep, st, errors, w_r,
-                                        _speed(case) * precision_rel(st, errors, case), v1[i])
+            out[i] = _episode_tolerance(
+                case, ep, st, errors, w_r, _speed(case) * precision_rel(st, errors, case), v1[i]
+            )
             continue
         tol = single_impulse_tolerance(case, st, errors, slopes[i], curvatures[i])
         if math.isfinite(w_r):
@@ -231,8 +261,9 @@ def tolerances(cases, outcomes, errors_each, release_omega_radps, rigid_episodes
     return out
 
 
-def _swing_terms(case: ImpactCase, dt_s: float, w_r: float, v1: float, slope: float,
-                 curvature: float) -> float:
+def _swing_terms(
+    case: ImpactCase, dt_s: float, w_r: float, v1: float, slope: float, curvature: float
+) -> float:
     """After a swing in the engine (first-order integrators): the release angle's slide and
     tilt and the hinge's omega error, twice their sum (module docstring)."""
     bat, ball = case.bat, case.ball
@@ -243,13 +274,17 @@ def _swing_terms(case: ImpactCase, dt_s: float, w_r: float, v1: float, slope: fl
     q = (case.e - r) / (1 + r)
     arm = bat.com_from_knob_m - case.hands_from_knob_m
     swing_slide = (reach + abs(case.s_m)) * d_theta
-    return 2 * (slope * swing_slide + 0.5 * curvature * swing_slide**2
-                + (case.v0_mps + abs(v1)) * d_theta**2
-                + (1 + q) * (abs(arm) + abs(case.s_m)) * d_omega)
+    return 2 * (
+        slope * swing_slide
+        + 0.5 * curvature * swing_slide**2
+        + (case.v0_mps + abs(v1)) * d_theta**2
+        + (1 + q) * (abs(arm) + abs(case.s_m)) * d_omega
+    )
 
 
-def output_tolerance(case: ImpactCase, settings: adapters.Settings,
-                     errors: adapters.ErrorModel, field: str) -> float:
+def output_tolerance(
+    case: ImpactCase, settings: adapters.Settings, errors: adapters.ErrorModel, field: str
+) -> float:
     """``single_impulse_tolerance`` of one output of ``analytic.predict`` (v1_mps, u1_mps or
     omega1_radps: its rounding scaled to rad/s by 1/L) for a case fired once."""
     _, slope, curvature = derivatives([case], field)
@@ -257,9 +292,15 @@ def output_tolerance(case: ImpactCase, settings: adapters.Settings,
     return single_impulse_tolerance(case, settings, errors, slope[0], curvature[0], scale)
 
 
-def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, st: adapters.Settings,
-                       errors: adapters.ErrorModel, w_r: float, rounding: float,
-                       v1_impulse: float) -> float:
+def _episode_tolerance(
+    case: ImpactCase,
+    ep: CollisionEpisode,
+    st: adapters.Settings,
+    errors: adapters.ErrorModel,
+    w_r: float,
+    rounding: float,
+    v1_impulse: float,
+) -> float:
     """The tolerance of an episode of more than one impulse. The same sources as for one, but
     the rigid answer's sensitivity is taken from ``collide`` itself (a long slide along the
     turning bat amplifies a shift of the contact point or of the bat's speed far more than the
@@ -275,8 +316,7 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, st: adapters.Sett
 
     # the first contact seen at its phase, each later one as late as a whole step
     late = delay(st.contact_phase) + (ep.impacts - 1) * delay(1.0)
-    slide = ((reach * abs(case.omega0_radps) + tangential) * late
-             + errors.collision_slide_m(st, bat))
+    slide = (reach * abs(case.omega0_radps) + tangential) * late + errors.collision_slide_m(st, bat)
     leak = (1.0 + case.e) * tangential * abs(case.omega0_radps) * late
     moved = []
     if math.isfinite(w_r):
@@ -284,27 +324,41 @@ def _episode_tolerance(case: ImpactCase, ep: CollisionEpisode, st: adapters.Sett
         d_omega = HINGE_K * (w_r * st.dt_s) ** 2 * abs(w_r)
         slide += (reach + abs(case.s_m)) * d_theta
         arm = bat.com_from_knob_m - case.hands_from_knob_m
-        moved += [dict(omega0_radps=case.omega0_radps + sign * d_omega,
-                       u0_mps=case.u0_mps + sign * d_omega * arm) for sign in (-1, 1)]
+        moved += [
+            dict(
+                omega0_radps=case.omega0_radps + sign * d_omega,
+                u0_mps=case.u0_mps + sign * d_omega * arm,
+            )
+            for sign in (-1, 1)
+        ]
         # the bat turned by d_theta tilts each approach against the contact normal
-        moved += [{angle: max(min(getattr(case, angle) + sign * d_theta, 1.5), -1.5)}
-                  for angle in ("theta_rad", "phi_rad") for sign in (-1, 1)]
-    span = [dict(s_m=min(max(case.s_m + sign * slide, bat.s_min_m), bat.s_max_m))
-            for sign in (-1, 1)]
-    dv_s = max(abs(rigid(replace(case, **kw), st.max_contact_s).v1_mps - ep.v1_mps)
-               for kw in span)
-    dv_swing = max((abs(rigid(replace(case, **kw), st.max_contact_s).v1_mps - ep.v1_mps)
-                    for kw in moved), default=0.0)
+        moved += [
+            {angle: max(min(getattr(case, angle) + sign * d_theta, 1.5), -1.5)}
+            for angle in ("theta_rad", "phi_rad")
+            for sign in (-1, 1)
+        ]
+    span = [
+        dict(s_m=min(max(case.s_m + sign * slide, bat.s_min_m), bat.s_max_m)) for sign in (-1, 1)
+    ]
+    dv_s = max(abs(rigid(replace(case, **kw), st.max_contact_s).v1_mps - ep.v1_mps) for kw in span)
+    dv_swing = max(
+        (abs(rigid(replace(case, **kw), st.max_contact_s).v1_mps - ep.v1_mps) for kw in moved),
+        default=0.0,
+    )
     # a velocity-level contact lets the ball sink into the bat as it slides, up to
     # a dt T (a = F_max / m_eff, T the sliding time); at R - sink the turning bat's pull on the
     # ball, omega^2 d.n, is that fraction weaker, and so is what the slide did to v1
     m_eff = 1.0 / (1 / ball.mass_kg + 1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
     sink = ep.peak_sustained_force_n / m_eff * st.dt_s * ep.sustained_contact_s
     slid = abs(ep.v1_mps - v1_impulse)
-    return (rounding * ep.impacts + GEOM_SAFETY * (dv_s + leak) + 2 * dv_swing
-            + sink / reach * slid
-            + ep.impacts * _lingering(case, st.dt_s, tangential)
-            + (OFF_SPAN_STEPS + 2) * ep.peak_sustained_force_n * st.dt_s / ball.mass_kg)
+    return (
+        rounding * ep.impacts
+        + GEOM_SAFETY * (dv_s + leak)
+        + 2 * dv_swing
+        + sink / reach * slid
+        + ep.impacts * _lingering(case, st.dt_s, tangential)
+        + (OFF_SPAN_STEPS + 2) * ep.peak_sustained_force_n * st.dt_s / ball.mass_kg
+    )
 
 
 @functools.lru_cache(maxsize=1 << 12)
@@ -314,8 +368,9 @@ def law_answer(case: ImpactCase, law) -> compliant.CompliantOutcome:
     return compliant.predict(case, law)
 
 
-def soft_judgement(case: ImpactCase, o,
-                   errors: adapters.ErrorModel | None = None) -> tuple[float, float]:
+def soft_judgement(
+    case: ImpactCase, o, errors: adapters.ErrorModel | None = None
+) -> tuple[float, float]:
     """(v1 of the engine's own contact law, allowed |v1 engine - v1 law|) for an engine whose
     contact converges to a continuous law; (NaN, NaN) for a rigid contact; (v1 law, NaN),
     unjudged, where the law's answer or the bound does not apply. The tolerance is the leading
@@ -340,9 +395,12 @@ def soft_judgement(case: ImpactCase, o,
     reach = bat.radius_m + ball.radius_m
     slide = (_tangential(case) + reach * abs(case.omega0_radps)) * t_c
     episode = rigid(replace(case, e=min(max(e_law, 0.0), 1.0)), o.settings.max_contact_s)
-    if (rel_err > LAW_MAX_REL_ERROR or episode.impacts > 1
-            or episode.sustained_contact_s > 0.0
-            or not bat.s_min_m + slide <= case.s_m <= bat.s_max_m - slide):
+    if (
+        rel_err > LAW_MAX_REL_ERROR
+        or episode.impacts > 1
+        or episode.sustained_contact_s > 0.0
+        or not bat.s_min_m + slide <= case.s_m <= bat.s_max_m - slide
+    ):
         return ref.v1_mps, math.nan
     r = ball.mass_kg * (1 / bat.mass_kg + case.s_m**2 / bat.inertia_cm_kgm2)
     de = max(case.e, e_law) * rel_err
@@ -366,8 +424,7 @@ def verdict(status, err_mps, tol_mps, law_err_mps, law_tol_mps, within=True) -> 
 
 
 #: ``verdict``'s judgements by code, as Python strings (pandas reads numpy's own slowly).
-_JUDGED = np.array([Status.OK.value, Status.INACCURATE.value, Status.UNJUDGED.value],
-                   dtype=object)
+_JUDGED = np.array([Status.OK.value, Status.INACCURATE.value, Status.UNJUDGED.value], dtype=object)
 
 
 def phases(k: int) -> np.ndarray:
@@ -375,13 +432,20 @@ def phases(k: int) -> np.ndarray:
     return (np.arange(k) + 0.5) / k
 
 
-def caught_in_theory(v_mps: float, dt_s: float, phase: np.ndarray | float, reach_m: float,
-                     overlap_m: float = 1e-9, speculative_m: float = 0.0) -> np.ndarray:
+def caught_in_theory(
+    v_mps: float,
+    dt_s: float,
+    phase: np.ndarray | float,
+    reach_m: float,
+    overlap_m: float = 1e-9,
+    speculative_m: float = 0.0,
+) -> np.ndarray:
     """The tunnelling bound: whether a rigid contact at this closing speed, step and phase is
     caught. It is first seen ``phase v dt + overlap`` deep, and handled iff that stays below
     the reach r_ball + r_bat (past it the ball's centre is beyond the bat's axis); or its gap
     at the start of the contact's step, ``(1 - phase) v dt - overlap``, is within the engine's
     speculative margin (it is then solved in that step)."""
     p = np.asarray(phase, dtype=float)
-    return ((p * v_mps * dt_s + overlap_m < reach_m)
-            | ((1 - p) * v_mps * dt_s - overlap_m < speculative_m))
+    return (p * v_mps * dt_s + overlap_m < reach_m) | (
+        (1 - p) * v_mps * dt_s - overlap_m < speculative_m
+    )

@@ -28,18 +28,23 @@ from .fire import Job, fire_jobs
 from .firings import Firing
 
 
-def _engine_values(name: str, settings: adapters.Settings, firing: Firing, s_m,
-                   field: str) -> np.ndarray:
+def _engine_values(
+    name: str, settings: adapters.Settings, firing: Firing, s_m, field: str
+) -> np.ndarray:
     """``field`` of the engine's outcome at each s, fired together (one batch on a batched
     engine); NaN where the impact is not sound (simulate's verdict)."""
-    jobs = [Job(engine=name, settings=settings, case=firing.case(float(s)), swing=firing.swing)
-            for s in s_m]
-    return np.array([getattr(f.outcome, field) if f.outcome.ok else math.nan
-                     for f in fire_jobs(jobs)])
+    jobs = [
+        Job(engine=name, settings=settings, case=firing.case(float(s)), swing=firing.swing)
+        for s in s_m
+    ]
+    return np.array(
+        [getattr(f.outcome, field) if f.outcome.ok else math.nan for f in fire_jobs(jobs)]
+    )
 
 
-def _engine_value(name: str, settings: adapters.Settings, firing: Firing, s: float,
-                  field: str) -> float:
+def _engine_value(
+    name: str, settings: adapters.Settings, firing: Firing, s: float, field: str
+) -> float:
     return float(_engine_values(name, settings, firing, [s], field)[0])
 
 
@@ -48,8 +53,15 @@ def _engine_value(name: str, settings: adapters.Settings, firing: Firing, s: flo
 REFINE_POINTS = 17
 
 
-def _refine(name: str, settings: adapters.Settings, firing: Firing, bracket, field: str,
-            tol_m: float, kind: str) -> float:
+def _refine(
+    name: str,
+    settings: adapters.Settings,
+    firing: Firing,
+    bracket,
+    field: str,
+    tol_m: float,
+    kind: str,
+) -> float:
     """The engine's argmax (kind 'max') or root ('root') of ``field`` in ``bracket`` by grids of
     REFINE_POINTS fired at once, to ``tol_m``: a batched engine's search (a step of one world
     costs it about as much as a step of all of them). NaN if an impact fails."""
@@ -70,8 +82,13 @@ def _refine(name: str, settings: adapters.Settings, firing: Firing, bracket, fie
     return float(0.5 * (lo + hi))
 
 
-def locate_sweet_spot(name: str, settings: adapters.Settings, firing: Firing,
-                      bracket: tuple[float, float], xatol_m: float = 1e-7) -> float:
+def locate_sweet_spot(
+    name: str,
+    settings: adapters.Settings,
+    firing: Firing,
+    bracket: tuple[float, float],
+    xatol_m: float = 1e-7,
+) -> float:
     """argmax of the engine's v1(s) inside ``bracket`` (bounded Brent search on simulations;
     grids fired at once on a batched engine, ``_refine``).
 
@@ -86,18 +103,25 @@ def locate_sweet_spot(name: str, settings: adapters.Settings, firing: Firing,
         failed.extend([s] if not math.isfinite(v) else [])
         return -v
 
-    res = optimize.minimize_scalar(minus_v1, bounds=bracket, method="bounded",
-                                   options={"xatol": xatol_m})
+    res = optimize.minimize_scalar(
+        minus_v1, bounds=bracket, method="bounded", options={"xatol": xatol_m}
+    )
     return float(res.x) if math.isfinite(res.fun) and not failed else math.nan
 
 
-def locate_cop(name: str, settings: adapters.Settings, firing: Firing,
-               bracket: tuple[float, float], xtol_m: float = 1e-9) -> float:
+def locate_cop(
+    name: str,
+    settings: adapters.Settings,
+    firing: Firing,
+    bracket: tuple[float, float],
+    xtol_m: float = 1e-9,
+) -> float:
     """The s where the engine's hand-point velocity change crosses zero (Brent's root finder;
     grids fired at once on a batched engine, ``_refine``).
 
     Returns NaN if the bracket holds no sign change or a simulation fails.
     """
+
     def hand(s: float) -> float:
         return _engine_value(name, settings, firing, s, "hand_dv_mps")
 
@@ -131,33 +155,51 @@ def analytic_marks(firing: Firing, max_episode_s: float = MAX_EPISODE_S) -> dict
 @functools.lru_cache(maxsize=16)
 def _marks(firing: Firing, max_episode_s: float) -> tuple:
     bat = firing.bat
-    single = {"sweet_spot": sweet_spot(bat, presets.BASEBALL, firing.v0_mps, firing.u0_mps,
-                                       firing.omega0_radps, theta_rad=firing.theta_rad),
-              "cop": center_of_percussion(bat, firing.hands_from_knob_m)}
+    single = {
+        "sweet_spot": sweet_spot(
+            bat,
+            presets.BASEBALL,
+            firing.v0_mps,
+            firing.u0_mps,
+            firing.omega0_radps,
+            theta_rad=firing.theta_rad,
+        ),
+        "cop": center_of_percussion(bat, firing.hands_from_knob_m),
+    }
     case = firing.case(firing.s_m[0])  # its speeds: the marks' searches set their own s
     # with friction or out of the swing plane the rows' answer is a frictional impulse
     # (judge.rigid), on which nothing is located: the frictionless closed forms, said so
     left_out = "frictionless and in the swing plane: the firing's friction or tilt is not in it"
-    found = {k: EpisodeMark(s_m=v, reference=SINGLE_IMPULSE, why=left_out)
-             for k, v in single.items()}
+    found = {
+        k: EpisodeMark(s_m=v, reference=SINGLE_IMPULSE, why=left_out) for k, v in single.items()
+    }
     if case.frictionless_planar:
-        found = {"sweet_spot": episode_sweet_spot_mark(case, max_episode_s=max_episode_s),
-                 "cop": episode_cop_mark(case, max_episode_s=max_episode_s)}
+        found = {
+            "sweet_spot": episode_sweet_spot_mark(case, max_episode_s=max_episode_s),
+            "cop": episode_cop_mark(case, max_episode_s=max_episode_s),
+        }
     out: dict = {}
     for k, mark in found.items():
-        out.update({f"{k}_m": mark.s_m, f"{k}_reference": mark.reference,
-                    f"{k}_single_impulse_m": single[k]})
+        out.update(
+            {
+                f"{k}_m": mark.s_m,
+                f"{k}_reference": mark.reference,
+                f"{k}_single_impulse_m": single[k],
+            }
+        )
         if mark.why:
             out[f"{k}_why"] = mark.why
     s_star = out["sweet_spot_m"]
-    out["sweet_spot_hittable_m"] = (min(max(s_star, bat.s_min_m), bat.s_max_m)
-                                    if math.isfinite(s_star) else math.nan)
+    out["sweet_spot_hittable_m"] = (
+        min(max(s_star, bat.s_min_m), bat.s_max_m) if math.isfinite(s_star) else math.nan
+    )
     out.update(cylinder_s_min_m=bat.s_min_m, cylinder_s_max_m=bat.s_max_m)
     return tuple(out.items())
 
 
-def bracket_around(s: Iterable[float], values: Iterable[float],
-                   kind: str) -> tuple[float, float] | None:
+def bracket_around(
+    s: Iterable[float], values: Iterable[float], kind: str
+) -> tuple[float, float] | None:
     """A bracket from grid data: around the max (kind='max') or a sign change (kind='root')."""
     s, v = np.asarray(list(s)), np.asarray(list(values), dtype=float)
     ok = np.isfinite(v)

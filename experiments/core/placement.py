@@ -34,8 +34,7 @@ def check_hittable(case: ImpactCase) -> None:
     """Raise ValueError unless s lies on the capsule's cylinder, where the contact normal is
     perpendicular to the axis as the impact model assumes (the caps would tilt it)."""
     bat = case.bat
-    checks.in_range("s_m", case.s_m, bat.s_min_m - HITTABLE_SLACK_M,
-                    bat.s_max_m + HITTABLE_SLACK_M)
+    checks.in_range("s_m", case.s_m, bat.s_min_m - HITTABLE_SLACK_M, bat.s_max_m + HITTABLE_SLACK_M)
 
 
 def min_dt_s(case: ImpactCase, settings: Settings) -> float:
@@ -57,12 +56,20 @@ def check_placement(case: ImpactCase, settings: Settings) -> None:
             f"dt_s={settings.dt_s:g} is too small to place this impact: the contact is first "
             f"seen overlap_m={settings.overlap_m:g} m deep, {settings.approach_steps} steps after "
             f"the start, at a closing speed of {case.closing_speed_mps:.4g} m/s; allowed: "
-            f"dt_s > {smallest:.3g} s (or a smaller overlap_m)")
+            f"dt_s > {smallest:.3g} s (or a smaller overlap_m)"
+        )
 
 
 #: The fields of ``ImpactCase`` that placing and measuring an impact read, as columns.
-CASE_FIELDS = ("s_m", "v0_mps", "u0_mps", "omega0_radps", "theta_rad", "phi_rad",
-               "hands_from_knob_m")
+CASE_FIELDS = (
+    "s_m",
+    "v0_mps",
+    "u0_mps",
+    "omega0_radps",
+    "theta_rad",
+    "phi_rad",
+    "hands_from_knob_m",
+)
 
 
 def distinct_cases(cases: Sequence[ImpactCase]) -> tuple[np.ndarray, np.ndarray]:
@@ -73,8 +80,9 @@ def distinct_cases(cases: Sequence[ImpactCase]) -> tuple[np.ndarray, np.ndarray]
     return first, inv.reshape(-1)
 
 
-def case_columns(xp, cases: Sequence[ImpactCase],
-                 distinct: tuple[np.ndarray, np.ndarray] | None = None) -> SimpleNamespace:
+def case_columns(
+    xp, cases: Sequence[ImpactCase], distinct: tuple[np.ndarray, np.ndarray] | None = None
+) -> SimpleNamespace:
     """The cases' CASE_FIELDS and normal speeds (v0n, u0n, closing) in the namespace ``xp``
     of ``geometry`` (arrays over a batch; one case's own floats for one world), and
     ``turned``: None, or where a case has an undercut or a spinning ball, their columns
@@ -91,28 +99,46 @@ def case_columns(xp, cases: Sequence[ImpactCase],
 def take_rows(cols: SimpleNamespace, rows) -> SimpleNamespace:
     """Case columns (and ``turned``'s) taken at ``rows`` (indices or a slice); what is not an
     array, one value for all, kept."""
-    return SimpleNamespace(**{k: v[rows] if isinstance(v, np.ndarray) else
-                              take_rows(v, rows) if isinstance(v, SimpleNamespace) else v
-                              for k, v in vars(cols).items()})
+    return SimpleNamespace(
+        **{
+            k: v[rows]
+            if isinstance(v, np.ndarray)
+            else take_rows(v, rows)
+            if isinstance(v, SimpleNamespace)
+            else v
+            for k, v in vars(cols).items()
+        }
+    )
 
 
 def _columns(xp, cases: Sequence[ImpactCase]) -> SimpleNamespace:
     """``case_columns`` of every case, one by one."""
     turned = None
     if any(c.undercut_m != 0.0 or c.spin_radps != (0.0, 0.0, 0.0) for c in cases):
-        pick = (lambda f: f(cases[0])) if xp is g.SCALARS else \
-            (lambda f: np.array([f(c) for c in cases]))
+        pick = (
+            (lambda f: f(cases[0]))
+            if xp is g.SCALARS
+            else (lambda f: np.array([f(c) for c in cases]))
+        )
         turned = SimpleNamespace(
             undercut_m=pick(attrgetter("undercut_m")),
             cos_tilt=pick(lambda c: math.cos(c.tilt_rad)),
-            **{f"spin_{k}": pick(lambda c, i=i: c.spin_radps[i]) for i, k in enumerate("xyz")})
+            **{f"spin_{k}": pick(lambda c, i=i: c.spin_radps[i]) for i, k in enumerate("xyz")},
+        )
     if xp is g.SCALARS:
         (c,) = cases
-        return SimpleNamespace(**{f: getattr(c, f) for f in CASE_FIELDS}, v0n_mps=c.v0n_mps,
-                               u0n_mps=c.u0n_mps, closing_speed_mps=c.closing_speed_mps,
-                               turned=turned)
-    values = np.fromiter(chain.from_iterable(map(attrgetter(*CASE_FIELDS), cases)), float,
-                         count=len(CASE_FIELDS) * len(cases)).reshape(len(cases), -1)
+        return SimpleNamespace(
+            **{f: getattr(c, f) for f in CASE_FIELDS},
+            v0n_mps=c.v0n_mps,
+            u0n_mps=c.u0n_mps,
+            closing_speed_mps=c.closing_speed_mps,
+            turned=turned,
+        )
+    values = np.fromiter(
+        chain.from_iterable(map(attrgetter(*CASE_FIELDS), cases)),
+        float,
+        count=len(CASE_FIELDS) * len(cases),
+    ).reshape(len(cases), -1)
     cc = SimpleNamespace(**dict(zip(CASE_FIELDS, values.T)))
     cc.v0n_mps = cc.v0_mps * np.cos(cc.theta_rad)
     cc.u0n_mps = cc.u0_mps * np.cos(cc.phi_rad)
@@ -121,8 +147,9 @@ def _columns(xp, cases: Sequence[ImpactCase]) -> SimpleNamespace:
     return cc
 
 
-def check_placements(xp, cases: Sequence[ImpactCase], cc: SimpleNamespace,
-                     each: Sequence[Settings]) -> None:
+def check_placements(
+    xp, cases: Sequence[ImpactCase], cc: SimpleNamespace, each: Sequence[Settings]
+) -> None:
     """``check_placement`` for every case under its own settings (``cc`` the cases' columns
     with their ``contact_phase``; the other placement fields shared): the cases the columns
     flag are checked one by one, which raises with the message."""
@@ -148,14 +175,46 @@ def start_states(xp, bat: Bat, ball: Ball, cc: SimpleNamespace, settings: Settin
     u_t, u_n = cc.u0_mps * xp.sin(cc.phi_rad), cc.u0n_mps
     reach = bat.radius_m + ball.radius_m
     if turned is None:
-        return xp.from_cols((cc.s_m - T * v_t, reach - T * v_n, v_t, v_n, 0.0 * T, -T * u_t,
-                             -T * u_n, -T * cc.omega0_radps, u_t, u_n, cc.omega0_radps)), T
+        return xp.from_cols(
+            (
+                cc.s_m - T * v_t,
+                reach - T * v_n,
+                v_t,
+                v_n,
+                0.0 * T,
+                -T * u_t,
+                -T * u_n,
+                -T * cc.omega0_radps,
+                u_t,
+                u_n,
+                cc.omega0_radps,
+            )
+        ), T
     zero = 0.0 * T
-    return xp.from_cols((cc.s_m - T * v_t, reach * turned.cos_tilt - T * v_n, v_t, v_n,
-                         turned.spin_z + zero, -T * u_t, -T * u_n, -T * cc.omega0_radps, u_t,
-                         u_n, cc.omega0_radps, turned.undercut_m + zero, zero,
-                         turned.spin_x + zero, turned.spin_y + zero, zero, zero, zero, zero,
-                         zero)), T
+    return xp.from_cols(
+        (
+            cc.s_m - T * v_t,
+            reach * turned.cos_tilt - T * v_n,
+            v_t,
+            v_n,
+            turned.spin_z + zero,
+            -T * u_t,
+            -T * u_n,
+            -T * cc.omega0_radps,
+            u_t,
+            u_n,
+            cc.omega0_radps,
+            turned.undercut_m + zero,
+            zero,
+            turned.spin_x + zero,
+            turned.spin_y + zero,
+            zero,
+            zero,
+            zero,
+            zero,
+            zero,
+        )
+    ), T
 
 
 def start_state(case: ImpactCase, settings: Settings) -> tuple[State, float]:
@@ -188,16 +247,30 @@ def hands_for(drive: Drive, bat: Bat, pivot_xy_m: tuple[float, float] = (0.0, 0.
     """An ``analytic.dynamics.Drive`` resolved on one bat, as an engine applies it: its force
     at its arm from the COM, its torque, and its pivot (if any) hinged at ``pivot_xy_m``."""
     drive.check(bat)
-    pivot = None if drive.pivot_from_knob_m is None else \
-        drive.pivot_from_knob_m - bat.com_from_knob_m
-    return Hands(force_n=drive.force_n, angle_rad=drive.force_angle_rad,
-                 arm_m=drive.force_arm_m(bat), torque_nm=drive.torque_nm,
-                 pivot_from_com_m=pivot, pivot_xy_m=pivot_xy_m)
+    pivot = (
+        None if drive.pivot_from_knob_m is None else drive.pivot_from_knob_m - bat.com_from_knob_m
+    )
+    return Hands(
+        force_n=drive.force_n,
+        angle_rad=drive.force_angle_rad,
+        arm_m=drive.force_arm_m(bat),
+        torque_nm=drive.torque_nm,
+        pivot_from_com_m=pivot,
+        pivot_xy_m=pivot_xy_m,
+    )
 
 
-def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
-               swing: HingedSwing, settings: Settings,
-               **contact) -> tuple[ImpactCase, SwingPlan]:
+def swing_case(
+    bat: Bat,
+    ball: Ball,
+    *,
+    s_m: float,
+    v0_mps: float,
+    e: float,
+    swing: HingedSwing,
+    settings: Settings,
+    **contact,
+) -> tuple[ImpactCase, SwingPlan]:
     """The impact that a hinged swing delivers, and the plan to simulate it in one run.
 
     The swing lasts a whole number of steps n = round(t/dt); at release (t_r = n dt, torque off,
@@ -215,21 +288,55 @@ def swing_case(bat: Bat, ball: Ball, *, s_m: float, v0_mps: float, e: float,
     d = swing.arm_m(bat)
     phi = 0.0
     for _ in range(3):  # T depends on the closing speed, which depends on phi; converges at once
-        case = ImpactCase(bat=bat, ball=ball, s_m=s_m, v0_mps=v0_mps, u0_mps=w0 * d,
-                          omega0_radps=w0, e=e, phi_rad=phi,
-                          hands_from_knob_m=swing.hands_from_knob_m, **contact)
+        case = ImpactCase(
+            bat=bat,
+            ball=ball,
+            s_m=s_m,
+            v0_mps=v0_mps,
+            u0_mps=w0 * d,
+            omega0_radps=w0,
+            e=e,
+            phi_rad=phi,
+            hands_from_knob_m=swing.hands_from_knob_m,
+            **contact,
+        )
         release, T = start_state(case, settings)
         phi = w0 * T
-    case = ImpactCase(bat=bat, ball=ball, s_m=s_m, v0_mps=v0_mps, u0_mps=w0 * d, omega0_radps=w0,
-                      e=e, phi_rad=phi, hands_from_knob_m=swing.hands_from_knob_m, **contact)
+    case = ImpactCase(
+        bat=bat,
+        ball=ball,
+        s_m=s_m,
+        v0_mps=v0_mps,
+        u0_mps=w0 * d,
+        omega0_radps=w0,
+        e=e,
+        phi_rad=phi,
+        hands_from_knob_m=swing.hands_from_knob_m,
+        **contact,
+    )
     release, _ = start_state(case, settings)
     px = release.bat_x_m - d * math.cos(release.bat_angle_rad)
     py = release.bat_y_m - d * math.sin(release.bat_angle_rad)
     a0 = release.bat_angle_rad - swing.angle_swept(bat, t_r)
     start = release._replace(
-        bat_x_m=px + d * math.cos(a0), bat_y_m=py + d * math.sin(a0), bat_angle_rad=a0,
-        bat_vx_mps=0.0, bat_vy_mps=0.0, bat_omega_radps=0.0, ball_x_m=0.0,
-        ball_y_m=PARKED_BALL_Y_M, ball_vx_mps=0.0, ball_vy_mps=0.0, ball_omega_radps=0.0)
-    return case, SwingPlan(swing=swing, steps=steps, pivot_xy_m=(px, py), bat_start=start,
-                           omega_release_radps=w0, angle_release_rad=release.bat_angle_rad,
-                           dt_s=dt)
+        bat_x_m=px + d * math.cos(a0),
+        bat_y_m=py + d * math.sin(a0),
+        bat_angle_rad=a0,
+        bat_vx_mps=0.0,
+        bat_vy_mps=0.0,
+        bat_omega_radps=0.0,
+        ball_x_m=0.0,
+        ball_y_m=PARKED_BALL_Y_M,
+        ball_vx_mps=0.0,
+        ball_vy_mps=0.0,
+        ball_omega_radps=0.0,
+    )
+    return case, SwingPlan(
+        swing=swing,
+        steps=steps,
+        pivot_xy_m=(px, py),
+        bat_start=start,
+        omega_release_radps=w0,
+        angle_release_rad=release.bat_angle_rad,
+        dt_s=dt,
+    )

@@ -50,8 +50,11 @@ class IndexUnreachable(NotInstallable):
 
 
 #: What uv says when the index cannot be reached (as opposed to a release it does not have).
-UNREACHABLE = re.compile(r"Failed to fetch|Request failed after|network was disabled|"
-                         r"dns error|Connection refused|tcp connect error", re.I)
+UNREACHABLE = re.compile(
+    r"Failed to fetch|Request failed after|network was disabled|"
+    r"dns error|Connection refused|tcp connect error",
+    re.I,
+)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -113,8 +116,10 @@ def harness_requirements() -> list[str]:
 def harness_closure() -> set[str]:
     """The distributions the harness's own dependencies pull in, as installed here (an extra
     they ask for included: dask[distributed])."""
-    todo = [(_name(r), set(re.findall(r"\[(.*?)\]", r)[0].split(",")) if "[" in r else set())
-            for r in harness_requirements()]
+    todo = [
+        (_name(r), set(re.findall(r"\[(.*?)\]", r)[0].split(",")) if "[" in r else set())
+        for r in harness_requirements()
+    ]
     seen: set[str] = set()
     while todo:
         name, extras = todo.pop()
@@ -155,26 +160,40 @@ def uv() -> str:
 
 def _uv(args: list[str]) -> None:
     try:
-        done = subprocess.run([uv(), *args], capture_output=True, text=True,
-                              timeout=INSTALL_TIMEOUT_S)
+        done = subprocess.run(
+            [uv(), *args], capture_output=True, text=True, timeout=INSTALL_TIMEOUT_S
+        )
     except subprocess.TimeoutExpired:
-        raise NotInstallable(f"uv did not finish within {INSTALL_TIMEOUT_S} s (a slow network "
-                             "or index?)") from None
+        raise NotInstallable(
+            f"uv did not finish within {INSTALL_TIMEOUT_S} s (a slow network or index?)"
+        ) from None
     if done.returncode and UNREACHABLE.search(done.stderr):
         fetch = re.search(r"Failed to fetch:?\s*(\S+)", done.stderr)
         where = f" at {fetch.group(1).strip('`')}" if fetch else ""
-        raise IndexUnreachable(f"the package index could not be reached{where} "
-                               f"({_why(done.stderr)})")
+        raise IndexUnreachable(
+            f"the package index could not be reached{where} ({_why(done.stderr)})"
+        )
     if done.returncode:
         raise NotInstallable(_why(done.stderr))
 
 
 def _why(stderr: str) -> str:
     """uv's reason, in a line: the lines that say what was not found, or its last line."""
-    lines = [re.sub(r"^(cause|hint|error):\s*", "", ln.strip(" ×╰─▶|"))
-             for ln in stderr.splitlines() if ln.strip()]
-    said = [ln for ln in lines if re.search(r"no version|not found|no wheels|unsatisf|cannot "
-                                            r"be used|not exist|No such file", ln, re.I)]
+    lines = [
+        re.sub(r"^(cause|hint|error):\s*", "", ln.strip(" ×╰─▶|"))
+        for ln in stderr.splitlines()
+        if ln.strip()
+    ]
+    said = [
+        ln
+        for ln in lines
+        if re.search(
+            r"no version|not found|no wheels|unsatisf|cannot "
+            r"be used|not exist|No such file",
+            ln,
+            re.I,
+        )
+    ]
     return " ".join(said or lines[-1:])[:300] or "uv failed"
 
 
@@ -184,10 +203,23 @@ def install(release: Release, target: Path) -> dict:
     pins = target / "constraints.txt"
     pins.write_text(constraints(release))
     python = str(target / "bin" / "python")
-    _uv(["pip", "install", "--quiet", "--no-build", "--python", python, "-c", str(pins),
-         *harness_requirements(), *release.requirements])
-    frozen = subprocess.run([uv(), "pip", "freeze", "--python", python], capture_output=True,
-                            text=True, check=True).stdout
+    _uv(
+        [
+            "pip",
+            "install",
+            "--quiet",
+            "--no-build",
+            "--python",
+            python,
+            "-c",
+            str(pins),
+            *harness_requirements(),
+            *release.requirements,
+        ]
+    )
+    frozen = subprocess.run(
+        [uv(), "pip", "freeze", "--python", python], capture_output=True, text=True, check=True
+    ).stdout
     return dict(ln.split("==", 1) for ln in frozen.splitlines() if "==" in ln)
 
 
@@ -202,14 +234,18 @@ def environment(release: Release, cache: Path = DEFAULT_CACHE, installer=install
     NotInstallable (uv's reason) if the release cannot be installed for this Python."""
     folder = place(release, cache)
     if (folder.exists() or folder.is_symlink()) and not folder.is_dir():  # not the harness's
-        raise NotInstallable(f"{folder} is a file (or a link to none), not an environment: "
-                             "move it away to have the environment made there")
+        raise NotInstallable(
+            f"{folder} is a file (or a link to none), not an environment: "
+            "move it away to have the environment made there"
+        )
     folder.parent.mkdir(parents=True, exist_ok=True)
     with FileLock(str(folder) + ".lock"):
         if (why := fault(folder)) is not None:
             if (folder / READY).exists():  # made once, since damaged: a cache, made again
-                print(f"history: the environment {folder} is broken ({why}): made again",
-                      file=sys.stderr)
+                print(
+                    f"history: the environment {folder} is broken ({why}): made again",
+                    file=sys.stderr,
+                )
             shutil.rmtree(folder, ignore_errors=True)
             try:
                 installed = installer(release, folder)
@@ -240,8 +276,7 @@ def fault(folder: Path) -> str | None:
     site = folder / "lib" / f"python{sys.version_info.major}.{sys.version_info.minor}"
     held = {_name(p.stem.split("-", 1)[0]) for p in site.glob("site-packages/*.dist-info")}
     lost = sorted(n for n in map(_name, listed) if n not in held)
-    return f"{len(lost)} of its distributions are missing ({', '.join(lost[:3])})" if lost \
-        else None
+    return f"{len(lost)} of its distributions are missing ({', '.join(lost[:3])})" if lost else None
 
 
 def installed(python: Path) -> dict:

@@ -63,9 +63,13 @@ class Runner:
     Impacts go to the workers only when their estimated time exceeds ``min_parallel_s``. Use it
     as a context manager; its pool or client lives until the block ends."""
 
-    def __init__(self, workers: int = 1, scheduler: str | None = None,
-                 progress: Callable[[int], None] | None = None,
-                 min_parallel_s: float = MIN_PARALLEL_S) -> None:
+    def __init__(
+        self,
+        workers: int = 1,
+        scheduler: str | None = None,
+        progress: Callable[[int], None] | None = None,
+        min_parallel_s: float = MIN_PARALLEL_S,
+    ) -> None:
         self.workers = workers
         self.scheduler = scheduler
         self.progress = progress
@@ -109,8 +113,13 @@ class Runner:
                 if process.is_alive():
                     process.kill()
 
-    def _map_remote(self, fn: Callable, items: list, lost: Callable | None = None,
-                    limit_s: Callable | None = None) -> Iterable:
+    def _map_remote(
+        self,
+        fn: Callable,
+        items: list,
+        lost: Callable | None = None,
+        limit_s: Callable | None = None,
+    ) -> Iterable:
         """Results of fn over items from the workers, in order, as they come (``workers``:
         a worker lost, or an item past ``limit_s(item)``, gives ``lost(item, status, why)``)."""
         if self.scheduler is None:
@@ -122,9 +131,12 @@ class Runner:
         if self._pool is None:
             context = _pool_context()
             forked = context.get_start_method() == "fork"  # (else a fork server's children)
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=context,
-                                             initializer=worker_start,
-                                             initargs=(os.getpid() if forked else None,))
+            self._pool = ProcessPoolExecutor(
+                self.workers,
+                mp_context=context,
+                initializer=worker_start,
+                initargs=(os.getpid() if forked else None,),
+            )
         return self._pool
 
     def renew_pool(self) -> ProcessPoolExecutor:
@@ -138,15 +150,20 @@ class Runner:
             self._cluster = getattr(self._client, "_batsim_cluster", None)
         return self._client
 
-    def call_all(self, calls: Sequence[tuple[Callable, tuple]],
-                 engines: Sequence[str] | None = None) -> list:
+    def call_all(
+        self, calls: Sequence[tuple[Callable, tuple]], engines: Sequence[str] | None = None
+    ) -> list:
         """The results of independent calls fn(*args), in order, run side by side if possible
         (``engines``: the engine each call fires, as for ``submit_all``)."""
         return self.submit_all(calls, engines=engines)()
 
-    def submit_all(self, calls: Sequence[tuple[Callable, tuple]], estimate_s: float = math.inf,
-                   engines: Sequence[str] | None = None,
-                   progress: Callable[[int], None] | None = None) -> Callable[[], list]:
+    def submit_all(
+        self,
+        calls: Sequence[tuple[Callable, tuple]],
+        estimate_s: float = math.inf,
+        engines: Sequence[str] | None = None,
+        progress: Callable[[int], None] | None = None,
+    ) -> Callable[[], list]:
         """Start independent calls fn(*args) on the workers and return a function that waits
         for their results (in order); serially, or when their estimated total time is below
         ``min_parallel_s``, the calls run here when it is called. This process is free for
@@ -196,15 +213,24 @@ class Runner:
         here = [i for i, b in enumerate(batched) if b]
         there = [i for i, b in enumerate(batched) if not b and i != p]
         if per_job * len(there) < self.min_parallel_s:  # (no batch straddles the probe)
-            return FiredSeq([fire_jobs(jobs[:p], self.progress), probe,
-                             fire_jobs(jobs[p + 1:], self.progress)])
+            return FiredSeq(
+                [fire_jobs(jobs[:p], self.progress), probe, fire_jobs(jobs[p + 1 :], self.progress)]
+            )
         if self.scheduler is not None:  # spawned workers: every one imports the engines first
             self._dask().run(_import_engines, sorted({jobs[i].engine for i in there}))
-        size = max(1, min(round(CHUNK_S / max(per_job, 1e-9)),
-                          math.ceil(len(there) / (4 * max(self.workers, 1)))))
-        parts = self._map_remote(fire_jobs, [[jobs[i] for i in there[k:k + size]]
-                                             for k in range(0, len(there), size)],
-                                 lost=_lost_chunk, limit_s=_chunk_limit_s)
+        size = max(
+            1,
+            min(
+                round(CHUNK_S / max(per_job, 1e-9)),
+                math.ceil(len(there) / (4 * max(self.workers, 1))),
+            ),
+        )
+        parts = self._map_remote(
+            fire_jobs,
+            [[jobs[i] for i in there[k : k + size]] for k in range(0, len(there), size)],
+            lost=_lost_chunk,
+            limit_s=_chunk_limit_s,
+        )
         out: list = [None] * len(jobs)
         out[p] = probe[0]
         remote = iter(there)
@@ -225,8 +251,7 @@ class Runner:
 
 def _lost_chunk(chunk: list[Job], status: Status, why: str) -> list[Fired]:
     """The rows of a chunk of impacts its worker never gave back (``workers``)."""
-    return [unmeasured(j.engine, [j.case], [j.settings], None, status, why, 0.0)[0]
-            for j in chunk]
+    return [unmeasured(j.engine, [j.case], [j.settings], None, status, why, 0.0)[0] for j in chunk]
 
 
 def _chunk_limit_s(chunk: list[Job]) -> float:
@@ -234,7 +259,8 @@ def _chunk_limit_s(chunk: list[Job]) -> float:
     limit (``watchdog.limit_s``, no floor each) and one floor for the chunk. A hang in Python
     is caught in the worker, by its own limit per batch: this is for one in compiled code."""
     return watchdog.FLOOR_S + sum(
-        watchdog.limit_s(adapters.record(j.engine), j.settings, 1, floor_s=0.0) for j in chunk)
+        watchdog.limit_s(adapters.record(j.engine), j.settings, 1, floor_s=0.0) for j in chunk
+    )
 
 
 def _pool_context():
@@ -259,17 +285,29 @@ def _dask_client(scheduler: str, workers: int):
         # Its processes start with Ctrl-C ignored (inherited): the run stops them itself, and
         # each would print its own traceback for the terminal's SIGINT.
         try:
-            with dask.config.set({"distributed.worker.profile.enabled": False,
-                                  "distributed.scheduler.worker-saturation": math.inf}), \
-                    _ignoring(signal.SIGINT):
-                cluster = LocalCluster(n_workers=max(workers, 1), threads_per_worker=1,
-                                       processes=True, dashboard_address=None,
-                                       silence_logs=logging.ERROR)
+            with (
+                dask.config.set(
+                    {
+                        "distributed.worker.profile.enabled": False,
+                        "distributed.scheduler.worker-saturation": math.inf,
+                    }
+                ),
+                _ignoring(signal.SIGINT),
+            ):
+                cluster = LocalCluster(
+                    n_workers=max(workers, 1),
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=logging.ERROR,
+                )
         except (OSError, RuntimeError, TimeoutError) as err:
-            raise UserError(f"a local Dask cluster of {workers} workers could not start "
-                            f"({type(err).__name__}: {' '.join(str(err).split())[:200]}); "
-                            "allowed: fewer --workers, a higher ulimit -n, or --workers "
-                            "without --scheduler") from None
+            raise UserError(
+                f"a local Dask cluster of {workers} workers could not start "
+                f"({type(err).__name__}: {' '.join(str(err).split())[:200]}); "
+                "allowed: fewer --workers, a higher ulimit -n, or --workers "
+                "without --scheduler"
+            ) from None
         client = Client(cluster)
         client._batsim_cluster = cluster
         return client
@@ -300,8 +338,9 @@ def connect(address: str, timeout_s: float = CONNECT_TIMEOUT_S):
     try:
         return Client(address, timeout=timeout_s)
     except (OSError, TimeoutError) as err:
-        raise OSError(f"no Dask scheduler answered at {address} within {timeout_s:g} s "
-                      f"({type(err).__name__})") from None
+        raise OSError(
+            f"no Dask scheduler answered at {address} within {timeout_s:g} s ({type(err).__name__})"
+        ) from None
 
 
 def handshake(address: str, timeout_s: float) -> None:
@@ -324,7 +363,6 @@ def handshake(address: str, timeout_s: float) -> None:
     except TimeoutError:
         raise OSError(f"nothing answered at {address} within {timeout_s:g} s") from None
     except Exception as err:  # noqa: BLE001 - a foreign service's bytes can fail any way
-        raise OSError(f"no Dask scheduler answered at {address} "
-                      f"({type(err).__name__})") from None
+        raise OSError(f"no Dask scheduler answered at {address} ({type(err).__name__})") from None
     if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
         raise OSError(f"{address} answered, but not as a Dask scheduler")

@@ -31,8 +31,9 @@ from .io import ROOT, make_public
 RUNS = ROOT / "runs"
 RESULTS = ROOT / "results"
 #: Options that say how or where a run goes, not what it computes: left out of run names.
-NOT_IN_NAME = frozenset({"help", "out", "name", "force", "workers", "scheduler", "compare",
-                         "budget_h"})
+NOT_IN_NAME = frozenset(
+    {"help", "out", "name", "force", "workers", "scheduler", "compare", "budget_h"}
+)
 PROGRESS_EVERY_S = 5.0
 
 
@@ -43,8 +44,11 @@ def engine_label(engines: tuple[str, ...]) -> str:
 
 def configuration(p: argparse.ArgumentParser, args: argparse.Namespace) -> dict:
     """Every option that decides what a run computes, with its value (for names and JSON)."""
-    return {a.dest: _plain(getattr(args, a.dest)) for a in p._actions
-            if a.dest not in NOT_IN_NAME and a.dest != argparse.SUPPRESS}
+    return {
+        a.dest: _plain(getattr(args, a.dest))
+        for a in p._actions
+        if a.dest not in NOT_IN_NAME and a.dest != argparse.SUPPRESS
+    }
 
 
 def _plain(v):
@@ -64,8 +68,13 @@ def run_name(p: argparse.ArgumentParser, args: argparse.Namespace, experiment: s
     for key, value in conf.items():
         if value == defaults[key]:
             continue
-        parts.append(key if value is True else f"{key}={value:g}" if isinstance(value, float)
-                     else f"{key}={value}")
+        parts.append(
+            key
+            if value is True
+            else f"{key}={value:g}"
+            if isinstance(value, float)
+            else f"{key}={value}"
+        )
     label = re.sub(r"[^A-Za-z0-9._=+,-]", "", "_".join(parts)) or "defaults"
     if len(label) > 60:
         label = hashlib.sha1(json.dumps(conf, sort_keys=True, default=str).encode()).hexdigest()[:8]
@@ -82,20 +91,28 @@ def run_dir(p: argparse.ArgumentParser, args: argparse.Namespace, experiment: st
     if args.name is not None:
         target = args.out / args.name
         if target.exists() and not args.force:  # (refused before anything is made)
-            p.error(f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
-                    "another --name")
+            p.error(
+                f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
+                "another --name"
+            )
         if not reserve(target):
-            p.error(f"--name {args.name!r}: another run is writing {target} now; allowed: "
-                    "another --name, or wait for it")
+            p.error(
+                f"--name {args.name!r}: another run is writing {target} now; allowed: "
+                "another --name, or wait for it"
+            )
         # (looked at once held: a run that published just before cannot be replaced unasked)
         if target.exists() and not args.force:
             release(target)
-            p.error(f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
-                    "another --name")
+            p.error(
+                f"--name {args.name!r}: {target} exists; allowed: --force to replace it, or "
+                "another --name"
+            )
         if target.exists() and (foreign := not_a_run(target)):
             release(target)
-            p.error(f"--force --name {args.name!r}: {target} is not a run ({foreign}); "
-                    "allowed: another --name (--force replaces only a run)")
+            p.error(
+                f"--force --name {args.name!r}: {target} is not a run ({foreign}); "
+                "allowed: another --name (--force replaces only a run)"
+            )
         return target
     base = args.out / run_name(p, args, experiment)
     if args.force and reserve(base):
@@ -131,18 +148,23 @@ def staging(out: Path) -> Path:
     if a folder of that name there is not the harness's."""
     folder = out / STAGING
     if folder.exists() and not folder.is_dir():
-        raise UserError(f"{folder} is a file, not the harness's staging folder; allowed: move "
-                        "it away, or choose another --out")
+        raise UserError(
+            f"{folder} is a file, not the harness's staging folder; allowed: move "
+            "it away, or choose another --out"
+        )
     try:
         folder.mkdir(parents=True, exist_ok=True)
         mark = folder / STAGING_MARK
         if not mark.exists() and any(folder.iterdir()):
-            raise UserError(f"{folder} exists and is not the harness's (no {STAGING_MARK}); "
-                            "allowed: move it away, or choose another --out")
+            raise UserError(
+                f"{folder} exists and is not the harness's (no {STAGING_MARK}); "
+                "allowed: move it away, or choose another --out"
+            )
         mark.touch()
     except OSError as err:
-        raise UserError(f"cannot prepare {folder} ({err.strerror or err}); allowed: an --out "
-                        "you can write to") from None
+        raise UserError(
+            f"cannot prepare {folder} ({err.strerror or err}); allowed: an --out you can write to"
+        ) from None
     return folder
 
 
@@ -163,8 +185,9 @@ def reserve(target: Path) -> bool:
     except Timeout:
         return False
     except OSError as err:
-        raise UserError(f"cannot lock {target} ({err.strerror or err}); allowed: an --out you "
-                        "can write to") from None
+        raise UserError(
+            f"cannot lock {target} ({err.strerror or err}); allowed: an --out you can write to"
+        ) from None
     _HELD[target] = lock
     return True
 
@@ -246,13 +269,18 @@ def manifest(files: dict[str, bytes]) -> bytes:
     it ran (warnings, errors raised inside engine callbacks: ``core.cli.main_guard``)."""
     import datetime
 
-    return json.dumps({
-        "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]),
-        "date_utc": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-        "files": {name: hashlib.sha256(data).hexdigest() for name, data in sorted(files.items())},
-        "library_messages": library_messages(),
-        "broken_plugins": dict(adapters.broken()),
-    }, indent=1).encode()
+    return json.dumps(
+        {
+            "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]),
+            "date_utc": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+            "files": {
+                name: hashlib.sha256(data).hexdigest() for name, data in sorted(files.items())
+            },
+            "library_messages": library_messages(),
+            "broken_plugins": dict(adapters.broken()),
+        },
+        indent=1,
+    ).encode()
 
 
 #: Errors raised inside engine callbacks and the warnings caught during this run
@@ -263,8 +291,9 @@ WARNINGS: list = []
 
 def library_messages() -> list[str]:
     """What libraries said during this run, each message once."""
-    said = [f"{w.category.__name__}: {w.message} ({Path(w.filename).name}:{w.lineno})"
-            for w in WARNINGS]
+    said = [
+        f"{w.category.__name__}: {w.message} ({Path(w.filename).name}:{w.lineno})" for w in WARNINGS
+    ]
     return list(dict.fromkeys([*UNRAISABLE, *said]))
 
 
@@ -274,8 +303,15 @@ def shown(path: Path) -> str:
 
 
 #: BATSIM_QUIET's values (any case, spaces around ignored): whether progress is silenced.
-QUIET_VALUES = {"1": True, "true": True, "yes": True, "0": False, "false": False, "no": False,
-                "": False}
+QUIET_VALUES = {
+    "1": True,
+    "true": True,
+    "yes": True,
+    "0": False,
+    "false": False,
+    "no": False,
+    "": False,
+}
 
 
 def quiet() -> bool:
@@ -289,8 +325,10 @@ def quiet_error() -> str | None:
     raw = os.environ.get("BATSIM_QUIET", "")
     if raw.strip().lower() in QUIET_VALUES:
         return None
-    return (f"BATSIM_QUIET={raw!r} is not allowed; allowed: 1, true or yes (no progress), "
-            "0, false, no or empty (progress)")
+    return (
+        f"BATSIM_QUIET={raw!r} is not allowed; allowed: 1, true or yes (no progress), "
+        "0, false, no or empty (progress)"
+    )
 
 
 class Progress:
@@ -325,8 +363,12 @@ class Progress:
         t1, n1 = self.first
         rate = (self.done - n1) / (now - t1) if self.done > n1 and now > t1 else math.nan
         left = f", about {(self.total - self.done) / rate:.0f} s left" if rate > 0 else ""
-        print(f"{self.desc}: {self.done}/{self.total} {self.unit} ({frac:.0%}), "
-              f"{now - self.t0:.0f} s{left}", file=sys.stderr, flush=True)
+        print(
+            f"{self.desc}: {self.done}/{self.total} {self.unit} ({frac:.0%}), "
+            f"{now - self.t0:.0f} s{left}",
+            file=sys.stderr,
+            flush=True,
+        )
 
     def __enter__(self) -> Progress:
         return self

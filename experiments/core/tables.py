@@ -20,23 +20,58 @@ from .fired import Gathered, gather
 
 #: Columns of a sweep table, in order. Units are in the names.
 COLUMNS = (
-    "engine", "profile", "bat", "s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad",
-    "v1_analytic_mps", "v1_engine_mps", "v1_abs_err_mps", "v1_rel_err", "v1_tol_mps",
-    "v1_impulse_mps", "rigid_impacts", "rigid_sustained_s", "rigid_end", "v1_law_mps",
-    "v1_law_err_mps", "v1_law_tol_mps",
-    "u1_analytic_mps", "u1_engine_mps", "omega1_analytic_radps", "omega1_engine_radps",
-    "hand_dv_analytic_mps", "hand_dv_engine_mps", "ke_before_j", "ke_after_j", "status",
-    "episode_end", "ball_side_end_m", "contact_duration_s", "peak_penetration_m", "steps",
+    "engine",
+    "profile",
+    "bat",
+    "s_m",
+    "v0_mps",
+    "u0_mps",
+    "omega0_radps",
+    "e",
+    "theta_rad",
+    "v1_analytic_mps",
+    "v1_engine_mps",
+    "v1_abs_err_mps",
+    "v1_rel_err",
+    "v1_tol_mps",
+    "v1_impulse_mps",
+    "rigid_impacts",
+    "rigid_sustained_s",
+    "rigid_end",
+    "v1_law_mps",
+    "v1_law_err_mps",
+    "v1_law_tol_mps",
+    "u1_analytic_mps",
+    "u1_engine_mps",
+    "omega1_analytic_radps",
+    "omega1_engine_radps",
+    "hand_dv_analytic_mps",
+    "hand_dv_engine_mps",
+    "ke_before_j",
+    "ke_after_j",
+    "status",
+    "episode_end",
+    "ball_side_end_m",
+    "contact_duration_s",
+    "peak_penetration_m",
+    "steps",
     "wall_s",
 )
 TIMING_COLUMNS = ("wall_s",)
 #: Extra columns of a sweep whose bat is swung in the engine before each impact.
-SWING_COLUMNS = ("release_omega_engine_radps", "release_omega_analytic_radps",
-                 "release_angle_err_rad")
+SWING_COLUMNS = (
+    "release_omega_engine_radps",
+    "release_omega_analytic_radps",
+    "release_angle_err_rad",
+)
 
 
-def table(fired: Sequence[Fired], profile: str, spin_columns: bool = False,
-          error_models: verdicts.ErrorModels | None = None) -> pd.DataFrame:
+def table(
+    fired: Sequence[Fired],
+    profile: str,
+    spin_columns: bool = False,
+    error_models: verdicts.ErrorModels | None = None,
+) -> pd.DataFrame:
     """The tidy table of fired impacts, one row per impact in order: the case, the answers it
     was judged against (``verdicts.judge_columns``: the rigid-body answer, ``analytic.collide``'s
     whole episode followed as long as the engine's budget, the single impulse beside it, the
@@ -57,25 +92,37 @@ def layout(g: Gathered, v: verdicts.Verdicts, profile: str) -> pd.DataFrame:
     rigid = a["rigid_episodes"]
     cases = [g.cases[i] for i in _firsts(inv, len(rigid))]
     cols = {
-        "engine": _texts(g.engines), "profile": _spread([profile], np.zeros(n, dtype=np.intp)),
+        "engine": _texts(g.engines),
+        "profile": _spread([profile], np.zeros(n, dtype=np.intp)),
         "bat": each([k.bat.name for k in cases]),
-        **{f: each([getattr(k, f) for k in cases])
-           for f in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad")},
-        "v1_analytic_mps": a["v1_analytic_mps"], "v1_engine_mps": c["v1_mps"],
-        "v1_abs_err_mps": a["v1_abs_err_mps"], "v1_rel_err": _relative(a),
-        "v1_tol_mps": a["v1_tol_mps"], "v1_impulse_mps": a["v1_impulse_mps"],
+        **{
+            f: each([getattr(k, f) for k in cases])
+            for f in ("s_m", "v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad")
+        },
+        "v1_analytic_mps": a["v1_analytic_mps"],
+        "v1_engine_mps": c["v1_mps"],
+        "v1_abs_err_mps": a["v1_abs_err_mps"],
+        "v1_rel_err": _relative(a),
+        "v1_tol_mps": a["v1_tol_mps"],
+        "v1_impulse_mps": a["v1_impulse_mps"],
         "rigid_impacts": each([r.impacts for r in rigid]),
         "rigid_sustained_s": each([r.sustained_contact_s for r in rigid]),
         "rigid_end": each([r.ended for r in rigid]),
         **{k: a[k] for k in ("v1_law_mps", "v1_law_err_mps", "v1_law_tol_mps")},
-        "u1_analytic_mps": a["u1_analytic_mps"], "u1_engine_mps": c["u1_mps"],
+        "u1_analytic_mps": a["u1_analytic_mps"],
+        "u1_engine_mps": c["u1_mps"],
         "omega1_analytic_radps": a["omega1_analytic_radps"],
         "omega1_engine_radps": c["omega1_radps"],
-        "hand_dv_analytic_mps": a["hand_dv_analytic_mps"], "hand_dv_engine_mps": c["hand_dv_mps"],
-        "ke_before_j": c["ke_before_j"], "ke_after_j": c["ke_after_j"],
-        "status": _text(v.status), "episode_end": _text(c["ended"]),
-        "ball_side_end_m": c["ball_side_m"], "contact_duration_s": c["contact_duration_s"],
-        "peak_penetration_m": c["peak_penetration_m"], "steps": c["steps"],
+        "hand_dv_analytic_mps": a["hand_dv_analytic_mps"],
+        "hand_dv_engine_mps": c["hand_dv_mps"],
+        "ke_before_j": c["ke_before_j"],
+        "ke_after_j": c["ke_after_j"],
+        "status": _text(v.status),
+        "episode_end": _text(c["ended"]),
+        "ball_side_end_m": c["ball_side_m"],
+        "contact_duration_s": c["contact_duration_s"],
+        "peak_penetration_m": c["peak_penetration_m"],
+        "steps": c["steps"],
         "wall_s": c["wall_s"],
     }
     cols.update({k: x for k, x in a.items() if k not in _LAID_OUT})
@@ -87,10 +134,22 @@ def layout(g: Gathered, v: verdicts.Verdicts, profile: str) -> pd.DataFrame:
 
 
 #: The judge's answers laid out above (the rest, friction's, are added as they come).
-_LAID_OUT = frozenset(("v1_analytic_mps", "v1_abs_err_mps", "v1_tol_mps", "v1_impulse_mps",
-                       "rigid_episodes", "rows", "v1_law_mps", "v1_law_err_mps",
-                       "v1_law_tol_mps", "u1_analytic_mps", "omega1_analytic_radps",
-                       "hand_dv_analytic_mps"))
+_LAID_OUT = frozenset(
+    (
+        "v1_analytic_mps",
+        "v1_abs_err_mps",
+        "v1_tol_mps",
+        "v1_impulse_mps",
+        "rigid_episodes",
+        "rows",
+        "v1_law_mps",
+        "v1_law_err_mps",
+        "v1_law_tol_mps",
+        "u1_analytic_mps",
+        "omega1_analytic_radps",
+        "hand_dv_analytic_mps",
+    )
+)
 
 
 def _relative(a: dict) -> np.ndarray:

@@ -77,18 +77,26 @@ class Verdict:
     v1_tol_mps: float
 
 
-def judge(case: ImpactCase, outcome: SimOutcome,
-          error_model: adapters.ErrorModel | None = None) -> Verdict:
+def judge(
+    case: ImpactCase, outcome: SimOutcome, error_model: adapters.ErrorModel | None = None
+) -> Verdict:
     """The verdict on one fired impact, its tolerances from ``error_model`` (default: its
     engine's record's): ``judge_columns`` on columns of length one."""
     models = {} if error_model is None else {outcome.engine: error_model}
     v = judge_columns([Fired(case, outcome, math.nan, math.nan)], models)
-    return Verdict(status=Status(v.status[0]), reference=str(v.reference[0]),
-                   v1_err_mps=float(v.err_mps[0]), v1_tol_mps=float(v.tol_mps[0]))
+    return Verdict(
+        status=Status(v.status[0]),
+        reference=str(v.reference[0]),
+        v1_err_mps=float(v.err_mps[0]),
+        v1_tol_mps=float(v.tol_mps[0]),
+    )
 
 
-def judge_columns(fired: Sequence[Fired] | Gathered, error_models: ErrorModels | None = None,
-                  spin_columns: bool = False) -> Verdicts:
+def judge_columns(
+    fired: Sequence[Fired] | Gathered,
+    error_models: ErrorModels | None = None,
+    spin_columns: bool = False,
+) -> Verdicts:
     """Every impact of ``fired`` judged (module docstring); ``spin_columns``: the friction
     columns even where no impact has friction (a flight needs them)."""
     g = fired if isinstance(fired, Gathered) else gather(fired)
@@ -97,42 +105,71 @@ def judge_columns(fired: Sequence[Fired] | Gathered, error_models: ErrorModels |
     cases, outs = [g.cases[i] for i in rep], g.outcomes(rep)
     errors = [judging.errors_of(o, error_models) for o in outs]
     rigid = [judging.rigid(k, o.settings.max_contact_s) for k, o in zip(cases, outs)]
-    law = np.array([judging.soft_judgement(k, o, e) for k, o, e in zip(cases, outs, errors)]
-                   ).reshape(-1, 2)
+    law = np.array(
+        [judging.soft_judgement(k, o, e) for k, o, e in zip(cases, outs, errors)]
+    ).reshape(-1, 2)
     single = judging.derivatives(cases)  # (the single impulse's v1 is its first)
-    judged = (judging.tolerances(cases, outs, errors, c["release_omega_analytic_radps"][rep],
-                                 rigid, single), law, single[0])
+    judged = (
+        judging.tolerances(
+            cases, outs, errors, c["release_omega_analytic_radps"][rep], rigid, single
+        ),
+        law,
+        single[0],
+    )
     judged = tuple(x[inv] for x in judged)  # (each row's, from its distinct impact's)
     plain = all(k.frictionless_planar for k in cases)
     each_rigid = [] if plain and not spin_columns else [rigid[k] for k in inv]
     extra, tol, law, impulse, within, frictional = _with_friction(
-        g, judged, each_rigid, [errors[k] for k in inv] if each_rigid else [], plain,
-        spin_columns)
-    ref = {k: np.array([getattr(r, k) for r in rigid])[inv]
-           for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")}
+        g, judged, each_rigid, [errors[k] for k in inv] if each_rigid else [], plain, spin_columns
+    )
+    ref = {
+        k: np.array([getattr(r, k) for r in rigid])[inv]
+        for k in ("v1_mps", "u1_mps", "omega1_radps", "hand_dv_mps")
+    }
     v1 = c["v1_mps"]
     err, law_err = np.abs(v1 - ref["v1_mps"]), np.abs(v1 - law[:, 0])
     status = judging.verdict(c["status"], err, tol, law_err, law[:, 1], within)
     on_rigid, on_law = ~np.isnan(tol), ~np.isnan(law[:, 1])
-    reference = _REFERENCES[np.where(on_rigid, 0, np.where(on_law, np.where(frictional, 2, 1),
-                                                           3))]
-    answers = {"v1_analytic_mps": ref["v1_mps"], "v1_abs_err_mps": err, "v1_tol_mps": tol,
-               "v1_impulse_mps": impulse, "rigid_episodes": rigid, "rows": inv,
-               "v1_law_mps": law[:, 0], "v1_law_err_mps": law_err, "v1_law_tol_mps": law[:, 1],
-               "u1_analytic_mps": ref["u1_mps"], "omega1_analytic_radps": ref["omega1_radps"],
-               "hand_dv_analytic_mps": ref["hand_dv_mps"], **extra}
-    return Verdicts(status=status, reference=reference,
-                    err_mps=np.where(on_rigid, err, np.where(on_law, law_err, math.nan)),
-                    tol_mps=np.where(on_rigid, tol, law[:, 1]), answers=answers)
+    reference = _REFERENCES[np.where(on_rigid, 0, np.where(on_law, np.where(frictional, 2, 1), 3))]
+    answers = {
+        "v1_analytic_mps": ref["v1_mps"],
+        "v1_abs_err_mps": err,
+        "v1_tol_mps": tol,
+        "v1_impulse_mps": impulse,
+        "rigid_episodes": rigid,
+        "rows": inv,
+        "v1_law_mps": law[:, 0],
+        "v1_law_err_mps": law_err,
+        "v1_law_tol_mps": law[:, 1],
+        "u1_analytic_mps": ref["u1_mps"],
+        "omega1_analytic_radps": ref["omega1_radps"],
+        "hand_dv_analytic_mps": ref["hand_dv_mps"],
+        **extra,
+    }
+    return Verdicts(
+        status=status,
+        reference=reference,
+        err_mps=np.where(on_rigid, err, np.where(on_law, law_err, math.nan)),
+        tol_mps=np.where(on_rigid, tol, law[:, 1]),
+        answers=answers,
+    )
 
 
 #: ``Reference`` values by code, as Python strings (pandas reads numpy's own slowly).
-_REFERENCES = np.array([r.value for r in (Reference.RIGID, Reference.LAW, Reference.FRICTIONAL,
-                                          Reference.NONE)], dtype=object)
+_REFERENCES = np.array(
+    [r.value for r in (Reference.RIGID, Reference.LAW, Reference.FRICTIONAL, Reference.NONE)],
+    dtype=object,
+)
 
 
-def _with_friction(g: Gathered, judged, rigid: list[CollisionEpisode],
-                   errors: list[adapters.ErrorModel], plain: bool, spin_columns: bool):
+def _with_friction(
+    g: Gathered,
+    judged,
+    rigid: list[CollisionEpisode],
+    errors: list[adapters.ErrorModel],
+    plain: bool,
+    spin_columns: bool,
+):
     """With friction or out of the swing plane (or ``spin_columns``): the columns
     ``friction_judge`` adds to every row of ``g`` (their rigid answers ``rigid``, error models
     ``errors``); where a frictional answer applies, v1 judged against the one-step law as
@@ -145,12 +182,19 @@ def _with_friction(g: Gathered, judged, rigid: list[CollisionEpisode],
     if plain and not spin_columns:
         return {}, tol, law, impulse, np.ones(n, dtype=bool), np.zeros(n, dtype=bool)
     cases = g.cases
-    extra, v1_law, within = friction_judge.columns(cases, g.outcomes(range(len(cases))),
-                                                   errors, rigid)
+    extra, v1_law, within = friction_judge.columns(
+        cases, g.outcomes(range(len(cases))), errors, rigid
+    )
     each = np.array([c.frictionless_planar for c in cases])
     v1 = np.array([r.v1_mps for r in rigid])
-    return (extra, np.where(each, tol, math.nan), np.where(each[:, None], law, v1_law),
-            np.where(each, impulse, v1), within, ~each)
+    return (
+        extra,
+        np.where(each, tol, math.nan),
+        np.where(each[:, None], law, v1_law),
+        np.where(each, impulse, v1),
+        within,
+        ~each,
+    )
 
 
 def _distinct(g: Gathered) -> tuple[np.ndarray, np.ndarray]:
@@ -163,8 +207,11 @@ def _distinct(g: Gathered) -> tuple[np.ndarray, np.ndarray]:
     if n <= 1:
         return np.arange(n, dtype=np.intp), np.arange(n, dtype=np.intp)
     release = g.cols["release_omega_analytic_radps"]
-    columns = [np.fromiter(map(id, g.cases), dtype=np.int64, count=n) if g.distinct is None
-               else g.distinct[1]]
+    columns = [
+        np.fromiter(map(id, g.cases), dtype=np.int64, count=n)
+        if g.distinct is None
+        else g.distinct[1]
+    ]
     if g.settings.count(g.settings[0]) < n:  # (equal settings judge alike; C speed)
         columns.append(np.fromiter(map(id, g.settings), dtype=np.int64, count=n))
     if g.engines.count(g.engines[0]) < n:

@@ -18,9 +18,14 @@ SLACK = 50.0
 FLOOR_S = 60.0
 
 
-def limit_s(record: adapters.EngineRecord, settings: adapters.Settings, worlds: int,
-            swing_steps: int = 0, floor_s: float = FLOOR_S, batched: bool | None = None
-            ) -> float:
+def limit_s(
+    record: adapters.EngineRecord,
+    settings: adapters.Settings,
+    worlds: int,
+    swing_steps: int = 0,
+    floor_s: float = FLOOR_S,
+    batched: bool | None = None,
+) -> float:
     """How long a batch of ``worlds`` impacts on this engine may take (s): the record's own
     ``Cost.impact_limit_s`` per impact where it sets one (a batched engine's worlds stepping
     together, once for them all), else SLACK times the worst case (at least ``floor_s``),
@@ -29,7 +34,11 @@ def limit_s(record: adapters.EngineRecord, settings: adapters.Settings, worlds: 
     per_world = 1 if (record.batched if batched is None else batched) else worlds
     if cost.impact_limit_s is not None:
         return cost.start_s + cost.impact_limit_s * per_world
-    steps = (settings.approach_steps + math.ceil(settings.max_contact_s / settings.dt_s) + 2
-             + swing_steps)
+    steps = (
+        settings.approach_steps
+        + math.ceil(settings.max_contact_s / settings.dt_s)
+        + 2
+        + swing_steps
+    )
     step = cost.step_cost_s * per_world + (cost.world_step_cost_s or 0.0) * worlds
     return cost.start_s + max(floor_s, SLACK * steps * step)

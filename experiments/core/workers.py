@@ -57,8 +57,9 @@ def _give_up(item, status: Status, why: str):
     raise UserError(f"{why}; allowed: fewer --workers, or more memory")
 
 
-def pool_results(runner, fn: Callable, items: list, lost: Callable | None,
-                 limit_s: Callable | None) -> Iterator:
+def pool_results(
+    runner, fn: Callable, items: list, lost: Callable | None, limit_s: Callable | None
+) -> Iterator:
     """``fn`` over ``items`` on the runner's local workers, all sent now, their results in
     order as they come (module docstring). ``limit_s(item)``: how long one may take once
     waited for (None: no limit)."""
@@ -67,8 +68,14 @@ def pool_results(runner, fn: Callable, items: list, lost: Callable | None,
     return _collected(runner, fn, items, futures, lost or _give_up, limit_s)
 
 
-def _collected(runner, fn: Callable, items: list, futures: list[Future | None], lost: Callable,
-               limit_s: Callable | None) -> Iterator:
+def _collected(
+    runner,
+    fn: Callable,
+    items: list,
+    futures: list[Future | None],
+    lost: Callable,
+    limit_s: Callable | None,
+) -> Iterator:
     """The results in order. A pool that breaks has what it owed sent again to new workers,
     together, RETRIES times; after that, one at a time (``alone``): an item whose worker dies
     while it runs alone is the one that kills them, and it alone is lost, once it has done so
@@ -90,27 +97,38 @@ def _collected(runner, fn: Callable, items: list, futures: list[Future | None], 
                 alone = breaks > RETRIES
                 _send_again(runner, fn, items, futures, i, alone)
                 continue
-            result = lost(items[i], Status.ERROR, f"error: its worker process died ({cause}), "
-                                                  f"{tries} times while it ran alone")
+            result = lost(
+                items[i],
+                Status.ERROR,
+                f"error: its worker process died ({cause}), {tries} times while it ran alone",
+            )
             _send_again(runner, fn, items, futures, i + 1, alone)
         except FutureTimeout:
-            result = lost(items[i], Status.TIMEOUT, f"timeout: its worker gave no result "
-                                                    f"within {limit:.3g} s and was stopped")
+            result = lost(
+                items[i],
+                Status.TIMEOUT,
+                f"timeout: its worker gave no result within {limit:.3g} s and was stopped",
+            )
             _send_again(runner, fn, items, futures, i + 1, alone)
         yield result
         i, tries = i + 1, 0
 
 
-def _send_again(runner, fn: Callable, items: list, futures: list[Future | None], start: int,
-                alone: bool) -> None:
+def _send_again(
+    runner, fn: Callable, items: list, futures: list[Future | None], start: int, alone: bool
+) -> None:
     """New workers in place of the pool's, and the items from ``start`` on that it still
     owed sent to them (``alone``: each when its turn comes)."""
     with STOP.deferred():
         pool = runner.renew_pool()
         for k in range(start, len(items)):
             f = futures[k]
-            if f is None or not f.done() or f.cancelled() \
-                    or isinstance(f.exception(), BrokenProcessPool):
+            if (
+                f is None
+                or not f.done()
+                or f.cancelled()
+                or isinstance(f.exception(), BrokenProcessPool)
+            ):
                 futures[k] = None if alone else pool.submit(fn, items[k])
 
 
@@ -123,8 +141,9 @@ def death(pool) -> str:
         code = process.exitcode
         if code is None or code == -signal.SIGTERM:
             continue
-        said.append(f"killed by {signal.Signals(-code).name}" if code < 0
-                    else f"exited with code {code}")
+        said.append(
+            f"killed by {signal.Signals(-code).name}" if code < 0 else f"exited with code {code}"
+        )
     return ", ".join(dict.fromkeys(said)) or "it ended"
 
 
@@ -136,16 +155,18 @@ def _dask_losses() -> tuple[type[BaseException], ...]:
     return (KilledWorker, CommClosedError)
 
 
-def dask_results(client, fn: Callable, items: list, lost: Callable | None,
-                 limit_s: Callable | None) -> Iterator:
+def dask_results(
+    client, fn: Callable, items: list, lost: Callable | None, limit_s: Callable | None
+) -> Iterator:
     """``fn`` over ``items`` on a Dask cluster, all sent now, their results in order as they
     come (module docstring)."""
     futures = client.map(fn, items, pure=False)
     return _dask_collected(client, fn, items, futures, lost or _give_up, limit_s)
 
 
-def _dask_collected(client, fn: Callable, items: list, futures: list, lost: Callable,
-                    limit_s: Callable | None) -> Iterator:
+def _dask_collected(
+    client, fn: Callable, items: list, futures: list, lost: Callable, limit_s: Callable | None
+) -> Iterator:
     losses = _dask_losses()
     for item, future in zip(items, futures):
         limit = limit_s(item) if limit_s else None
@@ -157,10 +178,16 @@ def _dask_collected(client, fn: Callable, items: list, futures: list, lost: Call
                 if attempt < RETRIES:
                     future = client.submit(fn, item, pure=False)
                     continue
-                yield lost(item, Status.ERROR, f"error: its Dask worker was lost "
-                                               f"({type(err).__name__}: {err})"[:200])
+                yield lost(
+                    item,
+                    Status.ERROR,
+                    f"error: its Dask worker was lost ({type(err).__name__}: {err})"[:200],
+                )
             except TimeoutError:
                 future.cancel()
-                yield lost(item, Status.TIMEOUT, f"timeout: its Dask worker gave no result "
-                                                 f"within {limit:.3g} s")
+                yield lost(
+                    item,
+                    Status.TIMEOUT,
+                    f"timeout: its Dask worker gave no result within {limit:.3g} s",
+                )
                 break

@@ -118,11 +118,17 @@ class ManyWorlds:
 
     def read(self) -> np.ndarray:
         states = np.asarray(self.engine.read())
-        if states.ndim != 2 or states.shape[0] != self.n or states.shape[1] not in WIDTHS \
-                or states.dtype.kind != "f":
-            raise ValueError(f"read() gave an array of {states.dtype} of shape {states.shape}; "
-                             f"allowed: floats, ({self.n}, {' or '.join(map(str, WIDTHS))}): a "
-                             "row of adapters.STATE_FIELDS (or PLANAR_FIELDS) per world")
+        if (
+            states.ndim != 2
+            or states.shape[0] != self.n
+            or states.shape[1] not in WIDTHS
+            or states.dtype.kind != "f"
+        ):
+            raise ValueError(
+                f"read() gave an array of {states.dtype} of shape {states.shape}; "
+                f"allowed: floats, ({self.n}, {' or '.join(map(str, WIDTHS))}): a "
+                "row of adapters.STATE_FIELDS (or PLANAR_FIELDS) per world"
+            )
         return g.padded(states.astype(float, copy=False))
 
     def failed(self) -> np.ndarray:
@@ -138,5 +144,7 @@ def check_state(state) -> None:
     ``adapters.State`` of floats."""
     if not isinstance(state, State) or not all(isinstance(v, float) for v in state):
         kinds = sorted({type(v).__name__ for v in state}) if isinstance(state, tuple) else []
-        raise ValueError(f"read() gave a {type(state).__name__} of {', '.join(kinds) or '?'}; "
-                         "allowed: an adapters.State of floats")
+        raise ValueError(
+            f"read() gave a {type(state).__name__} of {', '.join(kinds) or '?'}; "
+            "allowed: an adapters.State of floats"
+        )

@@ -90,11 +90,21 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
         finished("ball")
     claims = referee.collect(sweet, cork, metal, ball, flex)
     head = head_section(provenance()["commit"], engines, referee.short_answers_text(claims))
-    body = head + "\n".join([sweet_text, cork_text, metal_text, carry_text, flex_text,
-                             ball_text, audit_section(sweet, cork),
-                             engine_section(checks, engines), fit_section(engines),
-                             referee.referee_section(claims),
-                             references_section()])
+    body = head + "\n".join(
+        [
+            sweet_text,
+            cork_text,
+            metal_text,
+            carry_text,
+            flex_text,
+            ball_text,
+            audit_section(sweet, cork),
+            engine_section(checks, engines),
+            fit_section(engines),
+            referee.referee_section(claims),
+            references_section(),
+        ]
+    )
     figs = {**sweet_figs, **cork_figs, **metal_figs, **carry_figs, **ball_figs}
     files = {name: figure_png(fig) for name, fig in figs.items()}
     plt = pyplot()

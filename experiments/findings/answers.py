@@ -43,16 +43,16 @@ from ..core.runner import Runner
 R161, AL, BALL = presets.R161, presets.EASTON31, presets.BASEBALL
 E = presets.E_WOOD
 IN = 0.0254
-HANDS_M = 0.1                   # the paper's holding point, 0.1 m from the knob
-RUSSELL_CM = (12.7, 17.8)   # Russell's sweet region, cm from the barrel end [russell]
-PLATE_TO_RUBBER_M = 18.44       # 60 ft 6 in
+HANDS_M = 0.1  # the paper's holding point, 0.1 m from the knob
+RUSSELL_CM = (12.7, 17.8)  # Russell's sweet region, cm from the barrel end [russell]
+PLATE_TO_RUBBER_M = 18.44  # 60 ft 6 in
 PITCHER_AFTER_FOLLOW_THROUGH_M = 16.5  # where the pitcher releases the ball [mlbrelease]
-REACTION_S = 0.4                # an assumed reaction time (a round figure, no source)
+REACTION_S = 0.4  # an assumed reaction time (a round figure, no source)
 FILLS = {"cork": 200.0, "rubber": 1100.0, "hollow": 0.0}
 DEPTHS_IN = (6, 8, 10)
-SWEET_ZONE_WITHIN = 0.01        # the sweet zone: v1 within 1% of the swing's best
-NATHAN_Q_FROM_END_M = 6 * IN    # Nathan et al. measured q 6 in from the barrel end
-HANDS_PITCHES_MPS = (35.0, 41.0, 47.0)       # pitches and bat rates of the swings from the hands
+SWEET_ZONE_WITHIN = 0.01  # the sweet zone: v1 within 1% of the swing's best
+NATHAN_Q_FROM_END_M = 6 * IN  # Nathan et al. measured q 6 in from the barrel end
+HANDS_PITCHES_MPS = (35.0, 41.0, 47.0)  # pitches and bat rates of the swings from the hands
 HANDS_OMEGAS_RADPS = np.linspace(12, 48, 37)
 #: Batting swings: the MLB-like swing's 48 rad/s +- 8, turning about the knob (as measured
 #: [nathan2011se]) or the hands; the paper's 12-48 rad/s reaches down to swings no batter hits with
@@ -72,23 +72,28 @@ class Scenario:
 
     @property
     def bat_speed_mps(self) -> float:
-        s = hittable_sweet_spot(R161, BALL, self.v0_mps, self.swing.u0_mps,
-                                self.swing.omega0_radps)
+        s = hittable_sweet_spot(R161, BALL, self.v0_mps, self.swing.u0_mps, self.swing.omega0_radps)
         return self.swing.speed_at(s)
 
 
 #: The paper's swing: u0 = 17.87 m/s, omega0 = 32 rad/s (about 45 mph at the sweet spot).
-PAPER = Scenario(key="paper", label="paper's swing", v0_mps=presets.PAPER_PITCH_MPS,
-                 swing=presets.PAPER_SWING)
+PAPER = Scenario(
+    key="paper", label="paper's swing", v0_mps=presets.PAPER_PITCH_MPS, swing=presets.PAPER_SWING
+)
 #: A major-league swing: the bat turning about (near) the knob at 48 rad/s, about 70 mph at the
 #: sweet spot, against a 40 m/s (90 mph) pitch.
-MLB = Scenario(key="mlb", label="MLB-like swing about the knob", v0_mps=40.0,
-               swing=Swing(u0_mps=48.0 * R161.com_from_knob_m, omega0_radps=48.0))
+MLB = Scenario(
+    key="mlb",
+    label="MLB-like swing about the knob",
+    v0_mps=40.0,
+    swing=Swing(u0_mps=48.0 * R161.com_from_knob_m, omega0_radps=48.0),
+)
 SCENARIOS = (PAPER, MLB)
 
 
-def carried_swing(bat: Bat, sc: Scenario, model: SwingModel | str,
-                  exponent: float = MEASURED_EXPONENT) -> Swing:
+def carried_swing(
+    bat: Bat, sc: Scenario, model: SwingModel | str, exponent: float = MEASURED_EXPONENT
+) -> Swing:
     """The swing a batter gives ``bat`` if he gives the R161 the scenario's swing."""
     return swing_for(bat, model=model, reference_bat=R161, reference=sc.swing, exponent=exponent)
 
@@ -100,8 +105,9 @@ def same_swing(bat: Bat, sc: Scenario) -> Swing:
     return carried_swing(bat, sc, SwingModel.MEASURED, exponent=0.0)
 
 
-def best_v1(bat: Bat, sc: Scenario, swing: Swing | None = None,
-            e: float = E) -> tuple[float, float]:
+def best_v1(
+    bat: Bat, sc: Scenario, swing: Swing | None = None, e: float = E
+) -> tuple[float, float]:
     """(s of the bat's best hittable point, v1 there) for this swing (the scenario's by default)."""
     sw = swing or sc.swing
     s = hittable_sweet_spot(bat, BALL, sc.v0_mps, sw.u0_mps, sw.omega0_radps)
@@ -110,11 +116,15 @@ def best_v1(bat: Bat, sc: Scenario, swing: Swing | None = None,
 
 def v1_at(bat: Bat, s_m: float, v0_mps: float, swing: Swing, e: float = E) -> float:
     """v1 (m/s) off ``bat`` hit at s (m from its COM) by this pitch and swing."""
-    return float(batted_ball_speed(bat, BALL, s_m, v0_mps=v0_mps, u0_mps=swing.u0_mps,
-                                   omega0_radps=swing.omega0_radps, e=e))
+    return float(
+        batted_ball_speed(
+            bat, BALL, s_m, v0_mps=v0_mps, u0_mps=swing.u0_mps, omega0_radps=swing.omega0_radps, e=e
+        )
+    )
 
 
 # -- 1. the sweet spot ---------------------------------------------------------------------------
+
 
 @dataclass(frozen=True, kw_only=True)
 class HandsRegion:
@@ -128,21 +138,33 @@ class HandsRegion:
     s_hi_m: float
 
 
-def sweet_region_from_hands(pitches_mps: tuple[float, ...] = HANDS_PITCHES_MPS,
-                            omegas_radps: np.ndarray = HANDS_OMEGAS_RADPS) -> HandsRegion:
+def sweet_region_from_hands(
+    pitches_mps: tuple[float, ...] = HANDS_PITCHES_MPS,
+    omegas_radps: np.ndarray = HANDS_OMEGAS_RADPS,
+) -> HandsRegion:
     """The sweet spot over a grid of pitches and bat rates, swung from the hands."""
     d = R161.com_from_knob_m - HANDS_M
-    grid = np.array([[sweet_spot(R161, BALL, v, w * d, w) for w in omegas_radps]
-                     for v in pitches_mps])
-    return HandsRegion(pitches_mps=tuple(pitches_mps), omegas_radps=np.array(omegas_radps),
-                       grid_s_m=grid, s_lo_m=float(grid.min()), s_hi_m=float(grid.max()))
+    grid = np.array(
+        [[sweet_spot(R161, BALL, v, w * d, w) for w in omegas_radps] for v in pitches_mps]
+    )
+    return HandsRegion(
+        pitches_mps=tuple(pitches_mps),
+        omegas_radps=np.array(omegas_radps),
+        grid_s_m=grid,
+        s_lo_m=float(grid.min()),
+        s_hi_m=float(grid.max()),
+    )
 
 
 def batting_region_cm() -> tuple[float, float]:
     """(nearest, farthest) sweet spot from the barrel end (cm) over batting swings: pitches
     HANDS_PITCHES_MPS, rates BATTING_OMEGAS_RADPS, the bat turning about BATTING_PIVOTS_M."""
-    s = [sweet_spot(R161, BALL, v, w * (R161.com_from_knob_m - p), w)
-         for p in BATTING_PIVOTS_M for v in HANDS_PITCHES_MPS for w in BATTING_OMEGAS_RADPS]
+    s = [
+        sweet_spot(R161, BALL, v, w * (R161.com_from_knob_m - p), w)
+        for p in BATTING_PIVOTS_M
+        for v in HANDS_PITCHES_MPS
+        for w in BATTING_OMEGAS_RADPS
+    ]
     return from_end_cm(R161, max(s)), from_end_cm(R161, min(s))
 
 
@@ -155,18 +177,32 @@ SHARE_GRID_TEXT = "of 5 pivots x 13 pitches x 33 rates"
 def russell_share(fine: bool = True, grid=None) -> float:
     """The share of batting swings (evenly over pivot, pitch and rate) whose sweet spot lies in
     Russell's range, on SHARE_GRID (``fine``), the default grid or ``grid``."""
-    pivots, pitches, rates = grid or (SHARE_GRID if fine else (
-        BATTING_PIVOTS_M, HANDS_PITCHES_MPS, BATTING_OMEGAS_RADPS))
-    cm = np.array([from_end_cm(R161, sweet_spot(R161, BALL, v, w * (R161.com_from_knob_m - p), w))
-                   for p in pivots for v in pitches for w in rates])
+    pivots, pitches, rates = grid or (
+        SHARE_GRID if fine else (BATTING_PIVOTS_M, HANDS_PITCHES_MPS, BATTING_OMEGAS_RADPS)
+    )
+    cm = np.array(
+        [
+            from_end_cm(R161, sweet_spot(R161, BALL, v, w * (R161.com_from_knob_m - p), w))
+            for p in pivots
+            for v in pitches
+            for w in rates
+        ]
+    )
     return float(np.mean((cm >= RUSSELL_CM[0]) & (cm <= RUSSELL_CM[1])))
 
 
 def zone(bat: Bat, sc: Scenario, within: float = SWEET_ZONE_WITHIN) -> tuple[float, float]:
     """The stretch of one swing's bat where v1 is within ``within`` of its best (m from the COM),
     clipped to the hittable cylinder (``analytic.sweet_zone``, closed form)."""
-    z = sweet_zone(bat, BALL, v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
-                   omega0_radps=sc.swing.omega0_radps, e=E, fraction=1 - within)
+    z = sweet_zone(
+        bat,
+        BALL,
+        v0_mps=sc.v0_mps,
+        u0_mps=sc.swing.u0_mps,
+        omega0_radps=sc.swing.omega0_radps,
+        e=E,
+        fraction=1 - within,
+    )
     return max(z.s_min_m, bat.s_min_m), min(z.s_max_m, bat.s_max_m)
 
 
@@ -182,17 +218,25 @@ def sweet_spot_table() -> pd.DataFrame:
     for sc in SCENARIOS:
         s, v1 = best_v1(R161, sc)
         lo, hi = zone(R161, sc)
-        rows.append({"swing": sc.label, "pitch (m/s)": sc.v0_mps,
-                     "bat speed at s* (m/s)": sc.bat_speed_mps, "s* (mm from COM)": s * 1e3,
-                     "s* (cm from end)": from_end_cm(R161, s), "v1 at s* (m/s)": v1,
-                     "1% zone (mm from COM)": f"{lo * 1e3:.0f} to {hi * 1e3:.0f}",
-                     "1% zone (cm from end)": f"{from_end_cm(R161, hi):.1f} to "
-                                              f"{from_end_cm(R161, lo):.1f}",
-                     "COP, hands 0.1 m (cm from end)": from_end_cm(R161, cop)})
+        rows.append(
+            {
+                "swing": sc.label,
+                "pitch (m/s)": sc.v0_mps,
+                "bat speed at s* (m/s)": sc.bat_speed_mps,
+                "s* (mm from COM)": s * 1e3,
+                "s* (cm from end)": from_end_cm(R161, s),
+                "v1 at s* (m/s)": v1,
+                "1% zone (mm from COM)": f"{lo * 1e3:.0f} to {hi * 1e3:.0f}",
+                "1% zone (cm from end)": f"{from_end_cm(R161, hi):.1f} to "
+                f"{from_end_cm(R161, lo):.1f}",
+                "COP, hands 0.1 m (cm from end)": from_end_cm(R161, cop),
+            }
+        )
     return pd.DataFrame(rows)
 
 
 # -- 2. corked bats ------------------------------------------------------------------------------
+
 
 def corked_bats() -> dict[tuple[str, int], tuple[Bat, Bat]]:
     """(fill, depth in inches) -> (exact corked R161, the paper's), 1 in holes in the R161's
@@ -200,8 +244,12 @@ def corked_bats() -> dict[tuple[str, int], tuple[Bat, Bat]]:
     out = {}
     for fill, rho in FILLS.items():
         for depth in DEPTHS_IN:
-            kw = dict(hole_radius_m=0.5 * IN, hole_depth_m=depth * IN, fill_density_kgm3=rho,
-                      wood_density_kgm3=WOOD_DENSITY_KGM3)
+            kw = dict(
+                hole_radius_m=0.5 * IN,
+                hole_depth_m=depth * IN,
+                fill_density_kgm3=rho,
+                wood_density_kgm3=WOOD_DENSITY_KGM3,
+            )
             out[(fill, depth)] = (R161.corked(**kw), corked_bat_paper(R161, **kw))
     return out
 
@@ -213,14 +261,18 @@ def cork_properties() -> pd.DataFrame:
     """Per corked bat: its mass, COM and inertia changes, exact against the paper's formula."""
     rows = []
     for (fill, depth), (exact, paper) in corked_bats().items():
-        rows.append({"fill": fill, "depth (in)": depth,
-                     "dM (g)": (exact.mass_kg - R161.mass_kg) * 1e3,
-                     "dCOM (mm)": (exact.com_from_knob_m - R161.com_from_knob_m) * 1e3,
-                     "J_cm exact (kg m^2)": exact.inertia_cm_kgm2,
-                     "J_cm paper (kg m^2)": paper.inertia_cm_kgm2,
-                     "paper - exact (%)": (paper.inertia_cm_kgm2 / exact.inertia_cm_kgm2 - 1) * 100,
-                     "I_knob change (%)":
-                         (exact.inertia_knob_kgm2 / R161.inertia_knob_kgm2 - 1) * 100})
+        rows.append(
+            {
+                "fill": fill,
+                "depth (in)": depth,
+                "dM (g)": (exact.mass_kg - R161.mass_kg) * 1e3,
+                "dCOM (mm)": (exact.com_from_knob_m - R161.com_from_knob_m) * 1e3,
+                "J_cm exact (kg m^2)": exact.inertia_cm_kgm2,
+                "J_cm paper (kg m^2)": paper.inertia_cm_kgm2,
+                "paper - exact (%)": (paper.inertia_cm_kgm2 / exact.inertia_cm_kgm2 - 1) * 100,
+                "I_knob change (%)": (exact.inertia_knob_kgm2 / R161.inertia_knob_kgm2 - 1) * 100,
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -243,17 +295,30 @@ def cork_verdicts(corked: Bat = CORK_1x10) -> pd.DataFrame:
     rows = []
     for sc in SCENARIOS:
         wood = best_v1(R161, sc)[1]
-        spiral = {p: best_v1(corked, sc, Swing(u0_mps=sc.swing.u0_mps
-                                               * (R161.mass_kg / corked.mass_kg) ** p,
-                                               omega0_radps=sc.swing.omega0_radps))[1] - wood
-                  for p in (1.0, 0.5)}
-        rows.append({"swing": sc.label, "break-even n": break_even_exponent(corked, sc),
-                     "gain at n = 0.27 (m/s)": cork_gain(corked, sc, MEASURED_EXPONENT),
-                     "gain at n = 0.5 (m/s)": cork_gain(corked, sc, 0.5),
-                     "gain, u0 ~ 1/M (paper, m/s)": spiral[1.0],
-                     "gain, u0 ~ M^-1/2 (its log spiral, m/s)": spiral[0.5],
-                     "gain, same swing (n = 0, m/s)":
-                         best_v1(corked, sc, same_swing(corked, sc))[1] - wood})
+        spiral = {
+            p: best_v1(
+                corked,
+                sc,
+                Swing(
+                    u0_mps=sc.swing.u0_mps * (R161.mass_kg / corked.mass_kg) ** p,
+                    omega0_radps=sc.swing.omega0_radps,
+                ),
+            )[1]
+            - wood
+            for p in (1.0, 0.5)
+        }
+        rows.append(
+            {
+                "swing": sc.label,
+                "break-even n": break_even_exponent(corked, sc),
+                "gain at n = 0.27 (m/s)": cork_gain(corked, sc, MEASURED_EXPONENT),
+                "gain at n = 0.5 (m/s)": cork_gain(corked, sc, 0.5),
+                "gain, u0 ~ 1/M (paper, m/s)": spiral[1.0],
+                "gain, u0 ~ M^-1/2 (its log spiral, m/s)": spiral[0.5],
+                "gain, same swing (n = 0, m/s)": best_v1(corked, sc, same_swing(corked, sc))[1]
+                - wood,
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -262,8 +327,11 @@ def cork_speeds(sc: Scenario) -> pd.DataFrame:
     rows = []
     bats = [("none (wood)", 0, R161)] + [(f, d, b[0]) for (f, d), b in corked_bats().items()]
     for fill, depth, bat in bats:
-        row = {"fill": fill, "depth (in)": depth,
-               "same swing (n = 0)": best_v1(bat, sc, same_swing(bat, sc))[1]}
+        row = {
+            "fill": fill,
+            "depth (in)": depth,
+            "same swing (n = 0)": best_v1(bat, sc, same_swing(bat, sc))[1],
+        }
         for m in SwingModel:
             row[m.value] = best_v1(bat, sc, carried_swing(bat, sc, m))[1]
         rows.append(row)
@@ -278,8 +346,10 @@ def collision_efficiency(bat: Bat, s_m: float, e: float = E) -> float:
 
 def nathan_q_check() -> dict[str, float]:
     """q of the solid and the 1 x 10 in corked R161, 6 in from each one's barrel end, e = 0.5."""
-    return {name: collision_efficiency(bat, bat.s_barrel_end_m - NATHAN_Q_FROM_END_M)
-            for name, bat in (("solid", R161), ("corked", CORK_1x10))}
+    return {
+        name: collision_efficiency(bat, bat.s_barrel_end_m - NATHAN_Q_FROM_END_M)
+        for name, bat in (("solid", R161), ("corked", CORK_1x10))
+    }
 
 
 def paper_cork_inertia_if_subtracted(bat: Bat = CORK_1x10) -> float:
@@ -291,6 +361,7 @@ def paper_cork_inertia_if_subtracted(bat: Bat = CORK_1x10) -> float:
 
 # -- engines -------------------------------------------------------------------------------------
 
+
 def engine_checks(runner: Runner, engines: tuple[str, ...]) -> pd.DataFrame:
     """The model's headline impacts fired in every engine (reference profile): the 1 x 10 in
     cork bat and the aluminium bat at their best points under each swing model, both swings.
@@ -298,8 +369,9 @@ def engine_checks(runner: Runner, engines: tuple[str, ...]) -> pd.DataFrame:
     converges to (rigid theory, or the engine's own contact law)."""
     jobs, labels = check_jobs(engines)
     table = tables.table(runner.fire(jobs), "reference").drop(columns=["bat"])
-    meta = pd.DataFrame([lab for _ in engines for lab in labels],
-                        columns=["swing", "bat", "swing model"])
+    meta = pd.DataFrame(
+        [lab for _ in engines for lab in labels], columns=["swing", "bat", "swing model"]
+    )
     return pd.concat([meta, table], axis=1)
 
 
@@ -311,11 +383,21 @@ def check_jobs(engines: tuple[str, ...]) -> tuple[list[Job], list[tuple[str, str
             for m in SwingModel:
                 sw = carried_swing(bat, sc, m)
                 s, _ = best_v1(bat, sc, sw)
-                cases.append(ImpactCase(bat=bat, ball=BALL, s_m=s, v0_mps=sc.v0_mps,
-                                        u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps, e=E))
+                cases.append(
+                    ImpactCase(
+                        bat=bat,
+                        ball=BALL,
+                        s_m=s,
+                        v0_mps=sc.v0_mps,
+                        u0_mps=sw.u0_mps,
+                        omega0_radps=sw.omega0_radps,
+                        e=E,
+                    )
+                )
                 labels.append((sc.label, name, m.value))
-    return [Job(engine=n, settings=adapters.settings_for(n), case=c)
-            for n in engines for c in cases], labels
+    return [
+        Job(engine=n, settings=adapters.settings_for(n), case=c) for n in engines for c in cases
+    ], labels
 
 
 def sweet_spot_jobs(engines: tuple[str, ...]) -> list[Job]:
@@ -324,8 +406,15 @@ def sweet_spot_jobs(engines: tuple[str, ...]) -> list[Job]:
     out = []
     for sc in SCENARIOS:
         s_star = sweet_spot(R161, BALL, sc.v0_mps, sc.swing.u0_mps, sc.swing.omega0_radps)
-        case = ImpactCase(bat=R161, ball=BALL, s_m=s_star, v0_mps=sc.v0_mps,
-                          u0_mps=sc.swing.u0_mps, omega0_radps=sc.swing.omega0_radps, e=E)
+        case = ImpactCase(
+            bat=R161,
+            ball=BALL,
+            s_m=s_star,
+            v0_mps=sc.v0_mps,
+            u0_mps=sc.swing.u0_mps,
+            omega0_radps=sc.swing.omega0_radps,
+            e=E,
+        )
         out += [Job(engine=n, settings=adapters.settings_for(n), case=case) for n in engines]
     return out
 
@@ -336,8 +425,14 @@ def engine_sweet_spots(engines: tuple[str, ...]) -> pd.DataFrame:
     rows = []
     for sc in SCENARIOS:
         s_star = sweet_spot(R161, BALL, sc.v0_mps, sc.swing.u0_mps, sc.swing.omega0_radps)
-        firing = firings.Firing(bat=R161, s_m=(s_star,), v0_mps=sc.v0_mps, u0_mps=sc.swing.u0_mps,
-                              omega0_radps=sc.swing.omega0_radps, e=E)
+        firing = firings.Firing(
+            bat=R161,
+            s_m=(s_star,),
+            v0_mps=sc.v0_mps,
+            u0_mps=sc.swing.u0_mps,
+            omega0_radps=sc.swing.omega0_radps,
+            e=E,
+        )
         bracket = (max(R161.s_min_m, s_star - 0.05), min(R161.s_max_m, s_star + 0.05))
         row = {"swing": sc.label, "s* analytic (mm from COM)": s_star * 1e3}
         for n in engines:
@@ -354,25 +449,44 @@ def v1_gain_curve(corked: Bat, sc: Scenario, exponents: np.ndarray) -> np.ndarra
 
 # -- 5. the paper's numbers, for the audit -------------------------------------------------------
 
+
 def audit_numbers() -> dict[str, float]:
     """Every number the audit of the paper quotes (m, m/s, rad, kg m^2, s, %)."""
     from analytic import predict_oblique_paper, sweet_region
 
     sw = PAPER.swing
     light = replace(BALL, mass_kg=0.14)  # the paper's "0.14 kg" ball
-    ranges = dict(v0_range_mps=(40.2, 46.9), u0_range_mps=(0.0, 17.87),
-                  omega0_range_radps=(12.0, 32.0))
+    ranges = dict(
+        v0_range_mps=(40.2, 46.9), u0_range_mps=(0.0, 17.87), omega0_range_radps=(12.0, 32.0)
+    )
     region = sweet_region(R161, BALL, **ranges)
     region_light = sweet_region(R161, light, **ranges)
-    oblique = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=PAPER.v0_mps, u0_mps=sw.u0_mps,
-                         omega0_radps=sw.omega0_radps, e=E, theta_rad=math.radians(20))
+    oblique = ImpactCase(
+        bat=R161,
+        ball=BALL,
+        s_m=0.1,
+        v0_mps=PAPER.v0_mps,
+        u0_mps=sw.u0_mps,
+        omega0_radps=sw.omega0_radps,
+        e=E,
+        theta_rad=math.radians(20),
+    )
     out = predict(oblique)
     al = carried_swing(AL, PAPER, SwingModel.CONSTANT_FORCE)
     al_s, al_v1 = best_v1(AL, PAPER, al)
     wood_v1 = best_v1(R161, PAPER)[1]
     s_light = hittable_sweet_spot(R161, light, PAPER.v0_mps, sw.u0_mps, sw.omega0_radps)
-    wood_v1_light = float(batted_ball_speed(R161, light, s_light, v0_mps=PAPER.v0_mps,
-                                            u0_mps=sw.u0_mps, omega0_radps=sw.omega0_radps, e=E))
+    wood_v1_light = float(
+        batted_ball_speed(
+            R161,
+            light,
+            s_light,
+            v0_mps=PAPER.v0_mps,
+            u0_mps=sw.u0_mps,
+            omega0_radps=sw.omega0_radps,
+            e=E,
+        )
+    )
     e_needed = optimize.brentq(lambda e: v1_at(AL, al_s, PAPER.v0_mps, al, e) - 42.59, 0.0, 1.0)
 
     def al_short(inertia: float) -> float:
@@ -382,17 +496,24 @@ def audit_numbers() -> dict[str, float]:
     exact, paper = corked_bats()[("cork", 10)]
     return {
         "cop_m": center_of_percussion(R161, HANDS_M),
-        "region_max_m": region.s_max_m, "region_min_m": region.s_min_m,
+        "region_max_m": region.s_max_m,
+        "region_min_m": region.s_min_m,
         "region_light_max_m": region_light.s_max_m,
-        "oblique_theta1_rad": out.theta1_rad, "oblique_speed_mps": out.ball_speed_mps,
+        "oblique_theta1_rad": out.theta1_rad,
+        "oblique_speed_mps": out.ball_speed_mps,
         "oblique_paper_v1_mps": predict_oblique_paper(oblique).v1_mps,
-        "cork_J_paper": paper.inertia_cm_kgm2, "cork_J_exact": exact.inertia_cm_kgm2,
+        "cork_J_paper": paper.inertia_cm_kgm2,
+        "cork_J_exact": exact.inertia_cm_kgm2,
         "cork_J_if_subtracted_pct": paper_cork_inertia_if_subtracted(exact),
         "pivot_from_knob_m": R161.com_from_knob_m - sw.u0_mps / sw.omega0_radps,
         "hands_u0_mps": sw.omega0_radps * (R161.com_from_knob_m - HANDS_M),
-        "al_u0_mps": al.u0_mps, "al_v1_mps": al_v1, "wood_v1_mps": wood_v1,
-        "wood_v1_light_ball_mps": wood_v1_light, "e_needed": e_needed,
-        "J_ratio_needed": optimize.brentq(al_short, AL.inertia_cm_kgm2,
-                                          50 * AL.inertia_cm_kgm2) / AL.inertia_cm_kgm2,
-        "t_al_s": PLATE_TO_RUBBER_M / al_v1, "t_wood_s": PLATE_TO_RUBBER_M / wood_v1,
+        "al_u0_mps": al.u0_mps,
+        "al_v1_mps": al_v1,
+        "wood_v1_mps": wood_v1,
+        "wood_v1_light_ball_mps": wood_v1_light,
+        "e_needed": e_needed,
+        "J_ratio_needed": optimize.brentq(al_short, AL.inertia_cm_kgm2, 50 * AL.inertia_cm_kgm2)
+        / AL.inertia_cm_kgm2,
+        "t_al_s": PLATE_TO_RUBBER_M / al_v1,
+        "t_wood_s": PLATE_TO_RUBBER_M / wood_v1,
     }

@@ -83,7 +83,7 @@ KENSRUD_EXTRA_SPIN = 0.40
 GRID_S_POINTS = 15
 GRID_UNDERCUTS_M = tuple(round(float(d), 12) for d in np.linspace(0.0, 0.04, 17))
 ROW_UNDERCUTS_M = (0.0, 0.01, 0.02, 0.03, 0.04)  # where the longest carry's s is located
-START_UNDERCUT_M = 0.02   # where the search for the best point starts (the grid's best is near)
+START_UNDERCUT_M = 0.02  # where the search for the best point starts (the grid's best is near)
 #: Search tolerances: 0.1 mm in s and undercut, 1 mm in carry (the carry is flat at its best),
 #: from a first simplex 1 cm along s and 4 mm along the undercut.
 XATOL_M, FATOL_M, STEPS_M = 1e-4, 1e-3, (0.01, 0.004)
@@ -111,15 +111,25 @@ class Hit:
 
     def case(self, s_m: float, undercut_m: float) -> ImpactCase:
         """The impact at s (m from the COM) with the ball's centre ``undercut_m`` above the axis."""
-        return ImpactCase(bat=self.bat, ball=BALL, s_m=s_m, v0_mps=self.v0_mps,
-                          u0_mps=self.swing.u0_mps, omega0_radps=self.swing.omega0_radps,
-                          e=self.e, mu=self.mu, undercut_m=undercut_m, spin_radps=self.spin_radps)
+        return ImpactCase(
+            bat=self.bat,
+            ball=BALL,
+            s_m=s_m,
+            v0_mps=self.v0_mps,
+            u0_mps=self.swing.u0_mps,
+            omega0_radps=self.swing.omega0_radps,
+            e=self.e,
+            mu=self.mu,
+            undercut_m=undercut_m,
+            spin_radps=self.spin_radps,
+        )
 
     @property
     def speed_sweet_spot_m(self) -> float:
         """s of the largest batted-ball speed (m from the COM; frictionless, level)."""
-        return hittable_sweet_spot(self.bat, BALL, self.v0_mps, self.swing.u0_mps,
-                                   self.swing.omega0_radps)
+        return hittable_sweet_spot(
+            self.bat, BALL, self.v0_mps, self.swing.u0_mps, self.swing.omega0_radps
+        )
 
 
 def hit_of(sc: Scenario, bat: Bat = R161, swing: Swing | None = None, **kw) -> Hit:
@@ -160,8 +170,11 @@ def carry_grid(hit: Hit) -> Grid:
     GRID_UNDERCUTS_M."""
     s = np.linspace(0.0, hit.bat.s_max_m, GRID_S_POINTS)
     d = np.array(GRID_UNDERCUTS_M)
-    return Grid(s_m=s, undercut_m=d,
-                carry_m=np.array([[carry_m(hit, float(x), float(u)) for x in s] for u in d]))
+    return Grid(
+        s_m=s,
+        undercut_m=d,
+        carry_m=np.array([[carry_m(hit, float(x), float(u)) for x in s] for u in d]),
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -175,23 +188,37 @@ class Best:
 
 
 def _best(hit: Hit, s_m: float, undercut_m: float) -> Best:
-    return Best(s_m=s_m, undercut_m=undercut_m, carry_m=carry_m(hit, s_m, undercut_m),
-                launch=launch_of(hit, s_m, undercut_m))
+    return Best(
+        s_m=s_m,
+        undercut_m=undercut_m,
+        carry_m=carry_m(hit, s_m, undercut_m),
+        launch=launch_of(hit, s_m, undercut_m),
+    )
 
 
 @cache
-def best_point(hit: Hit, undercut_m: float = START_UNDERCUT_M, xatol_m: float = XATOL_M,
-               steps_m: tuple[float, float] = STEPS_M) -> Best:
+def best_point(
+    hit: Hit,
+    undercut_m: float = START_UNDERCUT_M,
+    xatol_m: float = XATOL_M,
+    steps_m: tuple[float, float] = STEPS_M,
+) -> Best:
     """The (s, undercut) of the longest carry: Nelder-Mead from the speed sweet spot at
     ``undercut_m`` (the carry is smooth and single-peaked there: ``carry_grid``), to ``xatol_m``
     and FATOL_M from a first simplex ``steps_m`` (s, undercut) wide."""
     bat = hit.bat
     x0 = np.array([hit.speed_sweet_spot_m, undercut_m])
     res = optimize.minimize(
-        lambda x: -carry_m(hit, float(x[0]), float(x[1])), x0, method="Nelder-Mead",
+        lambda x: -carry_m(hit, float(x[0]), float(x[1])),
+        x0,
+        method="Nelder-Mead",
         bounds=[(bat.s_min_m, bat.s_max_m), (0.0, 0.9 * (bat.radius_m + BALL.radius_m))],
-        options={"xatol": xatol_m, "fatol": FATOL_M,
-                 "initial_simplex": [x0, x0 + [steps_m[0], 0.0], x0 + [0.0, steps_m[1]]]})
+        options={
+            "xatol": xatol_m,
+            "fatol": FATOL_M,
+            "initial_simplex": [x0, x0 + [steps_m[0], 0.0], x0 + [0.0, steps_m[1]]],
+        },
+    )
     return _best(hit, float(res.x[0]), float(res.x[1]))
 
 
@@ -202,9 +229,12 @@ def best_s_at(hit: Hit, undercut_m: float) -> Best:
     row = [carry_m(hit, float(x), undercut_m) for x in s]
     j = int(np.argmax(row))
     lo, hi = float(s[max(j - 1, 0)]), float(s[min(j + 1, len(s) - 1)])
-    res = optimize.minimize_scalar(lambda x: -carry_m(hit, float(x), undercut_m),
-                                   bounds=(lo, hi), method="bounded",
-                                   options={"xatol": XATOL_M / 10})
+    res = optimize.minimize_scalar(
+        lambda x: -carry_m(hit, float(x), undercut_m),
+        bounds=(lo, hi),
+        method="bounded",
+        options={"xatol": XATOL_M / 10},
+    )
     return _best(hit, float(res.x), undercut_m)
 
 
@@ -225,9 +255,12 @@ def sweet_spots(sc: Scenario) -> SweetSpots:
     """Where the R161 hits the scenario's fastball farthest, beside where it hits it fastest."""
     hit = hit_of(sc)
     best = best_point(hit)
-    return SweetSpots(speed_s_m=hit.speed_sweet_spot_m, best=best,
-                      at_speed_spot_m=carry_m(hit, hit.speed_sweet_spot_m, best.undercut_m),
-                      rows=tuple(best_s_at(hit, d) for d in ROW_UNDERCUTS_M))
+    return SweetSpots(
+        speed_s_m=hit.speed_sweet_spot_m,
+        best=best,
+        at_speed_spot_m=carry_m(hit, hit.speed_sweet_spot_m, best.undercut_m),
+        rows=tuple(best_s_at(hit, d) for d in ROW_UNDERCUTS_M),
+    )
 
 
 #: The widest legal barrel, 2.61 in across (MLB Official Baseball Rules 3.02(a)), as a capsule
@@ -254,8 +287,13 @@ def mu_scan(sc: Scenario, mus: tuple[float, ...] = MU_SCAN) -> pd.DataFrame:
     for mu in mus:
         hit = hit_of(sc, mu=mu)
         out = predict_friction(hit.case(best.s_m, best.undercut_m))
-        rows.append({"mu": mu, "carry (m)": carry_m(hit, best.s_m, best.undercut_m),
-                     "slip stops": any(kind == "stick" for kind, _ in out.phases)})
+        rows.append(
+            {
+                "mu": mu,
+                "carry (m)": carry_m(hit, best.s_m, best.undercut_m),
+                "slip stops": any(kind == "stick" for kind, _ in out.phases),
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -276,18 +314,30 @@ def pitch_optima(sc: Scenario) -> PitchOptimum:
     fast, curve = hit_of(sc), hit_of(sc, spin_radps=CURVEBALL)
     fb = best_point(fast)
     same = launch_of(curve, fb.s_m, fb.undercut_m)
-    return PitchOptimum(fastball=fb, curveball=best_point(curve),
-                        fastball_spin_rpm=fb.launch.backspin_radps / RPM_RADPS,
-                        curveball_spin_at_fastballs_rpm=same.backspin_radps / RPM_RADPS)
+    return PitchOptimum(
+        fastball=fb,
+        curveball=best_point(curve),
+        fastball_spin_rpm=fb.launch.backspin_radps / RPM_RADPS,
+        curveball_spin_at_fastballs_rpm=same.backspin_radps / RPM_RADPS,
+    )
 
 
 # -- corked and metal bats, in metres --------------------------------------------------------
 
+
 def corner_carries(launch: Launch) -> np.ndarray:
     """Carry (m) at the four corners C_D (1 +- DRAG_SPREAD) x C_L (1 +- LIFT_SPREAD)."""
-    return np.array([fly(launch, aero=NATHAN_2008.scaled(drag=1 + i * DRAG_SPREAD,
-                                                         lift=1 + j * LIFT_SPREAD),
-                         samples=2).carry_m for i in (-1, 1) for j in (-1, 1)])
+    return np.array(
+        [
+            fly(
+                launch,
+                aero=NATHAN_2008.scaled(drag=1 + i * DRAG_SPREAD, lift=1 + j * LIFT_SPREAD),
+                samples=2,
+            ).carry_m
+            for i in (-1, 1)
+            for j in (-1, 1)
+        ]
+    )
 
 
 def bat_hits(sc: Scenario) -> list[tuple[str, str, Hit]]:
@@ -296,14 +346,24 @@ def bat_hits(sc: Scenario) -> list[tuple[str, str, Hit]]:
     the metal bat of the R161's length at drop -3 (e = 0.5) under each swing model."""
     out = [(M.WOOD, "same swing", hit_of(sc))]
     for model in SwingModel:
-        out.append(("R161, 1 x 10 in cork", model.value,
-                    hit_of(sc, CORK_1x10, carried_swing(CORK_1x10, sc, model))))
+        out.append(
+            (
+                "R161, 1 x 10 in cork",
+                model.value,
+                hit_of(sc, CORK_1x10, carried_swing(CORK_1x10, sc, model)),
+            )
+        )
     for model in SwingModel:
         sw = carried_swing(AL, sc, model)
         out += [(M.ALUMINIUM, model.value, hit_of(sc, AL, sw, e=e)) for e in M.METAL_ES]
     for model in SwingModel:
-        out.append((M.EQUAL_LENGTH, model.value,
-                    hit_of(sc, M.EQUAL_BAT, carried_swing(M.EQUAL_BAT, sc, model))))
+        out.append(
+            (
+                M.EQUAL_LENGTH,
+                model.value,
+                hit_of(sc, M.EQUAL_BAT, carried_swing(M.EQUAL_BAT, sc, model)),
+            )
+        )
     return out
 
 
@@ -314,32 +374,50 @@ def bat_table(sc: Scenario) -> pd.DataFrame:
     carry, as computed (m, ft) and its least and most over the spread's four corners (m)."""
     rows, wood, solid = [], None, sweet_spots(sc).best
     for bat, model, hit in bat_hits(sc):
-        b = solid if hit == hit_of(sc) else best_point(hit, solid.undercut_m, BAT_XATOL_M,
-                                                         BAT_STEPS_M)
+        b = (
+            solid
+            if hit == hit_of(sc)
+            else best_point(hit, solid.undercut_m, BAT_XATOL_M, BAT_STEPS_M)
+        )
         corners = corner_carries(b.launch)
         wood = wood or (b.carry_m, corners)
         lo, hi = carry_range_m(b.launch)
         diff = corners - wood[1]
-        rows.append({"bat": bat, "swing model": model, "e": hit.e,
-                     "s (cm from end)": from_end_cm(hit.bat, b.s_m),
-                     "undercut (cm)": b.undercut_m * 100, "v1 (m/s)": b.launch.speed_mps,
-                     "launch (deg)": math.degrees(b.launch.launch_rad),
-                     "backspin (rpm)": b.launch.backspin_radps / RPM_RADPS,
-                     "carry (m)": b.carry_m, "carry range (m)": f"{lo:.1f}-{hi:.1f}",
-                     "change (m)": b.carry_m - wood[0], "change (ft)": feet(b.carry_m - wood[0]),
-                     "change over spread (m)": f"{diff.min():+.2f} to {diff.max():+.2f}"})
+        rows.append(
+            {
+                "bat": bat,
+                "swing model": model,
+                "e": hit.e,
+                "s (cm from end)": from_end_cm(hit.bat, b.s_m),
+                "undercut (cm)": b.undercut_m * 100,
+                "v1 (m/s)": b.launch.speed_mps,
+                "launch (deg)": math.degrees(b.launch.launch_rad),
+                "backspin (rpm)": b.launch.backspin_radps / RPM_RADPS,
+                "carry (m)": b.carry_m,
+                "carry range (m)": f"{lo:.1f}-{hi:.1f}",
+                "change (m)": b.carry_m - wood[0],
+                "change (ft)": feet(b.carry_m - wood[0]),
+                "change over spread (m)": f"{diff.min():+.2f} to {diff.max():+.2f}",
+            }
+        )
     return pd.DataFrame(rows)
 
 
 # -- reaction time, with drag ----------------------------------------------------------------
 
+
 def release_speed_for(arrival_mps: float) -> float:
     """The release speed (m/s) of a fastball (FASTBALL_SPIN_RPM) that reaches the plate
     (RELEASE_TO_PLATE_M) at ``arrival_mps``."""
     w = FASTBALL_SPIN_RPM * RPM_RADPS
-    return float(optimize.brentq(
-        lambda v: time_to_travel(v, backspin_radps=w).arrival_speed_mps - arrival_mps,
-        arrival_mps, 1.5 * arrival_mps, xtol=1e-9))
+    return float(
+        optimize.brentq(
+            lambda v: time_to_travel(v, backspin_radps=w).arrival_speed_mps - arrival_mps,
+            arrival_mps,
+            1.5 * arrival_mps,
+            xtol=1e-9,
+        )
+    )
 
 
 @cache
@@ -347,8 +425,11 @@ def pitch_time(sc: Scenario) -> dict[str, float]:
     """The scenario's pitch (arriving at v0) from release to the plate: its release speed (m/s)
     and its time without and with drag (s)."""
     v = release_speed_for(sc.v0_mps)
-    return {"release_mps": v, "t_no_drag_s": RELEASE_TO_PLATE_M / sc.v0_mps,
-            "t_drag_s": time_to_travel(v, backspin_radps=FASTBALL_SPIN_RPM * RPM_RADPS).time_s}
+    return {
+        "release_mps": v,
+        "t_no_drag_s": RELEASE_TO_PLATE_M / sc.v0_mps,
+        "t_drag_s": time_to_travel(v, backspin_radps=FASTBALL_SPIN_RPM * RPM_RADPS).time_s,
+    }
 
 
 @cache
@@ -363,11 +444,18 @@ def reaction_times(sc: Scenario) -> pd.DataFrame:
                 continue
             v1 = float(r[col])
             t_drag, t_vacuum = M.time_to_pitcher_s(v1), PITCHER_AFTER_FOLLOW_THROUGH_M / v1
-            rows.append({"swing model": r["swing model"], "bat": r.bat,
-                         "e": float(col.split("=")[1].split(" ")[0]), "v1 (m/s)": v1,
-                         "t, no drag (s)": t_vacuum, "t, drag (s)": t_drag,
-                         "below, no drag": t_vacuum < REACTION_S,
-                         "below, drag": t_drag < REACTION_S})
+            rows.append(
+                {
+                    "swing model": r["swing model"],
+                    "bat": r.bat,
+                    "e": float(col.split("=")[1].split(" ")[0]),
+                    "v1 (m/s)": v1,
+                    "t, no drag (s)": t_vacuum,
+                    "t, drag (s)": t_drag,
+                    "below, no drag": t_vacuum < REACTION_S,
+                    "below, drag": t_drag < REACTION_S,
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -381,8 +469,11 @@ def reaction_summary(sc: Scenario) -> dict[str, float]:
     out of how many, and the wood ball's times (s)."""
     t = reaction_times(sc)
     al, wood = t[t.bat == M.ALUMINIUM], t[t.bat == M.WOOD].iloc[0]
-    return {"al_below_no_drag": int(al["below, no drag"].sum()),
-            "al_below_drag": int((al["below, no drag"] & al["below, drag"]).sum()),
-            "al_cases": len(al), "wood_t_no_drag_s": float(wood["t, no drag (s)"]),
-            "wood_t_drag_s": float(wood["t, drag (s)"]),
-            "drag_adds_max_s": float((t["t, drag (s)"] - t["t, no drag (s)"]).max())}
+    return {
+        "al_below_no_drag": int(al["below, no drag"].sum()),
+        "al_below_drag": int((al["below, no drag"] & al["below, drag"]).sum()),
+        "al_cases": len(al),
+        "wood_t_no_drag_s": float(wood["t, no drag (s)"]),
+        "wood_t_drag_s": float(wood["t, drag (s)"]),
+        "drag_adds_max_s": float((t["t, drag (s)"] - t["t, no drag (s)"]).max()),
+    }

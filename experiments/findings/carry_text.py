@@ -41,18 +41,39 @@ if TYPE_CHECKING:
 
 CHART = "findings_carry.png"
 CHART_UNDERCUTS_M = (0.01, 0.02, 0.03)  # the chart's curves (rows of the carry grid)
-BAT_COLUMNS = ["bat", "swing model", "e", "undercut (cm)", "v1 (m/s)", "launch (deg)",
-               "backspin (rpm)", "carry (m)", "carry range (m)", "change (m)", "change (ft)",
-               "change over spread (m)"]
+BAT_COLUMNS = [
+    "bat",
+    "swing model",
+    "e",
+    "undercut (cm)",
+    "v1 (m/s)",
+    "launch (deg)",
+    "backspin (rpm)",
+    "carry (m)",
+    "carry range (m)",
+    "change (m)",
+    "change (ft)",
+    "change over spread (m)",
+]
 
 
 def carry_section() -> Section:
     """Section 3b: the distance sweet spot, fastball or curveball, corking and metal bats in
     metres, and the reaction-time argument with drag."""
-    text = "\n".join([_intro_text(), _sweet_text(), _pitch_text(), _bats_text(),
-                      _reaction_text(), f"![carry along the barrel]({CHART})\n"])
-    stats = {sc.key: {"best": C.sweet_spots(sc).best, "speed_s_m": C.sweet_spots(sc).speed_s_m}
-             for sc in SCENARIOS}
+    text = "\n".join(
+        [
+            _intro_text(),
+            _sweet_text(),
+            _pitch_text(),
+            _bats_text(),
+            _reaction_text(),
+            f"![carry along the barrel]({CHART})\n",
+        ]
+    )
+    stats = {
+        sc.key: {"best": C.sweet_spots(sc).best, "speed_s_m": C.sweet_spots(sc).speed_s_m}
+        for sc in SCENARIOS
+    }
     return text, {CHART: _carry_figure()}, stats
 
 
@@ -73,10 +94,13 @@ def mu_spread(sc: Scenario) -> dict[str, float]:
     scan = C.mu_scan(sc)
     grip = scan[scan["slip stops"]]
     at_mu = float(scan.loc[scan.mu == C.MU_BALL_BAT, "carry (m)"].iloc[0])
-    return {"mu_lo": float(grip.mu.min()), "mu_hi": float(grip.mu.max()),
-            "spread_m": float(grip["carry (m)"].max() - grip["carry (m)"].min()),
-            "mu_slide": float(scan.mu.iloc[0]),
-            "slide_loss_m": at_mu - float(scan["carry (m)"].iloc[0])}
+    return {
+        "mu_lo": float(grip.mu.min()),
+        "mu_hi": float(grip.mu.max()),
+        "spread_m": float(grip["carry (m)"].max() - grip["carry (m)"].min()),
+        "mu_slide": float(scan.mu.iloc[0]),
+        "slide_loss_m": at_mu - float(scan["carry (m)"].iloc[0]),
+    }
 
 
 def _intro_text() -> str:
@@ -101,25 +125,38 @@ def _sweet_rows() -> pd.DataFrame:
     for sc in SCENARIOS:
         ss, b = C.sweet_spots(sc), C.sweet_spots(sc).best
         lo, hi = carry_range_m(b.launch)
-        rows.append({"swing": sc.label, "speed sweet spot (cm from end)":
-                     from_end_cm(R161, ss.speed_s_m),
-                     "distance sweet spot (cm from end)": from_end_cm(R161, b.s_m),
-                     "best undercut (cm)": b.undercut_m * 100, "v1 (m/s)": b.launch.speed_mps,
-                     "launch (deg)": math.degrees(b.launch.launch_rad),
-                     "backspin (rpm)": rpm(b.launch.backspin_radps),
-                     "carry (m)": b.carry_m, "carry (ft)": round(C.feet(b.carry_m)),
-                     "carry range (m)": f"{lo:.1f}-{hi:.1f}",
-                     "carry at the speed sweet spot (m)": ss.at_speed_spot_m})
+        rows.append(
+            {
+                "swing": sc.label,
+                "speed sweet spot (cm from end)": from_end_cm(R161, ss.speed_s_m),
+                "distance sweet spot (cm from end)": from_end_cm(R161, b.s_m),
+                "best undercut (cm)": b.undercut_m * 100,
+                "v1 (m/s)": b.launch.speed_mps,
+                "launch (deg)": math.degrees(b.launch.launch_rad),
+                "backspin (rpm)": rpm(b.launch.backspin_radps),
+                "carry (m)": b.carry_m,
+                "carry (ft)": round(C.feet(b.carry_m)),
+                "carry range (m)": f"{lo:.1f}-{hi:.1f}",
+                "carry at the speed sweet spot (m)": ss.at_speed_spot_m,
+            }
+        )
     return pd.DataFrame(rows)
 
 
 def _undercut_rows(sc: Scenario) -> pd.DataFrame:
     """One swing's longest carry at each undercut of ``carry.ROW_UNDERCUTS_M``."""
-    return pd.DataFrame([{"undercut (cm)": b.undercut_m * 100,
-                          "best point (cm from end)": from_end_cm(R161, b.s_m),
-                          "launch (deg)": math.degrees(b.launch.launch_rad),
-                          "backspin (rpm)": rpm(b.launch.backspin_radps),
-                          "carry (m)": b.carry_m} for b in C.sweet_spots(sc).rows])
+    return pd.DataFrame(
+        [
+            {
+                "undercut (cm)": b.undercut_m * 100,
+                "best point (cm from end)": from_end_cm(R161, b.s_m),
+                "launch (deg)": math.degrees(b.launch.launch_rad),
+                "backspin (rpm)": rpm(b.launch.backspin_radps),
+                "carry (m)": b.carry_m,
+            }
+            for b in C.sweet_spots(sc).rows
+        ]
+    )
 
 
 def _sweet_text() -> str:
@@ -165,12 +202,12 @@ model's 30 mm the best undercut is {wide[0]:.2f} cm instead of {p.best.undercut_
 (paper's swing) and {wide[1]:.2f} instead of {m.best.undercut_m * 100:.2f} cm (MLB-like), the
 carry the same to {max(abs(w - c) for w, c in carry):.2f} m.
 
-Friction: from mu = {mp['mu_lo']:g} to {mp['mu_hi']:g} the best carry changes by
-{mp['spread_m'] * 1e3:.1f} mm (paper's swing) and {mm['spread_m'] * 1e3:.1f} mm (MLB-like), for
+Friction: from mu = {mp["mu_lo"]:g} to {mp["mu_hi"]:g} the best carry changes by
+{mp["spread_m"] * 1e3:.1f} mm (paper's swing) and {mm["spread_m"] * 1e3:.1f} mm (MLB-like), for
 the slip stops within the impact and the ball leaves rolling on the bat, as Sawicki et al. found
 ("post-impact conditions ... independent of the ball-bat coefficient of friction"
-[sawicki2003]); only a ball that slides throughout (mu = {mp['mu_slide']:g}) loses
-{mp['slide_loss_m']:.2f} m and {mm['slide_loss_m']:.2f} m.
+[sawicki2003]); only a ball that slides throughout (mu = {mp["mu_slide"]:g}) loses
+{mp["slide_loss_m"]:.2f} m and {mm["slide_loss_m"]:.2f} m.
 """
 
 
@@ -180,13 +217,19 @@ def _pitch_rows() -> pd.DataFrame:
     for sc in SCENARIOS:
         po = C.pitch_optima(sc)
         for name, b in (("fastball", po.fastball), ("curveball", po.curveball)):
-            rows.append({"swing": sc.label, "pitch": name,
-                         "best undercut (cm)": b.undercut_m * 100,
-                         "best point (cm from end)": from_end_cm(R161, b.s_m),
-                         "v1 (m/s)": b.launch.speed_mps,
-                         "launch (deg)": math.degrees(b.launch.launch_rad),
-                         "backspin (rpm)": rpm(b.launch.backspin_radps),
-                         "carry (m)": b.carry_m, "carry (ft)": round(C.feet(b.carry_m))})
+            rows.append(
+                {
+                    "swing": sc.label,
+                    "pitch": name,
+                    "best undercut (cm)": b.undercut_m * 100,
+                    "best point (cm from end)": from_end_cm(R161, b.s_m),
+                    "v1 (m/s)": b.launch.speed_mps,
+                    "launch (deg)": math.degrees(b.launch.launch_rad),
+                    "backspin (rpm)": rpm(b.launch.backspin_radps),
+                    "carry (m)": b.carry_m,
+                    "carry (ft)": round(C.feet(b.carry_m)),
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -239,16 +282,16 @@ def _bats_text() -> str:
     width, smaller, n = spread_widths(t.values())
     return f"""**Corked and metal bats in metres.** Each bat at its own best point and undercut
 (the swings carried over from the R161 as in sections 2 and 3). The 1 x 10 in cork changes the
-carry by {change('paper', cork, 'measured')} under the measured swing scaling n = 0.27 (paper's
-swing; {change('mlb', cork, 'measured')} MLB-like) and by {change('paper', cork, 'constant_force')}
-under the paper's u0 ~ 1/M ({change('mlb', cork, 'constant_force')}). The aluminium bat at equal
-e = 0.5 changes it by {change('paper', al, 'measured')} (measured) to
-{change('paper', al, 'constant_force')} (u0 ~ 1/M), and at e = 0.60 by
-{change('paper', al, 'measured', 0.60)} to {change('paper', al, 'constant_force', 0.60)}; the
+carry by {change("paper", cork, "measured")} under the measured swing scaling n = 0.27 (paper's
+swing; {change("mlb", cork, "measured")} MLB-like) and by {change("paper", cork, "constant_force")}
+under the paper's u0 ~ 1/M ({change("mlb", cork, "constant_force")}). The aluminium bat at equal
+e = 0.5 changes it by {change("paper", al, "measured")} (measured) to
+{change("paper", al, "constant_force")} (u0 ~ 1/M), and at e = 0.60 by
+{change("paper", al, "measured", 0.60)} to {change("paper", al, "constant_force", 0.60)}; the
 metal bat of the R161's length at drop -3 (33 in, 30 oz, e = 0.5) by
-{change('paper', M.EQUAL_LENGTH, 'measured')} (measured) to
-{change('paper', M.EQUAL_LENGTH, 'constant_torque')} (constant torque), MLB-like
-{change('mlb', M.EQUAL_LENGTH, 'measured')} to {change('mlb', M.EQUAL_LENGTH, 'constant_torque')}.
+{change("paper", M.EQUAL_LENGTH, "measured")} (measured) to
+{change("paper", M.EQUAL_LENGTH, "constant_torque")} (constant torque), MLB-like
+{change("mlb", M.EQUAL_LENGTH, "measured")} to {change("mlb", M.EQUAL_LENGTH, "constant_torque")}.
 Each
 carry's range over the drag and lift spread is {width[0]:.0f}-{width[1]:.0f} m wide, and
 {smaller} of the {n} changes are smaller than their own carry's range; but the spread moves every
@@ -257,11 +300,11 @@ and nearly its size (last column):
 
 paper's swing:
 
-{md_table(_bat_rows(t['paper']), "{:.4g}")}
+{md_table(_bat_rows(t["paper"]), "{:.4g}")}
 
 MLB-like swing:
 
-{md_table(_bat_rows(t['mlb']), "{:.4g}")}
+{md_table(_bat_rows(t["mlb"]), "{:.4g}")}
 """
 
 
@@ -295,22 +338,22 @@ def _reaction_text() -> str:
     p, m = s["paper"], s["mlb"]
     return f"""**Reaction time, with drag.** Section 3 times the batted ball over the
 {PITCHER_AFTER_FOLLOW_THROUGH_M} m to the pitcher with drag; at its exit speed alone it would
-arrive up to {max(p['drag_adds_max_s'], m['drag_adds_max_s']) * 1e3:.0f} ms sooner
+arrive up to {max(p["drag_adds_max_s"], m["drag_adds_max_s"]) * 1e3:.0f} ms sooner
 (`flight.time_to_travel`, no spin: the least drag). Of the aluminium balls that would beat the
 assumed {REACTION_S} s without drag,
-**{p['al_below_drag']} of {p['al_below_no_drag']} (paper's swing) and {m['al_below_drag']} of
-{m['al_below_no_drag']} (MLB-like) still do** (of
-{p['al_cases']} and {m['al_cases']} cases); the wood ball takes {p['wood_t_drag_s']:.3f} s
+**{p["al_below_drag"]} of {p["al_below_no_drag"]} (paper's swing) and {m["al_below_drag"]} of
+{m["al_below_no_drag"]} (MLB-like) still do** (of
+{p["al_cases"]} and {m["al_cases"]} cases); the wood ball takes {p["wood_t_drag_s"]:.3f} s
 (paper's swing,
-{p['wood_t_no_drag_s']:.3f} s without drag) and {m['wood_t_drag_s']:.3f} s (MLB-like,
-{m['wood_t_no_drag_s']:.3f} s). The pitch itself, released {RELEASE_TO_PLATE_M:.1f} m from the
+{p["wood_t_no_drag_s"]:.3f} s without drag) and {m["wood_t_drag_s"]:.3f} s (MLB-like,
+{m["wood_t_no_drag_s"]:.3f} s). The pitch itself, released {RELEASE_TO_PLATE_M:.1f} m from the
 plate [mlbrelease] with the fastball's backspin, must leave the hand at
-{pt['paper']['release_mps']:.1f} m/s to arrive at {PAPER.v0_mps} m/s, and takes
-{pt['paper']['t_drag_s']:.3f} s ({pt['mlb']['release_mps']:.1f} m/s and
-{pt['mlb']['t_drag_s']:.3f} s for the {MLB.v0_mps:g} m/s pitch): the batter sees the pitch for
-{pt['paper']['t_drag_s']:.3f} s where the pitcher sees the wood ball for
-{p['wood_t_drag_s']:.3f} s (paper's swing; MLB-like {pt['mlb']['t_drag_s']:.3f} and
-{m['wood_t_drag_s']:.3f} s).
+{pt["paper"]["release_mps"]:.1f} m/s to arrive at {PAPER.v0_mps} m/s, and takes
+{pt["paper"]["t_drag_s"]:.3f} s ({pt["mlb"]["release_mps"]:.1f} m/s and
+{pt["mlb"]["t_drag_s"]:.3f} s for the {MLB.v0_mps:g} m/s pitch): the batter sees the pitch for
+{pt["paper"]["t_drag_s"]:.3f} s where the pitcher sees the wood ball for
+{p["wood_t_drag_s"]:.3f} s (paper's swing; MLB-like {pt["mlb"]["t_drag_s"]:.3f} and
+{m["wood_t_drag_s"]:.3f} s).
 """
 
 
@@ -320,8 +363,11 @@ def _carry_figure() -> Figure:
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), layout="constrained")
     for ax, sc in zip(axes, SCENARIOS):
         _carry_panel(ax, sc)
-    fig.suptitle(f"R161 swung level, fastball with {C.FASTBALL_SPIN_RPM:.0f} rpm backspin, "
-                 f"e = {E}, mu = {C.MU_BALL_BAT}: carry along the barrel", fontsize=10)
+    fig.suptitle(
+        f"R161 swung level, fastball with {C.FASTBALL_SPIN_RPM:.0f} rpm backspin, "
+        f"e = {E}, mu = {C.MU_BALL_BAT}: carry along the barrel",
+        fontsize=10,
+    )
     return fig
 
 
@@ -334,18 +380,29 @@ def _carry_panel(ax: Axes, sc: Scenario) -> None:
         ax.plot(x, grid.carry_m[i], "o-", ms=3, color=color, label=f"undercut {d * 100:g} cm")
         b = next(r for r in ss.rows if abs(r.undercut_m - d) < 1e-12)
         ax.plot([from_end_cm(R161, b.s_m)], [b.carry_m], "D", color=color, mfc="none", ms=7)
-    ax.axvline(from_end_cm(R161, ss.speed_s_m), color="k", ls="--", lw=1,
-               label=f"speed sweet spot, {from_end_cm(R161, ss.speed_s_m):.1f} cm")
+    ax.axvline(
+        from_end_cm(R161, ss.speed_s_m),
+        color="k",
+        ls="--",
+        lw=1,
+        label=f"speed sweet spot, {from_end_cm(R161, ss.speed_s_m):.1f} cm",
+    )
     b = ss.best
-    ax.plot([from_end_cm(R161, b.s_m)], [b.carry_m], "*", color="tab:red", ms=15, zorder=5,
-            label=f"distance sweet spot: {from_end_cm(R161, b.s_m):.1f} cm, undercut "
-                  f"{b.undercut_m * 100:.2f} cm, {b.carry_m:.1f} m")
+    ax.plot(
+        [from_end_cm(R161, b.s_m)],
+        [b.carry_m],
+        "*",
+        color="tab:red",
+        ms=15,
+        zorder=5,
+        label=f"distance sweet spot: {from_end_cm(R161, b.s_m):.1f} cm, undercut "
+        f"{b.undercut_m * 100:.2f} cm, {b.carry_m:.1f} m",
+    )
     ax.plot([], [], "D", color="0.3", mfc="none", label="longest carry at each undercut")
     ax.invert_xaxis()
     ax.set_xlabel("impact point, distance from the barrel end (cm)")
     ax.set_ylabel("carry (m)")
-    ax.secondary_yaxis("right", functions=(C.feet, lambda f: f * FT_M)).set_ylabel(
-        "carry (ft)")
+    ax.secondary_yaxis("right", functions=(C.feet, lambda f: f * FT_M)).set_ylabel("carry (ft)")
     ax.set_title(f"{sc.label}, pitch {sc.v0_mps:g} m/s", fontsize=9)
     ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
     ax.grid(alpha=0.3)

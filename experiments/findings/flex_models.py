@@ -32,13 +32,18 @@ def bracket(swings: dict) -> pd.DataFrame:
     for key, sw in swings.items():
         for name, law in BALLS.items():
             s = B.sweet_spots(sw, 1.0, law)
-            rows.append({"swing": key, "ball": name,
-                         "speed peak, beam (cm from end)": 100 * s["speed_peak_from_tip_m"],
-                         "first-mode node (cm)": 100 * s["node1_from_tip_m"],
-                         "speed peak, rigid bat (cm)": 100 * s["rigid_peak_from_tip_m"],
-                         "v1 peak, beam (m/s)": s["v1_peak_mps"],
-                         "v1 peak, rigid (m/s)": float(s["v1_rigid_peak_mps"]),
-                         "beam - rigid (m/s)": s["v1_peak_mps"] - float(s["v1_rigid_peak_mps"])})
+            rows.append(
+                {
+                    "swing": key,
+                    "ball": name,
+                    "speed peak, beam (cm from end)": 100 * s["speed_peak_from_tip_m"],
+                    "first-mode node (cm)": 100 * s["node1_from_tip_m"],
+                    "speed peak, rigid bat (cm)": 100 * s["rigid_peak_from_tip_m"],
+                    "v1 peak, beam (m/s)": s["v1_peak_mps"],
+                    "v1 peak, rigid (m/s)": float(s["v1_rigid_peak_mps"]),
+                    "beam - rigid (m/s)": s["v1_peak_mps"] - float(s["v1_rigid_peak_mps"]),
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -56,8 +61,10 @@ def checks(sw: B.Swing, x_m: float) -> pd.DataFrame:
     """v1 on the beam at one point under each ball: modes kept, the wood's loss, a patch."""
     a = patch_half_m(sw, x_m)
     variants = [(f"{n} modes", {"modes": n}) for n in MODE_COUNTS]
-    variants += [(f"loss factor {LOSS_BOUND:g}", {"loss_factor": LOSS_BOUND}),
-                 (f"force over +-{100 * a:.1f} cm", {"patch_m": a})]
+    variants += [
+        (f"loss factor {LOSS_BOUND:g}", {"loss_factor": LOSS_BOUND}),
+        (f"force over +-{100 * a:.1f} cm", {"patch_m": a}),
+    ]
     rows = []
     for label, kw in variants:
         row = {"beam model": label}
@@ -71,26 +78,38 @@ def section(swings: dict) -> tuple[str, dict]:
     """The ball-model bracket and the beam model's checks, as text and stats."""
     table = bracket(swings)
     first = next(iter(swings))
-    x_m = presets.R161.length_m - float(table[(table.swing == first)
-                                              & (table.ball == "Hunt-Crossley")]
-                                        ["speed peak, beam (cm from end)"].iloc[0]) / 100
+    x_m = (
+        presets.R161.length_m
+        - float(
+            table[(table.swing == first) & (table.ball == "Hunt-Crossley")][
+                "speed peak, beam (cm from end)"
+            ].iloc[0]
+        )
+        / 100
+    )
     check = checks(swings[first], x_m)
     cols = [c for c in check.columns if c.startswith("v1")]
     ref = check[check["beam model"] == "24 modes"][cols].iloc[0]
-    moved = {label: float((check[check["beam model"] == label][cols].iloc[0] - ref).abs().max())
-             for label in check["beam model"] if label != "24 modes"}
+    moved = {
+        label: float((check[check["beam model"] == label][cols].iloc[0] - ref).abs().max())
+        for label in check["beam model"]
+        if label != "24 modes"
+    }
     peak, sign = table["speed peak, beam (cm from end)"], table["beam - rigid (m/s)"]
     node = table["first-mode node (cm)"]
-    stats = {"peak_cm": (float(peak.min()), float(peak.max())),
-             "node_cm": (float(node.min()), float(node.max())),
-             "beam_minus_rigid": (float(sign.min()), float(sign.max())), "moved": moved}
+    stats = {
+        "peak_cm": (float(peak.min()), float(peak.max())),
+        "node_cm": (float(node.min()), float(node.max())),
+        "beam_minus_rigid": (float(sign.min()), float(sign.max())),
+        "moved": moved,
+    }
     text = f"""**Under another ball.** The excess above rests on the ball's law. A rate-independent
 hysteretic ball (`analytic.ball.HYSTERETIC_BALL`: Hertz on loading, one steeper curve for
 unloading and reloading, the same e(v) and 0.7 ms on a wall) on the same beam and swings:
 
 {md_table(table, floatfmt="{:.1f}")}
 
-Over the two balls the beam's speed peak lies **{stats['peak_cm'][0]:.1f}-{stats['peak_cm'][1]:.1f}
+Over the two balls the beam's speed peak lies **{stats["peak_cm"][0]:.1f}-{stats["peak_cm"][1]:.1f}
 cm from the end** and the beam returns the ball **{sign.min():+.1f} to {sign.max():+.1f} m/s**
 against the rigid bat: where the peak falls and whether a flexible bat beats a rigid one are
 not settled by this model. The node, **{node.min():.1f} cm**, does not depend on the ball.
@@ -98,10 +117,10 @@ At the paper's swing's peak, v1 on the beam as the beam model changes:
 
 {md_table(check, floatfmt="{:.3f}")}
 
-Against 24 modes, 48 move v1 by {moved['48 modes']:.2f} m/s and 12 by {moved['12 modes']:.2f}:
+Against 24 modes, 48 move v1 by {moved["48 modes"]:.2f} m/s and 12 by {moved["12 modes"]:.2f}:
 the truncation converges, and what is left is small against the two balls' difference. The
 wood's loss factor at a generous {LOSS_BOUND:g} (no measured figure for ash could be read) moves
-it by {moved[f'loss factor {LOSS_BOUND:g}']:.2f} m/s, and the force spread over the Hertz
-contact's width by {moved[next(k for k in moved if k.startswith('force'))]:.2f} m/s.
+it by {moved[f"loss factor {LOSS_BOUND:g}"]:.2f} m/s, and the force spread over the Hertz
+contact's width by {moved[next(k for k in moved if k.startswith("force"))]:.2f} m/s.
 """
     return text, stats

@@ -18,14 +18,19 @@ SWINGS = {s.key: s for s in B.SWINGS if s.key in (PAPER.key, MLB.key)}
 def flex_section() -> Section:
     """Modes, both sweet spots with the modulus's sensitivity, the zone, the efficiency."""
     modes = pd.DataFrame(B.modes_rows())
-    spots = pd.DataFrame([B.sweet_spots(sw, k) for sw in SWINGS.values()
-                          for k in B.MODULUS_SCALES])
+    spots = pd.DataFrame([B.sweet_spots(sw, k) for sw in SWINGS.values() for k in B.MODULUS_SCALES])
     rows = [B.impact_row(sw, x) for sw in SWINGS.values() for x in B.POINTS_M[::2]]
     fine = [B.impact_row(sw, x) for sw in SWINGS.values() for x in B.ZONE_POINTS_M]
     zones = {key: B.sweet_zone(fine, key) for key in SWINGS}
     models_text, models = flex_models.section(SWINGS)
-    text = "\n".join([_modes_text(modes), _spots_text(spots, zones, modes, rows), models_text,
-                      _efficiency_text(rows)])
+    text = "\n".join(
+        [
+            _modes_text(modes),
+            _spots_text(spots, zones, modes, rows),
+            models_text,
+            _efficiency_text(rows),
+        ]
+    )
     stats = {"spots": spots.to_dict("records"), "zones": zones, "models": models}
     return text, {}, stats
 
@@ -60,19 +65,25 @@ def _spots_text(spots: pd.DataFrame, zones: dict, modes: pd.DataFrame, rows: lis
     shift = 100 * (base.rigid_peak_from_tip_m - base.speed_peak_from_tip_m)
     apart = 100 * (base.speed_peak_from_tip_m - base.node1_from_tip_m).abs()
     contact = pd.DataFrame(rows).contact_beam_s * 1e3
-    table = pd.DataFrame({
-        "swing": base.swing, "speed peak, beam (cm from end)": 100 * base.speed_peak_from_tip_m,
-        "first-mode node (cm)": 100 * base.node1_from_tip_m,
-        "speed peak - node (cm)": 100 * (base.speed_peak_from_tip_m - base.node1_from_tip_m)
-        + 0.0,
-        "speed peak, rigid bat (cm)": 100 * base.rigid_peak_from_tip_m,
-        "v1 peak beam / rigid (m/s)": [f"{a:.1f} / {b:.1f}" for a, b in
-                                       zip(base.v1_peak_mps, base.v1_rigid_peak_mps,
-                                           strict=True)]})
+    table = pd.DataFrame(
+        {
+            "swing": base.swing,
+            "speed peak, beam (cm from end)": 100 * base.speed_peak_from_tip_m,
+            "first-mode node (cm)": 100 * base.node1_from_tip_m,
+            "speed peak - node (cm)": 100 * (base.speed_peak_from_tip_m - base.node1_from_tip_m)
+            + 0.0,
+            "speed peak, rigid bat (cm)": 100 * base.rigid_peak_from_tip_m,
+            "v1 peak beam / rigid (m/s)": [
+                f"{a:.1f} / {b:.1f}"
+                for a, b in zip(base.v1_peak_mps, base.v1_rigid_peak_mps, strict=True)
+            ],
+        }
+    )
     sens = {key: spots[spots.swing == key].speed_peak_from_tip_m for key in SWINGS}
     zone_text = "; ".join(
         f"{key}: {100 * z[0]:.1f}-{100 * z[1]:.1f} cm from the end" if z else f"{key}: none"
-        for key, z in zones.items())
+        for key, z in zones.items()
+    )
     return f"""The realistic ball (section 4) hits the beam (`analytic.flexible`: the beam's first
 24 modes driven through the contact, the bat moving and turning as a rigid body beneath them,
 integrated until the ball leaves), for the paper's swing and the MLB-like one:
@@ -98,9 +109,15 @@ within {100 * B.SPEED_SHARE:.0f}% of the best on a 1 cm grid and the first mode 
 def _efficiency_text(rows: list[dict]) -> str:
     t = pd.DataFrame(rows)
     t = t[t.swing == PAPER.key]
-    table = pd.DataFrame({"cm from end": 100 * (0.84 - t.x_m), "q rigid": t.q_rigid,
-                          "q beam": t.q_beam, "vibration (J)": t.vibration_j,
-                          "first mode (J)": t.mode1_j})
+    table = pd.DataFrame(
+        {
+            "cm from end": 100 * (0.84 - t.x_m),
+            "q rigid": t.q_rigid,
+            "q beam": t.q_beam,
+            "vibration (J)": t.vibration_j,
+            "first mode (J)": t.mode1_j,
+        }
+    )
     return f"""Collision efficiency q = (v1 - V)/(v0 + V) along the barrel (the paper's swing): the
 rigid bat's falls smoothly from the sweet spot, the beam's falls off within a few centimetres
 of the node as the energy left in bending grows. This is the shape Nathan's flexible-bat

@@ -29,12 +29,12 @@ from .answers import (
     from_end_cm,
 )
 
-METAL_ES = (0.50, 0.55, 0.60)   # the aluminium bat's e: as wood's, and livelier
+METAL_ES = (0.50, 0.55, 0.60)  # the aluminium bat's e: as wood's, and livelier
 ROD_FRACTIONS = (0.5, 0.6, 0.7, 0.76, 0.8, 0.9)  # J_cm scanned, as fractions of a uniform rod's
 COM_FRACTIONS = (0.55, 0.60, 0.65)  # the aluminium COM scanned, as fractions of its length
 WOOD, ALUMINIUM = "R161 wood", "Easton aluminium"  # the bats' names in ``metal_table``
 IN_M, OZ_KG = 0.0254, 0.028349523125
-BBCOR_DROP_OZ = 3            # BBCOR bats: weight (oz) at least length (in) - 3 [ncaa]
+BBCOR_DROP_OZ = 3  # BBCOR bats: weight (oz) at least length (in) - 3 [ncaa]
 BBCOR_LENGTHS_IN = (31, 32, 33, 34)  # the metal bats compared, each at drop -3
 
 
@@ -62,7 +62,7 @@ def metal_table(sc: Scenario, es: tuple[float, ...] = METAL_ES) -> pd.DataFrame:
         for label, bat in ((WOOD, R161), (ALUMINIUM, AL)):
             sw = carried_swing(bat, sc, m)
             row = {"swing model": m.value, "bat": label}
-            for e in (es if bat is AL else (E,)):
+            for e in es if bat is AL else (E,):
                 v1 = best_v1(bat, sc, sw, e)[1]
                 row[f"v1, e={e:.2f} (m/s)"] = v1
                 row[f"t to 16.5 m, e={e:.2f} (s)"] = time_to_pitcher_s(v1)
@@ -84,8 +84,11 @@ def gain_over_wood(table: pd.DataFrame, model: str) -> float:
 def lively_gain(tables: Iterable[pd.DataFrame], e: float) -> tuple[float, float]:
     """The least and the most (m/s), over the tables' swings and every swing model, that the
     aluminium bat gains at e over itself at e = 0.5."""
-    d = [table_v1(t, m.value, ALUMINIUM, e) - table_v1(t, m.value, ALUMINIUM)
-         for t in tables for m in SwingModel]
+    d = [
+        table_v1(t, m.value, ALUMINIUM, e) - table_v1(t, m.value, ALUMINIUM)
+        for t in tables
+        for m in SwingModel
+    ]
     return min(d), max(d)
 
 
@@ -95,8 +98,7 @@ def aluminium_times(table: pd.DataFrame) -> int:
     return int(t[[c for c in t.columns if c.startswith("t to")]].notna().sum().sum())
 
 
-def metal_inertia_scan(sc: Scenario,
-                       fractions: tuple[float, ...] = ROD_FRACTIONS) -> pd.DataFrame:
+def metal_inertia_scan(sc: Scenario, fractions: tuple[float, ...] = ROD_FRACTIONS) -> pd.DataFrame:
     """The aluminium bat's sweet spot (swung as the measured n carries the swing over) and its v1
     gain over wood (e = 0.5) under each swing model as its unknown J_cm ranges over fractions of
     a uniform rod (the paper's 0.0205 kg m^2 is 50%, the R161 76%)."""
@@ -105,17 +107,27 @@ def metal_inertia_scan(sc: Scenario,
     for f in fractions:
         bat = aluminium_with(f)
         s, _ = best_v1(bat, sc, carried_swing(bat, sc, SwingModel.MEASURED))
-        rows.append({"J_cm / uniform rod": f, "J_cm (kg m^2)": bat.inertia_cm_kgm2,
-                     "sweet spot (cm from end)": from_end_cm(bat, s),
-                     "wood's (cm from end)": from_end_cm(R161, wood_s),
-                     **{f"gain over wood, {m.value} (m/s)":
-                        best_v1(bat, sc, carried_swing(bat, sc, m))[1] - wood_v1
-                        for m in SwingModel}})
+        rows.append(
+            {
+                "J_cm / uniform rod": f,
+                "J_cm (kg m^2)": bat.inertia_cm_kgm2,
+                "sweet spot (cm from end)": from_end_cm(bat, s),
+                "wood's (cm from end)": from_end_cm(R161, wood_s),
+                **{
+                    f"gain over wood, {m.value} (m/s)": best_v1(bat, sc, carried_swing(bat, sc, m))[
+                        1
+                    ]
+                    - wood_v1
+                    for m in SwingModel
+                },
+            }
+        )
     return pd.DataFrame(rows)
 
 
-def fraction_matching_wood_sweet_spot(sc: Scenario,
-                                      model: SwingModel = SwingModel.MEASURED) -> float:
+def fraction_matching_wood_sweet_spot(
+    sc: Scenario, model: SwingModel = SwingModel.MEASURED
+) -> float:
     """The aluminium J_cm fraction at which its sweet spot lies as far from its end as the
     R161's does from its own (what Crisco et al. measured on real wood and metal bats), each
     bat swung as ``model`` carries the scenario's swing over (so the aluminium bat's speed
@@ -135,12 +147,17 @@ def bbcor_bat(length_in: float, drop_oz: float = BBCOR_DROP_OZ) -> Bat:
     """A metal bat ``length_in`` long weighing length - drop oz, with the paper's aluminium
     bat's proportions (COM at 60% of the length, J_cm 50% of a uniform rod: both unsourced)."""
     length, mass = length_in * IN_M, (length_in - drop_oz) * OZ_KG
-    return replace(AL, name=f"metal{length_in:g}", length_m=length, mass_kg=mass,
-                   com_from_knob_m=AL.com_from_knob_m / AL.length_m * length,
-                   inertia_cm_kgm2=uniform_rod_fraction(AL) * mass * length**2 / 12)
+    return replace(
+        AL,
+        name=f"metal{length_in:g}",
+        length_m=length,
+        mass_kg=mass,
+        com_from_knob_m=AL.com_from_knob_m / AL.length_m * length,
+        inertia_cm_kgm2=uniform_rod_fraction(AL) * mass * length**2 / 12,
+    )
 
 
-EQUAL_BAT = bbcor_bat(33)      # the metal bat of the R161's length (33 in, 30 oz)
+EQUAL_BAT = bbcor_bat(33)  # the metal bat of the R161's length (33 in, 30 oz)
 EQUAL_LENGTH = "metal 33 in, 30 oz"  # its name in the tables
 
 
@@ -151,16 +168,25 @@ def bbcor_table(sc: Scenario, lengths_in: tuple[int, ...] = BBCOR_LENGTHS_IN) ->
     rows = []
     for length in lengths_in:
         bat = bbcor_bat(length)
-        rows.append({"metal bat": f"{length} in, {length - BBCOR_DROP_OZ} oz",
-                     "mass (kg)": bat.mass_kg,
-                     **{f"gain over wood, {m.value} (m/s)":
-                        best_v1(bat, sc, carried_swing(bat, sc, m))[1] - wood
-                        for m in SwingModel}})
+        rows.append(
+            {
+                "metal bat": f"{length} in, {length - BBCOR_DROP_OZ} oz",
+                "mass (kg)": bat.mass_kg,
+                **{
+                    f"gain over wood, {m.value} (m/s)": best_v1(bat, sc, carried_swing(bat, sc, m))[
+                        1
+                    ]
+                    - wood
+                    for m in SwingModel
+                },
+            }
+        )
     return pd.DataFrame(rows)
 
 
-def al_com_sensitivity(sc: Scenario,
-                       fractions: tuple[float, ...] = COM_FRACTIONS) -> dict[float, float]:
+def al_com_sensitivity(
+    sc: Scenario, fractions: tuple[float, ...] = COM_FRACTIONS
+) -> dict[float, float]:
     """The measured-model v1 gain of aluminium over wood with its assumed COM moved."""
     wood = best_v1(R161, sc, carried_swing(R161, sc, SwingModel.MEASURED))[1]
     out = {}

@@ -25,20 +25,38 @@ MODELS = ("constant_force", "constant_torque", "measured")  # as the metal text 
 
 # -- 3. metal vs wood ----------------------------------------------------------------------------
 
+
 def metal_section() -> Section:
     """Section 3: wood against the paper's aluminium bat, metal bats of wood's length and at
     BBCOR's drop -3, the unknown J_cm and COM, and why the rules restrict metal bats."""
     tables = {sc.key: M.metal_table(sc) for sc in A.SCENARIOS}
     bbcor = {sc.key: M.bbcor_table(sc) for sc in A.SCENARIOS}
-    match = {(sc.key, m.value): M.fraction_matching_wood_sweet_spot(sc, m)
-             for sc in A.SCENARIOS for m in SwingModel}
+    match = {
+        (sc.key, m.value): M.fraction_matching_wood_sweet_spot(sc, m)
+        for sc in A.SCENARIOS
+        for m in SwingModel
+    }
     lively = {e: M.lively_gain(tables.values(), e) for e in (0.55, 0.60)}
-    text = "\n".join([_metal_bats_text(tables), _metal_findings_text(tables, bbcor, lively),
-                      _metal_inertia_text(match), _metal_rules_text(bbcor)])
+    text = "\n".join(
+        [
+            _metal_bats_text(tables),
+            _metal_findings_text(tables, bbcor, lively),
+            _metal_inertia_text(match),
+            _metal_rules_text(bbcor),
+        ]
+    )
     gains = [M.gain_over_wood(t, m.value) for t in tables.values() for m in SwingModel]
-    return text, {"findings_metal.png": _metal_figure(match)}, {
-        "tables": tables, "bbcor": bbcor, "match": match, "max_gain": max(gains),
-        "lively": (lively[0.55][0], lively[0.60][1])}
+    return (
+        text,
+        {"findings_metal.png": _metal_figure(match)},
+        {
+            "tables": tables,
+            "bbcor": bbcor,
+            "match": match,
+            "max_gain": max(gains),
+            "lively": (lively[0.55][0], lively[0.60][1]),
+        },
+    )
 
 
 def _below(table: pd.DataFrame) -> list[str]:
@@ -46,10 +64,11 @@ def _below(table: pd.DataFrame) -> list[str]:
     out = []
     for _, row in table.iterrows():
         for col in table.columns:
-            if col.startswith("t to 16.5 m") and row[col] < A.REACTION_S \
-                    and row["bat"] != M.WOOD:
-                out.append(f"aluminium at {col.split(', ')[1][:-4]} ({row['swing model']}, "
-                           f"{row[col]:.3f} s)")
+            if col.startswith("t to 16.5 m") and row[col] < A.REACTION_S and row["bat"] != M.WOOD:
+                out.append(
+                    f"aluminium at {col.split(', ')[1][:-4]} ({row['swing model']}, "
+                    f"{row[col]:.3f} s)"
+                )
     return out
 
 
@@ -73,22 +92,28 @@ the e = 0.576 that the paper's 42.59 m/s needs (section 5); a certified bat toda
 
 paper's swing (pitch {A.PAPER.v0_mps} m/s):
 
-{md_table(tables['paper'], "{:.3f}")}
+{md_table(tables["paper"], "{:.3f}")}
 
 MLB-like swing (pitch {A.MLB.v0_mps:g} m/s):
 
-{md_table(tables['mlb'], "{:.3f}")}
+{md_table(tables["mlb"], "{:.3f}")}
 """
 
 
-def _metal_findings_text(tables: dict[str, pd.DataFrame], bbcor: dict[str, pd.DataFrame],
-                         lively: dict[float, tuple[float, float]]) -> str:
+def _metal_findings_text(
+    tables: dict[str, pd.DataFrame],
+    bbcor: dict[str, pd.DataFrame],
+    lively: dict[float, tuple[float, float]],
+) -> str:
     """What length, lightness, liveliness and reaction time say about the metal bat."""
-    paper, mlb = (" / ".join(f"{M.gain_over_wood(tables[k], m):+.2f}" for m in MODELS)
-                  for k in ("paper", "mlb"))
+    paper, mlb = (
+        " / ".join(f"{M.gain_over_wood(tables[k], m):+.2f}" for m in MODELS)
+        for k in ("paper", "mlb")
+    )
     same = {k: bbcor[k][bbcor[k]["metal bat"] == "33 in, 30 oz"].iloc[0] for k in bbcor}
-    eq = {k: " / ".join(f"{same[k][f'gain over wood, {m} (m/s)']:+.2f}" for m in MODELS)
-          for k in same}
+    eq = {
+        k: " / ".join(f"{same[k][f'gain over wood, {m} (m/s)']:+.2f}" for m in MODELS) for k in same
+    }
     e55, e60 = ("{:.1f}-{:.1f}".format(*lively[e]) for e in (0.55, 0.60))
     below = _below(tables["paper"])
     paper_below = ", ".join(below) or "no case"
@@ -98,8 +123,8 @@ def _metal_findings_text(tables: dict[str, pd.DataFrame], bbcor: dict[str, pd.Da
 - **At equal e = 0.5 the paper's comparison is mostly one of length**: its 31 in aluminium bat
   minus the 33 in R161 is {paper} m/s (paper's swing; u0 ~ 1/M, constant torque, measured
   n = 0.27) and {mlb} m/s (MLB-like swing). A metal bat of the R161's length at BBCOR's
-  drop -3 (33 in, 30 oz, the same proportions) gives {eq['paper']} m/s (paper's swing) and
-  {eq['mlb']} m/s (MLB-like): lightness alone loses under the measured scaling and is about even
+  drop -3 (33 in, 30 oz, the same proportions) gives {eq["paper"]} m/s (paper's swing) and
+  {eq["mlb"]} m/s (MLB-like): lightness alone loses under the measured scaling and is about even
   at constant torque.
 - A livelier collision gains more: e = 0.55 adds {e55} m/s and e = 0.60
   {e60} m/s over the aluminium bat at e = 0.50 (every model, both swings).
@@ -119,12 +144,12 @@ def _metal_inertia_text(match: dict[tuple[str, str], float]) -> str:
     com = M.al_com_sensitivity(A.PAPER)
     need = {k: " / ".join(f"{match[(k, m)]:.0%}" for m in MODELS) for k in ("paper", "mlb")}
     return f"""**The unknown J_cm decides where the metal bat's sweet spot lies.** At the paper's
-J_cm ({al_frac:.0%} of a rod) it is {scan0['sweet spot (cm from end)']:.1f} cm from the end against
+J_cm ({al_frac:.0%} of a rod) it is {scan0["sweet spot (cm from end)"]:.1f} cm from the end against
 wood's {scan0["wood's (cm from end)"]:.1f} cm (each bat swung as the measured n = 0.27 carries
 the swing over). Crisco et al. measured the sweet spot the same distance from the tip on wood and
 metal bats [crisco2002]. In this rigid model equal distances would take a J_cm of
-**{need['paper']} of a uniform rod** (paper's swing; u0 ~ 1/M, constant torque, measured) and
-{need['mlb']} (MLB-like), with the COM at 60%: more than a bat with a tapering handle has (the
+**{need["paper"]} of a uniform rod** (paper's swing; u0 ~ 1/M, constant torque, measured) and
+{need["mlb"]} (MLB-like), with the COM at 60%: more than a bat with a tapering handle has (the
 R161: {r161_frac:.0%}). This does not single out a J_cm: the model's sweet spot is the point of
 largest v1 with one e everywhere, while a real bat's COR and vibrations vary along the barrel
 (section 3c), which a rigid model does not have [nathan2000]. Over a plausible range (sweet spot
@@ -132,11 +157,11 @@ and gains with the swing carried over by each model):
 
 paper's swing:
 
-{md_table(scans['paper'], "{:.3f}")}
+{md_table(scans["paper"], "{:.3f}")}
 
 MLB-like swing:
 
-{md_table(scans['mlb'], "{:.3f}")}
+{md_table(scans["mlb"], "{:.3f}")}
 
 The assumed COM matters as much: at 55%, 60% or 65% of the length the measured-model difference
 to wood (paper's swing) is {com[0.55]:+.2f}, {com[0.60]:+.2f} or {com[0.65]:+.2f} m/s.
@@ -154,11 +179,11 @@ Metal bats at drop -3 (the paper's proportions, e = 0.5), v1 at the best point m
 
 paper's swing:
 
-{md_table(bbcor['paper'], "{:.3f}")}
+{md_table(bbcor["paper"], "{:.3f}")}
 
 MLB-like swing:
 
-{md_table(bbcor['mlb'], "{:.3f}")}
+{md_table(bbcor["mlb"], "{:.3f}")}
 
 At e = 0.5 every one of these legal metal bats hits slower than the R161 under the measured
 scaling ({_span(bbcor, "measured")} m/s, the longer bats losing least) and within
@@ -188,16 +213,33 @@ def _metal_figure(match: dict[tuple[str, str], float]) -> Figure:
 def _metal_barrel_panel(ax: Axes, match: dict[tuple[str, str], float]) -> None:
     """v1 along the barrel for wood and aluminium (two J_cm), the paper's swing carried over."""
     sc = A.PAPER
-    for bat, color, label in ((A.R161, "tab:brown", M.WOOD),
-                              (A.AL, "tab:gray", "aluminium, J_cm 50% of a rod"),
-                              (M.aluminium_with(match[("paper", "measured")]), "tab:cyan",
-                               f"aluminium, J_cm {match[('paper', 'measured')]:.0%} of a rod")):
+    for bat, color, label in (
+        (A.R161, "tab:brown", M.WOOD),
+        (A.AL, "tab:gray", "aluminium, J_cm 50% of a rod"),
+        (
+            M.aluminium_with(match[("paper", "measured")]),
+            "tab:cyan",
+            f"aluminium, J_cm {match[('paper', 'measured')]:.0%} of a rod",
+        ),
+    ):
         sw = A.carried_swing(bat, sc, SwingModel.MEASURED)
         s = np.linspace(bat.s_min_m + 0.25, bat.s_max_m, 200)
-        for e, ls in (((0.5, "-"), (0.6, "--")) if bat is A.AL else ((0.5, "-"),)):
-            ax.plot(A.from_end_cm(bat, s), batted_ball_speed(
-                bat, A.BALL, s, v0_mps=sc.v0_mps, u0_mps=sw.u0_mps,
-                omega0_radps=sw.omega0_radps, e=e), ls, color=color, label=f"{label}, e = {e}")
+        for e, ls in ((0.5, "-"), (0.6, "--")) if bat is A.AL else ((0.5, "-"),):
+            ax.plot(
+                A.from_end_cm(bat, s),
+                batted_ball_speed(
+                    bat,
+                    A.BALL,
+                    s,
+                    v0_mps=sc.v0_mps,
+                    u0_mps=sw.u0_mps,
+                    omega0_radps=sw.omega0_radps,
+                    e=e,
+                ),
+                ls,
+                color=color,
+                label=f"{label}, e = {e}",
+            )
     along_the_barrel(ax, "paper's swing carried over with n = 0.27")
 
 
@@ -206,16 +248,30 @@ def _metal_inertia_panel(ax: Axes) -> None:
     fr = ROD_FRACTIONS_CHART
     for sc, color in zip(A.SCENARIOS, ("tab:blue", "tab:red")):
         bats = [M.aluminium_with(f) for f in fr]
-        ax.plot(fr * 100, [A.from_end_cm(b, A.best_v1(
-            b, sc, A.carried_swing(b, sc, SwingModel.MEASURED))[0]) for b in bats],
-                color=color, label=f"aluminium, {sc.label}")
-        ax.axhline(A.from_end_cm(A.R161, A.best_v1(A.R161, sc)[0]), color=color, ls=":",
-                   label=f"R161 wood, {sc.label}")
-    ax.axvline(M.uniform_rod_fraction(A.AL) * 100, color="k", lw=0.8, ls="--",
-               label="paper's J_cm (70 lb in^2)")
+        ax.plot(
+            fr * 100,
+            [
+                A.from_end_cm(b, A.best_v1(b, sc, A.carried_swing(b, sc, SwingModel.MEASURED))[0])
+                for b in bats
+            ],
+            color=color,
+            label=f"aluminium, {sc.label}",
+        )
+        ax.axhline(
+            A.from_end_cm(A.R161, A.best_v1(A.R161, sc)[0]),
+            color=color,
+            ls=":",
+            label=f"R161 wood, {sc.label}",
+        )
+    ax.axvline(
+        M.uniform_rod_fraction(A.AL) * 100,
+        color="k",
+        lw=0.8,
+        ls="--",
+        label="paper's J_cm (70 lb in^2)",
+    )
     ax.set_xlabel("aluminium J_cm, % of a uniform rod of its length and mass")
     ax.set_ylabel("sweet spot, distance from the barrel end (cm)")
-    ax.set_title("where the metal bat's sweet spot lies depends on its J_cm (n = 0.27)",
-                 fontsize=9)
+    ax.set_title("where the metal bat's sweet spot lies depends on its J_cm (n = 0.27)", fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)

@@ -26,6 +26,7 @@ CORK_EXPONENTS = np.linspace(0.0, 1.0, 41)  # the cork chart's swing-speed expon
 
 # -- 1. sweet spot -------------------------------------------------------------------------------
 
+
 def sweet_spot_section(engines: tuple[str, ...]) -> Section:
     """Section 1: where the sweet spot lies for swings from the hands, the sweet zone of one
     swing, the literature, and the sweet spot each engine's own data puts it at."""
@@ -33,20 +34,32 @@ def sweet_spot_section(engines: tuple[str, ...]) -> Section:
     table = A.sweet_spot_table()
     lo_cm, hi_cm = A.from_end_cm(A.R161, region.s_hi_m), A.from_end_cm(A.R161, region.s_lo_m)
     batting = A.batting_region_cm()
-    text = "\n".join([_sweet_model_text(region, table, lo_cm, hi_cm),
-                      _sweet_literature_text(table, lo_cm, hi_cm, batting),
-                      sweet_engines_text(engines),
-                      "![sweet spot region](findings_sweet_spot.png)\n"])
+    text = "\n".join(
+        [
+            _sweet_model_text(region, table, lo_cm, hi_cm),
+            _sweet_literature_text(table, lo_cm, hi_cm, batting),
+            sweet_engines_text(engines),
+            "![sweet spot region](findings_sweet_spot.png)\n",
+        ]
+    )
     widths_cm = [(hi - lo) * 100 for lo, hi in (A.zone(A.R161, sc) for sc in A.SCENARIOS)]
-    return text, {"findings_sweet_spot.png": _sweet_spot_figure(region)}, {
-        "region": (lo_cm, hi_cm), "batting": batting,
-        "zone_cm": (min(widths_cm), max(widths_cm)),
-        "best_cm": {sc.key: A.from_end_cm(A.R161, A.best_v1(A.R161, sc)[0])
-                    for sc in A.SCENARIOS}}
+    return (
+        text,
+        {"findings_sweet_spot.png": _sweet_spot_figure(region)},
+        {
+            "region": (lo_cm, hi_cm),
+            "batting": batting,
+            "zone_cm": (min(widths_cm), max(widths_cm)),
+            "best_cm": {
+                sc.key: A.from_end_cm(A.R161, A.best_v1(A.R161, sc)[0]) for sc in A.SCENARIOS
+            },
+        },
+    )
 
 
-def _sweet_model_text(region: A.HandsRegion, table: pd.DataFrame, lo_cm: float,
-                      hi_cm: float) -> str:
+def _sweet_model_text(
+    region: A.HandsRegion, table: pd.DataFrame, lo_cm: float, hi_cm: float
+) -> str:
     """The model's sweet spot, where it moves, and the sweet zone table."""
     return f"""## 1. Where is the sweet spot?
 
@@ -65,8 +78,9 @@ For one swing, v1 stays within 1% of its best over a **sweet zone** several cent
 """
 
 
-def _sweet_literature_text(table: pd.DataFrame, lo_cm: float, hi_cm: float,
-                           batting: tuple[float, float]) -> str:
+def _sweet_literature_text(
+    table: pd.DataFrame, lo_cm: float, hi_cm: float, batting: tuple[float, float]
+) -> str:
     """Our region against Cross's and Russell's, and the centre of percussion."""
     bat_lo, bat_hi = batting
     inside = max(0.0, min(bat_hi, RUSSELL_CM[1]) - max(bat_lo, RUSSELL_CM[0])) / (bat_hi - bat_lo)
@@ -85,12 +99,12 @@ the end**, {inside:.0%} of that length inside Russell's range (the extremes are 
 so the region does not depend on the grid); over the swings themselves, taken evenly in pitch,
 rate and pivot, {share:.0%} put their sweet spot inside it (on a grid {A.SHARE_GRID_TEXT}; the
 default grid gives {share_coarse:.0%}). The MLB-like swing's best point is
-{table.iloc[1]['s* (cm from end)']:.1f} cm. A rigid bat cannot settle where a batter *feels* the
+{table.iloc[1]["s* (cm from end)"]:.1f} cm. A rigid bat cannot settle where a batter *feels* the
 sweet spot: that is set by the bat's vibrations (the node, the sting in the hands), which this
 model does not have [nathan2000] (section 3c has them).
 The centre of percussion for hands 0.1 m from the knob
 ({A.from_end_cm(A.R161, center_of_percussion(A.R161, A.HANDS_M)):.1f} cm from the end) falls in
-the paper's swing's sweet zone ({paper_zone['1% zone (cm from end)']} cm), but it is a different
+the paper's swing's sweet zone ({paper_zone["1% zone (cm from end)"]} cm), but it is a different
 spot (no jolt at the hands, not the largest v1).
 """
 
@@ -100,25 +114,50 @@ def _sweet_spot_figure(region: A.HandsRegion) -> Figure:
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8.5, 6.4), layout="constrained")
     for v, row in zip(region.pitches_mps, region.grid_s_m):
-        ax.plot(region.omegas_radps, A.from_end_cm(A.R161, row),
-                label=f"sweet spot, swing from the hands, pitch {v:g} m/s")
+        ax.plot(
+            region.omegas_radps,
+            A.from_end_cm(A.R161, row),
+            label=f"sweet spot, swing from the hands, pitch {v:g} m/s",
+        )
     ax.axhspan(*RUSSELL_CM, color="0.88", zorder=0, label="Russell: 5-7 in from the end")
-    ax.axhspan(16.5, 17.5, facecolor="none", edgecolor="0.55", hatch="///", lw=0, zorder=1,
-               label="Cross's notes: about 17 cm (drawn 16.5-17.5)")
+    ax.axhspan(
+        16.5,
+        17.5,
+        facecolor="none",
+        edgecolor="0.55",
+        hatch="///",
+        lw=0,
+        zorder=1,
+        label="Cross's notes: about 17 cm (drawn 16.5-17.5)",
+    )
     cop = A.from_end_cm(A.R161, center_of_percussion(A.R161, A.HANDS_M))
-    ax.axhline(cop, ls=(0, (6, 2, 1, 2)), lw=2, color="tab:purple", zorder=3,
-               label=f"COP, hands 0.1 m from the knob: {cop:.1f} cm")
+    ax.axhline(
+        cop,
+        ls=(0, (6, 2, 1, 2)),
+        lw=2,
+        color="tab:purple",
+        zorder=3,
+        label=f"COP, hands 0.1 m from the knob: {cop:.1f} cm",
+    )
     for sc, marker in zip(A.SCENARIOS, ("o", "s")):
         lo, hi = A.zone(A.R161, sc)
         best = A.from_end_cm(A.R161, A.best_v1(A.R161, sc)[0])
-        ax.errorbar([sc.swing.omega0_radps], [best],
-                    yerr=[[best - A.from_end_cm(A.R161, hi)], [A.from_end_cm(A.R161, lo) - best]],
-                    fmt=marker, color="k", capsize=4, zorder=4,
-                    label=f"{sc.label} (pitch {sc.v0_mps:g} m/s): best point, 1% zone")
+        ax.errorbar(
+            [sc.swing.omega0_radps],
+            [best],
+            yerr=[[best - A.from_end_cm(A.R161, hi)], [A.from_end_cm(A.R161, lo) - best]],
+            fmt=marker,
+            color="k",
+            capsize=4,
+            zorder=4,
+            label=f"{sc.label} (pitch {sc.v0_mps:g} m/s): best point, 1% zone",
+        )
     ax.set_xlabel("bat angular speed omega0 (rad/s)")
     ax.set_ylabel("distance from the barrel end (cm)")
-    ax.set_title("R161, rigid-bat model: sweet spot vs swing and pitch speed (e does not move it)",
-                 fontsize=10)
+    ax.set_title(
+        "R161, rigid-bat model: sweet spot vs swing and pitch speed (e does not move it)",
+        fontsize=10,
+    )
     fig.legend(fontsize=7.5, loc="outside lower center", ncol=2)
     ax.grid(alpha=0.3)
     return fig
@@ -126,13 +165,20 @@ def _sweet_spot_figure(region: A.HandsRegion) -> Figure:
 
 # -- 2. corked bats ------------------------------------------------------------------------------
 
+
 def cork_section() -> Section:
     """Section 2: the corked bats, when corking pays, and the model against Nathan's q."""
     verdicts = A.cork_verdicts()
     q = A.nathan_q_check()
-    text = "\n".join([_cork_bats_text(verdicts), _cork_verdict_text(verdicts),
-                      _cork_speeds_text(), _cork_measurement_text(q),
-                      "![cork gain against the swing-speed exponent](findings_cork.png)\n"])
+    text = "\n".join(
+        [
+            _cork_bats_text(verdicts),
+            _cork_verdict_text(verdicts),
+            _cork_speeds_text(),
+            _cork_measurement_text(q),
+            "![cork gain against the swing-speed exponent](findings_cork.png)\n",
+        ]
+    )
     return text, {"findings_cork.png": _cork_figure()}, {"verdicts": verdicts, "q": q}
 
 
@@ -153,8 +199,8 @@ A corked bat is lighter, so with the same swing (the bat turning about the same 
 same rate: n = 0 below) it always hits slower (less mass behind the ball, its COM nearer the
 axis). Whether the batter gains depends on how much faster he swings the lighter bat. With
 swing speed ~ I_knob^-n (I about the knob; the batter's effort carried over from the solid R161),
-the 1 x 10 in cork bat **breaks even at n = {paper['break-even n']:.3f} for the paper's swing
-and n = {mlb['break-even n']:.3f} for an MLB-like swing** (rotation about the knob at
+the 1 x 10 in cork bat **breaks even at n = {paper["break-even n"]:.3f} for the paper's swing
+and n = {mlb["break-even n"]:.3f} for an MLB-like swing** (rotation about the knob at
 {A.MLB.swing.omega0_radps:g} rad/s, {A.MLB.v0_mps:g} m/s pitch); corking pays only above it:
 
 {md_table(verdicts, "{:.3f}")}
@@ -188,11 +234,11 @@ constant_torque n = 0.5, measured n = {MEASURED_EXPONENT}):
 
 paper's swing (pitch {A.PAPER.v0_mps} m/s):
 
-{md_table(speeds['paper'], "{:.2f}")}
+{md_table(speeds["paper"], "{:.2f}")}
 
 MLB-like swing (pitch {A.MLB.v0_mps:g} m/s):
 
-{md_table(speeds['mlb'], "{:.2f}")}
+{md_table(speeds["mlb"], "{:.2f}")}
 """
 
 
@@ -215,19 +261,30 @@ def _cork_figure() -> Figure:
     fig, ax = plt.subplots(figsize=(8, 4.8))
     ns = CORK_EXPONENTS
     for sc, color in zip(A.SCENARIOS, ("tab:blue", "tab:red")):
-        ax.plot(ns, A.v1_gain_curve(A.CORK_1x10, sc, ns), color=color,
-                label=f"{sc.label} (pitch {sc.v0_mps:g} m/s)")
+        ax.plot(
+            ns,
+            A.v1_gain_curve(A.CORK_1x10, sc, ns),
+            color=color,
+            label=f"{sc.label} (pitch {sc.v0_mps:g} m/s)",
+        )
         n0 = A.break_even_exponent(A.CORK_1x10, sc)
         ax.plot([n0], [0.0], "o", color=color, mfc="none")
-        ax.annotate(f"break-even n = {n0:.2f}", (n0, 0.0), textcoords="offset points",
-                    xytext=(8, -14) if sc is A.PAPER else (-100, 8), fontsize=8, color=color)
+        ax.annotate(
+            f"break-even n = {n0:.2f}",
+            (n0, 0.0),
+            textcoords="offset points",
+            xytext=(8, -14) if sc is A.PAPER else (-100, 8),
+            fontsize=8,
+            color=color,
+        )
     ax.axhline(0.0, color="k", lw=0.8)
     ax.axvspan(0.25, 0.27, color="0.85", label="measured n = 0.25-0.27 (Cross & Bower)")
     ax.axvline(0.5, color="0.4", ls=":", label="constant torque, n = 0.5")
     ax.set_xlabel("swing-speed exponent n (swing speed ~ I_knob^-n)")
     ax.set_ylabel("v1 gain of the 1 x 10 in cork bat (m/s)")
-    ax.set_title("Rigid-bat model, e = 0.5: corking pays only above the break-even exponent",
-                 fontsize=10)
+    ax.set_title(
+        "Rigid-bat model, e = 0.5: corking pays only above the break-even exponent", fontsize=10
+    )
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()

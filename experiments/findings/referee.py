@@ -63,32 +63,79 @@ def _lively_carry() -> tuple[float, float]:
 def input_claims() -> list[Claim]:
     """The inputs every answer rests on, with their sources."""
     return [
-        Claim(key="input.e", statement="ball-bat COR of the rigid model (wood; BBCOR's cap)",
-              value="0.5", command="analytic.presets.E_WOOD", depends="-",
-              source="[ncaa] [nathan2000]"),
-        Claim(key="input.n", statement="measured swing-speed exponent, speed ~ I_knob^-n",
-              value=f"{MEASURED_EXPONENT}", command="analytic.MEASURED_EXPONENT",
-              depends="-", source="[crossbower]"),
-        Claim(key="input.torque", statement="constant-torque swing exponent", value="0.5",
-              command="analytic.SwingModel.CONSTANT_TORQUE", depends="-", source="mechanics"),
-        Claim(key="input.cork", statement="the cork fill: a 1 in hole 10 in deep",
-              value="1 x 10 in",
-              command="answers.CORK_1x10", depends="-", source="the paper; [nathan2011]"),
-        Claim(key="input.equal", statement="metal bat of the R161's length at drop -3",
-              value="33 in, 30 oz", command="metal.EQUAL_BAT", depends="-",
-              source="[cross2009] length; [ncaa] drop"),
-        Claim(key="input.russell", statement="Russell's sweet region (cm from the end)",
-              value="12.7-17.8", command="-", depends="-", source="[russell]"),
-        Claim(key="input.cor", statement="the ball's COR at 85 ft/s (MLB's band's centre)",
-              value=f"{ball.COR_LAW.cor_ref:.3f}", command="analytic.ball.COR_LAW",
-              depends="-", source="[mlbcor]"),
-        Claim(key="input.cor_exponent", statement="the COR's fall with speed, e ~ v^-p: p "
-              "(assumed; no speed-resolved data read)",
-              value="{:g}-{:g}".format(*ball.EXPONENT_RANGE), command="analytic.ball.COR_LAWS",
-              depends="-", source="assumption; 1/4 [johnson1985]"),
-        Claim(key="input.wood", statement="the R161's wood density (kg/m^3), beam fit",
-              value=f"{WOOD_DENSITY_KGM3:.0f}", command="analytic.WOOD_DENSITY_KGM3",
-              depends="the profile's assumed barrel and knob", source="computed; [woodhandbook]"),
+        Claim(
+            key="input.e",
+            statement="ball-bat COR of the rigid model (wood; BBCOR's cap)",
+            value="0.5",
+            command="analytic.presets.E_WOOD",
+            depends="-",
+            source="[ncaa] [nathan2000]",
+        ),
+        Claim(
+            key="input.n",
+            statement="measured swing-speed exponent, speed ~ I_knob^-n",
+            value=f"{MEASURED_EXPONENT}",
+            command="analytic.MEASURED_EXPONENT",
+            depends="-",
+            source="[crossbower]",
+        ),
+        Claim(
+            key="input.torque",
+            statement="constant-torque swing exponent",
+            value="0.5",
+            command="analytic.SwingModel.CONSTANT_TORQUE",
+            depends="-",
+            source="mechanics",
+        ),
+        Claim(
+            key="input.cork",
+            statement="the cork fill: a 1 in hole 10 in deep",
+            value="1 x 10 in",
+            command="answers.CORK_1x10",
+            depends="-",
+            source="the paper; [nathan2011]",
+        ),
+        Claim(
+            key="input.equal",
+            statement="metal bat of the R161's length at drop -3",
+            value="33 in, 30 oz",
+            command="metal.EQUAL_BAT",
+            depends="-",
+            source="[cross2009] length; [ncaa] drop",
+        ),
+        Claim(
+            key="input.russell",
+            statement="Russell's sweet region (cm from the end)",
+            value="12.7-17.8",
+            command="-",
+            depends="-",
+            source="[russell]",
+        ),
+        Claim(
+            key="input.cor",
+            statement="the ball's COR at 85 ft/s (MLB's band's centre)",
+            value=f"{ball.COR_LAW.cor_ref:.3f}",
+            command="analytic.ball.COR_LAW",
+            depends="-",
+            source="[mlbcor]",
+        ),
+        Claim(
+            key="input.cor_exponent",
+            statement="the COR's fall with speed, e ~ v^-p: p "
+            "(assumed; no speed-resolved data read)",
+            value="{:g}-{:g}".format(*ball.EXPONENT_RANGE),
+            command="analytic.ball.COR_LAWS",
+            depends="-",
+            source="assumption; 1/4 [johnson1985]",
+        ),
+        Claim(
+            key="input.wood",
+            statement="the R161's wood density (kg/m^3), beam fit",
+            value=f"{WOOD_DENSITY_KGM3:.0f}",
+            command="analytic.WOOD_DENSITY_KGM3",
+            depends="the profile's assumed barrel and knob",
+            source="computed; [woodhandbook]",
+        ),
     ]
 
 
@@ -96,52 +143,103 @@ def sweet_claims(sweet: Stats, flex: Stats | None) -> list[Claim]:
     """Where the sweet spot lies and how far its ball carries."""
     cmd = f"{FINDINGS} (section 1, answers.batting_region_cm / best_v1)"
     out = [
-        Claim(key="sweet.batting", statement="sweet spot, batting swings (cm from the end)",
-              value="{:.1f}-{:.1f}".format(*sweet["batting"]), command=cmd,
-              depends="bat rate 40-56 rad/s, pivot knob or hands, pitch 35-47 m/s; not e"),
-        Claim(key="sweet.all", statement="sweet spot, the paper's rates 12-48 rad/s (cm)",
-              value="{:.1f}-{:.1f}".format(*sweet["region"]), command=cmd,
-              depends="the slow 12 rad/s end sets the far edge"),
+        Claim(
+            key="sweet.batting",
+            statement="sweet spot, batting swings (cm from the end)",
+            value="{:.1f}-{:.1f}".format(*sweet["batting"]),
+            command=cmd,
+            depends="bat rate 40-56 rad/s, pivot knob or hands, pitch 35-47 m/s; not e",
+        ),
+        Claim(
+            key="sweet.all",
+            statement="sweet spot, the paper's rates 12-48 rad/s (cm)",
+            value="{:.1f}-{:.1f}".format(*sweet["region"]),
+            command=cmd,
+            depends="the slow 12 rad/s end sets the far edge",
+        ),
     ]
     for sc in A.SCENARIOS:
         best = C.sweet_spots(sc).best
-        out += [Claim(key=f"sweet.{sc.key}", statement=f"best point, {sc.label} (cm)",
-                      value=f"{sweet['best_cm'][sc.key]:.1f}", command=cmd,
-                      depends="swing, pitch; not e"),
-                Claim(key=f"carry.{sc.key}", statement=f"longest carry, {sc.label} (m; range: "
-                      "C_D +-10%, C_L +-20%)",
-                      value=ranged(best.carry_m, *C.best_carry_range_m(sc)),
-                      command=f"{FINDINGS} (section 3b)", depends="undercut, e, spin, drag, lift",
-                      source="computed; drag and lift [nathancalc]"),
-                Claim(key=f"carry.wide.{sc.key}", statement=f"best undercut, 30 mm / 2.61 in "
-                      f"barrel, {sc.label} (cm)", value=f"{100 * best.undercut_m:.2f} / "
-                      f"{100 * C.wide_barrel_best(sc).undercut_m:.2f}",
-                      command=f"{FINDINGS} (section 3b)", depends="the contact radius",
-                      source="computed; [rules]")]
+        out += [
+            Claim(
+                key=f"sweet.{sc.key}",
+                statement=f"best point, {sc.label} (cm)",
+                value=f"{sweet['best_cm'][sc.key]:.1f}",
+                command=cmd,
+                depends="swing, pitch; not e",
+            ),
+            Claim(
+                key=f"carry.{sc.key}",
+                statement=f"longest carry, {sc.label} (m; range: C_D +-10%, C_L +-20%)",
+                value=ranged(best.carry_m, *C.best_carry_range_m(sc)),
+                command=f"{FINDINGS} (section 3b)",
+                depends="undercut, e, spin, drag, lift",
+                source="computed; drag and lift [nathancalc]",
+            ),
+            Claim(
+                key=f"carry.wide.{sc.key}",
+                statement=f"best undercut, 30 mm / 2.61 in barrel, {sc.label} (cm)",
+                value=f"{100 * best.undercut_m:.2f} / "
+                f"{100 * C.wide_barrel_best(sc).undercut_m:.2f}",
+                command=f"{FINDINGS} (section 3b)",
+                depends="the contact radius",
+                source="computed; [rules]",
+            ),
+        ]
     share_cmd = f"{FINDINGS} (section 1, answers.russell_share)"
-    out += [Claim(key="sweet.share", statement="batting swings whose sweet spot is in Russell's "
-                  "range (fine grid)", value=f"{A.russell_share():.0%}", command=share_cmd,
-                  depends="the grid: the default one gives "
-                  f"{A.russell_share(fine=False):.0%}")]
-    gains = [C.pitch_optima(sc).curveball.carry_m - C.pitch_optima(sc).fastball.carry_m
-             for sc in A.SCENARIOS]
-    out += [Claim(key="curve.gain", statement="curveball carry over fastball (m): spin "
-                  "independence to rigid rolling", value=f"0 to {max(gains):+.1f}",
-                  command=f"{FINDINGS} (section 3b)", depends="outgoing spin's dependence on "
-                  "incoming", source="[nathan2012] [crossnathan2006]; rolling computed")]
-    if flex:
-        m, cmd = flex["models"], f"{FINDINGS} (section 3c, flex_models)"
-        out += [Claim(key="flex.node", statement="beam: first mode's barrel node (cm)",
-                      value=f"{m['node_cm'][0]:.1f}", command=cmd,
-                      depends="robust: not the ball, E +-20% moves it < 0.1 cm",
-                      source="computed; E, G [woodhandbook]"),
-                Claim(key="flex.peak", statement="beam: speed peak over two ball models (cm)",
-                      value="{:.0f}-{:.0f}".format(*m["peak_cm"]), command=cmd,
-                      depends="the ball's law (rate-dependent or not); E +-20%: 1 cm"),
-                Claim(key="flex.sign", statement="beam minus rigid bat at the peak (m/s), two "
-                      "ball models", value="{:+.1f} to {:+.1f}".format(*m["beam_minus_rigid"]),
-                      command=cmd, depends="the ball's law")]
-    return out
+    out += [
+        Claim(
+            key="sweet.share",
+            statement="batting swings whose sweet spot is in Russell's range (fine grid)",
+            value=f"{A.russell_share():.0%}",
+            command=share_cmd,
+            depends=f"the grid: the default one gives {A.russell_share(fine=False):.0%}",
+        )
+    ]
+    gains = [
+        C.pitch_optima(sc).curveball.carry_m - C.pitch_optima(sc).fastball.carry_m
+        for sc in A.SCENARIOS
+    ]
+    out += [
+        Claim(
+            key="curve.gain",
+            statement="curveball carry over fastball (m): spin independence to rigid rolling",
+            value=f"0 to {max(gains):+.1f}",
+            command=f"{FINDINGS} (section 3b)",
+            depends="outgoing spin's dependence on incoming",
+            source="[nathan2012] [crossnathan2006]; rolling computed",
+        )
+    ]
+    return out + (_flex_claims(flex) if flex else [])
+
+
+def _flex_claims(flex: Stats) -> list[Claim]:
+    """The flexible bat's: its first mode's node, its speed peak, its sign against the rigid."""
+    m, cmd = flex["models"], f"{FINDINGS} (section 3c, flex_models)"
+    return [
+        Claim(
+            key="flex.node",
+            statement="beam: first mode's barrel node (cm)",
+            value=f"{m['node_cm'][0]:.1f}",
+            command=cmd,
+            depends="robust: not the ball, E +-20% moves it < 0.1 cm",
+            source="computed; E, G [woodhandbook]",
+        ),
+        Claim(
+            key="flex.peak",
+            statement="beam: speed peak over two ball models (cm)",
+            value="{:.0f}-{:.0f}".format(*m["peak_cm"]),
+            command=cmd,
+            depends="the ball's law (rate-dependent or not); E +-20%: 1 cm",
+        ),
+        Claim(
+            key="flex.sign",
+            statement="beam minus rigid bat at the peak (m/s), two ball models",
+            value="{:+.1f} to {:+.1f}".format(*m["beam_minus_rigid"]),
+            command=cmd,
+            depends="the ball's law",
+        ),
+    ]
 
 
 def cork_claims(cork: Stats) -> list[Claim]:
@@ -160,22 +258,48 @@ def cork_claims(cork: Stats) -> list[Claim]:
     for i, sc in enumerate(A.SCENARIOS):
         row, k = v.iloc[i], sc.key
         out += [
-            Claim(key=f"cork.n027.{k}", statement=f"cork v1 change at n = 0.27, {sc.label} "
-                  "(range: ash's density)", value=gain(i, "gain at n = 0.27 (m/s)"),
-                  command=cmd, depends=dep),
-            Claim(key=f"cork.n05.{k}", statement=f"cork v1 change at n = 0.5, {sc.label}",
-                  value=gain(i, "gain at n = 0.5 (m/s)"), command=cmd, depends=dep),
-            Claim(key=f"cork.even.{k}", statement=f"cork break-even n, {sc.label}",
-                  value=f"{row['break-even n']:.2f}", command=cmd,
-                  depends=f"{dep}: moves it < 0.002"),
-            Claim(key=f"cork.same.{k}", statement=f"cork, same swing (n = 0), {sc.label}",
-                  value=gain(i, "gain, same swing (n = 0, m/s)"), command=cmd, depends=dep),
-            Claim(key=f"cork.carry027.{k}", statement=f"cork carry change, n = 0.27, {sc.label}",
-                  value=_carry_change(k, cork_bat, 'measured'), command=cmd,
-                  depends=f"{RIGID}, drag and lift"),
-            Claim(key=f"cork.carry05.{k}", statement=f"cork carry change, n = 0.5, {sc.label}",
-                  value=_carry_change(k, cork_bat, 'constant_torque'), command=cmd,
-                  depends=f"{RIGID}, drag and lift"),
+            Claim(
+                key=f"cork.n027.{k}",
+                statement=f"cork v1 change at n = 0.27, {sc.label} (range: ash's density)",
+                value=gain(i, "gain at n = 0.27 (m/s)"),
+                command=cmd,
+                depends=dep,
+            ),
+            Claim(
+                key=f"cork.n05.{k}",
+                statement=f"cork v1 change at n = 0.5, {sc.label}",
+                value=gain(i, "gain at n = 0.5 (m/s)"),
+                command=cmd,
+                depends=dep,
+            ),
+            Claim(
+                key=f"cork.even.{k}",
+                statement=f"cork break-even n, {sc.label}",
+                value=f"{row['break-even n']:.2f}",
+                command=cmd,
+                depends=f"{dep}: moves it < 0.002",
+            ),
+            Claim(
+                key=f"cork.same.{k}",
+                statement=f"cork, same swing (n = 0), {sc.label}",
+                value=gain(i, "gain, same swing (n = 0, m/s)"),
+                command=cmd,
+                depends=dep,
+            ),
+            Claim(
+                key=f"cork.carry027.{k}",
+                statement=f"cork carry change, n = 0.27, {sc.label}",
+                value=_carry_change(k, cork_bat, "measured"),
+                command=cmd,
+                depends=f"{RIGID}, drag and lift",
+            ),
+            Claim(
+                key=f"cork.carry05.{k}",
+                statement=f"cork carry change, n = 0.5, {sc.label}",
+                value=_carry_change(k, cork_bat, "constant_torque"),
+                command=cmd,
+                depends=f"{RIGID}, drag and lift",
+            ),
         ]
     return out
 
@@ -190,32 +314,65 @@ def metal_claims(metal: Stats) -> list[Claim]:
         eq = b[b["metal bat"] == "33 in, 30 oz"].iloc[0]
         pair = M.gain_over_wood(metal["tables"][k], "measured")
         out += [
-            Claim(key=f"metal.equal027.{k}", statement=f"33 in 30 oz metal - R161, n = 0.27, "
-                  f"{sc.label}", value=f"{eq['gain over wood, measured (m/s)']:+.2f}",
-                  command=cmd, depends=dep),
-            Claim(key=f"metal.equal05.{k}", statement=f"33 in 30 oz metal - R161, n = 0.5, "
-                  f"{sc.label}", value=f"{eq['gain over wood, constant_torque (m/s)']:+.2f}",
-                  command=cmd, depends=dep),
-            Claim(key=f"metal.pair027.{k}", statement=f"paper's 31 in metal - R161, n = 0.27, "
-                  f"{sc.label}", value=f"{pair:+.2f}", command=cmd, depends=dep),
-            Claim(key=f"metal.carry027.{k}", statement=f"33 in metal carry change, n = 0.27, "
-                  f"{sc.label}", value=_carry_change(k, M.EQUAL_LENGTH, 'measured'),
-                  command=cmd, depends=f"{dep}, drag and lift"),
-            Claim(key=f"metal.carry05.{k}", statement=f"33 in metal carry change, n = 0.5, "
-                  f"{sc.label}",
-                  value=_carry_change(k, M.EQUAL_LENGTH, 'constant_torque'),
-                  command=cmd, depends=f"{dep}, drag and lift"),
-            Claim(key=f"metal.match.{k}", statement=f"metal J_cm for wood's sweet spot, "
-                  f"n = 0.27, {sc.label} (% of a rod)",
-                  value=f"{metal['match'][(k, 'measured')]:.0%}", command=cmd,
-                  depends="rigid model without a COR varying along the barrel"),
+            Claim(
+                key=f"metal.equal027.{k}",
+                statement=f"33 in 30 oz metal - R161, n = 0.27, {sc.label}",
+                value=f"{eq['gain over wood, measured (m/s)']:+.2f}",
+                command=cmd,
+                depends=dep,
+            ),
+            Claim(
+                key=f"metal.equal05.{k}",
+                statement=f"33 in 30 oz metal - R161, n = 0.5, {sc.label}",
+                value=f"{eq['gain over wood, constant_torque (m/s)']:+.2f}",
+                command=cmd,
+                depends=dep,
+            ),
+            Claim(
+                key=f"metal.pair027.{k}",
+                statement=f"paper's 31 in metal - R161, n = 0.27, {sc.label}",
+                value=f"{pair:+.2f}",
+                command=cmd,
+                depends=dep,
+            ),
+            Claim(
+                key=f"metal.carry027.{k}",
+                statement=f"33 in metal carry change, n = 0.27, {sc.label}",
+                value=_carry_change(k, M.EQUAL_LENGTH, "measured"),
+                command=cmd,
+                depends=f"{dep}, drag and lift",
+            ),
+            Claim(
+                key=f"metal.carry05.{k}",
+                statement=f"33 in metal carry change, n = 0.5, {sc.label}",
+                value=_carry_change(k, M.EQUAL_LENGTH, "constant_torque"),
+                command=cmd,
+                depends=f"{dep}, drag and lift",
+            ),
+            Claim(
+                key=f"metal.match.{k}",
+                statement=f"metal J_cm for wood's sweet spot, n = 0.27, {sc.label} (% of a rod)",
+                value=f"{metal['match'][(k, 'measured')]:.0%}",
+                command=cmd,
+                depends="rigid model without a COR varying along the barrel",
+            ),
         ]
-    out += [Claim(key="metal.lively", statement="what e = 0.55-0.60 adds (what-if) (m/s)",
-                  value="{:.1f}-{:.1f}".format(*metal["lively"]), command=cmd,
-                  depends="e is an input here; BBCOR caps it at 0.50 [ncaa]"),
-            Claim(key="metal.lively_carry", statement="what e = 0.55-0.60 adds to the carry "
-                  "(what-if) (m)", value="{:.0f}-{:.0f}".format(*_lively_carry()), command=cmd,
-                  depends="e is an input here; drag and lift")]
+    out += [
+        Claim(
+            key="metal.lively",
+            statement="what e = 0.55-0.60 adds (what-if) (m/s)",
+            value="{:.1f}-{:.1f}".format(*metal["lively"]),
+            command=cmd,
+            depends="e is an input here; BBCOR caps it at 0.50 [ncaa]",
+        ),
+        Claim(
+            key="metal.lively_carry",
+            statement="what e = 0.55-0.60 adds to the carry (what-if) (m)",
+            value="{:.0f}-{:.0f}".format(*_lively_carry()),
+            command=cmd,
+            depends="e is an input here; drag and lift",
+        ),
+    ]
     return out
 
 
@@ -230,32 +387,62 @@ def ball_claims(stats: Stats) -> list[Claim]:
     e_lo, e_hi = stats["regime_cor"]
     dep, src = "the assumed speed dependence", "assumption through [mlbcor] [nathan2000]"
     return [
-        Claim(key="ball.cor60", statement="the ball's COR at 60 m/s (range: COR_LAWS)",
-              value=ranged(stats["cor_60"], *stats["cor_60_range"]), command=cmd, depends=dep,
-              source=src),
-        Claim(key="ball.regime", statement="the COR at the swings' closing speeds, "
-              "{:.0f}-{:.0f} m/s (range)".format(*stats["regime_mps"]),
-              value="{:.2f}-{:.2f} ({:.2f}-{:.2f})".format(e_lo, e_hi, *stats["regime_range"]),
-              command=cmd, depends=dep, source=src),
-        Claim(key="ball.gap", statement="rigid (e = 0.5) minus realistic ball, along the "
-              "barrel (m/s; over COR_LAWS)", value=f"{lo:+.1f} to {hi:+.1f} ({r_lo:+.0f} to "
-              f"{r_hi:+.0f})", command=cmd, depends=dep),
+        Claim(
+            key="ball.cor60",
+            statement="the ball's COR at 60 m/s (range: COR_LAWS)",
+            value=ranged(stats["cor_60"], *stats["cor_60_range"]),
+            command=cmd,
+            depends=dep,
+            source=src,
+        ),
+        Claim(
+            key="ball.regime",
+            statement="the COR at the swings' closing speeds, {:.0f}-{:.0f} m/s (range)".format(
+                *stats["regime_mps"]
+            ),
+            value="{:.2f}-{:.2f} ({:.2f}-{:.2f})".format(e_lo, e_hi, *stats["regime_range"]),
+            command=cmd,
+            depends=dep,
+            source=src,
+        ),
+        Claim(
+            key="ball.gap",
+            statement="rigid (e = 0.5) minus realistic ball, along the barrel (m/s; over COR_LAWS)",
+            value=f"{lo:+.1f} to {hi:+.1f} ({r_lo:+.0f} to {r_hi:+.0f})",
+            command=cmd,
+            depends=dep,
+        ),
     ]
 
 
 def paper_claims() -> list[Claim]:
     """The paper's reaction times, recomputed from its own numbers."""
     cmd = f"{FINDINGS} (section 5)"
-    return [Claim(key=f"paper.t{v}", statement=f"18.44 m / {v} m/s (the paper's time, s)",
-                  value=f"{18.44 / v:.3f}", command=cmd, depends="the paper's speed",
-                  source="the paper") for v in (42.59, 38.57)]
+    return [
+        Claim(
+            key=f"paper.t{v}",
+            statement=f"18.44 m / {v} m/s (the paper's time, s)",
+            value=f"{18.44 / v:.3f}",
+            command=cmd,
+            depends="the paper's speed",
+            source="the paper",
+        )
+        for v in (42.59, 38.57)
+    ]
 
 
-def collect(sweet: Stats, cork: Stats, metal: Stats, ball: Stats,
-            flex: Stats | None = None) -> list[Claim]:
+def collect(
+    sweet: Stats, cork: Stats, metal: Stats, ball: Stats, flex: Stats | None = None
+) -> list[Claim]:
     """Every claim, inputs first."""
-    return (input_claims() + sweet_claims(sweet, flex) + cork_claims(cork)
-            + metal_claims(metal) + ball_claims(ball) + paper_claims())
+    return (
+        input_claims()
+        + sweet_claims(sweet, flex)
+        + cork_claims(cork)
+        + metal_claims(metal)
+        + ball_claims(ball)
+        + paper_claims()
+    )
 
 
 def value(claims: list[Claim], key: str) -> str:
@@ -265,9 +452,19 @@ def value(claims: list[Claim], key: str) -> str:
 
 def referee_section(claims: list[Claim]) -> str:
     """Every claim with its command, what it depends on, and its source."""
-    table = pd.DataFrame([{"claim": c.statement, "value": c.value, "key": f"`{c.key}`",
-                           "command": c.command, "depends on": c.depends, "source": c.source}
-                          for c in claims])
+    table = pd.DataFrame(
+        [
+            {
+                "claim": c.statement,
+                "value": c.value,
+                "key": f"`{c.key}`",
+                "command": c.command,
+                "depends on": c.depends,
+                "source": c.source,
+            }
+            for c in claims
+        ]
+    )
     return f"""## Referee: every number, its command, its sensitivity, its source
 
 Every number the short answers (and the README's findings) quote is one of these;
@@ -281,44 +478,45 @@ engine's agreement with them (section 6) confirms the arithmetic, not the physic
 
 def short_answers_text(claims: list[Claim]) -> str:
     """One paragraph per question, quoting claims only (and the inputs they rest on)."""
+
     def v(key: str) -> str:
         return value(claims, key)
 
     return f"""**Short answers** (model results; the referee section gives each number's command,
 what it depends on and its source):
-- **Sweet spot**: in a rigid-bat model the best point moves with the swing: {v('sweet.batting')} cm
-  from the barrel end for batting swings ({v('sweet.share')} of them inside Russell's
-  {v('input.russell')} cm; the MLB-like swing: {v('sweet.mlb')} cm, its best ball carrying
-  {v('carry.mlb')} m over the drag and lift spread); slower swings put it farther out
-  ({v('sweet.all')} cm down to 12 rad/s; the paper's swing {v('sweet.paper')} cm,
-  {v('carry.paper')} m). On a flexible R161 the first mode's node lies {v('flex.node')} cm from
-  the end whatever the ball; the fastest point, {v('flex.peak')} cm, and whether the beam beats a
-  rigid bat ({v('flex.sign')} m/s) depend on the ball's law (section 3c). A curveball carries
-  {v('curve.gain')} m farther than a fastball at the same speed (section 3b).
-- **Corking** ({v('input.cork')} cork fill, rigid model, e = {v('input.e')}): the answer depends
+- **Sweet spot**: in a rigid-bat model the best point moves with the swing: {v("sweet.batting")} cm
+  from the barrel end for batting swings ({v("sweet.share")} of them inside Russell's
+  {v("input.russell")} cm; the MLB-like swing: {v("sweet.mlb")} cm, its best ball carrying
+  {v("carry.mlb")} m over the drag and lift spread); slower swings put it farther out
+  ({v("sweet.all")} cm down to 12 rad/s; the paper's swing {v("sweet.paper")} cm,
+  {v("carry.paper")} m). On a flexible R161 the first mode's node lies {v("flex.node")} cm from
+  the end whatever the ball; the fastest point, {v("flex.peak")} cm, and whether the beam beats a
+  rigid bat ({v("flex.sign")} m/s) depend on the ball's law (section 3c). A curveball carries
+  {v("curve.gain")} m farther than a fastball at the same speed (section 3b).
+- **Corking** ({v("input.cork")} cork fill, rigid model, e = {v("input.e")}): the answer depends
   on how much faster the lighter bat is swung (speed ~ I_knob^-n). At the measured
-  n = {v('input.n')}, in wood of {v('input.wood')} kg/m^3 (ranges: ash's densities; carries:
-  drag and lift), it changes v1 by {v('cork.n027.paper')} m/s (paper's swing; carry
-  {v('cork.carry027.paper')} m) and {v('cork.n027.mlb')} m/s (MLB-like; {v('cork.carry027.mlb')} m);
-  at constant torque (n = {v('input.torque')}) by {v('cork.n05.paper')} m/s
-  ({v('cork.carry05.paper')} m) and {v('cork.n05.mlb')} m/s ({v('cork.carry05.mlb')} m). It pays
-  only above n = {v('cork.even.paper')} (paper's swing) or {v('cork.even.mlb')} (MLB-like); with
-  the same swing (n = 0) it changes v1 by {v('cork.same.paper')} / {v('cork.same.mlb')} m/s.
-- **Metal bats** (rigid model; the metal bat's J_cm and COM are unsourced): at e = {v('input.e')}
-  a metal bat of the R161's length at BBCOR's drop -3 ({v('input.equal')}) changes v1 by
-  {v('metal.equal027.paper')} / {v('metal.equal027.mlb')} m/s at n = {v('input.n')} (paper's /
-  MLB-like swing; carry {v('metal.carry027.paper')} / {v('metal.carry027.mlb')} m) and by
-  {v('metal.equal05.paper')} / {v('metal.equal05.mlb')} m/s at constant torque (carry
-  {v('metal.carry05.paper')} / {v('metal.carry05.mlb')} m); the paper's
-  31 in bat's {v('metal.pair027.paper')} / {v('metal.pair027.mlb')} m/s is mostly its shorter
-  length. A livelier collision gains more: what-if e = 0.55-0.60 adds {v('metal.lively')} m/s
-  ({v('metal.lively_carry')} m of carry), and BBCOR caps e at 0.50 [ncaa].
+  n = {v("input.n")}, in wood of {v("input.wood")} kg/m^3 (ranges: ash's densities; carries:
+  drag and lift), it changes v1 by {v("cork.n027.paper")} m/s (paper's swing; carry
+  {v("cork.carry027.paper")} m) and {v("cork.n027.mlb")} m/s (MLB-like; {v("cork.carry027.mlb")} m);
+  at constant torque (n = {v("input.torque")}) by {v("cork.n05.paper")} m/s
+  ({v("cork.carry05.paper")} m) and {v("cork.n05.mlb")} m/s ({v("cork.carry05.mlb")} m). It pays
+  only above n = {v("cork.even.paper")} (paper's swing) or {v("cork.even.mlb")} (MLB-like); with
+  the same swing (n = 0) it changes v1 by {v("cork.same.paper")} / {v("cork.same.mlb")} m/s.
+- **Metal bats** (rigid model; the metal bat's J_cm and COM are unsourced): at e = {v("input.e")}
+  a metal bat of the R161's length at BBCOR's drop -3 ({v("input.equal")}) changes v1 by
+  {v("metal.equal027.paper")} / {v("metal.equal027.mlb")} m/s at n = {v("input.n")} (paper's /
+  MLB-like swing; carry {v("metal.carry027.paper")} / {v("metal.carry027.mlb")} m) and by
+  {v("metal.equal05.paper")} / {v("metal.equal05.mlb")} m/s at constant torque (carry
+  {v("metal.carry05.paper")} / {v("metal.carry05.mlb")} m); the paper's
+  31 in bat's {v("metal.pair027.paper")} / {v("metal.pair027.mlb")} m/s is mostly its shorter
+  length. A livelier collision gains more: what-if e = 0.55-0.60 adds {v("metal.lively")} m/s
+  ({v("metal.lively_carry")} m of carry), and BBCOR caps e at 0.50 [ncaa].
 - **The ball**: no speed-resolved COR could be read, so its fall with speed is an assumption:
-  from {v('input.cor')} at 85 ft/s as v^-p, p = {v('input.cor_exponent')}, it is
-  {v('ball.regime')} at the swings' closing speeds. Rigid theory at e = {v('input.e')} lies
-  {v('ball.gap')} m/s above it along the barrel: the sign rests on the assumption (section 4).
+  from {v("input.cor")} at 85 ft/s as v^-p, p = {v("input.cor_exponent")}, it is
+  {v("ball.regime")} at the swings' closing speeds. Rigid theory at e = {v("input.e")} lies
+  {v("ball.gap")} m/s above it along the barrel: the sign rests on the assumption (section 4).
 - **The paper**: its corked-bat inertia cannot be checked (lost minus signs); its oblique
   rebound angle and its metal-bat speed do not follow from its data; its reaction times follow
-  from its own speeds ({v('paper.t42.59')} and {v('paper.t38.57')} s) and inherit their errors;
+  from its own speeds ({v("paper.t42.59")} and {v("paper.t38.57")} s) and inherit their errors;
   its v ~ F/M contradicts its own log spiral (section 5).
 """

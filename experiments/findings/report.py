@@ -30,13 +30,13 @@ MPH = 0.44704  # m/s
 
 def md_table(df: pd.DataFrame, floatfmt: str = "{:.3f}") -> str:
     """A pandas frame as a GitHub markdown table."""
+
     def cell(v: Any) -> str:
         if isinstance(v, float):
             return "n/a" if math.isnan(v) else floatfmt.format(v)
         return str(v)
 
-    lines = ["| " + " | ".join(map(str, df.columns)) + " |",
-             "|" + "---|" * len(df.columns)]
+    lines = ["| " + " | ".join(map(str, df.columns)) + " |", "|" + "---|" * len(df.columns)]
     lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in df.itertuples(index=False)]
     return "\n".join(lines)
 
@@ -59,8 +59,11 @@ def ranged(value: float, lo: float, hi: float, fmt: str = "") -> str:
 
     def cut(x: float) -> str:
         x = round(x, digits)
-        return f"{x:{fmt if x else ''}.{max(digits, 0)}f}".replace("-0.", "0.") if not x \
+        return (
+            f"{x:{fmt if x else ''}.{max(digits, 0)}f}".replace("-0.", "0.")
+            if not x
             else f"{x:{fmt}.{max(digits, 0)}f}"
+        )
 
     sep = " to " if fmt or lo < 0 else "-"
     return f"{cut(value)} ({cut(lo)}{sep}{cut(hi)})"
@@ -77,6 +80,7 @@ def along_the_barrel(ax: Axes, title: str) -> None:
 
 
 # -- head ----------------------------------------------------------------------------------------
+
 
 def head_section(commit: str, engines: tuple[str, ...], short_answers: str) -> str:
     """The title, what the report rests on, and the short answers."""
@@ -101,93 +105,134 @@ the arithmetic, not the physics.
 
 # -- 5. audit ------------------------------------------------------------------------------------
 
+
 def audit_section(sweet: Stats, cork: Stats) -> str:
     """Section 5: each claim of the paper, our verdict, and our value."""
     n = A.audit_numbers()
-    rows = (_audit_model_rows(n, sweet["region"]) + _audit_cork_rows(n, cork["verdicts"].iloc[0])
-            + _audit_metal_rows(n))
+    rows = (
+        _audit_model_rows(n, sweet["region"])
+        + _audit_cork_rows(n, cork["verdicts"].iloc[0])
+        + _audit_metal_rows(n)
+    )
     table = pd.DataFrame(rows, columns=["the paper's claim", "verdict", "our value and why"])
     return "## 5. Audit of the paper\n\n" + md_table(table) + "\n"
 
 
-def _audit_model_rows(n: dict[str, float],
-                      region_cm: tuple[float, float]) -> list[tuple[str, str, str]]:
+def _audit_model_rows(
+    n: dict[str, float], region_cm: tuple[float, float]
+) -> list[tuple[str, str, str]]:
     """The audit's rows on the impact model: COP, sweet spot, oblique impact."""
     end = A.R161.s_barrel_end_m
     lo_cm, hi_cm = region_cm
     return [
-        ("COP: s - d = J/(M d) for a pivot at the hands (eq. 5.2.2)", "reproduced",
-         f"formula right; R161, hands 0.1 m: COP {n['cop_m'] * 1e3:.1f} mm from the COM, "
-         f"{(end - n['cop_m']) * 100:.1f} cm from the end. The paper's own bat table "
-         "(0.055 / 0.057 m) lost its data in the text and cannot be rechecked."),
-        ("Sweet spot at most 0.118 m from the COM (v_r 40.2-64.77 m/s, omega0 12-32 rad/s)",
-         "reproduced within 5 mm",
-         f"{n['region_max_m'] * 1e3:.1f} mm with a 0.145 kg ball, "
-         f"{n['region_light_max_m'] * 1e3:.1f} mm with the paper's 0.14 kg: at most "
-         f"{(end - n['region_max_m']) * 100:.1f} cm from the barrel end, so not the end"),
-        ("The sweet spot is a region, not a point", "reproduced",
-         f"{n['region_min_m'] * 1e3:.0f}-{n['region_max_m'] * 1e3:.0f} mm over the paper's "
-         f"ranges; {lo_cm:.1f}-{hi_cm:.1f} cm from the end for swings from the hands"),
-        ("omega0 = 0 puts the sweet spot at the COM; faster pitches move it toward the COM",
-         "reproduced", "s* = 0 exactly at omega0 = 0; ds*/dA < 0 (tests check both)"),
-        ("Oblique impact: the ball leaves at its incoming angle theta", "corrected",
-         f"frictionless: the tangential velocity is kept and the normal one reversed with e, so "
-         f"theta = 20 deg leaves at {math.degrees(n['oblique_theta1_rad']):.1f} deg (s = 0.1 m, "
-         f"the paper's swing) with {n['oblique_speed_mps']:.2f} m/s; the paper's eq. 6.4.2 "
-         f"gives {n['oblique_paper_v1_mps']:.2f} m/s, adding a tangential impulse "
-         "m(v0+v1) r sin theta that a frictionless contact cannot give"),
+        (
+            "COP: s - d = J/(M d) for a pivot at the hands (eq. 5.2.2)",
+            "reproduced",
+            f"formula right; R161, hands 0.1 m: COP {n['cop_m'] * 1e3:.1f} mm from the COM, "
+            f"{(end - n['cop_m']) * 100:.1f} cm from the end. The paper's own bat table "
+            "(0.055 / 0.057 m) lost its data in the text and cannot be rechecked.",
+        ),
+        (
+            "Sweet spot at most 0.118 m from the COM (v_r 40.2-64.77 m/s, omega0 12-32 rad/s)",
+            "reproduced within 5 mm",
+            f"{n['region_max_m'] * 1e3:.1f} mm with a 0.145 kg ball, "
+            f"{n['region_light_max_m'] * 1e3:.1f} mm with the paper's 0.14 kg: at most "
+            f"{(end - n['region_max_m']) * 100:.1f} cm from the barrel end, so not the end",
+        ),
+        (
+            "The sweet spot is a region, not a point",
+            "reproduced",
+            f"{n['region_min_m'] * 1e3:.0f}-{n['region_max_m'] * 1e3:.0f} mm over the paper's "
+            f"ranges; {lo_cm:.1f}-{hi_cm:.1f} cm from the end for swings from the hands",
+        ),
+        (
+            "omega0 = 0 puts the sweet spot at the COM; faster pitches move it toward the COM",
+            "reproduced",
+            "s* = 0 exactly at omega0 = 0; ds*/dA < 0 (tests check both)",
+        ),
+        (
+            "Oblique impact: the ball leaves at its incoming angle theta",
+            "corrected",
+            f"frictionless: the tangential velocity is kept and the normal one reversed with e, so "
+            f"theta = 20 deg leaves at {math.degrees(n['oblique_theta1_rad']):.1f} deg (s = 0.1 m, "
+            f"the paper's swing) with {n['oblique_speed_mps']:.2f} m/s; the paper's eq. 6.4.2 "
+            f"gives {n['oblique_paper_v1_mps']:.2f} m/s, adding a tangential impulse "
+            "m(v0+v1) r sin theta that a frictionless contact cannot give",
+        ),
     ]
 
 
 def _audit_cork_rows(n: dict[str, float], v: pd.Series) -> list[tuple[str, str, str]]:
     """The audit's rows on corked bats and the paper's swing."""
     return [
-        ("Corked bat: J' = J + (M + dM) R^2 + dJ0 (eq. 7.1.4)", "cannot be verified",
-         "the text extraction drops minus signs. Read as printed, its J' is "
-         f"{n['cork_J_paper']:.5f} against the exact {n['cork_J_exact']:.5f} kg m^2 "
-         f"({(n['cork_J_paper'] / n['cork_J_exact'] - 1) * 100:+.2f}%, 1 x 10 in cork); if the "
-         "paper subtracts (M + dM) R^2, its only error is the dropped dM r^2/4 of the hole's "
-         f"cylinder ({n['cork_J_if_subtracted_pct']:+.4f}%)"),
-        ("'Corking enhances the sweet spot effect' (batted speed up)", "holds only in its model",
-         f"{v['gain, u0 ~ 1/M (paper, m/s)']:+.2f} m/s under its u0 ~ 1/M swing; corking breaks "
-         f"even at swing speed ~ I_knob^-{v['break-even n']:.2f} and loses "
-         f"{-v['gain at n = 0.27 (m/s)']:.2f} m/s at the measured n = 0.27 [crossbower]; the "
-         "measured drop in collision efficiency agrees with the model [nathan2011]"),
-        ("v ~ F/M for the bat's COM (eq. 8.1.5)", "does not follow (missed by the first audit)",
-         "the paper's own log-spiral swing gives v = sqrt(R F / M), not F/M; with "
-         f"u0 ~ M^-1/2 at its omega0, the 1 x 10 in cork bat gains "
-         f"{v['gain, u0 ~ M^-1/2 (its log spiral, m/s)']:+.2f} m/s: its corking conclusion "
-         "fails inside its own model"),
-        ("u0 = 17.87 m/s with omega0 = 32 rad/s", "consistent with measurement",
-         f"together they mean the bat turns about a point {n['pivot_from_knob_m'] * 1e3:.1f} mm "
-         "from the knob, which is where measured swings put the bat's instantaneous rotation "
-         f"axis at impact [nathan2011se]; a swing about the hands (0.1 m) at 32 rad/s would give "
-         f"u0 = {n['hands_u0_mps']:.2f} m/s (`python -m experiments.sweep --swing` simulates it)"),
+        (
+            "Corked bat: J' = J + (M + dM) R^2 + dJ0 (eq. 7.1.4)",
+            "cannot be verified",
+            "the text extraction drops minus signs. Read as printed, its J' is "
+            f"{n['cork_J_paper']:.5f} against the exact {n['cork_J_exact']:.5f} kg m^2 "
+            f"({(n['cork_J_paper'] / n['cork_J_exact'] - 1) * 100:+.2f}%, 1 x 10 in cork); if the "
+            "paper subtracts (M + dM) R^2, its only error is the dropped dM r^2/4 of the hole's "
+            f"cylinder ({n['cork_J_if_subtracted_pct']:+.4f}%)",
+        ),
+        (
+            "'Corking enhances the sweet spot effect' (batted speed up)",
+            "holds only in its model",
+            f"{v['gain, u0 ~ 1/M (paper, m/s)']:+.2f} m/s under its u0 ~ 1/M swing; corking breaks "
+            f"even at swing speed ~ I_knob^-{v['break-even n']:.2f} and loses "
+            f"{-v['gain at n = 0.27 (m/s)']:.2f} m/s at the measured n = 0.27 [crossbower]; the "
+            "measured drop in collision efficiency agrees with the model [nathan2011]",
+        ),
+        (
+            "v ~ F/M for the bat's COM (eq. 8.1.5)",
+            "does not follow (missed by the first audit)",
+            "the paper's own log-spiral swing gives v = sqrt(R F / M), not F/M; with "
+            f"u0 ~ M^-1/2 at its omega0, the 1 x 10 in cork bat gains "
+            f"{v['gain, u0 ~ M^-1/2 (its log spiral, m/s)']:+.2f} m/s: its corking conclusion "
+            "fails inside its own model",
+        ),
+        (
+            "u0 = 17.87 m/s with omega0 = 32 rad/s",
+            "consistent with measurement",
+            f"together they mean the bat turns about a point {n['pivot_from_knob_m'] * 1e3:.1f} mm "
+            "from the knob, which is where measured swings put the bat's instantaneous rotation "
+            "axis at impact [nathan2011se]; a swing about the hands (0.1 m) at 32 rad/s would "
+            "give "
+            f"u0 = {n['hands_u0_mps']:.2f} m/s (`python -m experiments.sweep --swing` simulates "
+            "it)",
+        ),
     ]
 
 
 def _audit_metal_rows(n: dict[str, float]) -> list[tuple[str, str, str]]:
     """The audit's rows on metal bats."""
     return [
-        ("Metal 42.59 m/s vs wood 38.57 m/s at the sweet spot", "not reproduced",
-         f"with the paper's data and swing (u0 = {n['al_u0_mps']:.2f} m/s for the 0.794 kg bat, "
-         f"omega0 = 32 rad/s, e = 0.5): aluminium {n['al_v1_mps']:.2f}, wood "
-         f"{n['wood_v1_mps']:.2f} m/s (the paper's 0.14 kg ball gives "
-         f"{n['wood_v1_light_ball_mps']:.2f} for wood, near its 38.57). Reaching 42.59 needs "
-         f"e = {n['e_needed']:.3f} for the metal bat (a trampoline effect it never states) or a "
-         f"J_cm {n['J_ratio_needed']:.1f} times its 70 lb in^2"),
-        ("Time to the pitcher 0.433 s (metal) vs 0.478 s (wood)",
-         "follows from its speeds; inherits their error",
-         f"18.44 m / 42.59 m/s = {18.44 / 42.59:.3f} s and 18.44 m / 38.57 m/s = "
-         f"{18.44 / 38.57:.3f} s: right for its own speeds and distance. The times inherit the "
-         "metal speed that does not follow from its data (above) and the 18.44 m to the rubber, "
-         "where the pitcher releases about 16.5 m from the plate [mlbrelease]. With our v1 "
-         f"and drag, to 16.5 m: {_to_pitcher(n['al_v1_mps']):.3f} s (metal) vs "
-         f"{_to_pitcher(n['wood_v1_mps']):.3f} s (wood) (section 3)"),
-        ("A lighter bat is swung faster, so metal bats are more dangerous", "model-dependent",
-         "at equal e the aluminium bat is faster off the bat only under u0 ~ 1/M; the "
-         "measured differences between wood and metal come from faster swings and a livelier "
-         "collision [crisco2002], and the rules cap both (section 3)"),
+        (
+            "Metal 42.59 m/s vs wood 38.57 m/s at the sweet spot",
+            "not reproduced",
+            f"with the paper's data and swing (u0 = {n['al_u0_mps']:.2f} m/s for the 0.794 kg bat, "
+            f"omega0 = 32 rad/s, e = 0.5): aluminium {n['al_v1_mps']:.2f}, wood "
+            f"{n['wood_v1_mps']:.2f} m/s (the paper's 0.14 kg ball gives "
+            f"{n['wood_v1_light_ball_mps']:.2f} for wood, near its 38.57). Reaching 42.59 needs "
+            f"e = {n['e_needed']:.3f} for the metal bat (a trampoline effect it never states) or a "
+            f"J_cm {n['J_ratio_needed']:.1f} times its 70 lb in^2",
+        ),
+        (
+            "Time to the pitcher 0.433 s (metal) vs 0.478 s (wood)",
+            "follows from its speeds; inherits their error",
+            f"18.44 m / 42.59 m/s = {18.44 / 42.59:.3f} s and 18.44 m / 38.57 m/s = "
+            f"{18.44 / 38.57:.3f} s: right for its own speeds and distance. The times inherit the "
+            "metal speed that does not follow from its data (above) and the 18.44 m to the rubber, "
+            "where the pitcher releases about 16.5 m from the plate [mlbrelease]. With our v1 "
+            f"and drag, to 16.5 m: {_to_pitcher(n['al_v1_mps']):.3f} s (metal) vs "
+            f"{_to_pitcher(n['wood_v1_mps']):.3f} s (wood) (section 3)",
+        ),
+        (
+            "A lighter bat is swung faster, so metal bats are more dangerous",
+            "model-dependent",
+            "at equal e the aluminium bat is faster off the bat only under u0 ~ 1/M; the "
+            "measured differences between wood and metal come from faster swings and a livelier "
+            "collision [crisco2002], and the rules cap both (section 3)",
+        ),
     ]
 
 
@@ -200,12 +245,14 @@ def _to_pitcher(v1_mps: float) -> float:
 
 # -- 6. engines ----------------------------------------------------------------------------------
 
+
 def engine_section(checks: pd.DataFrame, engines: tuple[str, ...]) -> str:
     """Section 6: every engine's headline impacts judged by the harness."""
     if not engines:
         return "## 6. The engines\n\nNo engine was run.\n"
-    detail = checks[["swing", "bat", "swing model", "engine", "v1_analytic_mps", "v1_engine_mps",
-                     "status"]]
+    detail = checks[
+        ["swing", "bat", "swing model", "engine", "v1_analytic_mps", "v1_engine_mps", "status"]
+    ]
     return f"""## 6. The engines
 
 Each headline impact of sections 2 and 3 (the 1 x 10 in cork bat and the aluminium bat at
@@ -231,7 +278,8 @@ def _own_law_text(summary: pd.DataFrame) -> str:
         f"{r[4]:.1f} m/s from rigid theory: its ok says the engine computes its law right, not "
         "that the law is the ball's; the rigid-contact engines' ok says the same of the rigid "
         "model, whose e = 0.5 and rigid bat only measurements can judge (sections 3c, 4).\n"
-        for r in own.itertuples(index=False))
+        for r in own.itertuples(index=False)
+    )
 
 
 def _engine_summary(checks: pd.DataFrame, engines: tuple[str, ...]) -> pd.DataFrame:
@@ -241,11 +289,15 @@ def _engine_summary(checks: pd.DataFrame, engines: tuple[str, ...]) -> pd.DataFr
         d = checks[checks.engine == name]
         law = d.v1_law_err_mps.notna().any()
         err = (d.v1_law_err_mps if law else d.v1_abs_err_mps).abs()
-        rows.append({"engine": name,
-                     "judged against": "its own contact law" if law else "rigid theory",
-                     "ok": f"{int((d.status == Status.OK).sum())}/{len(d)}",
-                     "worst abs(v1 - reference) (m/s)": float(err.max()),
-                     "v1 - rigid theory, worst (m/s)": float(d.v1_abs_err_mps.abs().max())})
+        rows.append(
+            {
+                "engine": name,
+                "judged against": "its own contact law" if law else "rigid theory",
+                "ok": f"{int((d.status == Status.OK).sum())}/{len(d)}",
+                "worst abs(v1 - reference) (m/s)": float(err.max()),
+                "v1 - rigid theory, worst (m/s)": float(d.v1_abs_err_mps.abs().max()),
+            }
+        )
     return pd.DataFrame(rows)
 
 

@@ -50,8 +50,9 @@ def r161_chain(segments: int) -> Chain:
 
 
 def impact(segments: int, x_m: float) -> ChainImpact:
-    return ChainImpact(chain=r161_chain(segments), ball=presets.BASEBALL, x_m=x_m,
-                       v0_mps=V0_MPS, e=presets.E_WOOD)
+    return ChainImpact(
+        chain=r161_chain(segments), ball=presets.BASEBALL, x_m=x_m, v0_mps=V0_MPS, e=presets.E_WOOD
+    )
 
 
 @cache
@@ -76,8 +77,9 @@ def accuracy_rows(names, tick=lambda n: None) -> list[dict]:
     return rows
 
 
-def stability_rows(names, step_body_s: dict, steps_s=MAP_STEPS_S, segments=MAP_SEGMENTS,
-                   tick=lambda n: None) -> list[dict]:
+def stability_rows(
+    names, step_body_s: dict, steps_s=MAP_STEPS_S, segments=MAP_SEGMENTS, tick=lambda n: None
+) -> list[dict]:
     """MAP_POINT_M at every N and dt, the reference profile otherwise (cells over the budget
     are rows too, 'unsupported'); ``step_body_s``: per engine, its wall time per step and
     body (s); ``tick(1)`` after each cell."""
@@ -102,7 +104,12 @@ def _map_cell(name: str, segments: int, dt_s: float, step_body_s: float) -> dict
     episode_s = 2e-3 + 2 * np.pi / lowest
     cost = step_body_s * (segments + 1) * episode_s / dt_s
     if cost > MAP_BUDGET_S:
-        return {"engine": name, "segments": segments, "dt_s": dt_s, "x_m": MAP_POINT_M,
-                "status": Status.UNSUPPORTED.value,
-                "why": f"over the map's budget ({cost:.0f} s est.)"}
+        return {
+            "engine": name,
+            "segments": segments,
+            "dt_s": dt_s,
+            "x_m": MAP_POINT_M,
+            "status": Status.UNSUPPORTED.value,
+            "why": f"over the map's budget ({cost:.0f} s est.)",
+        }
     return fire(name, adapters.settings_for(name, dt_s=dt_s), segments, MAP_POINT_M)

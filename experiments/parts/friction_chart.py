@@ -14,8 +14,10 @@ from ..core.io import figure_png
 FLOOR = 1e-9
 PANELS = (("spin", "spin"), ("tangential", "tangential velocity"))
 UNITS = {"spin": "(rad/s) / (rad/s)", "tangential": "(m/s) / (m/s)"}
-CASES = (("in the swing plane (theta 0-0.4 rad)", lambda df: df.undercut_m == 0.0),
-         ("undercut 1-3 cm (theta 0-0.4 rad)", lambda df: df.undercut_m != 0.0))
+CASES = (
+    ("in the swing plane (theta 0-0.4 rad)", lambda df: df.undercut_m == 0.0),
+    ("undercut 1-3 cm (theta 0-0.4 rad)", lambda df: df.undercut_m != 0.0),
+)
 
 
 def render(table: pd.DataFrame) -> bytes:
@@ -36,9 +38,11 @@ def render(table: pd.DataFrame) -> bytes:
             handles.append(h)
             labels.append(lab)
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
-    fig.suptitle("Friction at impact: the ball's spin and tangential speed against Routh's "
-                 "impulse (paper's swing, e = 0.5; largest over 3 impact points and the angles)",
-                 fontsize=10)
+    fig.suptitle(
+        "Friction at impact: the ball's spin and tangential speed against Routh's "
+        "impulse (paper's swing, e = 0.5; largest over 3 impact points and the angles)",
+        fontsize=10,
+    )
     fig.tight_layout(rect=(0, 0.2, 1, 0.96))
     png = figure_png(fig)
     plt.close(fig)
@@ -57,11 +61,23 @@ def _panel(ax, df: pd.DataFrame, what: str, label: str, title: str) -> None:
         ax.text(0.5, 0.5, "no 3-D engine", transform=ax.transAxes, ha="center")
         return
     gap = df.groupby("mu")[f"law_{what}_rel_gap"].max()
-    ax.plot(gap.index, np.maximum(gap.values, FLOOR), "k--", lw=2, zorder=5,
-            label="the engines' one-step law vs Routh (the law's own gap)")
+    ax.plot(
+        gap.index,
+        np.maximum(gap.values, FLOOR),
+        "k--",
+        lw=2,
+        zorder=5,
+        label="the engines' one-step law vs Routh (the law's own gap)",
+    )
     for (name, family), part in df.groupby(["engine", "family"], sort=False):
         rec = adapters.record(name)
         err = part.groupby("mu")[f"{what}_rel_err"].max()
-        ax.plot(err.index, np.maximum(err.values, FLOOR), rec.look.marker,
-                ls="-" if family == "reference" else ":", color=rec.look.color, mfc="none",
-                label=name if family == "reference" else f"{name}, {family}")
+        ax.plot(
+            err.index,
+            np.maximum(err.values, FLOOR),
+            rec.look.marker,
+            ls="-" if family == "reference" else ":",
+            color=rec.look.color,
+            mfc="none",
+            label=name if family == "reference" else f"{name}, {family}",
+        )

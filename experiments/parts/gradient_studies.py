@@ -45,13 +45,13 @@ FIT_STOP = 1e-3
 FIT_MAX_ITERATIONS = 30
 
 
-def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method: str,
-               steps: int) -> dict:
+def sweet_spot(
+    name: str, settings: adapters.Settings, base: ImpactCase, method: str, steps: int
+) -> dict:
     """The root of the engine's dv1/ds (by ``method``) near the closed form's sweet spot,
     with the distance its gradient tolerance allows: tol(dv1/ds) / |d2v1/ds2|."""
     bat = base.bat
-    want = float(impact.sweet_spot(bat, base.ball, base.v0_mps, base.u0_mps,
-                                   base.omega0_radps))
+    want = float(impact.sweet_spot(bat, base.ball, base.v0_mps, base.u0_mps, base.omega0_radps))
     law = contact_law(name, settings, base)
     if law is not None:  # its law's own sweet spot
         want = _law_sweet_spot(name, settings, base, want)
@@ -65,15 +65,26 @@ def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method:
         return float(finite_differences(name, settings, [c], "s_m")[0]["value"])
 
     at, errors = moved(base, "s_m", want), adapters.record(name).errors
-    tol = (autodiff_tolerance(at, settings, errors, "s_m") if method == "autodiff"
-           else fd_step(at, settings, name, "s_m")[1])
+    tol = (
+        autodiff_tolerance(at, settings, errors, "s_m")
+        if method == "autodiff"
+        else fd_step(at, settings, name, "s_m")[1]
+    )
     k = 1e-4
-    curvature = abs(analytic(moved(at, "s_m", want + k), "s_m")
-                    - analytic(moved(at, "s_m", want - k), "s_m")) / (2 * k)
-    row = {"engine": name, "method": method, "reference_m": want,
-           "reference": "rigid impulse" if law is None else type(law).__name__,
-           "tolerance_m": tol / curvature, "found_m": math.nan, "evaluations": 0,
-           "status": GradStatus.UNSUPPORTED.value, "why": ""}
+    curvature = abs(
+        analytic(moved(at, "s_m", want + k), "s_m") - analytic(moved(at, "s_m", want - k), "s_m")
+    ) / (2 * k)
+    row = {
+        "engine": name,
+        "method": method,
+        "reference_m": want,
+        "reference": "rigid impulse" if law is None else type(law).__name__,
+        "tolerance_m": tol / curvature,
+        "found_m": math.nan,
+        "evaluations": 0,
+        "status": GradStatus.UNSUPPORTED.value,
+        "why": "",
+    }
     lo, hi = max(want - SEARCH_M, bat.s_min_m + 1e-3), min(want + SEARCH_M, bat.s_max_m - 1e-3)
     t0 = time.perf_counter()
     g_lo, g_hi = slope(lo), slope(hi)
@@ -81,30 +92,38 @@ def sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase, method:
         row["why"] = "no autodiff" if method == "autodiff" else "non-finite gradient"
         return row
     if g_lo * g_hi > 0:
-        return row | {"status": GradStatus.BIASED.value,
-                      "why": f"dv1/ds keeps its sign over [{lo:.3f}, {hi:.3f}] m"}
+        return row | {
+            "status": GradStatus.BIASED.value,
+            "why": f"dv1/ds keeps its sign over [{lo:.3f}, {hi:.3f}] m",
+        }
     try:
         found = optimize.brentq(slope, lo, hi, xtol=1e-7)
     except (ValueError, RuntimeError) as err:  # a NaN met on the way, or no convergence
         return row | {"status": GradStatus.NON_FINITE.value, "why": f"root search: {err}"}
     ok = abs(found - want) <= row["tolerance_m"]
-    return row | {"found_m": found, "evaluations": calls[0],
-                  "cost_s": time.perf_counter() - t0,
-                  "status": (GradStatus.OK if ok else GradStatus.BIASED).value}
+    return row | {
+        "found_m": found,
+        "evaluations": calls[0],
+        "cost_s": time.perf_counter() - t0,
+        "status": (GradStatus.OK if ok else GradStatus.BIASED).value,
+    }
 
 
-def _law_sweet_spot(name: str, settings: adapters.Settings, base: ImpactCase,
-                    near_m: float) -> float:
+def _law_sweet_spot(
+    name: str, settings: adapters.Settings, base: ImpactCase, near_m: float
+) -> float:
     """The root of a soft contact law's dv1/ds (central differences of its v1 over the
     engine's step) near the rigid sweet spot."""
+
     def slope(s: float) -> float:
         c = moved(base, "s_m", s)
         h = fd_step(c, settings, name, "s_m")[0]
-        return (law_v1(name, settings, moved(c, "s_m", s + h))
-                - law_v1(name, settings, moved(c, "s_m", s - h))) / (2 * h)
+        return (
+            law_v1(name, settings, moved(c, "s_m", s + h))
+            - law_v1(name, settings, moved(c, "s_m", s - h))
+        ) / (2 * h)
 
-    return float(optimize.brentq(slope, near_m - SEARCH_M / 2, near_m + SEARCH_M / 2,
-                                 xtol=1e-7))
+    return float(optimize.brentq(slope, near_m - SEARCH_M / 2, near_m + SEARCH_M / 2, xtol=1e-7))
 
 
 def soft_bias(name: str, base: ImpactCase, steps_for, quick: bool = False) -> list[dict]:
@@ -115,14 +134,25 @@ def soft_bias(name: str, base: ImpactCase, steps_for, quick: bool = False) -> li
     rows = []
     for w in STIFFNESSES_RADPS[2:3] if quick else STIFFNESSES_RADPS:
         for k in RESOLUTIONS[1:2] if quick else RESOLUTIONS:
-            st = adapters.settings_for(name, **dict(rec.can.soft_contact),
-                                       **{rec.can.stiffness_setting: w, "dt_s": k / w})
+            st = adapters.settings_for(
+                name, **dict(rec.can.soft_contact), **{rec.can.stiffness_setting: w, "dt_s": k / w}
+            )
             v1, g, _, why = autodiff(name, st, [base], "s_m", steps_for(st))
             truth = analytic(base, "s_m")
-            rows.append({"engine": name, "stiffness_radps": w, "omega_dt": k, "dt_s": k / w,
-                         "v1_mps": float(v1[0]), "v1_rigid_mps": rigid_v1(base),
-                         "value": float(g[0]), "analytic": truth,
-                         "bias": float(g[0]) - truth, "why": why})
+            rows.append(
+                {
+                    "engine": name,
+                    "stiffness_radps": w,
+                    "omega_dt": k,
+                    "dt_s": k / w,
+                    "v1_mps": float(v1[0]),
+                    "v1_rigid_mps": rigid_v1(base),
+                    "value": float(g[0]),
+                    "analytic": truth,
+                    "bias": float(g[0]) - truth,
+                    "why": why,
+                }
+            )
     return rows
 
 
@@ -139,19 +169,33 @@ def least_squares_j(base: ImpactCase, s: np.ndarray, v1: np.ndarray) -> dict:
     t0 = time.perf_counter()
 
     def residual(j):
-        return [rigid_v1(moved(moved(base, "s_m", x), "bat_inertia_kgm2", j[0])) - y
-                for x, y in zip(s, v1)]
+        return [
+            rigid_v1(moved(moved(base, "s_m", x), "bat_inertia_kgm2", j[0])) - y
+            for x, y in zip(s, v1)
+        ]
 
     fit = optimize.least_squares(residual, [FIT_START * base.bat.inertia_cm_kgm2])
     j = float(fit.x[0])
-    slopes = [analytic(moved(moved(base, "s_m", x), "bat_inertia_kgm2", j), "bat_inertia_kgm2")
-              for x in s]
-    return {"j_kgm2": j, "sigma_kgm2": FIT_NOISE_MPS / math.sqrt(np.sum(np.square(slopes))),
-            "evaluations": int(fit.nfev), "cost_s": time.perf_counter() - t0}
+    slopes = [
+        analytic(moved(moved(base, "s_m", x), "bat_inertia_kgm2", j), "bat_inertia_kgm2") for x in s
+    ]
+    return {
+        "j_kgm2": j,
+        "sigma_kgm2": FIT_NOISE_MPS / math.sqrt(np.sum(np.square(slopes))),
+        "evaluations": int(fit.nfev),
+        "cost_s": time.perf_counter() - t0,
+    }
 
 
-def descend_j(name: str, settings: adapters.Settings, base: ImpactCase, s: np.ndarray,
-              v1: np.ndarray, sigma_kgm2: float, steps: int) -> dict:
+def descend_j(
+    name: str,
+    settings: adapters.Settings,
+    base: ImpactCase,
+    s: np.ndarray,
+    v1: np.ndarray,
+    sigma_kgm2: float,
+    steps: int,
+) -> dict:
     """J by gradient descent through the engine's own derivative: each iteration builds the
     bat with the current J, takes v1 and dv1/dJ at every point in one call, and steps by
     -sum(r g) / sum(g^2) (the Gauss-Newton step length) until the step is below FIT_STOP of
@@ -174,5 +218,11 @@ def descend_j(name: str, settings: adapters.Settings, base: ImpactCase, s: np.nd
         j += step
         if abs(step) < FIT_STOP * sigma_kgm2:
             break
-    return {"engine": name, "j_kgm2": j, "iterations": len(path),
-            "cost_s": time.perf_counter() - t0, "path": path, "why": ""}
+    return {
+        "engine": name,
+        "j_kgm2": j,
+        "iterations": len(path),
+        "cost_s": time.perf_counter() - t0,
+        "path": path,
+        "why": "",
+    }

@@ -23,6 +23,7 @@ def _plt():
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 
@@ -33,8 +34,15 @@ def along_the_bat(table: pd.DataFrame, cases) -> object:
     fig, (a, b) = plt.subplots(1, 2, figsize=(13, 7.5))
     c0 = cases[0]
     s = np.linspace(min(c.s_m for c in cases), max(c.s_m for c in cases), 200)
-    exact = derivatives(c0.bat, c0.ball, s_m=s, v0_mps=c0.v0_mps, u0_mps=c0.u0_mps,
-                        omega0_radps=c0.omega0_radps, e=c0.e)["v1_mps"]["s_m"]
+    exact = derivatives(
+        c0.bat,
+        c0.ball,
+        s_m=s,
+        v0_mps=c0.v0_mps,
+        u0_mps=c0.u0_mps,
+        omega0_radps=c0.omega0_radps,
+        e=c0.e,
+    )["v1_mps"]["s_m"]
     a.plot(s, exact, "k-", lw=2.5, label="closed form", zorder=1)
     rows = table[(table.input == "s_m") & (table.status != GradStatus.UNSUPPORTED)]
     groups = list(rows.groupby(["engine", "method"], sort=False))
@@ -58,8 +66,11 @@ def along_the_bat(table: pd.DataFrame, cases) -> object:
     b.set_title(f"error (drawn at {FLOOR:g} where below)", fontsize=10)
     handles, labels = b.get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8, frameon=False)
-    fig.suptitle("Gradients through the impact, each engine at its reference profile (R161, "
-                 "paper's swing, e = 0.5)", fontsize=11)
+    fig.suptitle(
+        "Gradients through the impact, each engine at its reference profile (R161, "
+        "paper's swing, e = 0.5)",
+        fontsize=11,
+    )
     fig.tight_layout(rect=(0, 0.17, 1, 1))
     return fig
 
@@ -73,16 +84,24 @@ def bias(table: pd.DataFrame) -> object:
     for name, df in table.groupby("engine", sort=False):
         look = adapters.record(name).look
         for k, (res, d) in enumerate(df.groupby("omega_dt")):
-            ax.plot(d.stiffness_radps, np.maximum(d.bias.abs(), FLOOR), look.marker,
-                    ls=styles[k % 3], color=look.color, mfc="none" if k else look.color,
-                    label=f"{name}, omega dt = {res:g}")
+            ax.plot(
+                d.stiffness_radps,
+                np.maximum(d.bias.abs(), FLOOR),
+                look.marker,
+                ls=styles[k % 3],
+                color=look.color,
+                mfc="none" if k else look.color,
+                label=f"{name}, omega dt = {res:g}",
+            )
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("soft contact's stiffness: natural frequency omega (rad/s)")
     ax.set_ylabel("|autodiff dv1/ds - rigid closed form| ((m/s)/m)")
     point = table.analytic.iloc[0]
-    ax.set_title(f"A soft contact's gradient is a smoothed impact's (closed form {point:.2f} "
-                 "(m/s)/m)", fontsize=10)
+    ax.set_title(
+        f"A soft contact's gradient is a smoothed impact's (closed form {point:.2f} (m/s)/m)",
+        fontsize=10,
+    )
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
@@ -91,26 +110,40 @@ def bias(table: pd.DataFrame) -> object:
 def fit_text(fit: dict) -> str:
     """The J fit in a few lines."""
     ls, true = fit["least_squares"], fit["true_j_kgm2"]
-    lines = [f"J of the R161 from {len(fit['points_m'])} exit speeds with "
-             f"{fit['noise_mps']:g} m/s noise: true {true:.6f} kg m^2; closed-form least "
-             f"squares {ls['j_kgm2']:.6f} +- {ls['sigma_kgm2']:.6f} ({ls['cost_s']:.3f} s)"]
+    lines = [
+        f"J of the R161 from {len(fit['points_m'])} exit speeds with "
+        f"{fit['noise_mps']:g} m/s noise: true {true:.6f} kg m^2; closed-form least "
+        f"squares {ls['j_kgm2']:.6f} +- {ls['sigma_kgm2']:.6f} ({ls['cost_s']:.3f} s)"
+    ]
     for d in fit["descent"]:
         if d["why"]:
             lines.append(f"  {d['engine']}: {d['why']}")
             continue
-        lines.append(f"  descent through {d['engine']}: {d['j_kgm2']:.6f} kg m^2 in "
-                     f"{d['iterations']} iterations ({d['cost_s']:.2f} s), "
-                     f"{d['j_kgm2'] - ls['j_kgm2']:+.2e} from the least-squares fit")
+        lines.append(
+            f"  descent through {d['engine']}: {d['j_kgm2']:.6f} kg m^2 in "
+            f"{d['iterations']} iterations ({d['cost_s']:.2f} s), "
+            f"{d['j_kgm2'] - ls['j_kgm2']:+.2e} from the least-squares fit"
+        )
     return "\n".join(lines)
 
 
-def page(summary: pd.DataFrame, sweet: pd.DataFrame, bias_rows: pd.DataFrame, fit: dict,
-         points: int) -> str:
+def page(
+    summary: pd.DataFrame, sweet: pd.DataFrame, bias_rows: pd.DataFrame, fit: dict, points: int
+) -> str:
     """gradients.md: the statuses, the sweet spots, the soft contact's bias and the J fit."""
-    sweet = sweet.assign(off_mm=1e3 * (sweet.found_m - sweet.reference_m),
-                         tolerance_mm=1e3 * sweet.tolerance_m)
-    cols = ["engine", "method", "reference", "reference_m", "found_m", "off_mm",
-            "tolerance_mm", "status"]
+    sweet = sweet.assign(
+        off_mm=1e3 * (sweet.found_m - sweet.reference_m), tolerance_mm=1e3 * sweet.tolerance_m
+    )
+    cols = [
+        "engine",
+        "method",
+        "reference",
+        "reference_m",
+        "found_m",
+        "off_mm",
+        "tolerance_mm",
+        "status",
+    ]
     parts = [
         "# Gradients through the impact\n",
         "Written by `python -m experiments.gradients` (the command's docstring says how each "
@@ -120,9 +153,13 @@ def page(summary: pd.DataFrame, sweet: pd.DataFrame, bias_rows: pd.DataFrame, fi
         md_table(summary, lambda v: f"{v:.3g}"),
         "\n## The sweet spot as the root of each engine's dv1/ds\n",
         md_table(sweet[cols], lambda v: f"{v:.6g}"),
-        "\n## The J fit\n", "```\n" + fit_text(fit) + "\n```"]
+        "\n## The J fit\n",
+        "```\n" + fit_text(fit) + "\n```",
+    ]
     if len(bias_rows):
         cols = ["engine", "stiffness_radps", "omega_dt", "value", "analytic", "bias"]
-        parts += ["\n## A soft contact's gradient ([chart](gradients_bias.png))\n",
-                  md_table(bias_rows[cols], lambda v: f"{v:.4g}")]
+        parts += [
+            "\n## A soft contact's gradient ([chart](gradients_bias.png))\n",
+            md_table(bias_rows[cols], lambda v: f"{v:.4g}"),
+        ]
     return "\n".join(parts) + "\n"

@@ -31,8 +31,12 @@ from analytic import presets
 from ..core import firings, tables
 
 #: name -> sweep options: the still, swing and hinged reference grids, and the swing at defaults.
-GRIDS = {"still": ["--u0", "0", "--omega0", "0"], "swing": [], "hinged": ["--swing"],
-         "swing, default": ["--profile", "default"]}
+GRIDS = {
+    "still": ["--u0", "0", "--omega0", "0"],
+    "swing": [],
+    "hinged": ["--swing"],
+    "swing, default": ["--profile", "default"],
+}
 POINTS = 11
 #: The row columns kept per impact (``history_rows.csv``).
 COLUMNS = ("s_m", "status", "err_mps", "tol_mps", "wall_s")
@@ -47,12 +51,22 @@ def firing(grid: str) -> tuple[firings.Firing, str]:
 
     a = sweep_options.build_parser().parse_args(["--points", str(POINTS), *GRIDS[grid]])
     bat = presets.R161
-    swing = (HingedSwing.for_omega(bat, a.omega0, hands_from_knob_m=a.hands,
-                                   angle_rad=a.swing_angle) if a.swing else None)
+    swing = (
+        HingedSwing.for_omega(bat, a.omega0, hands_from_knob_m=a.hands, angle_rad=a.swing_angle)
+        if a.swing
+        else None
+    )
     u0 = a.omega0 * swing.arm_m(bat) if swing else a.u0
-    return firings.Firing(bat=bat, s_m=firings.grid(bat, POINTS), v0_mps=a.v0, u0_mps=u0,
-                         omega0_radps=a.omega0, e=a.e, hands_from_knob_m=a.hands,
-                         swing=swing), a.profile
+    return firings.Firing(
+        bat=bat,
+        s_m=firings.grid(bat, POINTS),
+        v0_mps=a.v0,
+        u0_mps=u0,
+        omega0_radps=a.omega0,
+        e=a.e,
+        hands_from_knob_m=a.hands,
+        swing=swing,
+    ), a.profile
 
 
 def grid_rows(name: str, grid: str) -> list[dict]:
@@ -61,14 +75,23 @@ def grid_rows(name: str, grid: str) -> list[dict]:
 
     f, profile = firing(grid)
     with Runner() as runner:
-        table = tables.table(runner.fire(f.jobs(name, adapters.settings_for(name, profile))),
-                             profile)
+        table = tables.table(
+            runner.fire(f.jobs(name, adapters.settings_for(name, profile))), profile
+        )
     law = table.v1_law_tol_mps.notna()
     err = np.where(law, table.v1_law_err_mps, table.v1_abs_err_mps)
     tol = np.where(law, table.v1_law_tol_mps, table.v1_tol_mps)
-    return [{"grid": grid, "s_m": float(s), "status": str(st), "err_mps": float(e),
-             "tol_mps": float(t), "wall_s": float(w)}
-            for s, st, e, t, w in zip(table.s_m, table.status, err, tol, table.wall_s)]
+    return [
+        {
+            "grid": grid,
+            "s_m": float(s),
+            "status": str(st),
+            "err_mps": float(e),
+            "tol_mps": float(t),
+            "wall_s": float(w),
+        }
+        for s, st, e, t, w in zip(table.s_m, table.status, err, tol, table.wall_s)
+    ]
 
 
 def checks(name: str) -> list[dict]:
@@ -81,11 +104,12 @@ def checks(name: str) -> list[dict]:
     try:
         hosted(name, adapters.settings_for(name)).batch(scene, 1)
     except adapters.MissingFeature as err:
-        return [{"check": c, "passed": False, "detail": f"not run: {err}"}
-                for c in check.applicable(name)]
+        return [
+            {"check": c, "passed": False, "detail": f"not run: {err}"}
+            for c in check.applicable(name)
+        ]
     report = check.check_engine(name)
-    return [{"check": r.name, "passed": r.passed, "detail": r.detail[:300]}
-            for r in report.results]
+    return [{"check": r.name, "passed": r.passed, "detail": r.detail[:300]} for r in report.results]
 
 
 def defaults(name: str) -> dict:
@@ -103,9 +127,12 @@ def _guarded(out: dict, key: str, fn, *args) -> None:
 
 def probe(name: str) -> dict:
     rec = adapters.record(name)
-    out = {"engine": name, "python": platform.python_version(),
-           "version": metadata.version(rec.install.package),
-           "numpy": metadata.version("numpy")}
+    out = {
+        "engine": name,
+        "python": platform.python_version(),
+        "version": metadata.version(rec.install.package),
+        "numpy": metadata.version("numpy"),
+    }
     try:
         adapters.engine_class(name)
     except Exception as err:  # an import that fails: the release is not one the adapter drives
@@ -127,9 +154,14 @@ SHAPE = {"rows": list, "checks": list, "defaults": dict, "errors": dict, "not_dr
 #: The keys of each of its rows, and of each check.
 ROW_KEYS, CHECK_KEYS = ("grid", *COLUMNS), ("check", "passed", "detail")
 #: What each of a row's values may be (JSON null: an impact that measured nothing).
-ROW_KINDS = {"grid": (str,), "s_m": (float, int), "status": (str,),
-             "err_mps": (float, int, type(None)), "tol_mps": (float, int, type(None)),
-             "wall_s": (float, int, type(None))}
+ROW_KINDS = {
+    "grid": (str,),
+    "s_m": (float, int),
+    "status": (str,),
+    "err_mps": (float, int, type(None)),
+    "tol_mps": (float, int, type(None)),
+    "wall_s": (float, int, type(None)),
+}
 
 
 def fault(result: object) -> str | None:
@@ -151,14 +183,23 @@ def fault(result: object) -> str | None:
     for i, row in enumerate(result.get("rows", [])):
         for column, kinds in ROW_KINDS.items():
             if type(row[column]) not in kinds:  # (bool is no number here)
-                return (f"its rows item {i + 1} has {column} a JSON "
-                        f"{_json_kind(row[column])}, not {_json_kind(kinds[0]())}")
+                return (
+                    f"its rows item {i + 1} has {column} a JSON "
+                    f"{_json_kind(row[column])}, not {_json_kind(kinds[0]())}"
+                )
     return None
 
 
 def _json_kind(value: object) -> str:
-    return {dict: "object", list: "list", str: "string", bool: "true/false", int: "number",
-            float: "number", type(None): "null"}.get(type(value), type(value).__name__)
+    return {
+        dict: "object",
+        list: "list",
+        str: "string",
+        bool: "true/false",
+        int: "number",
+        float: "number",
+        type(None): "null",
+    }.get(type(value), type(value).__name__)
 
 
 def main(argv: list[str] | None = None) -> int:

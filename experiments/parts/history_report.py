@@ -16,17 +16,34 @@ from ..core.judge import Status
 from ..parts.history_probe import GRIDS
 
 #: Statuses of impacts the engine stepped (not refused before a step): their wall time is a cost.
-STEPPED = tuple(str(s) for s in Status
-                if s not in (Status.UNSUPPORTED, Status.ERROR, Status.TIMEOUT))
+STEPPED = tuple(
+    str(s) for s in Status if s not in (Status.UNSUPPORTED, Status.ERROR, Status.TIMEOUT)
+)
 #: A check that did not run: the release lacks a feature the reference profile needs (its
 #: impacts said so), or the check was not run for that reason.
 LACKING = rf"in this release|\b{Status.UNSUPPORTED}\b|^not run"
 
 
 #: history.csv's columns: a release's, then a grid's (blank for a release not judged).
-SUMMARY = ["engine", "release", "state", "version", "numpy", "extras", "python", "checks_passed",
-           "checks_failed", "checks_not_run", "grid", "impacts", "ok", "statuses", "max_err_mps",
-           "cost_us_per_impact", "reason"]
+SUMMARY = [
+    "engine",
+    "release",
+    "state",
+    "version",
+    "numpy",
+    "extras",
+    "python",
+    "checks_passed",
+    "checks_failed",
+    "checks_not_run",
+    "grid",
+    "impacts",
+    "ok",
+    "statuses",
+    "max_err_mps",
+    "cost_us_per_impact",
+    "reason",
+]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -53,14 +70,28 @@ class Report:
         for r in results:
             self.order.setdefault(r["engine"], []).append(r["release"])
         head = ["engine", "release"]
-        self.rows = _frame([{"engine": r["engine"], "release": r["release"], **row}
-                            for r in results for row in r.get("rows", [])],
-                           head + ["grid", "s_m", "status", "err_mps", "tol_mps", "wall_s"])
-        self.checks = _frame([{"engine": r["engine"], "release": r["release"],
-                               "check": c["check"], "outcome": _outcome(c),
-                               "detail": c["detail"]} for r in results
-                              for c in r.get("checks", [])],
-                             head + ["check", "outcome", "detail"])
+        self.rows = _frame(
+            [
+                {"engine": r["engine"], "release": r["release"], **row}
+                for r in results
+                for row in r.get("rows", [])
+            ],
+            head + ["grid", "s_m", "status", "err_mps", "tol_mps", "wall_s"],
+        )
+        self.checks = _frame(
+            [
+                {
+                    "engine": r["engine"],
+                    "release": r["release"],
+                    "check": c["check"],
+                    "outcome": _outcome(c),
+                    "detail": c["detail"],
+                }
+                for r in results
+                for c in r.get("checks", [])
+            ],
+            head + ["check", "outcome", "detail"],
+        )
 
     def _result(self, engine: str, release: str) -> dict:
         return next(r for r in self.results if (r["engine"], r["release"]) == (engine, release))
@@ -69,33 +100,50 @@ class Report:
         """A row per release and grid (one row, with the reason, for a release not judged)."""
         out = []
         for r in self.results:
-            head = {"engine": r["engine"], "release": r["release"], "state": r["state"],
-                    "version": r.get("version", ""), "numpy": r.get("numpy", ""),
-                    "extras": r.get("extras", ""),
-                    "python": r.get("python", "")}
-            checks = self.checks[(self.checks.engine == r["engine"])
-                                 & (self.checks.release == r["release"])]
-            head |= {"checks_passed": int((checks.outcome == "passed").sum()),
-                     "checks_failed": int((checks.outcome == "failed").sum()),
-                     "checks_not_run": int((checks.outcome == "not run").sum())}
-            rows = self.rows[(self.rows.engine == r["engine"])
-                             & (self.rows.release == r["release"])]
+            head = {
+                "engine": r["engine"],
+                "release": r["release"],
+                "state": r["state"],
+                "version": r.get("version", ""),
+                "numpy": r.get("numpy", ""),
+                "extras": r.get("extras", ""),
+                "python": r.get("python", ""),
+            }
+            checks = self.checks[
+                (self.checks.engine == r["engine"]) & (self.checks.release == r["release"])
+            ]
+            head |= {
+                "checks_passed": int((checks.outcome == "passed").sum()),
+                "checks_failed": int((checks.outcome == "failed").sum()),
+                "checks_not_run": int((checks.outcome == "not run").sum()),
+            }
+            rows = self.rows[
+                (self.rows.engine == r["engine"]) & (self.rows.release == r["release"])
+            ]
             if rows.empty:
                 out.append({**head, "grid": "", "reason": r.get("reason", "")})
                 continue
             for grid, g in rows.groupby("grid", sort=False):
                 measured = g[g.status == Status.OK]  # as summary.md: errors over ok impacts
-                out.append({**head, "grid": grid, "impacts": len(g),
-                            "ok": int((g.status == Status.OK).sum()),
-                            "statuses": ", ".join(f"{k} {v}" for k, v in
-                                                  g.status.value_counts().items()),
-                            "max_err_mps": measured.err_mps.max() if len(measured) else math.nan,
-                            "cost_us_per_impact": g[g.status.isin(STEPPED)].wall_s.median() * 1e6,
-                            "reason": _reason(r, g)})
+                out.append(
+                    {
+                        **head,
+                        "grid": grid,
+                        "impacts": len(g),
+                        "ok": int((g.status == Status.OK).sum()),
+                        "statuses": ", ".join(
+                            f"{k} {v}" for k, v in g.status.value_counts().items()
+                        ),
+                        "max_err_mps": measured.err_mps.max() if len(measured) else math.nan,
+                        "cost_us_per_impact": g[g.status.isin(STEPPED)].wall_s.median() * 1e6,
+                        "reason": _reason(r, g),
+                    }
+                )
         return pd.DataFrame(out, columns=SUMMARY)  # every column, if no release was judged
 
     def changes(self, engine: str, before: str, after: str) -> list[Change]:
         """Everything that moved from ``before`` to ``after`` (a row each)."""
+
         def say(text: str, regression: bool = False) -> Change:
             return Change(engine=engine, release=after, text=text, regression=regression)
 
@@ -103,16 +151,20 @@ class Report:
         out = []
         if a["state"] != b["state"]:
             why = f": {b['reason']}" if b.get("reason") else ""
-            out.append(say(f"{a['state']} -> {b['state']}{why}"[:200],
-                           regression=a["state"] == "judged"))
+            out.append(
+                say(f"{a['state']} -> {b['state']}{why}"[:200], regression=a["state"] == "judged")
+            )
         out += [say(t, lost) for t, lost in self._row_changes(engine, before, after)]
         ca = self.checks[(self.checks.engine == engine) & (self.checks.release == before)]
         cb = self.checks[(self.checks.engine == engine) & (self.checks.release == after)]
         moved = cb.assign(was=cb.check.map(dict(zip(ca.check, ca.outcome))))
         moved = moved[moved.was.notna() & (moved.was != moved.outcome)]
         for (was, now), g in moved.groupby(["was", "outcome"], sort=False):
-            said = g.check.iloc[0] + f" ({g.detail.iloc[0][:120]})" if len(g) == 1 else \
-                f"{len(g)}: " + ", ".join(g.check)
+            said = (
+                g.check.iloc[0] + f" ({g.detail.iloc[0][:120]})"
+                if len(g) == 1
+                else f"{len(g)}: " + ", ".join(g.check)
+            )
             out.append(say(f"checks {was} -> {now}: {said}", regression=was == "passed"))
         da, db = a.get("defaults", {}), b.get("defaults", {})
         out += [say(f"default {k}: {da[k]} -> {db[k]}") for k in db if k in da and da[k] != db[k]]
@@ -128,18 +180,25 @@ class Report:
             return []  # nothing fired: the change of state says why
         both = ra.merge(rb, on=["grid", "s_m"], how="left", suffixes=("_a", "_b"))
         both["status_b"] = both.status_b.fillna("not fired")
-        both["moved"] = (abs(both.err_mps_b - both.err_mps_a)
-                         > both[["tol_mps_a", "tol_mps_b"]].max(axis=1))
+        both["moved"] = abs(both.err_mps_b - both.err_mps_a) > both[["tol_mps_a", "tol_mps_b"]].max(
+            axis=1
+        )
         out = []
-        for (grid, a, b), g in both.groupby(["grid", "status_a", "status_b"], sort=False,
-                                            dropna=False):
+        for (grid, a, b), g in both.groupby(
+            ["grid", "status_a", "status_b"], sort=False, dropna=False
+        ):
             if a != b:
                 out.append((f"{grid}: {_impacts(g)} {a} -> {b}{_worst(g)}", a == Status.OK))
                 continue
             moved = g[g.moved & (g.status_a == Status.OK)]
             for grew, m in moved.groupby(moved.err_mps_b > moved.err_mps_a):
-                out.append((f"{grid}: {_impacts(m)} ok, error {'grew' if grew else 'shrank'} "
-                            f"past its tolerance{_worst(m)}", bool(grew)))
+                out.append(
+                    (
+                        f"{grid}: {_impacts(m)} ok, error {'grew' if grew else 'shrank'} "
+                        f"past its tolerance{_worst(m)}",
+                        bool(grew),
+                    )
+                )
         return out
 
     def regressions(self, engine: str, reference: str, candidate: str) -> list[str]:
@@ -171,29 +230,58 @@ class Report:
         return f"no release could be judged ({first['engine']} {first['release']}: {why})"
 
     def all_changes(self) -> list[Change]:
-        return [c for engine, listed in self.order.items()
-                for a, b in zip(listed, listed[1:]) for c in self.changes(engine, a, b)]
+        return [
+            c
+            for engine, listed in self.order.items()
+            for a, b in zip(listed, listed[1:])
+            for c in self.changes(engine, a, b)
+        ]
 
     def files(self) -> dict[str, bytes]:
         summary, changes = self.summary(), self.all_changes()
-        files = {"history.csv": _csv(summary), "history_rows.csv": _csv(self.rows),
-                 "history_checks.csv": _csv(self.checks),
-                 "history.json": json_bytes({
-                     "grids": GRIDS, "changes": [c.__dict__ for c in changes],
-                     "defaults": {f"{r['engine']} {r['release']}": r.get("defaults", {})
-                                  for r in self.results},
-                     "errors": {f"{r['engine']} {r['release']}": r["errors"]
-                                for r in self.results if r.get("errors")},
-                     "provenance": provenance()}),
-                 "history.md": page(summary, changes).encode()}
+        files = {
+            "history.csv": _csv(summary),
+            "history_rows.csv": _csv(self.rows),
+            "history_checks.csv": _csv(self.checks),
+            "history.json": json_bytes(
+                {
+                    "grids": GRIDS,
+                    "changes": [c.__dict__ for c in changes],
+                    "defaults": {
+                        f"{r['engine']} {r['release']}": r.get("defaults", {}) for r in self.results
+                    },
+                    "errors": {
+                        f"{r['engine']} {r['release']}": r["errors"]
+                        for r in self.results
+                        if r.get("errors")
+                    },
+                    "provenance": provenance(),
+                }
+            ),
+            "history.md": page(summary, changes).encode(),
+        }
         for engine in self.order:
             files[f"history_{engine}.png"] = chart(summary[summary.engine == engine], changes)
         return files
 
     def text(self) -> str:
         s = self.summary()
-        cols = [c for c in ("engine", "release", "state", "grid", "ok", "impacts", "max_err_mps",
-                            "cost_us_per_impact", "checks_passed", "checks_failed") if c in s]
+        cols = [
+            c
+            for c in (
+                "engine",
+                "release",
+                "state",
+                "grid",
+                "ok",
+                "impacts",
+                "max_err_mps",
+                "cost_us_per_impact",
+                "checks_passed",
+                "checks_failed",
+            )
+            if c in s
+        ]
         return s[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}")
 
 
@@ -205,8 +293,12 @@ def unjudged(result: dict) -> str | None:
         return f"{result['state']}: {result.get('reason', '')}"[:300]
     if result.get("rows") or result.get("checks"):
         return None
-    last = [ln for e in (result.get("errors") or {}).values() for ln in str(e).splitlines()
-            if ln.strip()][-1:]
+    last = [
+        ln
+        for e in (result.get("errors") or {}).values()
+        for ln in str(e).splitlines()
+        if ln.strip()
+    ][-1:]
     return "its probe judged no impact and no check" + (f" ({last[0][:200]})" if last else "")
 
 
@@ -243,26 +335,37 @@ def _csv(df: pd.DataFrame) -> bytes:
 
 def page(summary: pd.DataFrame, changes: list[Change]) -> str:
     """history.md: per engine, a table of its releases and what moved at each."""
-    lines = ["# Each engine's agreement with theory, release by release", "",
-             "Made by `python -m experiments.history` (its docstring says what is fired). A row "
-             "per release: for each grid the impacts `ok` (within the judge's tolerance of the "
-             "answer that applies) and the largest error among them; the conformance "
-             "checks passed / failed / not run (the release lacks a feature the reference "
-             "profile needs); the cost of an impact on the swing grid. **Marked** releases "
-             "moved (listed below the table); a verdict or check lost is a regression.", ""]
+    lines = [
+        "# Each engine's agreement with theory, release by release",
+        "",
+        "Made by `python -m experiments.history` (its docstring says what is fired). A row "
+        "per release: for each grid the impacts `ok` (within the judge's tolerance of the "
+        "answer that applies) and the largest error among them; the conformance "
+        "checks passed / failed / not run (the release lacks a feature the reference "
+        "profile needs); the cost of an impact on the swing grid. **Marked** releases "
+        "moved (listed below the table); a verdict or check lost is a regression.",
+        "",
+    ]
     grids = list(GRIDS)
     for engine, df in summary.groupby("engine", sort=False):
         marked = {c.release for c in changes if c.engine == engine}
-        lines += [f"## {engine}", "", f"![{engine} across releases](history_{engine}.png)", "",
-                  "| release | " + " | ".join(f"{g}: ok, max error (m/s)" for g in grids)
-                  + " | checks passed / failed / not run | us per impact (swing) |",
-                  "|" + "---|" * (len(grids) + 3)]
+        lines += [
+            f"## {engine}",
+            "",
+            f"![{engine} across releases](history_{engine}.png)",
+            "",
+            "| release | "
+            + " | ".join(f"{g}: ok, max error (m/s)" for g in grids)
+            + " | checks passed / failed / not run | us per impact (swing) |",
+            "|" + "---|" * (len(grids) + 3),
+        ]
         for release, r in df.groupby("release", sort=False):
             first = r.iloc[0]
             name = f"**{release}**" if release in marked else release
             if first.state != "judged" and r.grid.eq("").all():
-                lines.append(f"| {name} | {first.state}: {first.reason[:150]} |"
-                             + " |" * (len(grids) + 1))
+                lines.append(
+                    f"| {name} | {first.state}: {first.reason[:150]} |" + " |" * (len(grids) + 1)
+                )
                 continue
             cells = []
             for g in grids:
@@ -270,17 +373,25 @@ def page(summary: pd.DataFrame, changes: list[Change]) -> str:
                 cells.append("" if row.empty else _cell(row.iloc[0]))
             swing = r[r.grid == "swing"].cost_us_per_impact.dropna()
             cost = f"{swing.iloc[0]:.0f}" if len(swing) else ""
-            lines.append(f"| {name} | " + " | ".join(cells) + f" | {first.checks_passed} / "
-                         f"{first.checks_failed} / {first.checks_not_run} | {cost} |")
+            lines.append(
+                f"| {name} | " + " | ".join(cells) + f" | {first.checks_passed} / "
+                f"{first.checks_failed} / {first.checks_not_run} | {cost} |"
+            )
         lines.append("")
         for c in (c for c in changes if c.engine == engine):
             lines.append(f"- {c.release}{' (regression)' if c.regression else ''}: {c.text}")
         install = adapters.record(engine).install
-        lines += [f"- {r}, its release notes: {note}" for r, note in install.release_notes.items()
-                  if r in marked]
+        lines += [
+            f"- {r}, its release notes: {note}"
+            for r, note in install.release_notes.items()
+            if r in marked
+        ]
         given = df[df.extras.fillna("") != ""].drop_duplicates("release")
-        lines += [f"- {r.release} was judged with {r.extras} added (the release needs it but "
-                  "does not require it)" for r in given.itertuples()]
+        lines += [
+            f"- {r.release} was judged with {r.extras} added (the release needs it but "
+            "does not require it)"
+            for r in given.itertuples()
+        ]
         lines += ["", f"The adapter drives {engine} from release {install.oldest or '?'} on.", ""]
     return "\n".join(lines)
 
@@ -305,8 +416,9 @@ def chart(summary: pd.DataFrame, changes: list[Change]) -> bytes:
 
     releases = list(dict.fromkeys(summary.release))
     x = {r: i for i, r in enumerate(releases)}
-    fig, axes = plt.subplots(3, 1, figsize=(max(6.0, 0.7 * len(releases) + 3), 7.5),
-                             sharex=True, layout="constrained")
+    fig, axes = plt.subplots(
+        3, 1, figsize=(max(6.0, 0.7 * len(releases) + 3), 7.5), sharex=True, layout="constrained"
+    )
     for i, (grid, marker) in enumerate(zip(GRIDS, "osD^")):
         g = summary[summary.grid == grid]
         xs = [x[r] for r in g.release]
@@ -318,16 +430,30 @@ def chart(summary: pd.DataFrame, changes: list[Change]) -> bytes:
     engine = summary.engine.iloc[0]
     for r in summary[summary.grid == ""].itertuples():  # no impact fired: say why there
         for ax in axes:
-            ax.text(x[r.release], 0.5, r.state.replace("_", " "), rotation=90, ha="center",
-                    va="center", fontsize=8, color="0.4", transform=ax.get_xaxis_transform())
+            ax.text(
+                x[r.release],
+                0.5,
+                r.state.replace("_", " "),
+                rotation=90,
+                ha="center",
+                va="center",
+                fontsize=8,
+                color="0.4",
+                transform=ax.get_xaxis_transform(),
+            )
     regressed: dict[str, bool] = {}
     for c in changes:
         if c.engine == engine and c.release in x:
             regressed[c.release] = regressed.get(c.release, False) or c.regression
     for release, regression in regressed.items():
         for ax in axes:
-            ax.axvspan(x[release] - 0.4, x[release] + 0.4, alpha=0.12, lw=0,
-                       color="tab:red" if regression else "tab:blue")
+            ax.axvspan(
+                x[release] - 0.4,
+                x[release] + 0.4,
+                alpha=0.12,
+                lw=0,
+                color="tab:red" if regression else "tab:blue",
+            )
     axes[0].set_ylabel(f"impacts ok (of {summary.impacts.max():.0f} a grid)")
     axes[1].set_ylabel("largest |error| of ok\nimpacts (m/s, log)")
     axes[1].set_yscale("log")

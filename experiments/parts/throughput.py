@@ -42,9 +42,14 @@ SIZES = (1, 10, 100, 1_000, 10_000, 100_000)
 
 
 def _firing() -> firings.Firing:
-    return firings.Firing(bat=presets.R161, s_m=firings.grid(presets.R161, GRID),
-                         v0_mps=presets.PAPER_PITCH_MPS, u0_mps=presets.PAPER_SWING.u0_mps,
-                         omega0_radps=presets.PAPER_SWING.omega0_radps, e=presets.E_WOOD)
+    return firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, GRID),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=presets.E_WOOD,
+    )
 
 
 def bare_s(name: str, settings, cases, steps: int, reads: list | None = None) -> float:
@@ -90,6 +95,7 @@ def _clocked(cls: type, spent: list[float]):
     """While open, the time inside the ENGINE_CALLS of every adapter of class ``cls`` (those
     made meanwhile too) adds up in ``spent[0]`` (s), the calls are counted in ``spent[1]``, and
     the time inside ``step`` alone adds up in ``spent[2]`` (s)."""
+
     def clock(call):
         stepping = call.__name__ == "step"
 
@@ -107,6 +113,7 @@ def _clocked(cls: type, spent: list[float]):
                 spent[1] += 1
                 if stepping:
                     spent[2] += dt
+
         return timed
 
     calls = {name: cls.__dict__.get(name) for name in ENGINE_CALLS if hasattr(cls, name)}
@@ -155,14 +162,20 @@ def _timed(name: str, settings, jobs: Jobs, clock: tuple[float, float]):
     out of each."""
     spent = [0.0, 0, 0.0]
     pool = adapters.pool_class(name)  # a single-world engine's long runs step on it
-    with _clocked(type(hosted(name, settings).adapter), spent), \
-            (_clocked(pool, spent) if pool is not None else contextlib.nullcontext()):
+    with (
+        _clocked(type(hosted(name, settings).adapter), spent),
+        _clocked(pool, spent) if pool is not None else contextlib.nullcontext(),
+    ):
         t0 = time.perf_counter()
         table = tables.table(fire_jobs(jobs), "throughput")
         wall = time.perf_counter() - t0
     inside_s, outside_s = clock
-    return (table, wall - spent[1] * (inside_s + outside_s), spent[0] - spent[1] * inside_s,
-            spent[2])
+    return (
+        table,
+        wall - spent[1] * (inside_s + outside_s),
+        spent[0] - spent[1] * inside_s,
+        spent[2],
+    )
 
 
 def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) -> list[dict]:
@@ -187,18 +200,27 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
             stepping.append(step)
             bares.append(bare_s(name, settings, cases, steps, reads))
         wall, bare = float(np.median(walls)), float(np.median(bares))
-        rows.append({"engine": name, "precision": adapters.record(name).errors.precision,
-                     "batched": hosted(name, settings).batched,
-                     "device": device(name, settings), "batch": size,
-                     "impacts_per_s": size / wall, "wall_s": wall,
-                     "us_per_impact": wall / size * 1e6, "bare_us_per_impact": bare / size * 1e6,
-                     "harness_us_per_impact": float(np.median(inside)) / size * 1e6,
-                     "step_us_per_impact": float(np.median(stepping)) / size * 1e6,
-                     "read_us_per_impact": float(np.median(reads)) / size * 1e6 if reads
-                     else math.nan,
-                     "steps_median": steps, "repeats": repeats,
-                     "max_abs_err_mps": float(table.v1_abs_err_mps.max()),
-                     "ok": int((table.status == Status.OK).sum()), "judged": len(table)})
+        rows.append(
+            {
+                "engine": name,
+                "precision": adapters.record(name).errors.precision,
+                "batched": hosted(name, settings).batched,
+                "device": device(name, settings),
+                "batch": size,
+                "impacts_per_s": size / wall,
+                "wall_s": wall,
+                "us_per_impact": wall / size * 1e6,
+                "bare_us_per_impact": bare / size * 1e6,
+                "harness_us_per_impact": float(np.median(inside)) / size * 1e6,
+                "step_us_per_impact": float(np.median(stepping)) / size * 1e6,
+                "read_us_per_impact": float(np.median(reads)) / size * 1e6 if reads else math.nan,
+                "steps_median": steps,
+                "repeats": repeats,
+                "max_abs_err_mps": float(table.v1_abs_err_mps.max()),
+                "ok": int((table.status == Status.OK).sum()),
+                "judged": len(table),
+            }
+        )
         later = [n for n in sizes if n > size]
         if later and wall / size * min(later) > budget_s:
             break
@@ -237,8 +259,9 @@ def chart(table: pd.DataFrame):
 
     kinds = sorted({kind(d) for d in table.device})
     table = table.assign(device=table.device.replace({"cpu: cpu": "cpu"}))
-    fig, axes = plt.subplots(1, len(kinds), figsize=(6.5 * len(kinds) + 3, 5), squeeze=False,
-                             layout="constrained")
+    fig, axes = plt.subplots(
+        1, len(kinds), figsize=(6.5 * len(kinds) + 3, 5), squeeze=False, layout="constrained"
+    )
     for ax, panel in zip(axes[0], kinds):
         part = table[[kind(d) == panel for d in table.device]]
         shift = _side_by_side(part)
@@ -247,18 +270,28 @@ def chart(table: pd.DataFrame):
             best = rows.loc[rows.impacts_per_s.idxmax()]
             err = rows.max_abs_err_mps.clip(lower=1e-16) * shift[name]
             ax.plot(err, rows.impacts_per_s, "-", color=rec.look.color, alpha=0.4)
-            ax.scatter(err, rows.impacts_per_s,
-                       s=12 + 10 * np.log10(rows.batch), marker=rec.look.marker,
-                       color=rec.look.color,
-                       label=f"{name} ({rec.errors.precision}; best at batch {best.batch:,})")
+            ax.scatter(
+                err,
+                rows.impacts_per_s,
+                s=12 + 10 * np.log10(rows.batch),
+                marker=rec.look.marker,
+                color=rec.look.color,
+                label=f"{name} ({rec.errors.precision}; best at batch {best.batch:,})",
+            )
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("largest |v1 - rigid theory| over the judged impacts (m/s, log)")
         ax.set_ylabel("judged impacts per second (log)")
-        ax.set_title(f"{panel}: {', '.join(sorted(set(part.device)))}\nmarker size: batch "
-                     f"1 .. {part.batch.max():.0e} (line joins one engine's sizes)"
-                     + ("\nengines of equal error set side by side (x times 1.3^k)"
-                        if any(v != 1.0 for v in shift.values()) else ""), fontsize=9)
+        ax.set_title(
+            f"{panel}: {', '.join(sorted(set(part.device)))}\nmarker size: batch "
+            f"1 .. {part.batch.max():.0e} (line joins one engine's sizes)"
+            + (
+                "\nengines of equal error set side by side (x times 1.3^k)"
+                if any(v != 1.0 for v in shift.values())
+                else ""
+            ),
+            fontsize=9,
+        )
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # off the marks
     return fig
@@ -272,8 +305,11 @@ def _side_by_side(part: pd.DataFrame) -> dict[str, float]:
     for name, rows in part.groupby("engine", sort=False):
         key = tuple(sorted({float(f"{x:.2g}") for x in rows.max_abs_err_mps}))
         groups.setdefault(key, []).append(name)
-    return {name: 1.3 ** (k - (len(names) - 1) / 2)
-            for names in groups.values() for k, name in enumerate(names)}
+    return {
+        name: 1.3 ** (k - (len(names) - 1) / 2)
+        for names in groups.values()
+        for k, name in enumerate(names)
+    }
 
 
 def summary(table: pd.DataFrame) -> pd.DataFrame:
@@ -282,10 +318,16 @@ def summary(table: pd.DataFrame) -> pd.DataFrame:
     for name, rows in table.groupby("engine", sort=False):
         one = rows[rows.batch == 1]
         best = rows.loc[rows.impacts_per_s.idxmax()]
-        out.append({"engine": name, "precision": best.precision, "device": best.device,
-                    "us_per_impact_batch1": float(one.us_per_impact.iloc[0]) if len(one)
-                    else math.nan, "best_batch": int(best.batch),
-                    "us_per_impact_best": float(best.us_per_impact),
-                    "impacts_per_s_best": float(best.impacts_per_s),
-                    "max_abs_err_mps": float(rows.max_abs_err_mps.max())})
+        out.append(
+            {
+                "engine": name,
+                "precision": best.precision,
+                "device": best.device,
+                "us_per_impact_batch1": float(one.us_per_impact.iloc[0]) if len(one) else math.nan,
+                "best_batch": int(best.batch),
+                "us_per_impact_best": float(best.us_per_impact),
+                "impacts_per_s_best": float(best.impacts_per_s),
+                "max_abs_err_mps": float(rows.max_abs_err_mps.max()),
+            }
+        )
     return pd.DataFrame(out)

@@ -61,8 +61,9 @@ class Results:
     def json(self, name: str) -> dict:
         if name not in self._cache:
             try:
-                self._cache[name] = json.loads(self.path(name).read_text(),
-                                               parse_constant=_finite_or_nan)
+                self._cache[name] = json.loads(
+                    self.path(name).read_text(), parse_constant=_finite_or_nan
+                )
             except (json.JSONDecodeError, UnicodeDecodeError) as err:
                 raise Damaged(f"{name} ({type(err).__name__})") from None
             except Infinite as err:
@@ -88,6 +89,7 @@ class Results:
 
 
 # -- numbers ----------------------------------------------------------------------------------
+
 
 def num(x: float, sig: int = 2) -> str:
     """``sig`` significant digits: plain from 0.01 to 10^4, else 1.2e-5 (no exponent padding)."""
@@ -132,7 +134,7 @@ def secs(t_s: float, sig: int = 2) -> str:
 def whole(x: float, sig: int = 2) -> str:
     """``sig`` significant digits without trailing zeros, never rounding an integer part away:
     19299 -> '19299', 1.0 -> '1', 0.844 -> '0.84'."""
-    return f"{x:.0f}" if abs(x) >= 10 ** sig else f"{float(f'{x:.{sig}g}'):g}"
+    return f"{x:.0f}" if abs(x) >= 10**sig else f"{float(f'{x:.{sig}g}'):g}"
 
 
 def dist(x_m: float, sig: int = 2) -> str:
@@ -191,6 +193,7 @@ def orders(big: float, small: float) -> int:
 
 # -- words ------------------------------------------------------------------------------------
 
+
 def label(engine: str) -> str:
     """The engine's name as prose spells it (its record's ``label``)."""
     try:
@@ -231,6 +234,7 @@ def precision(engine: str) -> str:
 
 
 # -- tables -----------------------------------------------------------------------------------
+
 
 def md_table(df: pd.DataFrame, fmt: Callable[[object], str] | None = None) -> str:
     """A frame as a GitHub markdown table; floats through ``fmt`` (default ``num``)."""
@@ -275,8 +279,9 @@ def clauses(text: str) -> list[str]:
     backticks (a record's text, listed a clause a line); each keeps its case."""
     out, start = [], 0
     for i in _top_level(text):
-        if text[i] == ";" or (text[i] == "." and text[i + 1:i + 2] == " "
-                              and text[i + 2:i + 3].isupper()):
+        if text[i] == ";" or (
+            text[i] == "." and text[i + 1 : i + 2] == " " and text[i + 2 : i + 3].isupper()
+        ):
             out.append(text[start:i].strip())
             start = i + 1
     out.append(text[start:].strip().rstrip("."))
@@ -287,5 +292,5 @@ def claim(text: str) -> list[str]:
     """A record's prose as a claim and its facts: its first clause cut at its first colon
     outside brackets (the claim before it, the reason after), then the other clauses."""
     first, *rest = clauses(text)
-    cut = next((i for i in _top_level(first) if first[i:i + 2] == ": "), None)
-    return ([first] if cut is None else [first[:cut], first[cut + 2:]]) + rest
+    cut = next((i for i in _top_level(first) if first[i : i + 2] == ": "), None)
+    return ([first] if cut is None else [first[:cut], first[cut + 2 :]]) + rest

@@ -16,8 +16,10 @@ ROLES = {
     "hinged": ("sweep_*_reference_r161_hinged", "swung about the hands in the engine, then hit"),
     "plastic": ("sweep_*_reference_r161_swing_e0", "a plastic ball (e = 0) on the paper's swing"),
     "default": ("sweep_*_default_r161_swing", "each engine out of the box, contact mid-step"),
-    "default_dt": ("sweep_*_default-dt*_r161_swing",
-                   "default solver values at a small step, contact mid-step"),
+    "default_dt": (
+        "sweep_*_default-dt*_r161_swing",
+        "default solver values at a small step, contact mid-step",
+    ),
 }
 
 
@@ -75,6 +77,7 @@ class Sweep:
 
 def baselines(res: Results) -> dict[str, Sweep]:
     """Every baseline role found in the results (the newest file where a role has several)."""
+
     def find() -> dict[str, Sweep]:
         found = {}
         for role, (pattern, _) in ROLES.items():

@@ -29,8 +29,12 @@ DEFAULT = "default profile"
 def knob_points(res: Results) -> list[str]:
     table = res.csv("pareto.csv")
     conv = res.csv("convergence.csv")
-    return [*iterations(table, conv, res.csv("defaults_knobs.csv")), *soft(res, table, conv),
-            integrator_fails(table), out_of_the_box(res, table)]
+    return [
+        *iterations(table, conv, res.csv("defaults_knobs.csv")),
+        *soft(res, table, conv),
+        integrator_fails(table),
+        out_of_the_box(res, table),
+    ]
 
 
 def _errs(table: pd.DataFrame, engine: str, family: str) -> pd.Series:
@@ -47,17 +51,33 @@ def iterations(table: pd.DataFrame, conv: pd.DataFrame, knobs: pd.DataFrame) -> 
         if len(fams) > 1 and all(np.allclose(x, errs[0], equal_nan=True) for x in errs):
             counts = [m.group(0) for f in fams if (m := re.search(r"\d+", f))]
             same.append(f"{label(e)} {' = '.join(counts)}")
-    out = [lead("**Solver iterations do nothing** for one frictionless contact (identical "
-                "errors at every step):", same)] if same else []
+    out = (
+        [
+            lead(
+                "**Solver iterations do nothing** for one frictionless contact (identical "
+                "errors at every step):",
+                same,
+            )
+        ]
+        if same
+        else []
+    )
     for r in conv[conv.family == DEFAULT].itertuples():
         base = conv[(conv.engine == r.engine) & (conv.family != DEFAULT)]
         if len(base) and r.err_at_dt_min > 100 * base.err_at_dt_min.min():
             lo, hi = sorted((r.err_at_dt_min, r.err_at_dt_max))
-            out.append(lead(
-                f"**{label(r.engine)}'s default solver values** cost {span(100 * lo, 100 * hi)}% "
-                "at every step:",
-                [f"{pct(r.err_at_dt_max)} at {step(r.dt_max_s)}, {pct(r.err_at_dt_min)} at "
-                 f"{step(r.dt_min_s)} (p = {r.p:.2f})", _culprit(knobs, r.engine)]))
+            out.append(
+                lead(
+                    f"**{label(r.engine)}'s default solver values** cost "
+                    f"{span(100 * lo, 100 * hi)}% "
+                    "at every step:",
+                    [
+                        f"{pct(r.err_at_dt_max)} at {step(r.dt_max_s)}, {pct(r.err_at_dt_min)} at "
+                        f"{step(r.dt_min_s)} (p = {r.p:.2f})",
+                        _culprit(knobs, r.engine),
+                    ],
+                )
+            )
     return out
 
 
@@ -67,13 +87,18 @@ def _culprit(knobs: pd.DataFrame, engine: str) -> str:
     ref = k[k.change == "reference profile"].max_rel_err
     if ref.empty:
         return ""
-    back = [c.split(", ", 1)[1].split(" = ")[0] for c, err in zip(k.change, k.max_rel_err)
-            if c.startswith("default, ") and err <= 1.1 * ref.iloc[0]]
+    back = [
+        c.split(", ", 1)[1].split(" = ")[0]
+        for c, err in zip(k.change, k.max_rel_err)
+        if c.startswith("default, ") and err <= 1.1 * ref.iloc[0]
+    ]
     if not back:
         return ""
-    return (f"all of it from its {names((f'`{b}`' for b in back), 'or')}: put back alone, "
-            f"{'it gives' if len(back) == 1 else 'each gives'} the reference profile's error "
-            "(`defaults_knobs.csv`)")
+    return (
+        f"all of it from its {names((f'`{b}`' for b in back), 'or')}: put back alone, "
+        f"{'it gives' if len(back) == 1 else 'each gives'} the reference profile's error "
+        "(`defaults_knobs.csv`)"
+    )
 
 
 def _soft(conv: pd.DataFrame, engine: str) -> pd.DataFrame:
@@ -96,25 +121,45 @@ def soft(res: Results, table: pd.DataFrame, conv: pd.DataFrame) -> list[str]:
         wall = table[(table.engine == e) & table.family.str.match(r"soft w=\d+")].copy()
         wall["integrator"] = wall.family.str.split(", ").str[-1]
         wall["w"] = wall.family.str.extract(r"w=(\d+)")[0]
-        piv = wall.pivot_table(index=["dt_s", "w"], columns="integrator", dropna=False,
-                               values=["wall_per_collision_s", "max_rel_err"])
-        facts = [f"against rigid theory it leaves "
-                 f"{span(c.err_at_dt_min.min(), c.err_at_dt_min.max())} at the smallest step "
-                 f"(fitted p {span(c.p.min(), c.p.max(), lambda v: f'{v:.2f}', ' to ')}; "
-                 + (names(f"{r.family} fits a power law well, r^2 = {r.r2:.2f}, and it too "
-                          f"levels off near {sci(r.err_at_dt_min, 1)}" for r in fit.itertuples())
-                    if len(fit) else "none fits a power law well") + ")",
-                 *_integrators(piv["wall_per_collision_s"], piv["max_rel_err"]), *own_law(c)]
+        piv = wall.pivot_table(
+            index=["dt_s", "w"],
+            columns="integrator",
+            dropna=False,
+            values=["wall_per_collision_s", "max_rel_err"],
+        )
+        facts = [
+            f"against rigid theory it leaves "
+            f"{span(c.err_at_dt_min.min(), c.err_at_dt_min.max())} at the smallest step "
+            f"(fitted p {span(c.p.min(), c.p.max(), lambda v: f'{v:.2f}', ' to ')}; "
+            + (
+                names(
+                    f"{r.family} fits a power law well, r^2 = {r.r2:.2f}, and it too "
+                    f"levels off near {sci(r.err_at_dt_min, 1)}"
+                    for r in fit.itertuples()
+                )
+                if len(fit)
+                else "none fits a power law well"
+            )
+            + ")",
+            *_integrators(piv["wall_per_collision_s"], piv["max_rel_err"]),
+            *own_law(c),
+        ]
         said.append((e, "\n".join(facts)))
-    out = [lead(f"**{names(f'{label(e)}' for e in who)}: soft contact"
-                + ("s**:" if len(who) > 1 else "**:"), text.split("\n"))
-           for who, text in alike(said)]
+    out = [
+        lead(
+            f"**{names(f'{label(e)}' for e in who)}: soft contact"
+            + ("s**:" if len(who) > 1 else "**:"),
+            text.split("\n"),
+        )
+        for who, text in alike(said)
+    ]
     return [SOFT_LEAD, *out] if out else out
 
 
 #: What every soft contact of the MuJoCo family does, said once before each engine's numbers.
 SOFT_LEAD = lead(
-    "**A soft contact does not converge to the impulse model, but to its own law**:", [
+    "**A soft contact does not converge to the impulse model, but to its own law**:",
+    [
         "a spring-damper in contact space, m_eff (w^2 x + 2 zeta w x') with m_eff at the "
         "current contact point (`ErrorModel.contact_law`, "
         "`analytic.compliant.ContactSpaceSpringDamper`)",
@@ -124,7 +169,9 @@ SOFT_LEAD = lead(
         "`tests/test_adapters_semantics.py::test_soft_contact_converges_to_its_own_law`)",
         "the chart draws each soft setting twice: a dot against rigid theory, a hollow diamond "
         "against its own law (`max_law_rel_err` in `results/pareto.csv`; fitted orders `p_law` "
-        "in `results/convergence.csv`)"])
+        "in `results/convergence.csv`)",
+    ],
+)
 
 
 def _integrators(t: pd.DataFrame, err: pd.DataFrame) -> list[str]:
@@ -136,10 +183,12 @@ def _integrators(t: pd.DataFrame, err: pd.DataFrame) -> list[str]:
     both = int(err[["RK4", "Euler"]].notna().all(axis=1).sum())
     same = np.allclose(err["implicitfast"], err["Euler"], equal_nan=True)
     implicit = (t["implicitfast"] / t["Euler"]).median()
-    return [f"RK4 costs {times(cost, 1)} Euler and its max error is the larger at {worse} of "
-            f"{both} settings",
-            f"implicitfast gives {'Euler' if same else 'about Euler'}'s numbers at "
-            f"{times(implicit, 1)} its cost"]
+    return [
+        f"RK4 costs {times(cost, 1)} Euler and its max error is the larger at {worse} of "
+        f"{both} settings",
+        f"implicitfast gives {'Euler' if same else 'about Euler'}'s numbers at "
+        f"{times(implicit, 1)} its cost",
+    ]
 
 
 def own_law(c: pd.DataFrame) -> list[str]:
@@ -148,24 +197,33 @@ def own_law(c: pd.DataFrame) -> list[str]:
     mid = c[c.w == c.w.median()]
     rest = c[c.w != c.w.median()]
     at = names(f"{r.p_law:.2f} for {r.integrator}" for r in mid.itertuples())
-    return [f"against its own law: order {at} at w = {mid.w.iloc[0]:g} rad/s",
-            f"orders {span(rest.p_law.min(), rest.p_law.max(), lambda v: f'{v:.2f}')} at w = "
-            f"{names(f'{w:g}' for w in sorted(rest.w.unique()))} rad/s, where the grid's "
-            "deepest contacts approach the sinking limit w = v/R or the step w dt = 0.1"
-            if len(rest) else ""]
+    return [
+        f"against its own law: order {at} at w = {mid.w.iloc[0]:g} rad/s",
+        f"orders {span(rest.p_law.min(), rest.p_law.max(), lambda v: f'{v:.2f}')} at w = "
+        f"{names(f'{w:g}' for w in sorted(rest.w.unique()))} rad/s, where the grid's "
+        "deepest contacts approach the sinking limit w = v/R or the step w dt = 0.1"
+        if len(rest)
+        else "",
+    ]
 
 
 def integrator_fails(table: pd.DataFrame) -> str:
     out = []
     for (e, fam), g in table[~table.family.isin([DEFAULT, ALIGNED])].groupby(
-            ["engine", "family"], sort=False):
+        ["engine", "family"], sort=False
+    ):
         if not g.all_ok.any() and g.n_ok.sum() == 0:
-            counts = {c[2:]: int(g[c].sum()) for c in g.columns
-                      if c.startswith("n_") and g[c].sum()}
-            why = ("; an impulse mapping assumes one explicit step"
-                   if "impulse" in fam and "RK4" in fam else "")
-            out.append(f"{label(e)}'s {fam}: "
-                       + ", ".join(f"{k} {v}" for k, v in counts.items()) + why)
+            counts = {
+                c[2:]: int(g[c].sum()) for c in g.columns if c.startswith("n_") and g[c].sum()
+            }
+            why = (
+                "; an impulse mapping assumes one explicit step"
+                if "impulse" in fam and "RK4" in fam
+                else ""
+            )
+            out.append(
+                f"{label(e)}'s {fam}: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + why
+            )
     return lead("**Some settings fail at every step**:", out) if out else ""
 
 
@@ -183,14 +241,21 @@ def out_of_the_box(res: Results, table: pd.DataFrame) -> str:
     lost = rigid[rigid.n_ok == 0]
     steps = names(step(d) for d in sorted(set(own.dt_s)))
     every = "every" if len(lost) == len(rigid) else "nearly every"
-    facts = [f"{engines_text(lost.engine)} catch none",
-             "with random contact instants: see [the baseline "
-             "sweeps](#baseline-sweeps-and-what-they-show)"]
+    facts = [
+        f"{engines_text(lost.engine)} catch none",
+        "with random contact instants: see [the baseline "
+        "sweeps](#baseline-sweeps-and-what-they-show)",
+    ]
     for r in own[own.engine.isin(swing.compliant)].itertuples():
         missed = r.n_tunnelled + r.n_non_finite
-        facts.append(f"{label(r.engine)}'s {step(r.dt_s)} default misses "
-                     f"{'nothing' if missed == 0 else f'{missed} of {r.impacts}'} but is "
-                     f"{pct(r.max_rel_err)} from rigid theory and too coarse for its own law "
-                     "(fewer than ten steps per contact: `unjudged`)")
-    return lead(f"**Out of the box** ({steps}), with the contact mid-step, {every} "
-                "rigid-contact engine fails:", facts)
+        facts.append(
+            f"{label(r.engine)}'s {step(r.dt_s)} default misses "
+            f"{'nothing' if missed == 0 else f'{missed} of {r.impacts}'} but is "
+            f"{pct(r.max_rel_err)} from rigid theory and too coarse for its own law "
+            "(fewer than ten steps per contact: `unjudged`)"
+        )
+    return lead(
+        f"**Out of the box** ({steps}), with the contact mid-step, {every} "
+        "rigid-contact engine fails:",
+        facts,
+    )

@@ -33,8 +33,11 @@ def page_name(name: str) -> str:
 
 def _install(rec: adapters.EngineRecord) -> str:
     extra, package = rec.install.extra, rec.install.package
-    return (f"`pip install 'batsim[{extra}]'` (the `{package}` package)" if extra
-            else f"a core dependency (`{package}`): `pip install -e .`")
+    return (
+        f"`pip install 'batsim[{extra}]'` (the `{package}` package)"
+        if extra
+        else f"a core dependency (`{package}`): `pip install -e .`"
+    )
 
 
 def _cheapest(results: Path, name: str) -> str:
@@ -43,8 +46,10 @@ def _cheapest(results: Path, name: str) -> str:
     if not len(rows) or pd.isna(rows.winner.iloc[0]):
         return f"no setting of its families reaches {PAGE_TARGET:.0%} (`pareto.csv`)"
     r = rows.iloc[0]
-    return (f"{r.setting}: max relative error {r.max_rel_err:.1e}, "
-            f"{r.wall_per_collision_s * 1e6:,.0f} us a collision (`pareto_cheapest.csv`)")
+    return (
+        f"{r.setting}: max relative error {r.max_rel_err:.1e}, "
+        f"{r.wall_per_collision_s * 1e6:,.0f} us a collision (`pareto_cheapest.csv`)"
+    )
 
 
 def _defects(name: str) -> list[str]:
@@ -55,11 +60,15 @@ def _defects(name: str) -> list[str]:
         out.append(rec.errors.chain_defect)
     slide = rec.errors.collision_slide_m(st, presets.R161)
     if slide > 0.0:
-        out.append(f"its collision routine slides the contact point up to {slide * 1e6:.2f} um "
-                   "along the R161's axis (in its tolerance)")
+        out.append(
+            f"its collision routine slides the contact point up to {slide * 1e6:.2f} um "
+            "along the R161's axis (in its tolerance)"
+        )
     if rec.errors.host_rounding:
-        out.append("its kernels round as the host CPU's instruction set orders them: rows "
-                   "differ by rounding between hosts")
+        out.append(
+            "its kernels round as the host CPU's instruction set orders them: rows "
+            "differ by rounding between hosts"
+        )
     return out or ["none declared"]
 
 
@@ -74,8 +83,10 @@ def _costs(results: Path, name: str) -> list[str]:
     for device, on in rows.groupby(kind, sort=True):
         one, best = on[on.batch == 1], on.loc[on.us_per_impact.idxmin()]
         alone = f"{one.us_per_impact.iloc[0]:,.0f} us alone" if len(one) else "alone not measured"
-        out.append(f"{device}: {alone}; {best.us_per_impact:,.1f} us in a batch of "
-                   f"{best.batch:,} (the harness's share {best.harness_us_per_impact:,.1f} us)")
+        out.append(
+            f"{device}: {alone}; {best.us_per_impact:,.1f} us in a batch of "
+            f"{best.batch:,} (the harness's share {best.harness_us_per_impact:,.1f} us)"
+        )
     return out
 
 
@@ -89,8 +100,10 @@ def _releases(results: Path, name: str) -> str:
     listed = list(dict.fromkeys(rows.release.astype(str)))
     ok = rows[(rows.grid == "swing") & (rows.ok == rows.impacts)].release.astype(str)
     since = f"; its reference swing all ok from {ok.iloc[0]}" if len(ok) else ""
-    return (f"{len(listed)} releases, {listed[0]} to {listed[-1]}, in [history.md]"
-            f"(history.md#{name}){since}")
+    return (
+        f"{len(listed)} releases, {listed[0]} to {listed[-1]}, in [history.md]"
+        f"(history.md#{name}){since}"
+    )
 
 
 def page(results: Path, name: str) -> str:
@@ -100,34 +113,45 @@ def page(results: Path, name: str) -> str:
     default = json.loads((results / f"{readme.DEFAULT}.json").read_text())
     rows = ref[ref.engine == name]
     kind = ("many worlds a call" if rec.batched else "one world at a time") + (
-        ", in the swing plane only" if rec.can.planar else "")
-    lines = [f"# {rec.look.label or name} (`{name}`)", "",
-             f"- **Install**: {_install(rec)}.",
-             f"- **Computes** in {rec.errors.precision}, {kind}.",
-             f"- **Reference profile** (the paper's swing, R161, 41 points): "
-             f"{readme.accuracy(rows, name) if len(rows) else 'not in results/ yet'}.",
-             f"- **Out of the box** (its own dt): "
-             f"{readme.out_of_the_box(default, name) if name in default['engines'] else '-'}.",
-             f"- **Cheapest within {PAGE_TARGET:.0%}** of rigid theory: "
-             f"{_cheapest(results, name)}.",
-             "- **Declared defects**: " + "; ".join(_defects(name)) + ".",
-             "- **Cost per impact** through the harness (`bench_batches.csv`): "
-             + "; ".join(_costs(results, name)) + ".",
-             f"- **Releases**: {_releases(results, name)}.", ""]
+        ", in the swing plane only" if rec.can.planar else ""
+    )
+    lines = [
+        f"# {rec.look.label or name} (`{name}`)",
+        "",
+        f"- **Install**: {_install(rec)}.",
+        f"- **Computes** in {rec.errors.precision}, {kind}.",
+        f"- **Reference profile** (the paper's swing, R161, 41 points): "
+        f"{readme.accuracy(rows, name) if len(rows) else 'not in results/ yet'}.",
+        f"- **Out of the box** (its own dt): "
+        f"{readme.out_of_the_box(default, name) if name in default['engines'] else '-'}.",
+        f"- **Cheapest within {PAGE_TARGET:.0%}** of rigid theory: {_cheapest(results, name)}.",
+        "- **Declared defects**: " + "; ".join(_defects(name)) + ".",
+        "- **Cost per impact** through the harness (`bench_batches.csv`): "
+        + "; ".join(_costs(results, name))
+        + ".",
+        f"- **Releases**: {_releases(results, name)}.",
+        "",
+    ]
     return "\n".join(lines)
 
 
 def index(results: Path) -> str:
     """The pages' index: one line per engine."""
     ref = pd.read_csv(results / f"{readme.REFERENCE}.csv")
-    lines = ["# Engines", "",
-             "One page per engine, from the files in `results/` (written by "
-             "`python -m experiments.report`); the studies are in [report.md](report.md), "
-             "each engine's releases side by side in [history.md](history.md).", ""]
+    lines = [
+        "# Engines",
+        "",
+        "One page per engine, from the files in `results/` (written by "
+        "`python -m experiments.report`); the studies are in [report.md](report.md), "
+        "each engine's releases side by side in [history.md](history.md).",
+        "",
+    ]
     for name in sorted(set(ref.engine)):
         rec = adapters.record(name)
-        lines.append(f"- [{rec.look.label or name}]({page_name(name)}): {rec.errors.precision}, "
-                     f"{'batched' if rec.batched else 'single-world'}")
+        lines.append(
+            f"- [{rec.look.label or name}]({page_name(name)}): {rec.errors.precision}, "
+            f"{'batched' if rec.batched else 'single-world'}"
+        )
     return "\n".join(lines) + "\n"
 
 

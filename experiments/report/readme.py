@@ -21,10 +21,12 @@ BEGIN = "<!-- engines table: written by python -m experiments.baselines from res
 END = "<!-- end of the engines table -->"
 REFERENCE = "sweep_all_reference_r161_swing"
 DEFAULT = "sweep_all_default_r161_swing"
-HEADER = ("| engine | install | float | reference profile: impacts ok, max error of v1 | "
-          "out of the box (its dt): statuses | CPU cost per impact: batch of 1; best batch | "
-          "GPU: judged impacts/s at the best batch (max error) |\n"
-          "| --- | --- | --- | --- | --- | --- | --- |")
+HEADER = (
+    "| engine | install | float | reference profile: impacts ok, max error of v1 | "
+    "out of the box (its dt): statuses | CPU cost per impact: batch of 1; best batch | "
+    "GPU: judged impacts/s at the best batch (max error) |\n"
+    "| --- | --- | --- | --- | --- | --- | --- |"
+)
 
 
 def _install(rec) -> str:
@@ -54,8 +56,10 @@ def _costs(results: Path) -> dict[str, str]:
     cheapest batch (``experiments.parts.throughput``, in bench_batches.csv); where that has no row,
     the median over a grid through the runner (bench_engines.csv) and no batch."""
     bench = pd.read_csv(results / "bench_engines.csv")
-    out = {name: f"{us:,.0f} us; not measured" for name, us in
-           zip(bench.engine, bench.harness_per_collision_us)}
+    out = {
+        name: f"{us:,.0f} us; not measured"
+        for name, us in zip(bench.engine, bench.harness_per_collision_us)
+    }
     for name, rows in _batches(results, "CPU").groupby("engine"):
         one, best = rows[rows.batch == 1], rows.loc[rows.us_per_impact.idxmin()]
         first = f"{one.us_per_impact.iloc[0]:,.0f} us" if len(one) else "-"
@@ -75,8 +79,9 @@ def _gpu(results: Path) -> dict[str, str]:
     out = {}
     for name, rows in _batches(results, "GPU").groupby("engine"):
         best = rows.loc[rows.impacts_per_s.idxmax()]
-        out[name] = (f"{best.impacts_per_s:.2g}/s at {best.batch:,} "
-                     f"({rows.max_abs_err_mps.max():.1e} m/s)").replace("e+0", "e")
+        out[name] = (
+            f"{best.impacts_per_s:.2g}/s at {best.batch:,} ({rows.max_abs_err_mps.max():.1e} m/s)"
+        ).replace("e+0", "e")
     return out
 
 
@@ -89,14 +94,18 @@ def engines_table(results: Path) -> str:
     for name, rows in ref.groupby("engine", sort=True):
         rec = adapters.record(name)
         cost = costs.get(name, "not benchmarked")
-        lines.append(f"| {name} | {_install(rec)} | {rec.errors.precision} | "
-                     f"{accuracy(rows, name)} | {out_of_the_box(default, name)} | {cost} | "
-                     f"{gpu.get(name, '-')} |")
+        lines.append(
+            f"| {name} | {_install(rec)} | {rec.errors.precision} | "
+            f"{accuracy(rows, name)} | {out_of_the_box(default, name)} | {cost} | "
+            f"{gpu.get(name, '-')} |"
+        )
     for name in sorted(set(adapters.names()) - set(ref.engine)):
         if adapters.record(name).adapter.startswith("adapters."):  # a built-in, not measured
             rec = adapters.record(name)
-            lines.append(f"| {name} | {_install(rec)} | {rec.errors.precision} | not in "
-                         "results/ yet | not in results/ yet | not benchmarked | - |")
+            lines.append(
+                f"| {name} | {_install(rec)} | {rec.errors.precision} | not in "
+                "results/ yet | not in results/ yet | not benchmarked | - |"
+            )
     return "\n".join(lines)
 
 

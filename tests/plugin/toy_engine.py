@@ -48,8 +48,10 @@ RECORD = EngineRecord(
         package="numpy",
         import_name="numpy",
     ),
-    profiles={"reference": ToySettings(dt_s=1e-5),
-              "default": ToySettings(dt_s=1 / 60, contact_phase=0.5)},
+    profiles={
+        "reference": ToySettings(dt_s=1e-5),
+        "default": ToySettings(dt_s=1 / 60, contact_phase=0.5),
+    },
     can=Capabilities(
         integrators=(Integrator(label="semi-implicit Euler, positions first"),),
         restitution_rule=RestitutionRule.MAPPED,
@@ -82,11 +84,13 @@ class ToyEngine(BatchedEngine):
 
     def mass_properties(self) -> MassProperties:
         bat = self.scene.bat
-        return MassProperties(bat_mass_kg=float(self.mass[1]),
-                              bat_com_from_knob_m=bat.com_from_knob_m,
-                              bat_inertia_kgm2=float(self.inertia[1]),
-                              ball_mass_kg=float(self.mass[0]),
-                              ball_inertia_kgm2=float(self.inertia[0]))
+        return MassProperties(
+            bat_mass_kg=float(self.mass[1]),
+            bat_com_from_knob_m=bat.com_from_knob_m,
+            bat_inertia_kgm2=float(self.inertia[1]),
+            ball_mass_kg=float(self.mass[0]),
+            ball_inertia_kgm2=float(self.inertia[0]),
+        )
 
     def set_state(self, states: np.ndarray) -> None:
         self.s = np.array(states, dtype=float)
@@ -143,11 +147,17 @@ class ToyEngine(BatchedEngine):
         self.touching = (dist < bat.radius_m + ball.radius_m) & (dist > 0.0)
         nx, ny = nx / np.where(dist > 0.0, dist, 1.0), ny / np.where(dist > 0.0, dist, 1.0)
         arm = t * (c * ny - sn * nx)  # (r x n) of the bat's contact point about its COM
-        vn = ((s[:, BVX] - s[:, CVX] + s[:, CW] * t * sn) * nx
-              + (s[:, BVY] - s[:, CVY] - s[:, CW] * t * c) * ny)
+        vn = (s[:, BVX] - s[:, CVX] + s[:, CW] * t * sn) * nx + (
+            s[:, BVY] - s[:, CVY] - s[:, CW] * t * c
+        ) * ny
         hit = self.touching & (vn < 0.0)
-        j = np.where(hit, -(1.0 + self.scene.e) * vn / (
-            1 / ball.mass_kg + 1 / bat.mass_kg + arm**2 / bat.inertia_cm_kgm2), 0.0)
+        j = np.where(
+            hit,
+            -(1.0 + self.scene.e)
+            * vn
+            / (1 / ball.mass_kg + 1 / bat.mass_kg + arm**2 / bat.inertia_cm_kgm2),
+            0.0,
+        )
         s[:, BVX] += j * nx / ball.mass_kg
         s[:, BVY] += j * ny / ball.mass_kg
         s[:, CVX] -= j * nx / bat.mass_kg
@@ -165,8 +175,7 @@ class OffByOnePercent(ToyEngine):
 
 
 #: The faulty twin, registered by a test under its own name.
-FAULTY = dataclasses.replace(RECORD, name="toyengine_faulty",
-                             adapter="toy_engine:OffByOnePercent")
+FAULTY = dataclasses.replace(RECORD, name="toyengine_faulty", adapter="toy_engine:OffByOnePercent")
 
 
 class Diverges(ToyEngine):
@@ -261,17 +270,30 @@ class HeavyBall(ToyEngine):
     """Holds a ball 10% heavier than the scene's."""
 
     def mass_properties(self) -> MassProperties:
-        return dataclasses.replace(super().mass_properties(),
-                                   ball_mass_kg=1.1 * float(self.mass[0]))
+        return dataclasses.replace(
+            super().mass_properties(), ball_mass_kg=1.1 * float(self.mass[0])
+        )
 
 
 MISBEHAVING = {
-    name: dataclasses.replace(RECORD, name=f"toyengine_{name}", adapter=f"toy_engine:{cls}",
-                              cost=Cost(step_cost_s=2e-5, impact_limit_s=limit))
-    for name, cls, limit in (("exits", "Exits", None), ("hangs", "Hangs", 1.0),
-                             ("stuckflag", "StuckFlag", None), ("wrongshape", "WrongShape", None),
-                             ("heavyball", "HeavyBall", None), ("exitshard", "ExitsHard", None),
-                             ("interrupts", "Interrupts", None), ("strings", "Strings", None),
-                             ("integers", "Integers", None), ("closehangs", "CloseHangs", None))}
+    name: dataclasses.replace(
+        RECORD,
+        name=f"toyengine_{name}",
+        adapter=f"toy_engine:{cls}",
+        cost=Cost(step_cost_s=2e-5, impact_limit_s=limit),
+    )
+    for name, cls, limit in (
+        ("exits", "Exits", None),
+        ("hangs", "Hangs", 1.0),
+        ("stuckflag", "StuckFlag", None),
+        ("wrongshape", "WrongShape", None),
+        ("heavyball", "HeavyBall", None),
+        ("exitshard", "ExitsHard", None),
+        ("interrupts", "Interrupts", None),
+        ("strings", "Strings", None),
+        ("integers", "Integers", None),
+        ("closehangs", "CloseHangs", None),
+    )
+}
 #: The twins one by one, for entry points ("toy_engine:MISBEHAVING_HANGS").
 globals().update({f"MISBEHAVING_{k.upper()}": rec for k, rec in MISBEHAVING.items()})
