@@ -20,6 +20,7 @@ import ctypes
 import os
 import signal
 import sys
+import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 from concurrent.futures import TimeoutError as FutureTimeout
@@ -137,14 +138,24 @@ def death(pool) -> str:
     own (the pool stops the others with SIGTERM)."""
     said = []
     for process in list((getattr(pool, "_processes", None) or {}).values()):
-        process.join(timeout=2.0)  # (the pool stops the others meanwhile, in its own thread)
-        code = process.exitcode
+        code = _exit_code(process)
         if code is None or code == -signal.SIGTERM:
             continue
         said.append(
             f"killed by {signal.Signals(-code).name}" if code < 0 else f"exited with code {code}"
         )
     return ", ".join(dict.fromkeys(said)) or "it ended"
+
+
+def _exit_code(process, wait_s: float = 2.0) -> int | None:
+    """The process's exit code, once it has one (None past ``wait_s``). The pool's own thread
+    reaps its workers too: a join that loses that race reads no code although the process is
+    gone, so the code is read again until the winner has set it."""
+    deadline = time.monotonic() + wait_s
+    while True:
+        process.join(timeout=0.05)  # (the pool stops the others meanwhile, in its own thread)
+        if process.exitcode is not None or time.monotonic() > deadline:
+            return process.exitcode
 
 
 def _dask_losses() -> tuple[type[BaseException], ...]:
