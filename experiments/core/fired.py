@@ -290,10 +290,13 @@ def gather(fired: Sequence[Fired]) -> Gathered:
     def joined(i: int) -> list:
         return list(itertools.chain.from_iterable(p[i] for p in parts))
 
+    made_here = len(parts) == 1 and not isinstance(one, FiredBlock)  # (its columns are new)
     return Gathered(
         cases=joined(0),
         settings=joined(1),
         engines=joined(2),
-        cols={k: np.concatenate([p[3][k] for p in parts]) for k in (*FLOAT_FIELDS, *_OTHER)},
+        cols=parts[0][3]
+        if made_here
+        else {k: np.concatenate([p[3][k] for p in parts]) for k in (*FLOAT_FIELDS, *_OTHER)},
         distinct=one.distinct if isinstance(one, FiredBlock) else None,
     )

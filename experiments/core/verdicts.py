@@ -102,7 +102,9 @@ def judge_columns(
     g = fired if isinstance(fired, Gathered) else gather(fired)
     c = g.cols
     rep, inv = _distinct(g)
-    cases, outs = [g.cases[i] for i in rep], g.outcomes(rep)
+    cases = [g.cases[i] for i in rep]
+    # (a list of Fired holds its outcomes; a batch's block makes them from its columns)
+    outs = [fired[i].outcome for i in rep] if type(fired) is list else g.outcomes(rep)
     errors = [judging.errors_of(o, error_models) for o in outs]
     rigid = [judging.rigid(k, o.settings.max_contact_s) for k, o in zip(cases, outs)]
     law = np.array(

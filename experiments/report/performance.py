@@ -265,5 +265,12 @@ def analytic(res: Results, meta: dict) -> str:
         f"{meta['sweep_41_s']:.1f} s including start-up (every engine imported).\n\n"
         f"`python -m experiments.bench_analytic`: the vectorized analytic v1 runs "
         f"{sci(a['points'], 1)} points in {secs(a['median_s'], 3)} (median of {a['repeats']}; "
-        f"{sci(a['impacts_per_s'])} impacts/s)."
+        f"{sci(a['impacts_per_s'])} impacts/s)"
+        + (
+            f"; one impact judged against it (`verdicts.judge`, its outcome the theory's own "
+            f"answer, no engine) takes {a['judge_one_impact_us']:.0f} us (median of "
+            f"{a['judge_calls']} calls)."
+            if "judge_one_impact_us" in a
+            else "."
+        )
     )
