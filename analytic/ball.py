@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from . import checks, compliant
 from .compliant import BASEBALL_HERTZ, HuntCrossley, Hysteretic, hunt_crossley_dissipation
 from .model import Ball, Bat, ImpactCase
+from .presets import BASEBALL
 
 #: Kinds of COR statement: a ball fired at a rigid wall, or at a stationary bat.
 KINDS = ("ball-wall", "ball-bat")
@@ -244,8 +245,6 @@ CONTACT_S, CONTACT_SPEED_MPS = 0.7e-3, 40.0
 def ball_of(cor_law: CorLaw, kind: str = "hunt-crossley", ball: Ball | None = None):
     """A ball of ``kind`` (BALL_KINDS) with ``cor_law``, Hertz's exponent and the stiffness
     for which it stays CONTACT_S on a wall at CONTACT_SPEED_MPS (``wall_stiffness``)."""
-    from .presets import BASEBALL
-
     k = wall_stiffness(
         cor_law, ball or BASEBALL, duration_s=CONTACT_S, speed_mps=CONTACT_SPEED_MPS, kind=kind
     )

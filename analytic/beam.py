@@ -22,11 +22,9 @@ import numpy as np
 from scipy import interpolate, linalg, optimize
 
 from . import checks
+from .beam_fe import euler_bernoulli, timoshenko
 from .model import Bat
 
-#: Shear coefficient of a solid circular section (G. R. Cowper, J. Appl. Mech. 33, 335 (1966),
-#: (6 + 6 nu)/(7 + 6 nu) at nu = 0.3; wood's nu_LR is 0.37-0.46 and moves it by 0.005).
-KAPPA_CIRCLE = 0.886
 #: A free-free beam moving in a plane has two rigid-body modes, translation and rotation.
 RIGID_MODES = 2
 _GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(5)  # exact to degree 9
@@ -138,8 +136,6 @@ class Beam:
     @cached_property
     def matrices(self) -> tuple[np.ndarray, np.ndarray]:
         """Global stiffness and mass matrices (free-free, DOFs (w, rotation) per node)."""
-        from .beam_fe import euler_bernoulli, timoshenko
-
         build = timoshenko if self.shear else euler_bernoulli
         return build(self, *self._quadrature())
 

@@ -9,9 +9,16 @@ interpolates.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from . import beam as _beam
+if TYPE_CHECKING:  # (the beam hands itself in: its module imports this one)
+    from .beam import Beam
+
+#: Shear coefficient of a solid circular section (G. R. Cowper, J. Appl. Mech. 33, 335 (1966),
+#: (6 + 6 nu)/(7 + 6 nu) at nu = 0.3; wood's nu_LR is 0.37-0.46 and moves it by 0.005).
+KAPPA_CIRCLE = 0.886
 
 
 def _assemble(element_k, element_m, count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -25,7 +32,7 @@ def _assemble(element_k, element_m, count: int) -> tuple[np.ndarray, np.ndarray]
     return K, M
 
 
-def euler_bernoulli(beam: _beam.Beam, h, pts, wts, area, second):
+def euler_bernoulli(beam: Beam, h, pts, wts, area, second):
     """Hermite cubic elements: K = int EI N'' N''^T, M = int rho (A N N^T + I N' N'^T)."""
     E = beam.wood.youngs_modulus_pa * beam.stiffness_scale
     rho = beam.wood.density_kgpm3
@@ -64,7 +71,7 @@ def euler_bernoulli(beam: _beam.Beam, h, pts, wts, area, second):
     return _assemble(k_e, m_e, len(h))
 
 
-def timoshenko(beam: _beam.Beam, h, pts, wts, area, second):
+def timoshenko(beam: Beam, h, pts, wts, area, second):
     """Linear elements in w and the section's rotation psi: bending int EI psi'^2, shear
     kappa G A (w' - psi)^2 at the middle, mass int rho (A w^2 + I psi^2)."""
     E = beam.wood.youngs_modulus_pa * beam.stiffness_scale
@@ -73,7 +80,7 @@ def timoshenko(beam: _beam.Beam, h, pts, wts, area, second):
     xi = (pts - beam.nodes_m[:-1, None]) / h[:, None]
     count = len(h)
     ei = np.sum(E * second * wts, axis=1) / h**2
-    kga = np.sum(_beam.KAPPA_CIRCLE * G * area * wts, axis=1)
+    kga = np.sum(KAPPA_CIRCLE * G * area * wts, axis=1)
     bend = np.array([0.0, -1.0, 0.0, 1.0])
     shear = np.stack([-1 / h, -0.5 * np.ones(count), 1 / h, -0.5 * np.ones(count)], axis=-1)
     k_e = ei[:, None, None] * np.outer(bend, bend)[None] + kga[:, None, None] * np.einsum(

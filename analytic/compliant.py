@@ -21,6 +21,7 @@ import numpy as np
 from scipy import integrate, optimize
 
 from . import checks
+from .collide import _geometry, first_touch, outcome_fields
 from .model import ImpactCase, Outcome
 
 
@@ -232,16 +233,6 @@ BASEBALL_HERTZ = HuntCrossley(
 )
 
 
-def __getattr__(name: str):
-    """``LAWS`` (the sweep's laws by name) lives in ``analytic.ball``, which imports this
-    module: it is looked up there on first use, so neither import cycles."""
-    if name == "LAWS":
-        from .ball import LAWS
-
-        return LAWS
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
 def hunt_crossley_restitution(dissipation_spm: float, speed_mps: float) -> float:
     """e of a Hunt-Crossley contact hit at ``speed_mps``: the root in (0, 1/a) of
     a - ln(1 + a) = -e a - ln(1 - e a), a = d v0 (from m u du / (1 + d u) = -k x^n dx
@@ -304,8 +295,6 @@ def predict(case: ImpactCase, law: ContactLaw | ImpactLaw) -> CompliantOutcome:
     rtol 1e-12) from the first touch until the force is back to zero. ``case.e`` is not used:
     the law sets the restitution (an ``ImpactLaw`` at the closing speed of the first touch).
     Frame and fields as ``analytic.predict``."""
-    from .collide import _geometry, first_touch, outcome_fields
-
     bat, ball = case.bat, case.ball
     m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
     reach = bat.radius_m + ball.radius_m

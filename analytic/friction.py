@@ -28,6 +28,7 @@ from scipy import integrate, optimize
 
 from . import checks
 from .impulse3d import RigidBody3D, _vec3, apply_impulse
+from .model import ImpactCase
 
 #: Integration tolerance (relative): the wall limits are met to 1e-12.
 RTOL = 1e-13
@@ -399,8 +400,6 @@ def predict_friction(
     plane. ``law`` one of LAWS: Routh's integration (``frictional_impulse``), or the law an
     impulse engine solves in one step (``one_step_impulse``), relaxed or not; ``rtol``
     Routh's integration tolerance."""
-    from .model import ImpactCase
-
     checks.instance("case", case, ImpactCase)
     checks.choice("law", law, LAWS)
     bat, ball = case.bat, case.ball
