@@ -263,25 +263,3 @@ def fit_profile(
             f"(residual {np.max(np.abs(sol.fun)):.1e})"
         )
     return build(sol.x)
-
-
-#: The R161 (``presets.R161``: 0.871 kg, 0.84 m, COM 0.56 m, J_cm 0.039 kg m^2) as a profile.
-#: Given: a 2.5 in (63.5 mm) barrel, a 1.7 in (43 mm), 12 mm knob, the handle out to 10 in
-#: (0.254 m) and a flared taper (exponent 2), round values of a wood bat's (a barrel at most
-#: 2.61 in: MLB Official Baseball Rules 3.02(a)). Solved for (``fit_profile``): the handle's
-#: radius (14.5 mm), where the barrel starts (0.56 m) and ash's density (583 kg/m^3, inside
-#: the handbook's 0.55-0.67 specific gravity of white ash). The modes are not fitted.
-def r161_profile(wood: Wood = ASH) -> tuple[Profile, Wood]:
-    """The R161's fitted profile and ``wood`` at the fitted density."""
-    checks.instance("wood", wood, Wood)
-    from .presets import R161
-
-    return fit_profile(
-        R161,
-        knob_radius_m=0.0215,
-        knob_length_m=0.012,
-        handle_end_m=0.254,
-        barrel_radius_m=0.03175,
-        taper_exponent=2.0,
-        wood=wood,
-    )

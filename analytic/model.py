@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from . import checks
 
 #: The bat's wood (kg/m^3), one value for every model of the R161: the density at which its
-#: fitted profile (``beam.r161_profile``: knob, handle, flared taper, 2.5 in barrel) has the
+#: fitted profile (``presets.r161_profile``: knob, handle, flared taper, 2.5 in barrel) has the
 #: R161's mass, balance point and J_cm. Inside white ash's specific gravity, 0.55-0.67 (USDA
 #: Wood Handbook, FPL-GTR-190, 2010, ch. 5). The cork model drills its hole
 #: in this wood; tests re-derive it from the fit.
@@ -103,25 +103,6 @@ class Bat:
     def check_s(self, s_m: float, name: str = "s_m") -> float:
         """Return ``s_m`` if it lies on the bat (between knob and barrel end), else raise."""
         return checks.in_range(name, s_m, -self.com_from_knob_m, self.s_barrel_end_m)
-
-    def corked(
-        self,
-        *,
-        hole_radius_m: float = 0.0127,
-        hole_depth_m: float = 0.254,
-        fill_density_kgm3: float = 200.0,
-        wood_density_kgm3: float = WOOD_DENSITY_KGM3,
-    ) -> Bat:
-        """This bat with a hole drilled from the barrel end and filled (exact: analytic.cork)."""
-        from .cork import corked_bat
-
-        return corked_bat(
-            self,
-            hole_radius_m=hole_radius_m,
-            hole_depth_m=hole_depth_m,
-            fill_density_kgm3=fill_density_kgm3,
-            wood_density_kgm3=wood_density_kgm3,
-        )
 
 
 @dataclass(frozen=True, kw_only=True)

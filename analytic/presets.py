@@ -8,6 +8,8 @@ from __future__ import annotations
 import functools
 from types import MappingProxyType
 
+from . import checks
+from .beam import ASH, Profile, Wood, fit_profile
 from .model import Ball, Bat
 from .swing import Swing
 
@@ -59,7 +61,7 @@ HOLLOW = (EASTON31,)
 
 def profile(bat: Bat):
     """The radius along ``bat`` (an ``analytic.beam.Profile``, m from the knob) where it is
-    known: the R161's fitted profile (``beam.r161_profile``: knob, handle, taper, barrel, with
+    known: the R161's fitted profile (``r161_profile``: knob, handle, taper, barrel, with
     the preset's mass, COM and J_cm) for the R161; None for any other bat, whose capsule's
     radius is all that is known of it."""
     return _r161_profile() if bat == R161 else None
@@ -67,8 +69,6 @@ def profile(bat: Bat):
 
 @functools.cache
 def _r161_profile():
-    from .beam import r161_profile
-
     return r161_profile()[0]
 
 
@@ -84,3 +84,23 @@ PAPER_SWING = Swing(u0_mps=17.87, omega0_radps=32.0)
 
 E_WOOD = 0.5
 """Ball-bat coefficient of restitution against wood, and the BBCOR limit for other bats (0.50)."""
+
+
+#: The R161 (``R161``: 0.871 kg, 0.84 m, COM 0.56 m, J_cm 0.039 kg m^2) as a profile.
+#: Given: a 2.5 in (63.5 mm) barrel, a 1.7 in (43 mm), 12 mm knob, the handle out to 10 in
+#: (0.254 m) and a flared taper (exponent 2), round values of a wood bat's (a barrel at most
+#: 2.61 in: MLB Official Baseball Rules 3.02(a)). Solved for (``fit_profile``): the handle's
+#: radius (14.5 mm), where the barrel starts (0.56 m) and ash's density (583 kg/m^3, inside
+#: the handbook's 0.55-0.67 specific gravity of white ash). The modes are not fitted.
+def r161_profile(wood: Wood = ASH) -> tuple[Profile, Wood]:
+    """The R161's fitted profile and ``wood`` at the fitted density."""
+    checks.instance("wood", wood, Wood)
+    return fit_profile(
+        R161,
+        knob_radius_m=0.0215,
+        knob_length_m=0.012,
+        handle_end_m=0.254,
+        barrel_radius_m=0.03175,
+        taper_exponent=2.0,
+        wood=wood,
+    )

@@ -41,6 +41,7 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
+from . import sweep as sweep_cmd
 from .core import cli, firings, inputs, runs, tables
 from .core.cli import Command
 from .core.hosting import hosted
@@ -155,8 +156,6 @@ def runner_speedups(label: str, args: list[str], repeats: int) -> dict:
     processes and on a 2-worker Dask LocalCluster, each started and warmed before the timing
     (workers that have imported the engines, as in a long-lived pool or cluster). The three
     take turns, repeat after repeat, so that a drift of the machine's speed hits all alike."""
-    from . import sweep as sweep_cmd
-
     plan = sweep_cmd.sweep_from_args(sweep_cmd.build_parser().parse_args(args))
     kinds = {
         "serial": {},

@@ -24,9 +24,11 @@ import pandas as pd
 import adapters
 from analytic import Bat, compliant, flight, predict, presets
 from analytic.ball import LAWS
+from analytic.cork import corked_bat
 from analytic.dynamics import HingedSwing
 from analytic.model import WOOD_DENSITY_KGM3
 
+from .compare import check_table, compare_tables
 from .core import boundary, carry, cli, estimate, firings, judge, runs, tables
 from .core import locate as locating
 from .core.estimate import duration
@@ -184,11 +186,12 @@ def _bat(args: argparse.Namespace) -> Bat:
             + ")"
         )
     if args.corked:
-        bat = bat.corked(
+        bat = corked_bat(
+            bat,
             **{
                 field: default if getattr(args, k) is None else getattr(args, k)
                 for k, (field, default) in HOLE.items()
-            }
+            },
         )
     return bat
 
@@ -419,8 +422,6 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.compare:
-        from .compare import check_table, compare_tables
-
         others = [
             t
             for t in (sys.argv[1:] if argv is None else argv)

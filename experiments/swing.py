@@ -33,6 +33,7 @@ from analytic import (
     sweet_spot,
     swing_for,
 )
+from analytic.cork import corked_bat
 from analytic.dynamics import Drive, motion, state_array
 
 from .core import cli
@@ -242,9 +243,9 @@ def swing_models() -> pd.DataFrame:
     ref, pitch = presets.R161, presets.PAPER_PITCH_MPS
     bats = {"R161 (wood)": ref}
     for depth_in in (6, 8, 10):
-        bats[f"R161 corked 1x{depth_in} in, cork"] = ref.corked(hole_depth_m=depth_in * 0.0254)
-    bats["R161 corked 1x10 in, rubber"] = ref.corked(fill_density_kgm3=1100.0)
-    bats["R161 hollowed 1x10 in"] = ref.corked(fill_density_kgm3=0.0)
+        bats[f"R161 corked 1x{depth_in} in, cork"] = corked_bat(ref, hole_depth_m=depth_in * 0.0254)
+    bats["R161 corked 1x10 in, rubber"] = corked_bat(ref, fill_density_kgm3=1100.0)
+    bats["R161 hollowed 1x10 in"] = corked_bat(ref, fill_density_kgm3=0.0)
     bats["Easton 31 in (aluminium)"] = presets.EASTON31
     rows = []
     for label, bat in bats.items():

@@ -190,7 +190,7 @@ def test_bat_models_resolve_the_ball_at_the_first_touch():
     from analytic.chain import Chain
     from analytic.chain_impact import ChainImpact, compliant_reference
 
-    profile, wood = beam.r161_profile()
+    profile, wood = presets.r161_profile()
     eb = beam.Beam(profile=profile, wood=wood)
     impact = ChainImpact(
         chain=Chain.from_beam(eb, 8, like=presets.R161),

@@ -12,6 +12,7 @@ from analytic.ball import REALISTIC_BALL
 from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact, compliant_reference, impulse_reference
 from analytic.compliant import BASEBALL_HERTZ, HuntCrossley
+from analytic.cork import corked_bat
 
 #: beta_n L of a free-free uniform Euler-Bernoulli beam: roots of cos(bL) cosh(bL) = 1
 FREE_FREE_BETA_L = (4.730040744862704, 7.853204624095838, 10.995607838001671)
@@ -22,7 +23,7 @@ FE_REL = 1e-4  # (beta_n L)^2 (r/L)^2 / 8: 2e-5 for the third mode of a 1 mm by 
 
 @pytest.fixture(scope="module")
 def r161():
-    profile, wood = beam.r161_profile()
+    profile, wood = presets.r161_profile()
     return profile, wood
 
 
@@ -53,7 +54,7 @@ def test_one_wood_density_for_every_model_of_the_r161(r161):
     # the cork model's default wood is the density at which the beam's profile has the R161's
     # M, x_cm and J_cm (the fit's residual is 1e-10, so the density agrees to about that)
     assert r161[1].density_kgpm3 == pytest.approx(WOOD_DENSITY_KGM3, rel=1e-9)
-    drilled = presets.R161.corked()  # 1 x 10 in of cork, 200 kg/m^3
+    drilled = corked_bat(presets.R161)  # 1 x 10 in of cork, 200 kg/m^3
     removed = (WOOD_DENSITY_KGM3 - 200.0) * math.pi * 0.0127**2 * 0.254
     assert presets.R161.mass_kg - drilled.mass_kg == pytest.approx(removed, rel=1e-12)
 

@@ -89,7 +89,7 @@ def test_paper_variant_differs_by_documented_amount(r, h, fill, wood):
 def test_lighter_fill_moves_com_to_the_knob_and_lowers_inertia():
     # Removing mass at the barrel end: dM < 0 at x_c > x_cm gives R = dM (x_c - x_cm)/M' < 0,
     # and less mass far from the COM means a smaller J_cm and a much smaller I_knob.
-    corked = R161.corked(hole_radius_m=0.0127, hole_depth_m=0.254, fill_density_kgm3=0.0)
+    corked = corked_bat(R161, hole_radius_m=0.0127, hole_depth_m=0.254, fill_density_kgm3=0.0)
     assert corked.mass_kg < R161.mass_kg
     assert corked.com_from_knob_m < R161.com_from_knob_m
     assert corked.inertia_cm_kgm2 < R161.inertia_cm_kgm2
@@ -102,7 +102,7 @@ def test_lighter_fill_moves_com_to_the_knob_and_lowers_inertia():
 def _wall(bat, depth_m: float) -> float:
     """The least radius (m) over the drilled span [L - h, L], read off the bat's profile at a
     fine grid (independent of Hole.wall_radius_m's stations), and its capsule's radius."""
-    from analytic.beam import r161_profile
+    from analytic.presets import r161_profile
 
     x = np.linspace(bat.length_m - depth_m, bat.length_m, 20_001)
     return min(bat.radius_m, float(r161_profile()[0].radius_m(x).min()))
@@ -145,7 +145,7 @@ def test_a_bat_without_a_profile_is_bounded_by_its_capsule():
 
 def test_a_hollow_metal_bat_is_not_corked():
     with pytest.raises(ValueError, match=r"bat 'easton31' is a hollow metal shell.*allowed"):
-        presets.EASTON31.corked()
+        corked_bat(presets.EASTON31)
 
 
 @pytest.mark.parametrize(

@@ -17,6 +17,7 @@ from analytic import (
     presets,
     sweet_spot,
 )
+from analytic.cork import corked_bat
 
 R161, BALL = presets.R161, presets.BASEBALL
 GOOD = dict(bat=R161, ball=BALL, s_m=0.1, v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0, e=0.5)
@@ -134,8 +135,12 @@ def test_cork_that_removes_the_whole_bat_is_rejected():
     # R161's own profile refuses such a hole first, by its 14.4 mm handle: a bat known only by
     # its 33 mm capsule gets this far.)
     with pytest.raises(ValueError, match="corked mass"):
-        Bat(**BAT).corked(
-            hole_radius_m=0.0329, hole_depth_m=0.8, fill_density_kgm3=0.0, wood_density_kgm3=1400.0
+        corked_bat(
+            Bat(**BAT),
+            hole_radius_m=0.0329,
+            hole_depth_m=0.8,
+            fill_density_kgm3=0.0,
+            wood_density_kgm3=1400.0,
         )
 
 
@@ -182,7 +187,7 @@ def test_replace_revalidates():
 def modes():
     from analytic import beam
 
-    profile, wood = beam.r161_profile()
+    profile, wood = presets.r161_profile()
     return beam.Beam(profile=profile, wood=wood, elements=40).modes(3)
 
 
@@ -227,9 +232,12 @@ def test_beam_refuses_bad_input(modes):
     from analytic import beam
 
     _raises(
-        "count", -1, beam.Beam(profile=beam.r161_profile()[0], wood=beam.ASH, elements=8).modes, -1
+        "count",
+        -1,
+        beam.Beam(profile=presets.r161_profile()[0], wood=beam.ASH, elements=8).modes,
+        -1,
     )
     _raises("x_m", 5.0, modes.shape, 5.0)  # past the 0.84 m beam
     _raises("x_m", math.nan, modes.slope, math.nan)
     _raises("mode", 99, modes.barrel_node_from_tip_m, 99)
-    _raises("wood", "ash", beam.r161_profile, "ash")
+    _raises("wood", "ash", presets.r161_profile, "ash")

@@ -33,7 +33,7 @@ POINTS_M = np.linspace(0.30, 0.80, 11)
 
 @pytest.fixture(scope="module")
 def r161_chain() -> Chain:
-    profile, wood = beam.r161_profile()
+    profile, wood = presets.r161_profile()
     return Chain.from_beam(beam.Beam(profile=profile, wood=wood), 8, like=presets.R161)
 
 

@@ -13,6 +13,7 @@ import pytest
 
 from analytic import presets
 from analytic.compliant import Hysteretic
+from analytic.cork import corked_bat
 from experiments.findings import answers as A
 from experiments.findings import carry as C
 
@@ -55,14 +56,14 @@ def test_cork_removes_less_in_lighter_wood():
     # dM = (rho_fill - rho_wood) pi r^2 h: a 1 x 10 in cork fill in ash of 550-670 kg/m^3
     # removes 45-60 g, and the lighter the wood the smaller the loss at n = 0.27
     removed = {
-        rho: presets.R161.mass_kg - presets.R161.corked(wood_density_kgm3=rho).mass_kg
+        rho: presets.R161.mass_kg - corked_bat(presets.R161, wood_density_kgm3=rho).mass_kg
         for rho in (550.0, 670.0)
     }
     for rho, dm in removed.items():
         assert dm == pytest.approx((rho - 200.0) * math.pi * 0.0127**2 * 0.254, rel=1e-12)
     for sc in A.SCENARIOS:
         light, dense = (
-            A.cork_gain(presets.R161.corked(wood_density_kgm3=rho), sc, 0.27)
+            A.cork_gain(corked_bat(presets.R161, wood_density_kgm3=rho), sc, 0.27)
             for rho in (550.0, 670.0)
         )
         assert dense < light < 0
@@ -103,7 +104,7 @@ def test_models_that_cannot_carry_a_hysteretic_law_refuse_it():
     from analytic.chain import Chain
     from analytic.chain_impact import ChainImpact, compliant_reference
 
-    eb = beam.Beam(profile=beam.r161_profile()[0], wood=beam.r161_profile()[1])
+    eb = beam.Beam(profile=presets.r161_profile()[0], wood=presets.r161_profile()[1])
     impact = ChainImpact(
         chain=Chain.from_beam(eb, 4, like=presets.R161),
         ball=presets.BASEBALL,

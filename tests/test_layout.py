@@ -1,10 +1,11 @@
 """The house rules a reader relies on, read from the source itself: a module reads in one
 sitting (about 400 lines) and a function on one screen (about 60), a guide and not a cap (a
 module is split by responsibility, not at a count: the test fails only half as long again
-past it), and imports in one direction only: theory (``analytic``) <- engines
-(``adapters``) <- harness core (``experiments.core``) <- the commands' parts
-(``experiments.parts``: no command among them) <- commands (``experiments.*``); and a row's
-status is named through ``experiments.core.judge.Status`` outside the judge, not spelled."""
+past it), imports in one direction only (none of the project's inside a function): theory
+(``analytic``) <- engines (``adapters``) <- harness core (``experiments.core``) <- the
+commands' parts (``experiments.parts``: no command among them) <- commands
+(``experiments.*``); and a row's status is named through ``experiments.core.judge.Status``
+outside the judge, not spelled."""
 
 from __future__ import annotations
 
@@ -80,6 +81,28 @@ def test_module_and_function_sizes(path):
         if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
             length = node.end_lineno - node.lineno + 1
             assert length <= MAX_FUNCTION_LINES, f"{node.name}: {length} lines"
+
+
+@pytest.mark.parametrize(
+    "path", [p for p in SOURCES if _layer(_name(p))], ids=lambda p: str(p.relative_to(ROOT))
+)
+def test_no_project_module_is_imported_inside_a_function(path):
+    # an import circle is resolved by moving what both sides need, not hidden by importing
+    # late; third-party modules may still load late (matplotlib, Dask: a cost, not a circle)
+    late = [
+        node.lineno
+        for fn in ast.walk(ast.parse(path.read_text()))
+        if isinstance(fn, ast.FunctionDef | ast.AsyncFunctionDef)
+        for node in ast.walk(fn)
+        if isinstance(node, ast.ImportFrom | ast.Import) and _names_the_project(node)
+    ]
+    assert not late, f"{_name(path)}: project imports inside a function at lines {late}"
+
+
+def _names_the_project(node: ast.Import | ast.ImportFrom) -> bool:
+    if isinstance(node, ast.ImportFrom):
+        return node.level > 0 or (node.module or "").split(".")[0] in PACKAGES
+    return any(a.name.split(".")[0] in PACKAGES for a in node.names)
 
 
 @pytest.mark.parametrize(

@@ -15,11 +15,10 @@ from __future__ import annotations
 
 import functools
 
+import mujoco
 import numpy as np
 
-from . import adapter as mjx_adapter
-
-jax, jnp, mjx = mjx_adapter.jax, mjx_adapter.jnp, mjx_adapter.mjx
+from .runtime import bucket, jax, jnp, mjx
 
 #: Steps are padded up to a multiple of this (free flight after the contact leaves the
 #: velocities as they are): one compile serves episodes of nearby lengths.
@@ -97,7 +96,7 @@ def derivative(
         raise NotImplementedError("MJX's derivative here takes impacts in the swing plane only")
     steps = STEP_BUCKET * -(-steps // STEP_BUCKET)
     n = len(states)
-    rows = max(MIN_ROWS, mjx_adapter.bucket(n))  # padded with copies of the first world
+    rows = max(MIN_ROWS, bucket(n))  # padded with copies of the first world
     states = np.concatenate([states, np.repeat(states[:1], rows - n, axis=0)])
     tangents = np.concatenate([tangents, np.repeat(tangents[:1], rows - n, axis=0)])
     bat = engine._ids["body"]
@@ -121,6 +120,6 @@ def _perpendicular(model, bat: int) -> tuple[int, ...]:
     """The bat's principal axes across its length (``body_inertia``'s entries that are I_cm:
     its long axis is x, and ``body_iquat`` may order the axes otherwise)."""
     rot = np.zeros(9)
-    mjx_adapter.mujoco.mju_quat2Mat(rot, np.asarray(model.body_iquat[bat], dtype=float))
+    mujoco.mju_quat2Mat(rot, np.asarray(model.body_iquat[bat], dtype=float))
     along_x = np.abs(rot.reshape(3, 3)[0])
     return tuple(int(k) for k in np.flatnonzero(along_x < 0.5))

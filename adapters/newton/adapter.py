@@ -8,6 +8,8 @@ from ..frames import angles_and_tilts, bat_quaternions, in_plane
 from ..interface import STATE_FIELDS, BatchedEngine, MassProperties, Scene
 from . import RECORD, NewtonSettings
 from . import scene as sc
+from .defaults import read_back
+from .gradients import derivative
 
 newton, wp = sc.newton, sc.wp
 (BX, BY, BVX, BVY, BW, CX, CY, CA, CVX, CVY, CW, BZ, BVZ, BWX, BWY, CZ, CT, CVZ, CWX, CWY) = range(
@@ -37,8 +39,6 @@ class NewtonEngine(BatchedEngine):
 
     @classmethod
     def read_back_defaults(cls) -> dict:
-        from .defaults import read_back
-
         return read_back()
 
     def build(self, scene: Scene, worlds: int) -> None:
@@ -152,9 +152,9 @@ class NewtonEngine(BatchedEngine):
         return self.touching.copy()
 
     def derivative(self, states, tangents, steps: int, inertia_tangent_kgm2: float = 0.0):
-        from .gradients import derivative  # wp.Tape through XPBD (its docstring)
-
-        return derivative(self, states, tangents, steps, inertia_tangent_kgm2)
+        return derivative(  # wp.Tape through XPBD (its docstring)
+            self, states, tangents, steps, inertia_tangent_kgm2
+        )
 
     def failed(self) -> np.ndarray:
         s = self.states[0]

@@ -30,11 +30,14 @@ from analytic import (
     corked_bat_paper,
     hittable_sweet_spot,
     predict,
+    predict_oblique_paper,
     presets,
+    sweet_region,
     sweet_spot,
     sweet_zone,
     swing_for,
 )
+from analytic.cork import corked_bat
 
 from ..core import firings, locate, tables
 from ..core.fire import Job
@@ -250,11 +253,11 @@ def corked_bats() -> dict[tuple[str, int], tuple[Bat, Bat]]:
                 fill_density_kgm3=rho,
                 wood_density_kgm3=WOOD_DENSITY_KGM3,
             )
-            out[(fill, depth)] = (R161.corked(**kw), corked_bat_paper(R161, **kw))
+            out[(fill, depth)] = (corked_bat(R161, **kw), corked_bat_paper(R161, **kw))
     return out
 
 
-CORK_1x10 = R161.corked()  # the default: a 1 x 10 in cork fill
+CORK_1x10 = corked_bat(R161)  # the default: a 1 x 10 in cork fill
 
 
 def cork_properties() -> pd.DataFrame:
@@ -452,8 +455,6 @@ def v1_gain_curve(corked: Bat, sc: Scenario, exponents: np.ndarray) -> np.ndarra
 
 def audit_numbers() -> dict[str, float]:
     """Every number the audit of the paper quotes (m, m/s, rad, kg m^2, s, %)."""
-    from analytic import predict_oblique_paper, sweet_region
-
     sw = PAPER.swing
     light = replace(BALL, mass_kg=0.14)  # the paper's "0.14 kg" ball
     ranges = dict(

@@ -8,6 +8,7 @@ import pandas as pd
 
 import adapters
 
+from .. import gradients
 from ..parts import gradient_studies as studies
 from .report import md_table
 
@@ -17,8 +18,6 @@ STEPS = 16
 
 def fit_section(engines: tuple[str, ...]) -> str:
     """The worked answer as markdown."""
-    from .. import gradients  # the study's own case (a command module: imported late)
-
     base = gradients.base_case()
     s, v1 = studies.fit_data(base)
     ls = studies.least_squares_j(base, s, v1)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import pandas as pd
 
 from analytic import MEASURED_EXPONENT, WOOD_DENSITY_KGM3, ball
+from analytic.cork import corked_bat
 
 from . import answers as A
 from . import carry as C
@@ -247,7 +248,9 @@ def cork_claims(cork: Stats) -> list[Claim]:
     and in metres of carry (over the drag and lift corners)."""
     v = cork["verdicts"]
     cmd = f"{FINDINGS} (section 2, answers.cork_verdicts; carry: section 3b)"
-    by_wood = [A.cork_verdicts(A.R161.corked(wood_density_kgm3=rho)) for rho in WOOD_RANGE_KGM3]
+    by_wood = [
+        A.cork_verdicts(corked_bat(A.R161, wood_density_kgm3=rho)) for rho in WOOD_RANGE_KGM3
+    ]
     dep = f"{RIGID}; wood {WOOD_RANGE_KGM3[0]:.0f}-{WOOD_RANGE_KGM3[1]:.0f} kg/m^3 [woodhandbook]"
 
     def gain(i: int, column: str) -> str:

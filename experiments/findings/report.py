@@ -12,6 +12,8 @@ from typing import TYPE_CHECKING, Any
 
 import pandas as pd
 
+from analytic.flight import time_to_travel
+
 from ..core.judge import Status
 from . import answers as A
 from .refs import REFS
@@ -238,8 +240,6 @@ def _audit_metal_rows(n: dict[str, float]) -> list[tuple[str, str, str]]:
 
 def _to_pitcher(v1_mps: float) -> float:
     """A batted ball's time to 16.5 m with drag (s)."""
-    from analytic.flight import time_to_travel
-
     return time_to_travel(v1_mps, A.PITCHER_AFTER_FOLLOW_THROUGH_M).time_s
 
 

@@ -63,7 +63,7 @@ SWINGS = (
 @cache
 def r161_beam(modulus_scale: float = 1.0, shear: bool = True) -> beam.Beam:
     """The R161's beam (Timoshenko unless ``shear`` is False), E and G scaled."""
-    profile, wood = beam.r161_profile()
+    profile, wood = presets.r161_profile()
     wood = replace(
         wood,
         youngs_modulus_pa=wood.youngs_modulus_pa * modulus_scale,

@@ -27,8 +27,12 @@ import numpy as np
 
 import adapters
 from analytic import presets
+from analytic.dynamics import HingedSwing
 
-from ..core import firings, tables
+from ..core import check, firings, tables
+from ..core.hosting import hosted
+from ..core.runner import Runner
+from . import sweep_options
 
 #: name -> sweep options: the still, swing and hinged reference grids, and the swing at defaults.
 GRIDS = {
@@ -45,10 +49,6 @@ COLUMNS = ("s_m", "status", "err_mps", "tol_mps", "wall_s")
 def firing(grid: str) -> tuple[firings.Firing, str]:
     """The grid's impacts, with the sweep's defaults for what its options leave out, and the
     profile it is fired at."""
-    from analytic.dynamics import HingedSwing
-
-    from . import sweep_options
-
     a = sweep_options.build_parser().parse_args(["--points", str(POINTS), *GRIDS[grid]])
     bat = presets.R161
     swing = (
@@ -71,8 +71,6 @@ def firing(grid: str) -> tuple[firings.Firing, str]:
 
 def grid_rows(name: str, grid: str) -> list[dict]:
     """Each impact of one grid: status, the judged error and its tolerance (m/s), wall time."""
-    from ..core.runner import Runner
-
     f, profile = firing(grid)
     with Runner() as runner:
         table = tables.table(
@@ -97,9 +95,6 @@ def grid_rows(name: str, grid: str) -> list[dict]:
 def checks(name: str) -> list[dict]:
     """The conformance suite at the reference profile; every check not run, with the reason,
     where the release cannot build the reference profile's scene."""
-    from ..core import check
-    from ..core.hosting import hosted
-
     scene = adapters.Scene(bat=presets.R161, ball=presets.BASEBALL, e=presets.E_WOOD)
     try:
         hosted(name, adapters.settings_for(name)).batch(scene, 1)
