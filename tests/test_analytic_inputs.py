@@ -126,7 +126,7 @@ def test_pivot_at_com_has_no_cop():
     ],
 )
 def test_cork_rejects(field, value):
-    _raises(field, value, R161.corked, **{field: value})
+    _raises(field, value, corked_bat, R161, **{field: value})
     _raises(field, value, corked_bat_paper, R161, **{field: value})
 
 
@@ -154,7 +154,7 @@ def test_cork_that_removes_the_whole_bat_is_rejected():
 )
 def test_cork_that_leaves_no_wall_or_bottom_is_rejected(field, value, depth):
     kw = {"hole_radius_m": 0.0127, "hole_depth_m": depth, field: value}
-    _raises(field, value, R161.corked, **kw)
+    _raises(field, value, corked_bat, R161, **kw)
     _raises(field, value, corked_bat_paper, R161, **kw)
 
 

@@ -24,7 +24,7 @@ from scipy import optimize
 
 import adapters
 from adapters import ContactReference, Scene, clock
-from analytic import ImpactCase, center_of_percussion, predict, presets
+from analytic import ImpactCase, center_of_percussion, cork, predict, presets
 from analytic.dynamics import HingedSwing
 
 from . import friction_judge, judge
@@ -98,7 +98,7 @@ def mass_read_back(ctx: Ctx) -> str:
     """The engine holds the mass, COM and inertia each bat was built with, and reads back a
     changed bat as different (the read-back is the engine's, not the scene echoed)."""
     host = hosted(ctx.name, ctx.settings)
-    for bat in (R161, corked_bat(R161), presets.EASTON31):
+    for bat in (R161, cork.corked_bat(R161), presets.EASTON31):
         host.batch(Scene(bat=bat, ball=BALL, e=0.5), 1)  # builds and checks
     got = host.adapter.mass_properties()
     for field, changed in (
@@ -203,7 +203,7 @@ def large_batch(ctx: Ctx) -> str:
 
 def corked_bat(ctx: Ctx) -> str:
     """A corked bat's own M, x_cm and J go through the same impulse formula."""
-    bat = corked_bat(R161)
+    bat = cork.corked_bat(R161)
     worst = _matches_theory(
         ctx,
         [
@@ -299,7 +299,7 @@ def stateless(ctx: Ctx) -> str:
             (R161, -0.2, 0.5),
             (R161, 0.2, 0.5),
             (R161, 0.0, 1.0),
-            (corked_bat(R161), 0.1, 0.3),
+            (cork.corked_bat(R161), 0.1, 0.3),
         )
     ]
     if ctx.record.drives_bat:  # a short swing (0.1 rad, 6 ms) uses the drive as a long one
