@@ -137,7 +137,14 @@ class Beam:
     def matrices(self) -> tuple[np.ndarray, np.ndarray]:
         """Global stiffness and mass matrices (free-free, DOFs (w, rotation) per node)."""
         build = timoshenko if self.shear else euler_bernoulli
-        return build(self, *self._quadrature())
+        wood, scale = self.wood, self.stiffness_scale
+        return build(
+            self.nodes_m,
+            wood.youngs_modulus_pa * scale,
+            wood.shear_modulus_pa * scale,
+            wood.density_kgpm3,
+            *self._quadrature(),
+        )
 
     @cached_property
     def _eigen(self) -> tuple[np.ndarray, np.ndarray]:

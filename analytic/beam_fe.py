@@ -9,12 +9,7 @@ interpolates.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
-
-if TYPE_CHECKING:  # (the beam hands itself in: its module imports this one)
-    from .beam import Beam
 
 #: Shear coefficient of a solid circular section (G. R. Cowper, J. Appl. Mech. 33, 335 (1966),
 #: (6 + 6 nu)/(7 + 6 nu) at nu = 0.3; wood's nu_LR is 0.37-0.46 and moves it by 0.005).
@@ -32,11 +27,10 @@ def _assemble(element_k, element_m, count: int) -> tuple[np.ndarray, np.ndarray]
     return K, M
 
 
-def euler_bernoulli(beam: Beam, h, pts, wts, area, second):
+def euler_bernoulli(nodes_m, youngs_pa, shear_pa, density_kgpm3, h, pts, wts, area, second):
     """Hermite cubic elements: K = int EI N'' N''^T, M = int rho (A N N^T + I N' N'^T)."""
-    E = beam.wood.youngs_modulus_pa * beam.stiffness_scale
-    rho = beam.wood.density_kgpm3
-    xi = (pts - beam.nodes_m[:-1, None]) / h[:, None]
+    E, rho = youngs_pa, density_kgpm3  # (no shear term in this element)
+    xi = (pts - nodes_m[:-1, None]) / h[:, None]
     hh = h[:, None]
     n = np.stack(
         [
@@ -71,13 +65,11 @@ def euler_bernoulli(beam: Beam, h, pts, wts, area, second):
     return _assemble(k_e, m_e, len(h))
 
 
-def timoshenko(beam: Beam, h, pts, wts, area, second):
+def timoshenko(nodes_m, youngs_pa, shear_pa, density_kgpm3, h, pts, wts, area, second):
     """Linear elements in w and the section's rotation psi: bending int EI psi'^2, shear
     kappa G A (w' - psi)^2 at the middle, mass int rho (A w^2 + I psi^2)."""
-    E = beam.wood.youngs_modulus_pa * beam.stiffness_scale
-    G = beam.wood.shear_modulus_pa * beam.stiffness_scale
-    rho = beam.wood.density_kgpm3
-    xi = (pts - beam.nodes_m[:-1, None]) / h[:, None]
+    E, G, rho = youngs_pa, shear_pa, density_kgpm3
+    xi = (pts - nodes_m[:-1, None]) / h[:, None]
     count = len(h)
     ei = np.sum(E * second * wts, axis=1) / h**2
     kga = np.sum(KAPPA_CIRCLE * G * area * wts, axis=1)
