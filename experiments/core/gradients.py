@@ -53,14 +53,17 @@ AUTODIFF_INPUTS = ("s_m", "v0_mps", "bat_inertia_kgm2")
 
 
 class GradStatus(StrEnum):
-    OK = "ok"
+    """A derivative's verdict: the impact's own words (``Status``) where they mean the same,
+    and the three a derivative alone can earn (biased, zero, exploding)."""
+
+    OK = Status.OK.value
     BIASED = "biased"
     ZERO = "zero"
     EXPLODING = "exploding"
-    NON_FINITE = "non_finite"
-    UNSUPPORTED = "unsupported"
-    UNJUDGED = "unjudged"  # no answer applies (a soft law's bound does not hold there)
-    ERROR = "error"  # the engine's derivative raised
+    NON_FINITE = Status.NON_FINITE.value
+    UNSUPPORTED = Status.UNSUPPORTED.value
+    UNJUDGED = Status.UNJUDGED.value  # no answer applies (a soft law's bound does not hold)
+    ERROR = Status.ERROR.value  # the engine's derivative raised
 
 
 def scale_of(case: ImpactCase, name: str) -> float:
