@@ -126,59 +126,26 @@ def predict_arrays(
     tables of many impacts. Raises ValueError if any point is off the bat, any value out of
     range, or any pair does not approach (closing speed <= 0)."""
     _bodies(bat, ball)
-    fields = impulse_fields(
-        bat,
-        ball,
-        s_m=checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m),
-        **dict(zip(("v0_mps", "u0_mps", "omega0_radps"), _speeds(v0_mps, u0_mps, omega0_radps))),
-        e=checks.array_in_range("e", e, 0.0, 1.0),
-        theta_rad=checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2),
-        phi_rad=checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2),
-        hands_from_knob_m=checks.array_in_range(
-            "hands_from_knob_m", hands_from_knob_m, 0.0, bat.length_m
-        ),
-    )
-    vc = fields.pop("closing_speed_mps")
+    m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
+    s = checks.array_in_range("s_m", s_m, -bat.com_from_knob_m, bat.s_barrel_end_m)
+    v0, u0, w0 = _speeds(v0_mps, u0_mps, omega0_radps)
+    v0n = v0 * np.cos(checks.array_in_range("theta_rad", theta_rad, -math.pi / 2, math.pi / 2))
+    u0n = u0 * np.cos(checks.array_in_range("phi_rad", phi_rad, -math.pi / 2, math.pi / 2))
+    hands = checks.array_in_range("hands_from_knob_m", hands_from_knob_m, 0.0, bat.length_m)
+    vc = v0n + u0n + w0 * s
     if np.any(vc <= 0.0):
-        bad = np.broadcast_to(fields["s_m"], vc.shape)[vc <= 0.0].flat[0]
+        bad = np.broadcast_to(s, vc.shape)[vc <= 0.0].flat[0]
         raise ValueError(
             f"closing speed <= 0 at s_m={bad!r}: the bodies do not approach; "
             "allowed: v0*cos(theta) + u0*cos(phi) + omega0*s > 0"
         )
-    del fields["s_m"]
-    return fields
-
-
-def impulse_fields(
-    bat: Bat,
-    ball: Ball,
-    *,
-    s_m: np.ndarray,
-    v0_mps: np.ndarray,
-    u0_mps: np.ndarray,
-    omega0_radps: np.ndarray,
-    e: np.ndarray,
-    theta_rad: np.ndarray,
-    phi_rad: np.ndarray,
-    hands_from_knob_m: np.ndarray,
-) -> dict[str, np.ndarray]:
-    """``predict_arrays``'s formulas on float arrays already checked (an ``ImpactCase``'s
-    values, points kept on the bat): no range or approach check, for a caller that evaluates
-    many small grids (the judge's derivatives). Also gives ``closing_speed_mps`` and ``s_m``."""
-    m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
-    s, w0 = s_m, omega0_radps
-    v0n = v0_mps * np.cos(theta_rad)
-    u0n = u0_mps * np.cos(phi_rad)
-    vc = v0n + u0n + w0 * s
-    P = _normal_impulse(m, M, J, s, vc, e)
+    P = _normal_impulse(m, M, J, s, vc, checks.array_in_range("e", e, 0.0, 1.0))
     return {
         "v1_mps": -v0n + P / m,
         "u1_mps": u0n - P / M,
         "omega1_radps": w0 - P * s / J,
         "impulse_ns": P,
-        "hand_dv_mps": -P * (1.0 / M + s * (hands_from_knob_m - bat.com_from_knob_m) / J),
-        "closing_speed_mps": vc,
-        "s_m": s,
+        "hand_dv_mps": -P * (1.0 / M + s * (hands - bat.com_from_knob_m) / J),
     }
 
 

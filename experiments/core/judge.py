@@ -46,8 +46,9 @@ from enum import StrEnum
 import numpy as np
 
 import adapters
-from analytic import CollisionEpisode, ImpactCase, collide, compliant, impulse_fields
+from analytic import CollisionEpisode, ImpactCase, collide, compliant
 from analytic.frictional import frictional_episode
+from analytic.gradients import normal_fields
 
 
 class Status(StrEnum):
@@ -103,11 +104,6 @@ def errors_of(o, models=None) -> adapters.ErrorModel:
     return (models or {}).get(o.engine) or adapters.record(o.engine).errors
 
 
-#: The hands' place (m from the knob) in the derivatives' predictions: v1, u1 and omega1 do not
-#: depend on it (``predict_arrays``' own default).
-HANDS_M = np.asarray(0.1)
-
-
 def mass_allowance(eps: float) -> float:  # relative, between mass properties set and read back
     return max(MASS_CHECK_REL, MASS_CHECK_ULPS * eps)
 
@@ -127,7 +123,7 @@ def energy_allowance(errors: adapters.ErrorModel, settings: adapters.Settings) -
 def derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The single impulse's ``field`` at each case's s, its |d/ds| (central difference over
     FD_STEP_M, kept on the cylinder) and |d2/ds2| (over CURVATURE_STEP_M): one vectorized
-    prediction per bat and ball for all rows and all five points (``impulse_fields``: the
+    prediction per bat and ball for all rows and all five points (``normal_fields``: the
     formulas without their checks, a third of the cost on one impact)."""
     n = len(cases)
     value, slope, curvature = np.empty(n), np.empty(n), np.empty(n)
@@ -151,7 +147,9 @@ def derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, n
             for f in ("v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad")
         }
         # the cases' values were checked when they were made, the points are kept on the bat
-        v = impulse_fields(bat, ball, s_m=points, hands_from_knob_m=HANDS_M, **kw)[field]
+        v0n, u0n = kw["v0_mps"] * np.cos(kw["theta_rad"]), kw["u0_mps"] * np.cos(kw["phi_rad"])
+        m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
+        v = normal_fields(m, M, J, points, v0n, u0n, kw["omega0_radps"], kw["e"])[field]
         value[idx] = v[:, 3]
         slope[idx] = np.abs(v[:, 1] - v[:, 0]) / (hi - lo)
         curvature[idx] = np.abs(v[:, 2] - 2 * v[:, 3] + v[:, 4]) / h**2
