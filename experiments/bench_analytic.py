@@ -22,7 +22,7 @@ import numpy as np
 import adapters
 from analytic import ImpactCase, batted_ball_speed, predict, presets
 
-from .core import Status, cli
+from .core import Physics, Status, cli
 from .core.cli import Command
 from .core.episode import SimOutcome
 from .core.io import json_bytes, provenance
@@ -89,7 +89,7 @@ def judge_one_impact_s() -> float:
     outcome = SimOutcome(
         **theory,
         engine="theory",
-        status=Status.OK,
+        physics=Physics.SOUND,
         contact_duration_s=0.0,
         peak_penetration_m=0.0,
         steps=1,

@@ -90,7 +90,7 @@ def produce(args: argparse.Namespace) -> tuple[dict[str, bytes], str]:
                 "v0_mps": case.v0_mps,
                 "e_measured": e_meas,
                 "residual": e_meas - case.e,
-                "status": out.status.value,
+                "physics": out.physics.value,
                 "contact_duration_s": out.contact_duration_s,
             }
         )

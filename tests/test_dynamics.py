@@ -185,7 +185,7 @@ def test_swing_into_impact(name):
         )
         fired = fire_jobs([Job(engine=name, settings=st, case=nominal, swing=swing)])[0]
         case, out = fired.case, fired.outcome
-        assert case == nominal and out.ok, (s, out.status, out.ended)
+        assert case == nominal and out.sound, (s, out.physics, out.ended)
         ref = predict_(case)
         t_r = plan.steps * DT
         d_theta = 0.5 * swing.torque_nm / BAT.inertia_about(0.1) * t_r * DT

@@ -1,10 +1,10 @@
-"""How an episode ended and the status that follows (``experiments.core.endings``): each
-``Ending`` code has its label, and ``classify`` applies the README's verdict table in order,
+"""How an episode ended and the physical outcome that follows (``experiments.core.endings``):
+each ``Ending`` code has its label, and ``classify`` applies the README's table in order,
 
     non_finite/jumped -> non_finite, contact_flag -> error, passed (or the budget spent without a
     contact) -> tunnelled, missed -> no_contact, budget -> no_separation, ball beyond the axis
     (side <= 0) -> tunnelled, deeper than r_ball + r_bat -> penetration,
-    KE1 > KE0 (1 + allowance) -> energy_gained, else ok,
+    KE1 > KE0 (1 + allowance) -> energy_gained, else sound,
 
 the first rule that holds deciding, alike for one world (Python floats) and for a batch (numpy).
 """
@@ -18,8 +18,8 @@ import pytest
 
 import adapters
 from experiments.core import geometry as g
-from experiments.core.endings import LABELS, Ending, classify
-from experiments.core.judge import Status, energy_allowance
+from experiments.core.endings import LABELS, Ending, Physics, classify
+from experiments.core.judge import energy_allowance
 
 from .conftest import cheapest
 
@@ -31,8 +31,8 @@ ALLOWANCE = 1e-6
 SOUND = dict(ended=Ending.SEPARATED, first=2, peak_m=1e-9, side_m=0.05, ke0=100.0, ke1=30.0)
 
 
-def _one(**changes) -> Status:
-    """The status of one world (Python floats) with ``SOUND``'s values but ``changes``."""
+def _one(**changes) -> Physics:
+    """The physical outcome of one world (Python floats) with ``SOUND``'s values but ``changes``."""
     k = {**SOUND, **changes}
     got = classify(
         g.SCALARS,
@@ -45,7 +45,7 @@ def _one(**changes) -> Status:
         k["ke1"],
         ALLOWANCE,
     )
-    return Status(got)
+    return Physics(got)
 
 
 def test_codes_are_small_integers_and_none_is_falsy():
@@ -68,19 +68,19 @@ def test_labels_spell_each_ending_and_index_by_array():
 @pytest.mark.parametrize(
     "changes,status",
     [
-        ({}, Status.OK),
-        ({"ended": Ending.LEFT_CYLINDER}, Status.OK),
-        ({"ended": Ending.NON_FINITE}, Status.NON_FINITE),
-        ({"ended": Ending.JUMPED}, Status.NON_FINITE),
-        ({"ended": Ending.CONTACT_FLAG}, Status.ERROR),
-        ({"ended": Ending.PASSED, "first": -1}, Status.TUNNELLED),
-        ({"ended": Ending.BUDGET, "first": -1}, Status.TUNNELLED),
-        ({"ended": Ending.MISSED, "first": -1}, Status.NO_CONTACT),
-        ({"ended": Ending.BUDGET}, Status.NO_SEPARATION),
-        ({"side_m": -0.01}, Status.TUNNELLED),
-        ({"side_m": 0.0}, Status.TUNNELLED),
-        ({"peak_m": 1.5 * REACH_M}, Status.PENETRATION),
-        ({"ke1": 101.0}, Status.ENERGY_GAINED),
+        ({}, Physics.SOUND),
+        ({"ended": Ending.LEFT_CYLINDER}, Physics.SOUND),
+        ({"ended": Ending.NON_FINITE}, Physics.NON_FINITE),
+        ({"ended": Ending.JUMPED}, Physics.NON_FINITE),
+        ({"ended": Ending.CONTACT_FLAG}, Physics.ERROR),
+        ({"ended": Ending.PASSED, "first": -1}, Physics.TUNNELLED),
+        ({"ended": Ending.BUDGET, "first": -1}, Physics.TUNNELLED),
+        ({"ended": Ending.MISSED, "first": -1}, Physics.NO_CONTACT),
+        ({"ended": Ending.BUDGET}, Physics.NO_SEPARATION),
+        ({"side_m": -0.01}, Physics.TUNNELLED),
+        ({"side_m": 0.0}, Physics.TUNNELLED),
+        ({"peak_m": 1.5 * REACH_M}, Physics.PENETRATION),
+        ({"ke1": 101.0}, Physics.ENERGY_GAINED),
     ],
 )
 def test_each_rule_gives_its_status(changes, status):
@@ -94,16 +94,16 @@ def test_each_rule_gives_its_status(changes, status):
         # a blow-up says nothing about where the ball is or what energy it has
         (
             {"ended": Ending.NON_FINITE, "side_m": -1.0, "peak_m": 1.0, "ke1": 1e9},
-            Status.NON_FINITE,
+            Physics.NON_FINITE,
         ),
         # a contact flag its geometry denies: the adapter's error, whatever the state says
-        ({"ended": Ending.CONTACT_FLAG, "side_m": -1.0, "ke1": 1e9}, Status.ERROR),
+        ({"ended": Ending.CONTACT_FLAG, "side_m": -1.0, "ke1": 1e9}, Physics.ERROR),
         # a ball beyond the axis is deeper than the reach: it passed, not penetrated
-        ({"side_m": -0.01, "peak_m": 2.0 * REACH_M}, Status.TUNNELLED),
+        ({"side_m": -0.01, "peak_m": 2.0 * REACH_M}, Physics.TUNNELLED),
         # too deep and too energetic: the penetration is the cause, named first
-        ({"peak_m": 2.0 * REACH_M, "ke1": 1e9}, Status.PENETRATION),
+        ({"peak_m": 2.0 * REACH_M, "ke1": 1e9}, Physics.PENETRATION),
         # still touching at the budget while having gained energy: no_separation
-        ({"ended": Ending.BUDGET, "ke1": 1e9}, Status.NO_SEPARATION),
+        ({"ended": Ending.BUDGET, "ke1": 1e9}, Physics.NO_SEPARATION),
     ],
 )
 def test_the_first_rule_that_holds_wins(changes, status):
@@ -112,8 +112,8 @@ def test_the_first_rule_that_holds_wins(changes, status):
 
 def test_a_depth_of_exactly_the_reach_is_not_penetration():
     # penetration is deeper than r_ball + r_bat (strict): a centre on the axis line is allowed
-    assert _one(peak_m=REACH_M) is Status.OK
-    assert _one(peak_m=math.nextafter(REACH_M, math.inf)) is Status.PENETRATION
+    assert _one(peak_m=REACH_M) is Physics.SOUND
+    assert _one(peak_m=math.nextafter(REACH_M, math.inf)) is Physics.PENETRATION
 
 
 @pytest.mark.parametrize("ke0", [1e-3, 1.0, 137.0])
@@ -121,9 +121,9 @@ def test_energy_allowance_boundary(ke0):
     # KE1 > KE0 (1 + allowance) is a gain; KE1 equal to that bound is rounding (ok): the first
     # float above it is energy_gained, the bound itself and anything below ok
     bound = ke0 * (1.0 + ALLOWANCE)
-    assert _one(ke0=ke0, ke1=bound) is Status.OK
-    assert _one(ke0=ke0, ke1=math.nextafter(bound, math.inf)) is Status.ENERGY_GAINED
-    assert _one(ke0=ke0, ke1=ke0) is Status.OK  # energy kept (e = 1)
+    assert _one(ke0=ke0, ke1=bound) is Physics.SOUND
+    assert _one(ke0=ke0, ke1=math.nextafter(bound, math.inf)) is Physics.ENERGY_GAINED
+    assert _one(ke0=ke0, ke1=ke0) is Physics.SOUND  # energy kept (e = 1)
 
 
 def test_an_engines_allowance_lets_rounding_through_and_flags_a_real_gain():
@@ -134,13 +134,13 @@ def test_an_engines_allowance_lets_rounding_through_and_flags_a_real_gain():
     allowance = energy_allowance(errors, adapters.settings_for(name))
     assert errors.eps < allowance < 0.01
 
-    def status(ke1: float) -> Status:
-        return Status(
+    def status(ke1: float) -> Physics:
+        return Physics(
             classify(g.SCALARS, Ending.SEPARATED, 2, 0.0, 0.05, REACH_M, 1.0, ke1, allowance)
         )
 
-    assert status(1.0 + errors.eps) is Status.OK
-    assert status(1.01) is Status.ENERGY_GAINED
+    assert status(1.0 + errors.eps) is Physics.SOUND
+    assert status(1.01) is Physics.ENERGY_GAINED
 
 
 def test_a_batch_is_classified_as_each_world_alone():
@@ -174,5 +174,5 @@ def test_a_batch_is_classified_as_each_world_alone():
         col("ke1"),
         ALLOWANCE,
     )
-    assert [Status(s) for s in got] == [_one(**w) for w in worlds]
+    assert [Physics(s) for s in got] == [_one(**w) for w in worlds]
     assert len(set(got)) == 8  # (every status classify gives is among them)

@@ -23,11 +23,11 @@ import adapters
 from adapters import Scene
 from analytic import ImpactCase, collide, presets
 from experiments.core import geometry as g
-from experiments.core.endings import LABELS, Ending, classify
+from experiments.core.endings import LABELS, Ending, Physics, classify
 from experiments.core.episode import Coast, Recorder, SimOutcome, run_episode, step_episodes
 from experiments.core.fired import unmeasured
 from experiments.core.hosting import hosted
-from experiments.core.judge import Status, output_tolerance
+from experiments.core.judge import output_tolerance
 from experiments.core.placement import start_state
 
 from .conftest import cheapest
@@ -65,13 +65,13 @@ class _Counter:
         self.steps += 1
 
 
-def test_sim_outcome_is_ok_only_with_status_ok():
-    # ``ok`` means physically sound: status ok, and nothing else (not even 'inaccurate')
-    (row,) = unmeasured(ENGINE, [_case(0.1)], [SETTINGS], None, Status.ERROR, "why", 0.0)
+def test_sim_outcome_is_sound_only_with_physics_sound():
+    # ``sound`` is the physical outcome ``sound`` and nothing else: a verdict is not its to say
+    (row,) = unmeasured(ENGINE, [_case(0.1)], [SETTINGS], None, Physics.ERROR, "why", 0.0)
     assert isinstance(row.outcome, SimOutcome)
-    for status in Status:
-        outcome = dataclasses.replace(row.outcome, status=status)
-        assert outcome.ok is (status is Status.OK)
+    for physics in Physics:
+        outcome = dataclasses.replace(row.outcome, physics=physics)
+        assert outcome.sound is (physics is Physics.SOUND)
     with pytest.raises(dataclasses.FrozenInstanceError):
         row.outcome.v1_mps = 1.0  # a record, never changed in place
 
@@ -122,7 +122,7 @@ def test_a_ball_clear_of_the_bat_is_missed_with_its_velocity_kept():
     moved = math.hypot(ep.end[g.BALL_VX] - start[g.BALL_VX], ep.end[g.BALL_VY] - start[g.BALL_VY])
     assert moved <= 16 * ERRORS.eps * speed, moved
     status = classify(g.SCALARS, ep.ended, ep.first, ep.peak_m, ep.side_m, 0.07, 1.0, 1.0, 0.0)
-    assert status == Status.NO_CONTACT
+    assert status == Physics.NO_CONTACT
 
 
 def test_a_contact_longer_than_the_budget_ends_at_the_budget():
@@ -138,7 +138,7 @@ def test_a_contact_longer_than_the_budget_ends_at_the_budget():
     assert ep.first >= 1 and (ep.steps - ep.first + 1) * settings.dt_s >= settings.max_contact_s
     reach = BAT.radius_m + BALL.radius_m
     status = classify(g.SCALARS, ep.ended, ep.first, ep.peak_m, ep.side_m, reach, 1.0, 1.0, 0.0)
-    assert status == Status.NO_SEPARATION
+    assert status == Physics.NO_SEPARATION
 
 
 def test_each_world_of_a_batch_ends_its_own_way_as_alone():

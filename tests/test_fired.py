@@ -15,7 +15,7 @@ import pytest
 
 import adapters
 from analytic import ImpactCase, presets
-from experiments.core import Job, fire_jobs
+from experiments.core import Job, Physics, fire_jobs
 from experiments.core.fired import (
     FLOAT_FIELDS,
     FiredBlock,
@@ -24,7 +24,6 @@ from experiments.core.fired import (
     gather,
     unmeasured,
 )
-from experiments.core.judge import Status
 
 from .conftest import EPS, cheapest
 
@@ -32,7 +31,7 @@ ENGINE = cheapest(batched=False)
 SETTINGS = adapters.settings_for(ENGINE)
 #: The columns ``Gathered`` documents besides FLOAT_FIELDS.
 OTHER = (
-    "status",
+    "physics",
     "steps",
     "ended",
     "wall_s",
@@ -103,7 +102,7 @@ def test_columns_hold_each_fired_impact_in_order(fired):
     for i, f in enumerate(fired):
         for k in (*FLOAT_FIELDS, "steps", "ended", "wall_s"):
             assert _same(g.cols[k][i], getattr(f.outcome, k)), (k, i)
-        assert g.cols["status"][i] == f.outcome.status.value
+        assert g.cols["physics"][i] == f.outcome.physics.value
         assert _same(g.cols["release_omega_analytic_radps"][i], f.release_omega_radps)
     assert g.distinct is None  # (known only for one batch's block)
 
@@ -153,17 +152,17 @@ def test_unmeasured_rows_say_why_and_measure_nothing():
     # NaN where a measurement would be, no steps and no contact; the closing speed is the
     # case's own, v0n + u0n + omega0 s (known without the engine)
     cases = [_case(0.0), _case(0.1)]
-    failure = NotFired(Status.TIMEOUT, "timeout: no result within 3 s")
-    rows = unmeasured(ENGINE, cases, [SETTINGS] * 2, None, failure.status, failure.why, wall_s=1.5)
+    failure = NotFired(Physics.TIMEOUT, "timeout: no result within 3 s")
+    rows = unmeasured(ENGINE, cases, [SETTINGS] * 2, None, failure.physics, failure.why, wall_s=1.5)
     assert [r.case for r in rows] == cases and str(failure) == failure.why
     for r, c in zip(rows, cases):
         o, closing = r.outcome, c.v0n_mps + c.u0n_mps + c.omega0_radps * c.s_m
-        assert o.status is Status.TIMEOUT and o.ended == failure.why and not o.ok
+        assert o.physics is Physics.TIMEOUT and o.ended == failure.why and not o.sound
         assert all(math.isnan(getattr(o, k)) for k in FLOAT_FIELDS if k not in KNOWN)
         assert o.closing_speed_mps == pytest.approx(closing, rel=4 * EPS)
         assert o.steps == 0 and o.contact_duration_s == 0.0
     g = gather(rows)
-    assert list(g.cols["status"]) == [Status.TIMEOUT.value] * 2
+    assert list(g.cols["physics"]) == [Physics.TIMEOUT.value] * 2
     assert list(g.cols["ended"]) == [failure.why] * 2
     for got, r in zip(g.outcomes([0, 1]), rows):
         _assert_same_outcome(got, r.outcome)

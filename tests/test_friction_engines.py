@@ -11,7 +11,7 @@ import pytest
 import adapters
 from adapters import Scene
 from analytic import Bat, ImpactCase, presets
-from experiments.core import Job, Status, fire_jobs, table, terms
+from experiments.core import Job, Physics, Status, fire_jobs, table, terms
 from experiments.core.hosting import Hosted
 from experiments.core.placement import start_state
 
@@ -182,4 +182,4 @@ def test_a_planar_engine_refuses_an_undercut(name):
     # A 2-D engine cannot put the ball off the swing plane: 'unsupported', not a wrong answer.
     case = ImpactCase(bat=R161, ball=BALL, s_m=0.1, v0_mps=40.0, e=0.5, mu=0.5, undercut_m=0.01)
     fired = fire_jobs([Job(engine=name, settings=adapters.settings_for(name), case=case)])
-    assert fired[0].outcome.status is Status.UNSUPPORTED
+    assert fired[0].outcome.physics is Physics.UNSUPPORTED

@@ -16,7 +16,7 @@ import pytest
 
 import adapters
 from analytic import ImpactCase, presets
-from experiments.core import Job, Status, fire_jobs
+from experiments.core import Job, Physics, fire_jobs
 from experiments.core.fire import TIMEOUTS_IN_A_ROW
 from experiments.core.hosting import close_engines
 
@@ -29,14 +29,14 @@ import toy_engine  # noqa: E402 - the plug-in's module, from its own folder
 ENGINE = cheapest(batched=False)
 #: twin -> (status, a word its rows' ``ended`` must hold)
 EXPECTED = {
-    "exits": (Status.ERROR, "sys.exit(0)"),
-    "hangs": (Status.TIMEOUT, "timeout"),
-    "stuckflag": (Status.ERROR, "contact_flag"),
-    "wrongshape": (Status.ERROR, "shape"),
-    "heavyball": (Status.ERROR, "scene mismatch: toyengine_heavyball: ball_mass_kg"),
-    "exitshard": (Status.ERROR, "os._exit(3)"),
-    "strings": (Status.ERROR, "<U"),
-    "integers": (Status.ERROR, "int64"),
+    "exits": (Physics.ERROR, "sys.exit(0)"),
+    "hangs": (Physics.TIMEOUT, "timeout"),
+    "stuckflag": (Physics.ERROR, "contact_flag"),
+    "wrongshape": (Physics.ERROR, "shape"),
+    "heavyball": (Physics.ERROR, "scene mismatch: toyengine_heavyball: ball_mass_kg"),
+    "exitshard": (Physics.ERROR, "os._exit(3)"),
+    "strings": (Physics.ERROR, "<U"),
+    "integers": (Physics.ERROR, "int64"),
 }
 #: Twins whose failure only a command sees as theirs: a KeyboardInterrupt no Ctrl-C sent (a
 #: library user's Ctrl-C stops the firing), a close that never returns (after the rows).
@@ -84,15 +84,15 @@ def _jobs(name: str, es=(0.5,)) -> list[Job]:
 
 @pytest.mark.parametrize("twin", sorted(EXPECTED))
 def test_a_misbehaving_adapter_fails_its_rows_not_the_run(twins, twin):
-    status, word = EXPECTED[twin]
+    physics, word = EXPECTED[twin]
     t0 = time.perf_counter()
     fired = fire_jobs(_jobs("toyengine_" + twin) + _jobs(ENGINE))
     elapsed = time.perf_counter() - t0
     theirs, ours = fired[:3], fired[3:]
     for f in theirs:
-        assert f.outcome.status is status and word in f.outcome.ended, f.outcome.ended
+        assert f.outcome.physics is physics and word in f.outcome.ended, f.outcome.ended
     # the well-behaved engine after it, in the same firing: sound, as alone
-    assert all(f.outcome.status is Status.OK for f in ours), [f.outcome.ended for f in ours]
+    assert all(f.outcome.sound for f in ours), [f.outcome.ended for f in ours]
     # a hang costs its limit (1 s, the twin's record) and no more than a second over it
     assert elapsed < 30.0 if twin != "hangs" else 1.0 <= elapsed < 5.0, elapsed
 
@@ -104,7 +104,7 @@ def test_an_engine_that_times_out_twice_in_a_row_is_not_fired_again(twins):
     fired = fire_jobs(_jobs(twins["hangs"], es=(0.3, 0.5, 0.7)))
     again = fire_jobs(_jobs(twins["hangs"]))
     assert time.perf_counter() - t0 < TIMEOUTS_IN_A_ROW * 1.0 + 5.0
-    assert all(f.outcome.status is Status.TIMEOUT for f in [*fired, *again])
+    assert all(f.outcome.physics is Physics.TIMEOUT for f in [*fired, *again])
     assert [f.outcome.ended.startswith("not fired") for f in [*fired, *again]] == [False] * 6 + [
         True
     ] * 6

@@ -16,7 +16,7 @@ import pytest
 
 import adapters
 from analytic import presets
-from experiments.core import Job, fire_jobs, firings, tables
+from experiments.core import Job, Physics, fire_jobs, firings, tables
 from experiments.core.judge import Status
 from experiments.core.terms import ROUND_OPS, SOLVE_SAFETY
 from experiments.core.verdicts import Reference, judge, judge_columns
@@ -101,3 +101,20 @@ def test_the_columns_judge_name_the_answer_each_impact_was_held_to():
     assert np.array_equal(v.err_mps[rigid], rows.v1_abs_err_mps[rigid])
     assert np.array_equal(v.tol_mps[~rigid], rows.v1_law_tol_mps[~rigid])
     assert (v.err_mps <= v.tol_mps).all(), (v.err_mps, v.tol_mps)
+
+
+def test_two_words_for_two_things_a_verdict_is_the_outcome_when_it_was_not_sound(fired):
+    # The physical outcome (endings.Physics) and the verdict (Status) are two vocabularies:
+    # the verdict of a sound outcome is one of ok / inaccurate / unjudged, and of any other its
+    # outcome's own word; so Status = {ok, inaccurate, unjudged} + (Physics - {sound}).
+    judged = {Status.OK, Status.INACCURATE, Status.UNJUDGED}
+    failures = {p.value for p in Physics} - {Physics.SOUND.value}
+    assert {s.value for s in Status} == {s.value for s in judged} | failures
+    assert Physics.SOUND.value not in {s.value for s in Status}
+    for physics in Physics:
+        out = dataclasses.replace(fired.outcome, physics=physics)
+        got = judge(fired.case, out).status
+        assert got in judged if physics is Physics.SOUND else got.value == physics.value
+    # and the table lays both out, each in its own column
+    row = tables.table([fired], "").iloc[0]
+    assert (row.physics, row.status) == (Physics.SOUND.value, Status.OK.value)

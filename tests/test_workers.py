@@ -18,7 +18,7 @@ from pathlib import Path
 import psutil
 import pytest
 
-from experiments.core import Status
+from experiments.core import Physics
 from experiments.core.boundary import STOP, stopping
 from experiments.core.runner import Runner
 from experiments.core.workers import pool_results
@@ -69,15 +69,15 @@ def test_the_item_that_kills_its_worker_is_its_only_row_lost(tmp_path):
     with Runner(workers=2) as runner:
         got = list(pool_results(runner, _die_at_x, items, _lost, None))
     assert got[0] == got[2] == "done", got
-    item, status, why = got[1]
-    assert item == "x" and status is Status.ERROR and "killed by SIGKILL" in why, why
+    item, physics, why = got[1]
+    assert item == "x" and physics is Physics.ERROR and "killed by SIGKILL" in why, why
 
 
 def test_a_worker_that_never_answers_is_stopped_at_its_limit():
     t0 = time.perf_counter()
     with Runner(workers=2) as runner:
-        ((item, status, why),) = list(pool_results(runner, _hang, ["x"], _lost, lambda i: 1.0))
-    assert status is Status.TIMEOUT and "within 1 s" in why, why
+        ((item, physics, why),) = list(pool_results(runner, _hang, ["x"], _lost, lambda i: 1.0))
+    assert physics is Physics.TIMEOUT and "within 1 s" in why, why
     assert time.perf_counter() - t0 < 20.0
 
 

@@ -30,6 +30,7 @@ From the theory (``analytic``) and the engine interface (``adapters``) up:
 
 from .check import check_engine
 from .check_report import CheckReport
+from .endings import Physics
 from .episode import SimOutcome
 from .fire import Fired, Job, fire_jobs
 from .firings import Firing, grid
@@ -46,6 +47,7 @@ __all__ = [
     "Firing",
     "Job",
     "MEASURED",
+    "Physics",
     "Runner",
     "SceneMismatch",
     "SimOutcome",

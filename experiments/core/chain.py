@@ -7,7 +7,8 @@ touch; the engine steps until the episode is over (no contact for one period of 
 lowest mode after the reference's last release) and the row compares the ball's exit speed and
 the energy left in bending with ``analytic.chain_impact``: Newton's restitution at every touch
 for a rigid-contact engine, its own compliant law for a soft one (its error model's
-``contact_law``). Failures are rows with a status, as everywhere.
+``contact_law``). Each row has its physical outcome (``physics``) and its verdict
+(``status``), as everywhere.
 """
 
 from __future__ import annotations
@@ -24,8 +25,8 @@ from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact, ChainOutcome, compliant_reference, impulse_reference
 
 from . import judge
+from .endings import Physics
 from .episode import Recorder, run_episode
-from .judge import Status
 from .terms import (
     CHAIN_ENERGY_SLACK,
     CHAIN_JUDGED_SHARE,
@@ -160,28 +161,33 @@ def fire_chain(
         "ended_ref": ref.ended,
     }
     row["tol_mps"] = tolerance.mps(impact, settings, rec.errors, ref)
+    row |= _fired(rec, settings, impact, ref)
+    judged = math.nan
+    if row["physics"] == Physics.SOUND.value:
+        row["err_mps"] = abs(row["v1_mps"] - ref.v1_mps)
+        if (
+            ref.ended == "separated"
+            and row["tol_mps"] <= tolerance.judged_share * closing
+            and not _patch_reaches_a_joint(impact, ref)
+        ):
+            judged = row["tol_mps"]
+    nan = [math.nan]
+    row["status"] = judge.verdict([row["physics"]], [row["err_mps"]], [judged], nan, nan)[0]
+    return row
+
+
+def _fired(rec, settings, impact: ChainImpact, ref: ChainOutcome) -> dict:
+    """The engine's episode on the chain: what it measured and its physical outcome."""
     if rec.can.chain_adapter is None:
-        return row | _failed(Status.UNSUPPORTED, "no segmented-bat adapter")
+        return _failed(Physics.UNSUPPORTED, "no segmented-bat adapter")
     t0 = time.perf_counter()
     try:
         got = _run(rec, settings, impact, ref)
     except _Mismatch as err:
-        return row | _failed(Status.ERROR, f"scene mismatch: {err}")
+        return _failed(Physics.ERROR, f"scene mismatch: {err}")
     except Exception as err:  # noqa: BLE001 - an engine failure is a row, not a crash
-        return row | _failed(Status.ERROR, f"{type(err).__name__}: {err}"[:200])
-    row |= got | {"wall_s": time.perf_counter() - t0}
-    if row["status"] == Status.OK.value:
-        row["err_mps"] = abs(row["v1_mps"] - ref.v1_mps)
-        judged = (
-            ref.ended == "separated"
-            and row["tol_mps"] <= tolerance.judged_share * closing
-            and not _patch_reaches_a_joint(impact, ref)
-        )
-        nan = [math.nan]
-        row["status"] = judge.verdict(
-            [row["status"]], [row["err_mps"]], [row["tol_mps"] if judged else math.nan], nan, nan
-        )[0]
-    return row
+        return _failed(Physics.ERROR, f"{type(err).__name__}: {err}"[:200])
+    return got | {"wall_s": time.perf_counter() - t0}
 
 
 def _patch_reaches_a_joint(impact: ChainImpact, ref: ChainOutcome) -> bool:
@@ -199,9 +205,9 @@ class _Mismatch(RuntimeError):
     pass
 
 
-def _failed(status: Status, why: str) -> dict:
+def _failed(physics: Physics, why: str) -> dict:
     return {
-        "status": status.value,
+        "physics": physics.value,
         "why": why,
         "v1_mps": math.nan,
         "vibration_j": math.nan,
@@ -263,22 +269,22 @@ class _ChainEpisode:
             self.touched, self.last_touch = True, t
         ball, segs = engine.read()
         if engine.failed() or not (np.all(np.isfinite(ball)) and np.all(np.isfinite(segs))):
-            self.row = _failed(Status.NON_FINITE, "non-finite state or engine failure")
+            self.row = _failed(Physics.NON_FINITE, "non-finite state or engine failure")
         elif t >= self.end and t - self.last_touch >= self.quiet:
             self.row = self._ended(ball, segs, step)
         elif t > CHAIN_MAX_EPISODE_S:
-            self.row = _failed(Status.NO_SEPARATION, "still in contact")
+            self.row = _failed(Physics.NO_SEPARATION, "still in contact")
         else:
             return False
         self.row["steps"] = step
         return True
 
     def budget_spent(self, engine) -> None:
-        self.row = _failed(Status.NO_SEPARATION, "still in contact") | {"steps": self.max_steps}
+        self.row = _failed(Physics.NO_SEPARATION, "still in contact") | {"steps": self.max_steps}
 
     def _ended(self, ball: np.ndarray, segs: np.ndarray, step: int) -> dict:
         if not self.touched:
-            return _failed(Status.NO_CONTACT, "no contact")
+            return _failed(Physics.NO_CONTACT, "no contact")
         chain = self.chain
         vib = bending_energy_j(chain, segs)
         with np.errstate(over="ignore", invalid="ignore"):  # a huge but finite chain: inf
@@ -289,9 +295,9 @@ class _ChainEpisode:
                 + 0.5 * float(np.sum(springs))
             )
         gained = after > self.before * (1 + CHAIN_ENERGY_SLACK)
-        status = Status.ENERGY_GAINED if gained else Status.OK
+        physics = Physics.ENERGY_GAINED if gained else Physics.SOUND
         return {
-            "status": status.value,
+            "physics": physics.value,
             "why": "",
             "v1_mps": float(ball[3]),
             "vibration_j": vib,

@@ -29,6 +29,7 @@ from analytic.dynamics import HingedSwing
 
 from . import friction_judge, judge
 from .check_report import CheckFailed, CheckReport, CheckResult
+from .endings import Physics
 from .fire import Job, fire_jobs, guarded
 from .hosting import Hosted, SceneMismatch, check_mass_properties, hosted
 from .judge import Status
@@ -37,8 +38,8 @@ from .tables import table
 R161, BALL = presets.R161, presets.BASEBALL
 S_GRID = tuple(float(s) for s in np.linspace(-0.2, 0.25, 10))
 SWING = dict(v0_mps=46.9, u0_mps=17.87, omega0_radps=32.0)
-#: Statuses of an impact with no measurement (nothing to compare, bit for bit).
-UNMEASURED = (Status.ERROR, Status.TIMEOUT, Status.UNSUPPORTED)
+#: Outcomes of an impact with no measurement (nothing to compare, bit for bit).
+UNMEASURED = (Physics.ERROR, Physics.TIMEOUT, Physics.UNSUPPORTED)
 #: The longest a check may take (s): minutes for the slowest engine's (a batched one compiling
 #: on a CPU); a hang within an impact is a timeout sooner (``fire.guarded``).
 CHECK_LIMIT_S = 600.0
@@ -72,13 +73,13 @@ def _expect(ok: bool, message: str) -> None:
 
 
 def _matches_theory(ctx: Ctx, cases, fields=("v1_mps", "u1_mps", "omega1_radps")) -> float:
-    """Fire ``cases``: each must be ok and every field within ``judge.output_tolerance`` of the
+    """Fire ``cases``: each must be sound and every field within ``judge.output_tolerance`` of the
     single impulse (analytic.predict). Returns the largest error in units of its tolerance."""
     worst = 0.0
     for case, out in zip(cases, ctx.fire(cases)):
         _expect(
-            out.status is Status.OK,
-            f"s = {case.s_m:.3f} m, e = {case.e}: status {out.status.value} ({out.ended})",
+            out.sound,
+            f"s = {case.s_m:.3f} m, e = {case.e}: {out.physics.value} ({out.ended})",
         )
         ref = predict(case)
         for field in fields:
@@ -132,10 +133,10 @@ def restitution(ctx: Ctx) -> str:
     short = replace(ctx.settings, max_contact_s=2e-3)
     for case, out in zip(cases, ctx.fire(cases, settings=short)):
         e = (out.v1_mps - out.u1_mps) / case.v0_mps
-        sound = (Status.OK, Status.NO_SEPARATION) if case.e == 0.0 else (Status.OK,)
+        sound = (Physics.SOUND, Physics.NO_SEPARATION) if case.e == 0.0 else (Physics.SOUND,)
         _expect(
-            out.status in sound and abs(e - case.e) <= tol,
-            f"e = {case.e}: measured {e!r} ({out.status.value}), allowed +-{tol:.2g}",
+            out.physics in sound and abs(e - case.e) <= tol,
+            f"e = {case.e}: measured {e!r} ({out.physics.value}), allowed +-{tol:.2g}",
         )
     return f"e = 0, 0.3, 0.5, 1 within {tol:.1g}"
 
@@ -194,8 +195,8 @@ def large_batch(ctx: Ctx) -> str:
         for case, out in zip(cases, ctx.fire(cases)):
             want, allowed = judge.soft_judgement(case, out)
             _expect(
-                out.status is Status.OK and not abs(out.v1_mps - want) > allowed,
-                f"s = {case.s_m:.3f}: {out.status.value}, v1 {out.v1_mps!r} vs law {want!r}",
+                out.sound and not abs(out.v1_mps - want) > allowed,
+                f"s = {case.s_m:.3f}: {out.physics.value}, v1 {out.v1_mps!r} vs law {want!r}",
             )
             worst = max(worst, abs(out.v1_mps - want) / allowed if allowed > 0 else 0.0)
     return f"{LARGE_BATCH} impacts in one batch, worst {worst:.2g} of the tolerance"
@@ -271,22 +272,22 @@ def tunnelling_bound(ctx: Ctx) -> str:
                 100.0, 1e-3, phase, reach, st.overlap_m, ctx.record.errors.speculative_margin_m(st)
             )
         )
-        # caught: any status but a miss (whether its energy is right is energy_at_e1's)
-        caught = out.status not in (Status.TUNNELLED, Status.NO_CONTACT)
+        # caught: any outcome but a miss (whether its energy is right is energy_at_e1's)
+        caught = out.physics not in (Physics.TUNNELLED, Physics.NO_CONTACT)
         _expect(
             caught == want,
-            f"phase {phase:.3f}: {out.status.value}, theory says {'caught' if want else 'missed'}",
+            f"phase {phase:.3f}: {out.physics.value}, theory says {'caught' if want else 'missed'}",
         )
     coarse = replace(ctx.settings, dt_s=1 / 60, contact_phase=0.5)
     out = ctx.fire([ImpactCase(bat=R161, ball=BALL, s_m=0.1, e=0.5, **SWING)], coarse)[0]
-    _expect(out.status is Status.TUNNELLED, f"1/60 s mid-step: {out.status.value}")
+    _expect(out.physics is Physics.TUNNELLED, f"1/60 s mid-step: {out.physics.value}")
     return "8 phases as theory; 1/60 s tunnels"
 
 
 def stateless(ctx: Ctx) -> str:
     """After other impacts, on other bats and e (and a swing, if the engine drives the bat),
     the same case gives the same bits on a used adapter and on a fresh one (NaN for NaN, the
-    same status): no warm start or cache leaks from one impact to the next. An impact that
+    same physical outcome): no warm start or cache leaks from one impact to the next. An impact that
     measured nothing (an error, a timeout) has no bits to compare: the check fails."""
     jobs = [
         Job(
@@ -311,12 +312,12 @@ def stateless(ctx: Ctx) -> str:
         fresh.close()
         for out in (used[i].outcome, used[i + len(jobs)].outcome, want):
             _expect(
-                out.status not in UNMEASURED,
-                f"impact {i}: {out.status} ({out.ended}): nothing measured to compare",
+                out.physics not in UNMEASURED,
+                f"impact {i}: {out.physics} ({out.ended}): nothing measured to compare",
             )
         for out in (used[i].outcome, used[i + len(jobs)].outcome):
-            got = (out.status, out.v1_mps, out.u1_mps, out.omega1_radps, out.steps)
-            expected = (want.status, want.v1_mps, want.u1_mps, want.omega1_radps, want.steps)
+            got = (out.physics, out.v1_mps, out.u1_mps, out.omega1_radps, out.steps)
+            expected = (want.physics, want.v1_mps, want.u1_mps, want.omega1_radps, want.steps)
             _expect(
                 all(a == b or a != a and b != b for a, b in zip(got, expected)),
                 f"impact {i}: used {got} != fresh {expected}",
@@ -357,7 +358,7 @@ def law_conformance(ctx: Ctx) -> str:
         for kw in (SWING, dict(v0_mps=40.0)):
             cases = [ImpactCase(bat=R161, ball=BALL, s_m=s, e=e, **kw) for s in S_GRID]
             for case, out in zip(cases, ctx.fire(cases)):
-                _expect(out.status is Status.OK, f"s = {case.s_m:.3f}: {out.status.value}")
+                _expect(out.sound, f"s = {case.s_m:.3f}: {out.physics.value}")
                 want, allowed = judge.soft_judgement(case, out)
                 if math.isnan(allowed):
                     continue

@@ -34,8 +34,7 @@ from adapters import Settings
 from analytic import Ball, Bat, Outcome
 
 from . import geometry as g
-from .endings import Ending
-from .judge import Status
+from .endings import Ending, Physics
 from .terms import DEFLECTED, FLAG_REACHES, JUMP_REACHES, OFF_SPAN_STEPS
 
 
@@ -51,7 +50,7 @@ class SimOutcome(Outcome):
     """
 
     engine: str
-    status: Status
+    physics: Physics
     contact_duration_s: float
     peak_penetration_m: float
     steps: int
@@ -70,9 +69,9 @@ class SimOutcome(Outcome):
     backspin1_radps: float = math.nan
 
     @property
-    def ok(self) -> bool:
-        """True when the outcome is physically sound (status ok)."""
-        return self.status is Status.OK
+    def sound(self) -> bool:
+        """True when the outcome is physically sound: v1 is a measurement the judge can hold."""
+        return self.physics is Physics.SOUND
 
 
 @dataclass

@@ -31,7 +31,7 @@ from . import geometry as g
 from . import watchdog
 from .boundary import STOP
 from .drive import swing_into_place
-from .endings import LABELS, classify
+from .endings import LABELS, Physics, classify
 from .episode import step_episodes
 from .fired import (
     Fired,
@@ -44,7 +44,7 @@ from .fired import (
     unmeasured,
 )
 from .hosting import TIMEOUTS, Hosted, SceneMismatch, engine_settings, hosted
-from .judge import Status, energy_allowance
+from .judge import energy_allowance
 from .placement import (
     SwingPlan,
     case_columns,
@@ -148,7 +148,7 @@ def _fired_batches(run: Sequence[Job]):
     try:
         host = hosted(run[0].engine, run[0].settings)
     except (Exception, SystemExit) as err:  # noqa: BLE001 - any failure of the engine's
-        yield run, _unmeasured(run, NotFired(Status.ERROR, _why(err)), 0.0)
+        yield run, _unmeasured(run, NotFired(Physics.ERROR, _why(err)), 0.0)
         return
     for group, placed in _groups(host, run):
         yield group, guarded(host, group, placed)
@@ -171,7 +171,7 @@ def guarded(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None) -> 
     try:
         if (timeouts := TIMEOUTS.get(host.name, 0)) >= TIMEOUTS_IN_A_ROW:
             raise NotFired(
-                Status.TIMEOUT, f"not fired: {host.name} timed out {timeouts} times in a row"
+                Physics.TIMEOUT, f"not fired: {host.name} timed out {timeouts} times in a row"
             )
         with clock.limited(limit), clock.exits_raise():
             host.renew_if_failed()
@@ -184,15 +184,15 @@ def guarded(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None) -> 
         raise
     except clock.TimedOut:
         host.failed(timed_out=True)
-        failure = NotFired(Status.TIMEOUT, f"timeout: no result within {limit:.3g} s")
+        failure = NotFired(Physics.TIMEOUT, f"timeout: no result within {limit:.3g} s")
     except KeyboardInterrupt as err:  # the user's Ctrl-C stops the run; the engine's own is
         if not STOP.active or STOP.signum is not None:  # its failure
             raise
         host.failed()
-        failure = NotFired(Status.ERROR, _why(err))
+        failure = NotFired(Physics.ERROR, _why(err))
     except (Exception, SystemExit, clock.ProcessExit) as err:  # noqa: BLE001 - any failure
         host.failed()
-        failure = NotFired(Status.ERROR, _why(err))
+        failure = NotFired(Physics.ERROR, _why(err))
     return _unmeasured(jobs, failure, time.perf_counter() - t0)
 
 
@@ -223,7 +223,7 @@ def _unmeasured(jobs: Sequence[Job], failure: NotFired, wall_s: float) -> list[F
         failure.cases or cases,
         each,
         failure.plans,
-        failure.status,
+        failure.physics,
         failure.why,
         wall_s / len(cases),
     )
@@ -352,11 +352,11 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None) 
     )
     lacking = _lacking(host.record, cases[0].mu, spatial)
     if lacking:
-        raise NotFired(Status.UNSUPPORTED, lacking, cases, plans)
+        raise NotFired(Physics.UNSUPPORTED, lacking, cases, plans)
     try:
         batch = host.batch(Scene(bat=bat, ball=ball, e=cases[0].e, mu=cases[0].mu), len(cases))
     except adapters.MissingFeature as err:  # an older release of the engine (history)
-        raise NotFired(Status.UNSUPPORTED, str(err)[:200], cases, plans) from None
+        raise NotFired(Physics.UNSUPPORTED, str(err)[:200], cases, plans) from None
     with _harness():
         check_placements(xp, cases, cc, each)
         starts = start_states(xp, bat, ball, cc, st)[0] if placed is None else placed.starts
@@ -367,9 +367,9 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None) 
         rigid = host.record.errors.contact_reference(st) is ContactReference.RIGID_IMPULSE
         episodes = step_episodes(batch, bat, ball, st, starts, spatial, rigid)
     except NotImplementedError:  # an engine that cannot drive the bat
-        raise NotFired(Status.UNSUPPORTED, "no set_drive", cases, plans) from None
+        raise NotFired(Physics.UNSUPPORTED, "no set_drive", cases, plans) from None
     except Exception as err:  # the engine raised while stepping: a failure, not a crash
-        raise NotFired(Status.ERROR, f"error: {err!r}"[:200], cases, plans) from err
+        raise NotFired(Physics.ERROR, f"error: {err!r}"[:200], cases, plans) from err
     cols = _measure(xp, host, cc, starts, episodes, bat, ball, spatial)
     cols["release_omega_radps"], cols["release_angle_rad"] = release
     cols["steps"] = cols["steps"] + (plans[0].steps if plans else 0)
@@ -432,7 +432,7 @@ def _measure(xp, host: Hosted, cc, start, ep, bat, ball, spatial: bool) -> dict:
         "ke_after_j": ke1,
         "v1_t_mps": S1[g.BALL_VX],
         "u1_t_mps": S1[g.BAT_VX],
-        "status": classify(
+        "physics": classify(
             xp,
             ep.ended,
             ep.first,

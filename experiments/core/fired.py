@@ -20,8 +20,8 @@ import numpy as np
 from adapters import Settings
 from analytic import ImpactCase
 
+from .endings import Physics
 from .episode import SimOutcome
-from .judge import Status
 
 #: The outcome fields a block holds as float columns.
 FLOAT_FIELDS = (
@@ -64,7 +64,7 @@ def outcome(
     pick = (lambda k: cols[k]) if i is None else (lambda k: cols[k][i])
     return SimOutcome(
         **{k: float(pick(k)) for k in FLOAT_FIELDS},
-        status=Status(pick("status")),
+        physics=Physics(pick("physics")),
         steps=int(pick("steps")),
         ended=str(pick("ended")),
         engine=engine,
@@ -74,7 +74,7 @@ def outcome(
 
 
 class FiredBlock(Sequence):
-    """One batch's fired impacts as columns (``FLOAT_FIELDS``, status, steps, ended, and the
+    """One batch's fired impacts as columns (``FLOAT_FIELDS``, physics, steps, ended, and the
     analytic release as ``release_omega_analytic_radps``/``release_angle_analytic_rad``),
     each job's own settings (its worlds may differ in ``contact_phase``), and its distinct cases
     where known (``placement.distinct_cases``)."""
@@ -112,19 +112,19 @@ class FiredBlock(Sequence):
 
 
 class NotFired(Exception):
-    """A batch the engine did not fire to the end: each impact's row has ``status`` and
+    """A batch the engine did not fire to the end: each impact's row has ``physics`` and
     ``why`` as how its episode ended, and no measurement; ``cases`` and ``plans``: the cases as
     the batch re-planned them under a swing, and their swing plans, where it did."""
 
     def __init__(
         self,
-        status: Status,
+        physics: Physics,
         why: str,
         cases: Sequence[ImpactCase] | None = None,
         plans: Sequence | None = None,
     ) -> None:
         super().__init__(why)
-        self.status, self.why, self.cases, self.plans = status, why, cases, plans
+        self.physics, self.why, self.cases, self.plans = physics, why, cases, plans
 
 
 def unmeasured(
@@ -132,11 +132,11 @@ def unmeasured(
     cases: Sequence[ImpactCase],
     each: Sequence[Settings],
     plans,
-    status: Status,
+    physics: Physics,
     why: str,
     wall_s: float,
 ) -> list[Fired]:
-    """Every job of a batch with no measurement: ``status``, NaN numbers, ``ended`` = why;
+    """Every job of a batch with no measurement: ``physics``, NaN numbers, ``ended`` = why;
     ``plans``: their swing plans (``placement.SwingPlan``), or None."""
     nan = math.nan
     out = []
@@ -154,7 +154,7 @@ def unmeasured(
             v1_t_mps=nan,
             u1_t_mps=nan,
             engine=engine,
-            status=status,
+            physics=physics,
             contact_duration_s=0.0,
             peak_penetration_m=nan,
             steps=0,
@@ -213,7 +213,7 @@ class FiredSeq(Sequence):
 @dataclass(frozen=True, kw_only=True)
 class Gathered:
     """Fired impacts as columns, whatever parts they came in: each impact's case, settings and
-    engine, and ``cols``: FLOAT_FIELDS, status (its value), steps, ended, wall_s and the
+    engine, and ``cols``: FLOAT_FIELDS, physics (its value), steps, ended, wall_s and the
     analytic release (``release_omega_analytic_radps``, ``release_angle_analytic_rad``), one
     array each (units as in ``SimOutcome``); ``distinct``: the distinct cases, where known
     (``placement.distinct_cases``)."""
@@ -230,11 +230,11 @@ class Gathered:
         rows = np.asarray(rows, dtype=np.intp)
         c = {k: self.cols[k][rows].astype(float).tolist() for k in (*FLOAT_FIELDS, "wall_s")}
         c.update({k: self.cols[k][rows].tolist() for k in ("steps", "ended")})
-        status = [Status(v) for v in self.cols["status"][rows].tolist()]
+        physics = [Physics(v) for v in self.cols["physics"][rows].tolist()]
         return [
             SimOutcome(
                 **{k: c[k][j] for k in FLOAT_FIELDS},
-                status=status[j],
+                physics=physics[j],
                 steps=int(c["steps"][j]),
                 ended=str(c["ended"][j]),
                 engine=self.engines[i],
@@ -247,7 +247,7 @@ class Gathered:
 
 #: The columns ``gather`` makes besides FLOAT_FIELDS.
 _OTHER = (
-    "status",
+    "physics",
     "steps",
     "ended",
     "wall_s",
@@ -266,7 +266,7 @@ def _block_columns(part: Sequence[Fired]) -> tuple[list, list, list, dict]:
     outs = [f.outcome for f in part]
     cols = {k: np.array([getattr(o, k) for o in outs], dtype=float) for k in FLOAT_FIELDS}
     cols.update(
-        status=np.array([o.status.value for o in outs]),
+        physics=np.array([o.physics.value for o in outs]),
         steps=np.array([o.steps for o in outs]),
         ended=np.array([o.ended for o in outs]),
         wall_s=np.array([o.wall_s for o in outs], dtype=float),

@@ -34,6 +34,7 @@ from analytic.friction_gradients import moved, value_of
 from analytic.gradients import derivatives, normal_fields
 from analytic.model import ImpactCase
 
+from .endings import Physics
 from .fire import Job, fire_jobs
 from .hosting import hosted
 from .judge import (
@@ -216,7 +217,7 @@ def _row(
     truth,
     tol,
     h,
-    v1_status,
+    v1_physics,
     why,
     cost_s,
     failed: GradStatus | None = None,
@@ -243,7 +244,7 @@ def _row(
         "abs_err": abs(value - truth),
         "tolerance": tol,
         "step": h,
-        "v1_status": v1_status,
+        "v1_physics": v1_physics,
         "status": status.value,
         "why": why,
         "cost_s": cost_s,
@@ -275,8 +276,8 @@ def finite_differences(
             if contact_law(name, settings, c) is None
             else (law_v1(name, settings, hi.case) - law_v1(name, settings, lo.case)) / (2 * h)
         )
-        statuses = {f.outcome.status for f in (lo, mid, hi)}
-        why = "" if statuses == {Status.OK.value} else "impacts: " + ", ".join(sorted(statuses))
+        outcomes = {f.outcome.physics for f in (lo, mid, hi)}
+        why = "" if outcomes == {Physics.SOUND} else "impacts: " + ", ".join(sorted(outcomes))
         row = _row(
             name,
             settings,
@@ -287,7 +288,7 @@ def finite_differences(
             truth,
             tol,
             h,
-            mid.outcome.status,
+            mid.outcome.physics.value,
             why,
             cost,
         )
@@ -361,7 +362,7 @@ def gradient_rows(
             analytic(c, wrt),
             autodiff_tolerance(c, settings, errors, wrt),
             math.nan,
-            r["v1_status"],
+            r["v1_physics"],
             why,
             cost,
             failed,

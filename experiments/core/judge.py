@@ -29,8 +29,8 @@ a swing in the engine) its integrator's angle error can move v1 by.
 - A contact that separates slower than the turning bat tilts its normal (e v_c < |v_t - u_t|
   omega0 dt) stays active into the next step(s), where the constraint removes the approach the
   tilt creates: LINGER_STEPS steps of |v_t - u_t| omega0 dt - e v_c.
-An impact the engine reports sound (status ok) is kept ok only within this tolerance of the
-rigid-body answer; otherwise its status is ``inaccurate``. Engines whose contact converges to
+An impact whose outcome is sound (``endings.Physics``) is ``ok`` only within this tolerance of
+the rigid-body answer; otherwise its status is ``inaccurate``. Engines whose contact converges to
 another model than the rigid impulse (soft contacts) are judged against that model instead
 (``soft_judgement``). Every tolerance of the harness is a named term of ``terms``, with its
 reason: the tests import them rather than restate them.
@@ -50,29 +50,29 @@ from analytic import CollisionEpisode, ImpactCase, collide, compliant
 from analytic.frictional import frictional_episode
 from analytic.gradients import normal_fields
 
+from .endings import Physics
+
 
 class Status(StrEnum):
-    """How a fired impact ended. Only ``ok`` rows matched the answer that applies. A member is
-    its value as a string (``str(Status.OK) == "ok"``, in f-strings and CSV alike): modules
-    outside the judge name statuses only through it, never by their words."""
+    """The verdict on a fired impact: ``ok`` (sound, and v1 matched the answer that applies
+    within its tolerance), ``inaccurate`` (sound, but outside it), ``unjudged`` (sound, but no
+    answer applies that the harness can judge it against: a soft contact beyond its law's
+    single contact, or stepped too coarsely for the law's bound), or the engine's physical
+    outcome when it was not sound (``endings.Physics``: the same words). A member is its value
+    as a string (``str(Status.OK) == "ok"``, in f-strings and CSV alike): modules outside the
+    judge name statuses only through it, never by their words."""
 
     OK = "ok"
-    TUNNELLED = "tunnelled"  #: the ball's centre ended beyond the bat's axis: it passed
-    NO_CONTACT = "no_contact"  #: no contact seen when due, and the ball did not pass either
-    #: NaN or inf in the state, a failure the engine reported (a blow-up it caught, a solver
-    #: that gave up), or a state that jumped (a silent reset)
-    NON_FINITE = "non_finite"
-    ENERGY_GAINED = "energy_gained"  #: kinetic energy after > before (beyond rounding)
-    PENETRATION = "penetration"  #: deeper than r_ball + r_bat at some step
-    NO_SEPARATION = "no_separation"  #: the episode outlasted the settings' max_contact_s
-    UNSUPPORTED = "unsupported"  #: the engine cannot do what the impact needs (a swing)
-    #: the engine raised, exited, or its adapter broke its contract (a contact flag its own
-    #: geometry denies, a state of the wrong shape); ``ended`` says which
-    ERROR = "error"
-    TIMEOUT = "timeout"  #: the engine gave no result within its wall-clock limit (a hang)
-    INACCURATE = "inaccurate"  #: sound, but v1 misses the answer that applies (by > its tol)
-    #: Sound, but no answer applies that the harness can judge it against (a soft contact
-    #: beyond its law's single contact, or stepped too coarsely for the law's bound)
+    TUNNELLED = Physics.TUNNELLED.value
+    NO_CONTACT = Physics.NO_CONTACT.value
+    NON_FINITE = Physics.NON_FINITE.value
+    ENERGY_GAINED = Physics.ENERGY_GAINED.value
+    PENETRATION = Physics.PENETRATION.value
+    NO_SEPARATION = Physics.NO_SEPARATION.value
+    UNSUPPORTED = Physics.UNSUPPORTED.value
+    ERROR = Physics.ERROR.value
+    TIMEOUT = Physics.TIMEOUT.value
+    INACCURATE = "inaccurate"
     UNJUDGED = "unjudged"
 
 
@@ -413,18 +413,19 @@ def soft_judgement(
     return ref.v1_mps, LAW_SAFETY * v_c / (1 + r) * de + rounding
 
 
-def verdict(status, err_mps, tol_mps, law_err_mps, law_tol_mps, within=True) -> np.ndarray:
-    """The final status of each fired impact (arrays, one value per impact): a failure stays
-    what it is; a sound impact is ``ok`` within the tolerance of the answer that applies (rigid
-    theory where ``tol_mps`` is finite, else the engine's own contact law where
-    ``law_tol_mps`` is) and its other judged outputs within theirs (``within``), ``inaccurate``
-    outside, and ``unjudged`` where neither answer applies."""
-    out = np.array(status, dtype=object)  # a failure stays what it is
+def verdict(physics, err_mps, tol_mps, law_err_mps, law_tol_mps, within=True) -> np.ndarray:
+    """The verdict (``Status`` values) on each fired impact from its physical outcome
+    (``Physics`` values; arrays, one value per impact): a failure stays what it is; a sound
+    impact is ``ok`` within the tolerance of the answer that applies (rigid theory where
+    ``tol_mps`` is finite, else the engine's own contact law where ``law_tol_mps`` is) and its
+    other judged outputs within theirs (``within``), ``inaccurate`` outside, and ``unjudged``
+    where neither answer applies."""
+    out = np.array(physics, dtype=object)  # a failure stays what it is
     with np.errstate(invalid="ignore"):
         rigid, law = ~np.isnan(tol_mps), ~np.isnan(law_tol_mps)
         fits = np.where(rigid, err_mps <= tol_mps, law_err_mps <= law_tol_mps) & within
     judged = _JUDGED[np.where(rigid | law, np.where(fits, 0, 1), 2)]
-    np.copyto(out, judged, where=out == Status.OK.value)
+    np.copyto(out, judged, where=out == Physics.SOUND.value)
     return out
 
 

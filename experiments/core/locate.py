@@ -38,7 +38,7 @@ def _engine_values(
         for s in s_m
     ]
     return np.array(
-        [getattr(f.outcome, field) if f.outcome.ok else math.nan for f in fire_jobs(jobs)]
+        [getattr(f.outcome, field) if f.outcome.sound else math.nan for f in fire_jobs(jobs)]
     )
 
 

@@ -30,10 +30,10 @@ import adapters
 from ..errors import UserError
 from . import watchdog
 from .boundary import STOP
+from .endings import Physics
 from .fire import Fired, Job, Jobs, fire_jobs
 from .fired import FiredSeq, unmeasured
 from .hosting import close_engines
-from .judge import Status
 from .workers import dask_results, pool_results, worker_start
 
 #: Below this much estimated work (s) the rest of a run stays in this process: starting workers
@@ -121,7 +121,7 @@ class Runner:
         limit_s: Callable | None = None,
     ) -> Iterable:
         """Results of fn over items from the workers, in order, as they come (``workers``:
-        a worker lost, or an item past ``limit_s(item)``, gives ``lost(item, status, why)``)."""
+        a worker lost, or an item past ``limit_s(item)``, gives ``lost(item, physics, why)``)."""
         if self.scheduler is None:
             return pool_results(self, fn, items, lost, limit_s)
         return dask_results(self._dask(), fn, items, lost, limit_s)
@@ -249,9 +249,9 @@ class Runner:
             self.progress(n)
 
 
-def _lost_chunk(chunk: list[Job], status: Status, why: str) -> list[Fired]:
+def _lost_chunk(chunk: list[Job], physics: Physics, why: str) -> list[Fired]:
     """The rows of a chunk of impacts its worker never gave back (``workers``)."""
-    return [unmeasured(j.engine, [j.case], [j.settings], None, status, why, 0.0)[0] for j in chunk]
+    return [unmeasured(j.engine, [j.case], [j.settings], None, physics, why, 0.0)[0] for j in chunk]
 
 
 def _chunk_limit_s(chunk: list[Job]) -> float:

@@ -130,7 +130,7 @@ def judge_columns(
     }
     v1 = c["v1_mps"]
     err, law_err = np.abs(v1 - ref["v1_mps"]), np.abs(v1 - law[:, 0])
-    status = judging.verdict(c["status"], err, tol, law_err, law[:, 1], within)
+    status = judging.verdict(c["physics"], err, tol, law_err, law[:, 1], within)
     on_rigid, on_law = ~np.isnan(tol), ~np.isnan(law[:, 1])
     reference = _REFERENCES[np.where(on_rigid, 0, np.where(on_law, np.where(frictional, 2, 1), 3))]
     answers = {

@@ -7,7 +7,7 @@ code, past its limit) is not the end of the run:
 
 - ``pool_results``: the items a broken pool still owed are sent once more to new workers; if
   it breaks again, they run one at a time, and the one whose worker dies then, or an item past
-  its limit, is answered by ``lost(item, status, why)`` (the impacts' rows) or, where the
+  its limit, is answered by ``lost(item, physics, why)`` (the impacts' rows) or, where the
   caller has no rows to give, a one-line ``UserError``;
 - ``dask_results``: the same on a Dask cluster (which already retries a task whose worker
   died, ``distributed.scheduler.allowed-failures`` times, before it gives up on it).
@@ -28,8 +28,8 @@ from concurrent.futures.process import BrokenProcessPool
 
 from ..errors import UserError
 from .boundary import STOP
+from .endings import Physics
 from .hosting import forget_engines
-from .judge import Status
 
 #: Linux's prctl option that sends a signal to a process when its parent dies.
 PR_SET_PDEATHSIG = 1
@@ -54,7 +54,7 @@ def worker_start(parent_pid: int | None) -> None:
         os._exit(128 + signal.SIGTERM)
 
 
-def _give_up(item, status: Status, why: str):
+def _give_up(item, physics: Physics, why: str):
     raise UserError(f"{why}; allowed: fewer --workers, or more memory")
 
 
@@ -100,14 +100,14 @@ def _collected(
                 continue
             result = lost(
                 items[i],
-                Status.ERROR,
+                Physics.ERROR,
                 f"error: its worker process died ({cause}), {tries} times while it ran alone",
             )
             _send_again(runner, fn, items, futures, i + 1, alone)
         except FutureTimeout:
             result = lost(
                 items[i],
-                Status.TIMEOUT,
+                Physics.TIMEOUT,
                 f"timeout: its worker gave no result within {limit:.3g} s and was stopped",
             )
             _send_again(runner, fn, items, futures, i + 1, alone)
@@ -191,14 +191,14 @@ def _dask_collected(
                     continue
                 yield lost(
                     item,
-                    Status.ERROR,
+                    Physics.ERROR,
                     f"error: its Dask worker was lost ({type(err).__name__}: {err})"[:200],
                 )
             except TimeoutError:
                 future.cancel()
                 yield lost(
                     item,
-                    Status.TIMEOUT,
+                    Physics.TIMEOUT,
                     f"timeout: its Dask worker gave no result within {limit:.3g} s",
                 )
                 break
