@@ -45,7 +45,7 @@ from .interface import (
     Scene,
     State,
 )
-from .loading import import_engine
+from .loading import engine_threads, import_engine, set_engine_threads
 from .records import (
     PROFILES,
     Capabilities,
@@ -365,6 +365,7 @@ __all__ = [
     "contact_reference",
     "create",
     "engine_class",
+    "engine_threads",
     "import_engine",
     "is_batched",
     "load",
@@ -373,6 +374,7 @@ __all__ = [
     "record",
     "register",
     "reload_plugins",
+    "set_engine_threads",
     "settings_for",
     "unregister",
 ]

@@ -23,9 +23,9 @@ hands: without it the engine sits out the swing studies), ``failed``, ``set_body
 
 **Batched form** (``BatchedEngine``): the same members over ``n`` independent worlds at once,
 arrays of floats in and out, one row per world in ``STATE_FIELDS`` order (a planar engine may
-leave the out-of-plane columns out), but ``set_body_restitution``; two optional more:
-``derivative``, the engine's own automatic differentiation through an impact, and ``device``,
-where its worlds live.
+leave the out-of-plane columns out), but ``set_body_restitution``; three optional more:
+``derivative``, the engine's own automatic differentiation through an impact, ``device``,
+where its worlds live, and ``anchor_s``, its library's own batched call timed bare.
 
 What the harness holds an adapter to, whatever it does (``experiments.core.fire.guarded``): a
 read of the wrong shape or kind, a contact flag its own state denies, an exception, an exit or
@@ -281,6 +281,13 @@ class BatchedEngine(abc.ABC):
     def device(self) -> str:
         """Where the worlds are computed, in words (benchmarks record it). Optional."""
         return "cpu"
+
+    def anchor_s(self, states: np.ndarray, steps: int) -> float | None:
+        """Seconds the engine's library takes, in its own batched call and nothing else, to
+        step these worlds ``steps`` steps from ``states`` (n, 20) with the threads this
+        adapter uses: the anchor its bare cost is measured against (``bench_engines``).
+        Optional: None where the library has no such call."""
+        return None
 
     @classmethod
     def read_back_defaults(cls) -> dict:

@@ -74,3 +74,25 @@ def _flush_c_stdio() -> None:
         ctypes.CDLL(None).fflush(None)
     except (OSError, AttributeError):
         pass
+
+
+#: Threads an engine's own batched step may use in this process (``engine_threads``); None: one
+#: per core this process may run on.
+_THREADS: list[int | None] = [None]
+
+
+def engine_threads() -> int:
+    """How many threads an engine library's batched or threaded step may use here: one per
+    core this process may run on, unless the runner spreads the work over processes
+    (``set_engine_threads``: one each, so that the workers do not fight for the cores)."""
+    if _THREADS[0] is not None:
+        return _THREADS[0]
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+def set_engine_threads(threads: int | None) -> None:
+    """Set ``engine_threads`` for this process (None: one per core again); adapters made
+    afterwards take it."""
+    if threads is not None and threads < 1:
+        raise ValueError(f"threads={threads!r}; allowed: None or an integer >= 1")
+    _THREADS[0] = threads

@@ -129,3 +129,56 @@ def test_a_run_fired_again_finds_its_engines_made(name, monkeypatch):
     finally:
         hosting.close_engines()
     assert held[0] >= hosting.POOL_MIN and held == [held[0]] * 3
+
+
+#: Single-world engines whose pool adapter steps through their library's own batched call
+#: (``BatchedEngine.anchor_s`` overridden): its worlds come back in chunks between the
+#: harness's reads, so every kind of sweep the engine runs is checked against alone.
+LIBRARY_BATCHED = [
+    n
+    for n in SINGLE
+    if adapters.record(n).can.pool_adapter is not None
+    and adapters.pool_class(n).anchor_s is not adapters.BatchedEngine.anchor_s
+]
+
+
+def _variants(name: str) -> list[tuple[str, adapters.Settings, dict]]:
+    """The engine's other profiles, its integrators and its soft contact, each on the paper's
+    swing; and a frictional oblique impact at the reference profile."""
+    rec = adapters.record(name)
+    out = [(p, adapters.settings_for(name, p), {}) for p in rec.profiles if p != "reference"]
+    out += [
+        (i.label, adapters.settings_for(name, **dict(i.overrides)), {}) for i in rec.can.integrators
+    ]
+    if rec.can.soft_contact is not None:
+        out.append(("soft", adapters.settings_for(name, **rec.can.soft_contact), {}))
+    if rec.can.friction_rule is not None:
+        out.append(("friction", adapters.settings_for(name), {"mu": 0.3, "theta_rad": 0.4}))
+    return out
+
+
+@pytest.mark.parametrize("name", LIBRARY_BATCHED)
+def test_a_library_batched_pool_ends_every_kind_of_sweep_as_alone(name, monkeypatch):
+    # Each variant over 21 points (e = 0.5) fired alone and in pools of 11 and 10: the same
+    # outcomes, bit for bit (repr: NaN != NaN), whatever the contact, integrator or friction.
+    for label, settings, extra in _variants(name):
+        firing = firings.Firing(
+            bat=presets.R161,
+            s_m=firings.grid(presets.R161, 21),
+            v0_mps=presets.PAPER_PITCH_MPS,
+            u0_mps=presets.PAPER_SWING.u0_mps,
+            omega0_radps=presets.PAPER_SWING.omega0_radps,
+            e=0.5,
+        )
+        jobs = [
+            dataclasses.replace(j, case=dataclasses.replace(j.case, **extra))
+            for j in firing.jobs(name, settings)
+        ]
+        monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
+        alone = _outcomes(fire_jobs(jobs))
+        monkeypatch.setattr(hosting, "POOL_MIN", 2)
+        monkeypatch.setattr(hosting, "POOL_MAX", 16)
+        monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
+        pooled = _outcomes(fire_jobs(jobs))
+        assert hosting.hosted(name, settings).held() == 11, label
+        assert [repr(o) for o in pooled] == [repr(o) for o in alone], label

@@ -78,10 +78,12 @@ class MujocoEngine(Engine):
             "cone": "elliptic" if m.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC else "pyramidal",
         }
 
-    def build(self, scene: Scene) -> None:
+    def build(self, scene: Scene, contact_sensor: bool = False) -> None:
+        """The scene's model and a data; ``contact_sensor``: with ``model.CONTACT_SENSOR``
+        (the worlds pool's model, ``worlds``)."""
         st = self.settings
         paired = st.contact_model != "native"
-        m = copy.copy(compiled(mjcf(scene.bat, scene.ball, scene.mu, paired)))
+        m = copy.copy(compiled(mjcf(scene.bat, scene.ball, scene.mu, paired, contact_sensor)))
         apply_options(m, st)
         self.model, self.data = m, mujoco.MjData(m)
         self._bat_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "bat")

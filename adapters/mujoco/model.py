@@ -26,9 +26,17 @@ def friction_xml(mu: float, paired: bool) -> tuple[str, str]:
     )
 
 
-def mjcf(bat: Bat, ball: Ball, mu: float = 0.0, paired: bool = True) -> str:
+#: A sensor of every contact, their count at each step's start (``worlds``: the contact flag of
+#: each step ``mujoco.rollout`` takes, which returns states and sensor data alone).
+CONTACT_SENSOR = '<sensor><contact name="contacts" data="found"/></sensor>'
+
+
+def mjcf(
+    bat: Bat, ball: Ball, mu: float = 0.0, paired: bool = True, contact_sensor: bool = False
+) -> str:
     """The scene as MJCF: body frames at the COMs, mass properties set explicitly; friction
-    as ``friction_xml`` makes it."""
+    as ``friction_xml`` makes it; with ``contact_sensor``, CONTACT_SENSOR (read only: the
+    dynamics are the same bits, ``tests/test_pool.py``)."""
     a, b = bat.s_min_m, bat.s_max_m
     ib = ball.inertia_kgm2
     geoms, contact = friction_xml(mu, paired)
@@ -56,7 +64,7 @@ def mjcf(bat: Bat, ball: Ball, mu: float = 0.0, paired: bool = True) -> str:
     <motor name="fx" site="load" gear="1 0 0 0 0 0"/>
     <motor name="fy" site="load" gear="0 1 0 0 0 0"/>
     <motor name="tz" site="load" gear="0 0 0 0 0 1"/>
-  </actuator>
+  </actuator>{CONTACT_SENSOR if contact_sensor else ""}
 </mujoco>"""
 
 

@@ -1,80 +1,437 @@
-"""MuJoCo's worlds on one model: an ``MjData`` a world, all on the model compiled for the scene
-(``Capabilities.pool_adapter``: the harness steps a long run's pool on this instead of on one
-adapter, model and data a world).
+"""MuJoCo's worlds on one model, stepped by MuJoCo's own batched call, ``mujoco.rollout`` (C,
+a persistent pool of ``adapters.engine_threads()`` threads, the same ``mj_step``), for a long
+run (``Capabilities.pool_adapter``): every world ends bit for bit as it does alone
+(``tests/test_pool.py``).
 
-A world of its own costs a model copy and an ``MjData`` (1.5 ms with the first compile, 0.5 ms
-after, measured); a world here costs its ``MjData`` alone (0.34-0.5 ms), so a run of 1e3
-impacts repays a pool of about 200. Each world is a ``MujocoEngine`` sharing the model, stepped
-and read as alone: it ends bit for bit as it does alone (``tests/test_pool.py``). The model's
-drive settings (the hands' anchor, the load's site) are shared: every world takes the same
-hands, as the swing's batches (of one world) do.
+``rollout`` takes physics rows (time, qpos, qvel: ``rows``) and a warm start in, and gives the
+state and sensor data of every step out; the contact flag of a step is the model's contact
+sensor (``model.CONTACT_SENSOR``: the contacts at the step's start, which ``ncon`` is after
+``mj_step``). The harness observes every step, so the pool steps in chunks: ``step`` only
+counts; a read (``in_contact``, ``read``, ``failed``) steps, in one call for all worlds, up to
+the step asked and on to the chunk's end, whose later steps the next reads take. The first
+chunk of an episode ends ``approach_steps`` + 2 steps in, where most impacts are over (the
+paper's swing: 4 steps); each further chunk is twice as long (a long contact costs a few calls,
+at most twice its steps). A drive (the hands) is stepped without looking ahead.
+
+What ``rollout`` does not give back is the warm start (the last step's accelerations, which
+seed the solver's next one): a world goes on from a step whose state is exact with any warm
+start, its *rest point*: the start (warm start 0, as ``set_state`` sets it), or the state
+before a step without constraints (no contact, hands off), whose solver does not run. A chunk
+starts at each world's rest point (the steps since are stepped again, the same bits). Kept
+apart, stepped one ``mj_step`` at a time on data of their own as alone (``_Own``): worlds under
+RK4 (whose ``ncon`` after a step is its last stage's contacts, not its start's), worlds whose
+chunk met a warning (``rollout`` stops there; MuJoCo reset the state and goes on), worlds too
+long without a rest point for a call's memory, and worlds left mid-episode by a drive change.
 """
 
 from __future__ import annotations
 
+import contextlib
+import importlib
+import time
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene, State
+from ..interface import BatchedEngine, Hands, MassProperties, Scene
+from ..loading import engine_threads, import_engine
 from . import RECORD
-from .adapter import MujocoEngine
+from .adapter import BLOW_UPS, MujocoEngine
+from .rows import QVEL, TIME, WIDTH, physics_rows, state_rows
+
+mujoco = import_engine(RECORD)
+#: MuJoCo's batched call, where the release has it with its contact sensor (else every world
+#: is stepped on its own, as alone).
+ROLLOUT = None
+with contextlib.suppress(ImportError):
+    ROLLOUT = getattr(importlib.import_module("mujoco.rollout"), "Rollout", None)
+if not hasattr(mujoco.mjtSensor, "mjSENS_CONTACT"):
+    ROLLOUT = None
+
+FULL = int(mujoco.mjtState.mjSTATE_FULLPHYSICS)
+#: What a chunk's controls set at every step: the motors and the hands' constraint.
+CONTROL = int(mujoco.mjtState.mjSTATE_CTRL) | int(mujoco.mjtState.mjSTATE_EQ_ACTIVE)
+#: The most numbers one ``rollout`` call writes (states and sensor data: 8e6, 64 MB); more
+#: worlds go in further calls, and a world that alone needs more is stepped on its own.
+CALL_NUMBERS = 8_000_000
+#: Steps a world may go without a rest point before it is stepped on data of its own, its warm
+#: start carried from call to call (a long contact: each chunk would step it again from its
+#: rest point).
+CARRY_AFTER = 64
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Chunk:
+    """One call's steps: its worlds, the step before each one's first (its rest point), the states
+    (worlds, steps, 27) and contact flags (worlds, steps) it gave, the rows it started from and
+    the controls it ran under (and a carried world's warm start then, ``_carry``)."""
+
+    worlds: np.ndarray
+    base_step: np.ndarray
+    rows: np.ndarray
+    touching: np.ndarray
+    start_rows: np.ndarray
+    control: np.ndarray
+    start_warm: np.ndarray | None = None  # (worlds, nv)
+
+
+class _Own:
+    """A world stepped on data of its own, one ``mj_step`` at a time, as alone."""
+
+    def __init__(
+        self, data, model, row: np.ndarray, step: int, control: np.ndarray, warm=None
+    ) -> None:
+        self.data, self.step = data, step
+        mujoco.mj_setState(model, data, row, FULL)
+        data.qacc_warmstart[:] = 0.0 if warm is None else warm  # any at a rest point
+        for w in BLOW_UPS:
+            data.warning[w].number = 0
+        self.set_control(model, control)
+
+    def set_control(self, model, control: np.ndarray) -> None:
+        mujoco.mj_setState(model, self.data, control, CONTROL)
+
+    def advance(self, model, to_step: int) -> None:
+        for _ in range(to_step - self.step):
+            mujoco.mj_step(model, self.data)
+        self.step = max(self.step, to_step)
+
+    def row(self, model, out: np.ndarray) -> None:
+        mujoco.mj_getState(model, self.data, out, FULL)
+
+    def touching(self) -> bool:
+        return self.data.ncon > 0
+
+    def failed(self) -> bool:
+        return any(self.data.warning[w].number for w in BLOW_UPS)
 
 
 class MujocoWorlds(BatchedEngine):
-    """``n`` MuJoCo worlds on one model (module docstring)."""
+    """``n`` MuJoCo worlds on one model, stepped through ``mujoco.rollout`` (module docstring).
+    The model's drive (the hands' anchor, the load's site) is shared: every world takes the
+    same hands, as the swing's batches (of one world) do."""
 
     record = RECORD
 
     def __init__(self, settings) -> None:
         super().__init__(settings)
-        self._built: list[MujocoEngine] = []  # every world made, on the scene's model
-        self._worlds: list[MujocoEngine] = []  # the first n: the worlds in use
+        self._engine: MujocoEngine | None = None  # the scene's model, drive, mass properties
         self._scene: Scene | None = None
+        self._pool = None  # the persistent rollout.Rollout
+        self._scratch: list = []  # its threads' data
+        self._datas: list = []  # data for the worlds stepped on their own, kept for reuse
+        self._n = 0
 
     def build(self, scene: Scene, worlds: int) -> None:
-        """``worlds`` worlds holding ``scene``: those made already if the scene is theirs (a
-        run's last, smaller batch takes the first ones), more made on the same model."""
+        """``worlds`` worlds holding ``scene`` on one model (made anew if the scene changed)."""
         if scene != self._scene:
-            first = MujocoEngine(self.settings)
-            first.build(scene)
-            self._built, self._scene = [first], scene
-        while len(self._built) < worlds:
-            self._built.append(self._built[0].sibling())
-        self._worlds = self._built[:worlds]
+            engine = MujocoEngine(self.settings)
+            engine.build(scene, contact_sensor=ROLLOUT is not None)
+            self._engine, self._scene, self._datas = engine, scene, []
+            self._batched = ROLLOUT is not None and self.settings.integrator != "RK4"
+            if self._batched and self._pool is None:
+                threads = engine_threads()
+                self._pool = ROLLOUT(nthread=threads if threads > 1 else 0)
+                self._alone = ROLLOUT(nthread=0)  # a carried world's calls (``_carry``)
+                self._threads = threads
+            if self._batched:
+                self._scratch = [mujoco.MjData(engine.model) for _ in range(self._threads)]
+            self._control = self._control_row()
+        self._n = worlds
+        self.set_state(np.zeros((worlds, 20)))
+
+    def _control_row(self) -> np.ndarray:
+        m = self._engine.model
+        out = np.empty(mujoco.mj_stateSize(m, CONTROL))
+        mujoco.mj_getState(m, self._engine.data, out, CONTROL)
+        return out
 
     def mass_properties(self) -> MassProperties:
-        return self._built[0].mass_properties()
+        return self._engine.mass_properties()
 
     def set_state(self, states: np.ndarray) -> None:
-        for world, row in zip(self._worlds, np.asarray(states).tolist()):
-            world.set_state(State(*row))
+        rows, self._planar = physics_rows(states)
+        n = self._n = len(rows)
+        self._t, self._at = 0, 0
+        self._rest_rows, self._rest_step = rows, np.zeros(n, dtype=int)
+        self._now, self._touching = rows.copy(), np.zeros(n, dtype=bool)
+        self._failed = np.zeros(n, dtype=bool)
+        self._chunks: list[_Chunk | None] = []
+        self._members: list[np.ndarray] | None = None
+        self._slot, self._pos = np.full(n, -1), np.zeros(n, dtype=int)
+        self._end = np.zeros(n, dtype=int)  # the last step each world's chunk reaches
+        self._stale = np.zeros(n, dtype=bool)  # its chunk was under a drive since changed
+        self._switched = 0  # the step the drive last changed at
+        self._window = self.settings.approach_steps + 2  # the first chunk's end (docstring)
+        self._first = True
+        self._own: dict[int, _Own] = {}
+        self._is_own = np.zeros(n, dtype=bool)
+        self._carried = np.zeros(n, dtype=bool)  # its warm start in its own data (``_carry``)
+        if not self._batched:
+            for w in range(n):
+                self._make_own(w, rows[w], 0, self._control)
+
+    def _data(self, w: int):
+        """World ``w``'s data of its own (made once, kept for the next episodes)."""
+        while len(self._datas) <= w:
+            self._datas.append(mujoco.MjData(self._engine.model))
+        return self._datas[w]
+
+    def _make_own(self, w: int, row: np.ndarray, step: int, control: np.ndarray, warm=None):
+        """World ``w`` stepped on its own (``_Own``) from ``row`` at ``step``."""
+        m = self._engine.model
+        own = self._own[w] = _Own(self._data(w), m, row, step, control, warm)
+        self._members = None
+        self._slot[w], self._is_own[w], self._stale[w] = -1, True, False
+        return own
 
     def step(self) -> None:
-        for world in self._worlds:
-            world.step()
+        self._t += 1  # stepped when read (module docstring)
 
     def read(self) -> np.ndarray:
-        return np.array([world.read() for world in self._worlds], dtype=float).reshape(
-            -1, len(STATE_FIELDS)
-        )
+        self._sync()
+        return state_rows(self._now, self._planar)
 
     def in_contact(self) -> np.ndarray:
-        return np.array([world.in_contact() for world in self._worlds], dtype=bool)
+        self._sync()
+        return self._touching.copy()
 
     def failed(self) -> np.ndarray:
-        return np.array([world.failed() for world in self._worlds], dtype=bool)
+        self._sync()
+        return self._failed.copy()
+
+    def _sync(self) -> None:
+        """Every world's row, contact flag and failure at the step asked (``_t``)."""
+        t, m = self._t, self._engine.model
+        if self._at == t:
+            return
+        due = np.flatnonzero((self._end < t) & ~self._is_own)
+        if due.size:
+            self._refill(due, t)
+            self._members = None
+        if self._members is None:  # which worlds each chunk serves (since the last refill)
+            order = np.argsort(self._slot, kind="stable")
+            cuts = np.searchsorted(self._slot[order], np.arange(len(self._chunks) + 1))
+            self._members = [order[cuts[i] : cuts[i + 1]] for i in range(len(self._chunks))]
+            for i, mine in enumerate(self._members):
+                if not mine.size:  # every world of it stepped on since: its memory freed
+                    self._chunks[i] = None
+        for chunk, mine in zip(self._chunks, self._members):
+            if mine.size:
+                pos = self._pos[mine]
+                k = t - chunk.base_step[pos] - 1
+                self._now[mine] = chunk.rows[pos, k]
+                self._touching[mine] = chunk.touching[pos, k]
+        for w, own in self._own.items():
+            own.advance(m, t)
+            own.row(m, self._now[w])
+            self._touching[w], self._failed[w] = own.touching(), own.failed()
+        self._at = t
+
+    def _refill(self, due: np.ndarray, t: int) -> None:
+        """Step the worlds ``due`` from their rest points to step ``t`` and on to the chunk's
+        end, in calls of at most CALL_NUMBERS numbers (module docstring)."""
+        m = self._engine.model
+        for w in due[self._stale[due]]:  # under a drive since changed: on their own from here
+            chunk, i = self._chunks[self._slot[w]], self._pos[w]
+            own = self._make_own(
+                w,
+                chunk.start_rows[i],
+                int(chunk.base_step[i]),
+                chunk.control,
+                None if chunk.start_warm is None else chunk.start_warm[i],
+            )
+            own.advance(m, self._switched)
+            own.set_control(m, self._control)
+        due = due[~self._is_own[due]]
+        bound = bool(self._control[-1])  # the hands hold the bat: no step is free of constraints
+        if bound:
+            end = t
+        elif self._first:
+            end = max(t, self._window)
+        else:
+            end = t + self._window
+            self._window *= 2
+        self._first = False
+        per_step = WIDTH + m.nsensordata
+        carried = self._carried[due] | (t - self._rest_step[due] > CARRY_AFTER)
+        if carried.any():
+            self._carry(due[carried], end)
+        due = due[~carried]
+        if not due.size:
+            return
+        steps = end - int(self._rest_step[due].min())
+        if steps * per_step > CALL_NUMBERS:  # too long for one call's memory: on their own
+            for w in due:
+                self._make_own(w, self._rest_rows[w], int(self._rest_step[w]), self._control)
+            return
+        group = max(1, CALL_NUMBERS // (steps * per_step))
+        for first in range(0, due.size, group):
+            ws = due[first : first + group]
+            self._call(ws, end - int(self._rest_step[ws].min()), bound)
+
+    def _call(self, ws: np.ndarray, steps: int, bound: bool) -> None:
+        """One ``rollout`` call: worlds ``ws`` from their rest points, ``steps`` steps each."""
+        m, k = self._engine.model, ws.size
+        start = self._rest_rows[ws]
+        base = self._rest_step[ws].copy()
+        rows = np.empty((k, steps, WIDTH))
+        sensors = np.empty((k, steps, m.nsensordata))
+        control = np.empty((k, steps, self._control.size))
+        control[:] = self._control
+        self._pool.rollout(
+            [m] * k,
+            self._scratch,
+            start,
+            control,
+            control_spec=CONTROL,
+            skip_checks=True,
+            nstep=steps,
+            state=rows,
+            sensordata=sensors,
+        )
+        # a warning stops rollout's steps (the rest repeat the last state, its time too) where
+        # MuJoCo had reset the state (time 0, at rest) and gone on: such worlds go on their own
+        clock = np.cumsum(
+            np.hstack([start[:, TIME : TIME + 1], np.full((k, steps), m.opt.timestep)]), axis=1
+        )
+        warned = np.any(rows[:, :, TIME] != clock[:, 1:], axis=1) | (
+            (start[:, TIME] == 0.0) & np.all(rows[:, 0, QVEL] == 0.0, axis=1)
+        )
+        for i in np.flatnonzero(warned):
+            self._make_own(int(ws[i]), start[i], int(base[i]), self._control)
+        ok = np.flatnonzero(~warned)
+        touching = sensors[:, :, 0] > 0.0
+        self._chunks.append(
+            _Chunk(
+                worlds=ws,
+                base_step=base,
+                rows=rows,
+                touching=touching,
+                start_rows=start,
+                control=self._control.copy(),
+            )
+        )
+        w = ws[ok]
+        self._slot[w], self._pos[w], self._end[w] = len(self._chunks) - 1, ok, base[ok] + steps
+        if bound:
+            return
+        # each world's rest point moves to the state before its chunk's last free step
+        free = ~touching[ok]
+        last = steps - 1 - np.argmax(free[:, ::-1], axis=1)
+        moves = free.any(axis=1) & (last >= 1)
+        idx = ok[moves]
+        self._rest_step[ws[idx]] = base[idx] + last[moves]
+        self._rest_rows[ws[idx]] = rows[idx, last[moves] - 1]
+
+    def _carry(self, ws: np.ndarray, end: int) -> None:
+        """Worlds ``ws`` stepped to ``end``, each in a call of its own on its own data, which
+        keeps the last step's warm start for the next (from its rest point the first time);
+        their states in one chunk."""
+        m, k = self._engine.model, ws.size
+        start, base = self._rest_rows[ws], self._rest_step[ws].copy()
+        most = end - int(base.min())
+        if most * (WIDTH + m.nsensordata) > CALL_NUMBERS:  # too long for a call's memory
+            for w in ws:
+                self._make_own(int(w), self._rest_rows[w], int(self._rest_step[w]), self._control)
+            return
+        rows = np.empty((k, most, WIDTH))
+        sensors = np.zeros((k, most, m.nsensordata))
+        control = np.empty((1, most, self._control.size))
+        control[:] = self._control
+        warm = np.zeros((k, m.nv))
+        kept = []
+        for i, w in enumerate(ws.tolist()):
+            d, steps = self._data(w), end - int(base[i])
+            if self._carried[w]:
+                warm[i] = d.qacc_warmstart
+            self._carried[w] = True
+            for n in range(len(d.warning)):
+                d.warning[n].number = 0
+            self._alone.rollout(
+                [m],
+                [d],
+                start[i : i + 1],
+                control[:, :steps],
+                control_spec=CONTROL,
+                skip_checks=True,
+                nstep=steps,
+                initial_warmstart=warm[i : i + 1],
+                state=rows[i : i + 1, :steps],
+                sensordata=sensors[i : i + 1, :steps],
+            )
+            if any(d.warning[n].number for n in range(len(d.warning))):  # (module docstring)
+                self._make_own(w, start[i], int(base[i]), self._control, warm[i])
+            else:
+                kept.append(i)
+        self._chunks.append(
+            _Chunk(
+                worlds=ws,
+                base_step=base,
+                rows=rows,
+                touching=sensors[:, :, 0] > 0.0,
+                start_rows=start,
+                control=self._control.copy(),
+                start_warm=warm,
+            )
+        )
+        ok = np.array(kept, dtype=int)
+        w = ws[ok]
+        self._slot[w], self._pos[w], self._end[w] = len(self._chunks) - 1, ok, end
+        self._rest_step[w], self._rest_rows[w] = end, rows[ok, end - base[ok] - 1]
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
         if hands is not None and any(h != hands[0] for h in hands):
             raise ValueError(
                 "hands: one model holds one drive; allowed: the same hands in every world"
             )
-        for world in self._worlds:
-            world.set_drive(None if hands is None else hands[0])
+        self._sync()  # the steps asked so far, under the drive they were asked under
+        self._engine.set_drive(None if hands is None else hands[0])
+        control = self._control_row()
+        if np.array_equal(control, self._control):
+            return
+        self._control = control
+        m = self._engine.model
+        for own in self._own.values():
+            own.set_control(m, control)
+        if self._t > 0:  # the chunks' later steps, and rest points, are the old drive's
+            shared = ~self._is_own
+            self._stale |= shared
+            self._end[shared] = np.minimum(self._end[shared], self._t)
+            self._switched = self._t
 
     def set_body_friction(self, *, bat: float, ball: float) -> None:
-        self._built[0].set_body_friction(bat=bat, ball=ball)  # the model's: every world's
+        self._engine.set_body_friction(bat=bat, ball=ball)  # the model's: every world's
+
+    def anchor_s(self, states: np.ndarray, steps: int) -> float | None:
+        """``rollout`` alone, on these states' physics rows, with this pool's threads."""
+        if not self._batched:
+            return None
+        m = self._engine.model
+        start, _ = physics_rows(states)
+        k = len(start)
+        rows = np.empty((k, steps, WIDTH))
+        sensors = np.empty((k, steps, m.nsensordata))
+        control = np.empty((k, steps, self._control.size))
+        control[:] = self._control
+        models = [m] * k
+        t0 = time.perf_counter()
+        self._pool.rollout(
+            models,
+            self._scratch,
+            start,
+            control,
+            control_spec=CONTROL,
+            skip_checks=True,
+            nstep=steps,
+            state=rows,
+            sensordata=sensors,
+        )
+        return time.perf_counter() - t0
 
     def close(self) -> None:
-        self._built, self._worlds, self._scene = [], [], None
+        if self._pool is not None:
+            self._pool.close()
+            self._alone.close()
+        self._pool, self._engine, self._scene, self._scratch, self._datas = None, None, None, [], []

@@ -47,7 +47,9 @@ CONNECT_TIMEOUT_S = 5.0
 
 
 def _import_engines(names: Sequence[str]) -> None:
-    """In a worker: import these engines now, so that no job pays for it."""
+    """In a worker: import these engines now, so that no job pays for it; their own threads
+    one each (the workers fill the cores)."""
+    adapters.set_engine_threads(1)
     for name in names:
         adapters.engine_class(name)
 

@@ -26,6 +26,8 @@ from concurrent.futures import Future
 from concurrent.futures import TimeoutError as FutureTimeout
 from concurrent.futures.process import BrokenProcessPool
 
+import adapters
+
 from ..errors import UserError
 from .boundary import STOP
 from .endings import Physics
@@ -42,8 +44,9 @@ def worker_start(parent_pid: int | None) -> None:
     """In a new local worker: drop the parent's engines (``forget_engines``), die with the
     parent (SIGTERM on its death, where Linux offers it; at once if ``parent_pid``, the process
     that forked it, died before this ran), and leave Ctrl-C and SIGHUP to the parent, which
-    stops its workers itself."""
+    stops its workers itself. The engines' own threads: one (the workers fill the cores)."""
     forget_engines()
+    adapters.set_engine_threads(1)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGHUP, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)

@@ -11,7 +11,11 @@ does nothing) taken out of both; the same worlds stepped bare (set the starts, s
 nothing read) are timed beside it. Where the engine's time goes: inside its steps alone
 (``step_us_per_impact``; on a GPU a step may only queue work, waited for at the next read) and a
 read of states already computed (``read_us_per_impact``: the copy off the device and the
-conversion). Each size is fired once untimed first (compiles, caches); the numbers are medians
+conversion). A single-world engine's long run is stepped bare on its pool adapter, as the
+harness held it, and beside it its library's own batched call on the same states and threads
+(``anchor_us_per_impact``, ``BatchedEngine.anchor_s``; NaN without one): a pool that steps only
+when read (MuJoCo's, through ``mujoco.rollout``) shows its steps under the reads. Each size is
+fired once untimed first (compiles, caches); the numbers are medians
 of the repeats. Sizes grow while the next one's firing, priced at this one's cost per impact,
 fits in the budget. Every adapter made before, of any engine, is closed first: each engine is
 measured alone in the process (another engine's hundreds of adapters left alive slowed the
@@ -52,13 +56,35 @@ def _firing() -> firings.Firing:
     )
 
 
-def bare_s(name: str, settings, cases, steps: int, reads: list | None = None) -> float:
+def bare_s(
+    name: str, settings, cases, steps: int, reads: list | None = None, anchors: list | None = None
+) -> float:
     """Seconds to set the batch's starts and step it ``steps`` times, nothing read; a batched
     engine's states read once at the end, and, with ``reads``, read again (the states already
     computed: the copy off the device and the conversion alone), that second read's seconds
-    appended to it."""
+    appended to it. A single-world engine's run held in its pool adapter is stepped there, in
+    batches of the worlds the pool holds, with the states read once at the end of each; with
+    ``anchors``, the seconds its library's own batched call takes on the same states
+    (``BatchedEngine.anchor_s``) are appended, None without one."""
     host = hosted(name, settings)
     c = cases[0]
+    if not host.batched and host.pool is not None and host.pool_worlds > 1:
+        size, bare, anchor = host.pool_worlds, 0.0, 0.0
+        for first in range(0, len(cases), size):
+            part = cases[first : first + size]
+            batch = host.batch(Scene(bat=c.bat, ball=c.ball, e=c.e), len(part))
+            starts = batch.xp.stack([start_state(k, settings)[0] for k in part])
+            t0 = time.perf_counter()
+            batch.set_state(starts)
+            for _ in range(steps):
+                batch.step()
+            batch.read()
+            bare += time.perf_counter() - t0
+            one = host.pool.anchor_s(starts, steps) if anchors is not None else None
+            anchor = None if one is None or anchor is None else anchor + one
+        if anchors is not None:
+            anchors.append(anchor)
+        return bare
     if host.batched:
         batch = host.batch(Scene(bat=c.bat, ball=c.ball, e=c.e), len(cases))
         starts = batch.xp.stack([start_state(k, settings)[0] for k in cases])
@@ -192,13 +218,14 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
         fired = fire_jobs(jobs)  # compile and warm at this size (and the judge's answers)
         tables.table(fired, "throughput")
         steps = int(np.median([f.outcome.steps for f in fired[:GRID]]))
-        walls, inside, stepping, bares, reads = [], [], [], [], []
+        walls, inside, stepping, bares, reads, anchors = [], [], [], [], [], []
         for _ in range(repeats):
             table, wall, engine, step = _timed(name, settings, jobs, clock)
             walls.append(wall)
             inside.append(wall - engine)
             stepping.append(step)
-            bares.append(bare_s(name, settings, cases, steps, reads))
+            bares.append(bare_s(name, settings, cases, steps, reads, anchors))
+        anchored = [a for a in anchors if a is not None]
         wall, bare = float(np.median(walls)), float(np.median(bares))
         rows.append(
             {
@@ -211,6 +238,9 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
                 "wall_s": wall,
                 "us_per_impact": wall / size * 1e6,
                 "bare_us_per_impact": bare / size * 1e6,
+                "anchor_us_per_impact": (
+                    float(np.median(anchored)) / size * 1e6 if anchored else math.nan
+                ),
                 "harness_us_per_impact": float(np.median(inside)) / size * 1e6,
                 "step_us_per_impact": float(np.median(stepping)) / size * 1e6,
                 "read_us_per_impact": float(np.median(reads)) / size * 1e6 if reads else math.nan,
