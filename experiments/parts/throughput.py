@@ -2,24 +2,28 @@
 
 For one engine at its reference profile: the paper's swing over the 41-point grid, tiled to B
 impacts, fired as one call (one batch on a batched engine, pools of its adapters on a
-single-world one) and every impact judged (``tables.table``): judged impacts per second, the
-largest |v1 - rigid theory| and the status counts. The harness's own cost is the firing's and
-judging's wall time less the time spent inside the engine's calls
-(ENGINE_CALLS), clocked in the same firing (two separate timings of ~60 us an impact differ by
-more than the few us sought), the clock's own cost per call (0.3 us here, measured on a call that
-does nothing) taken out of both; the same worlds stepped bare (set the starts, step as many times,
-nothing read) are timed beside it. Where the engine's time goes: inside its steps alone
-(``step_us_per_impact``; on a GPU a step may only queue work, waited for at the next read) and a
-read of states already computed (``read_us_per_impact``: the copy off the device and the
-conversion). A single-world engine's long run is stepped bare on its pool adapter, as the
-harness held it, and beside it its library's own batched call on the same states and threads
-(``anchor_us_per_impact``, ``BatchedEngine.anchor_s``; NaN without one): a pool that steps only
-when read (MuJoCo's, through ``mujoco.rollout``) shows its steps under the reads. Each size is
-fired once untimed first (compiles, caches); the numbers are medians
-of the repeats. Sizes grow while the next one's firing, priced at this one's cost per impact,
-fits in the budget. Every adapter made before, of any engine, is closed first: each engine is
-measured alone in the process (another engine's hundreds of adapters left alive slowed the
-next: PyBullet at 1e3 measured 12-14 us alone, 17 after PhysX).
+single-world one) and every impact judged where the firing ends (``verdicts.judge_columns``):
+judged impacts per second, the largest |v1 - rigid theory| and the status counts. Laying the
+verdicts out as a pandas table is presentation, timed on its own after
+(``table_us_per_impact``: a few hundred us for a table of one row, which a caller judging one
+impact never builds). The harness's own cost is the firing's and judging's wall time less the
+time spent inside the engine's calls (ENGINE_CALLS), clocked in the same firing (two separate
+timings of ~60 us an impact differ by more than the few us sought), the clock's own cost per
+call (0.3 us here, measured on a call that does nothing) taken out of both; the same worlds
+stepped bare (set the starts, step as many times, nothing read) are timed beside it. Where the
+engine's time goes: inside its steps alone (``step_us_per_impact``; on a GPU a step may only
+queue work, waited for at the next read) and a read of states already computed
+(``read_us_per_impact``: the copy off the device and the conversion). A single-world engine's
+long run is stepped bare on its pool adapter, as the harness held it, and beside it its
+library's own batched call on the same states and threads (``anchor_us_per_impact``,
+``BatchedEngine.anchor_s``; NaN without one): a pool that steps only when read (MuJoCo's,
+through ``mujoco.rollout``) shows its steps under the reads. Each size is fired once untimed
+first (compiles, caches); the numbers are medians of the repeats (below LOOPED_IMPACTS impacts,
+each repeat the mean over that many impacts' worth of firings). Sizes grow while the next one's
+firing, priced at this one's cost per impact, fits in the budget. Every adapter made before, of
+any engine, is closed first: each engine is measured alone in the process (another engine's
+hundreds of adapters left alive slowed the next: PyBullet at 1e3 measured 12-14 us alone, 17
+after PhysX).
 """
 
 from __future__ import annotations
@@ -35,14 +39,20 @@ import adapters
 from adapters import Scene
 from analytic import presets
 
-from ..core import firings, inputs, tables
+from ..core import firings, inputs, tables, verdicts
 from ..core.fire import Jobs, fire_jobs
+from ..core.fired import gather
 from ..core.hosting import close_engines, hosted
 from ..core.judge import Status
 from ..core.placement import start_state
 
 GRID = 41
 SIZES = (1, 10, 100, 1_000, 10_000, 100_000)
+#: A batch smaller than this is fired (and stepped bare) this many impacts' worth of times in
+#: each timing, the per-firing mean taken: one firing of one impact lasts a few hundred us, in
+#: which the machine's other work and a cold cache moved a single timing by 2-3x (measured:
+#: batch 1's bare 42-62 us a timing, 19-26 us at best over 2000).
+LOOPED_IMPACTS = 100
 
 
 def _firing() -> firings.Firing:
@@ -182,25 +192,32 @@ def clock_cost_s(calls: int = 20_000) -> tuple[float, float]:
     return float(np.median(inside)), float(np.median(outside))
 
 
-def _timed(name: str, settings, jobs: Jobs, clock: tuple[float, float]):
-    """Fire ``jobs`` and judge every impact: the table, the wall time and the time inside the
-    engine's calls and inside its steps alone (s), the clock's own cost (``clock_cost_s``) taken
-    out of each."""
+def _timed(name: str, settings, jobs: Jobs, clock: tuple[float, float], loops: int = 1):
+    """Fire ``jobs`` and judge every impact, ``loops`` times over: the last table, and per
+    firing the wall time and the time inside the engine's calls and inside its steps alone
+    (s), the clock's own cost (``clock_cost_s``) taken out of each, and the table's layout
+    time after (s)."""
     spent = [0.0, 0, 0.0]
     pool = adapters.pool_class(name)  # a single-world engine's long runs step on it
+    wall = layout_s = 0.0
     with (
         _clocked(type(hosted(name, settings).adapter), spent),
         _clocked(pool, spent) if pool is not None else contextlib.nullcontext(),
     ):
-        t0 = time.perf_counter()
-        table = tables.table(fire_jobs(jobs), "throughput")
-        wall = time.perf_counter() - t0
+        for _ in range(loops):
+            t0 = time.perf_counter()
+            fired = gather(fire_jobs(jobs))
+            judged = verdicts.judge_columns(fired)
+            t1 = time.perf_counter()
+            table = tables.layout(fired, judged, "throughput")
+            wall, layout_s = wall + t1 - t0, layout_s + time.perf_counter() - t1
     inside_s, outside_s = clock
     return (
         table,
-        wall - spent[1] * (inside_s + outside_s),
-        spent[0] - spent[1] * inside_s,
-        spent[2],
+        (wall - spent[1] * (inside_s + outside_s)) / loops,
+        (spent[0] - spent[1] * inside_s) / loops,
+        spent[2] / loops,
+        layout_s / loops,
     )
 
 
@@ -219,12 +236,15 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
         tables.table(fired, "throughput")
         steps = int(np.median([f.outcome.steps for f in fired[:GRID]]))
         walls, inside, stepping, bares, reads, anchors = [], [], [], [], [], []
+        layouts, loops = [], max(1, LOOPED_IMPACTS // size)
         for _ in range(repeats):
-            table, wall, engine, step = _timed(name, settings, jobs, clock)
+            table, wall, engine, step, layout = _timed(name, settings, jobs, clock, loops)
             walls.append(wall)
+            layouts.append(layout)
             inside.append(wall - engine)
             stepping.append(step)
-            bares.append(bare_s(name, settings, cases, steps, reads, anchors))
+            bare = [bare_s(name, settings, cases, steps, reads, anchors) for _ in range(loops)]
+            bares.append(sum(bare) / loops)
         anchored = [a for a in anchors if a is not None]
         wall, bare = float(np.median(walls)), float(np.median(bares))
         rows.append(
@@ -244,6 +264,7 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
                 "harness_us_per_impact": float(np.median(inside)) / size * 1e6,
                 "step_us_per_impact": float(np.median(stepping)) / size * 1e6,
                 "read_us_per_impact": float(np.median(reads)) / size * 1e6 if reads else math.nan,
+                "table_us_per_impact": float(np.median(layouts)) / size * 1e6,
                 "steps_median": steps,
                 "repeats": repeats,
                 "max_abs_err_mps": float(table.v1_abs_err_mps.max()),
