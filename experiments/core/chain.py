@@ -24,7 +24,7 @@ from adapters.segmented import ChainScene
 from analytic.chain import Chain
 from analytic.chain_impact import ChainImpact, ChainOutcome, compliant_reference, impulse_reference
 
-from . import judge
+from .answers import Held, Reference, held_to
 from .endings import Physics
 from .episode import Recorder, run_episode
 from .terms import (
@@ -171,8 +171,8 @@ def fire_chain(
             and not _patch_reaches_a_joint(impact, ref)
         ):
             judged = row["tol_mps"]
-    nan = [math.nan]
-    row["status"] = judge.verdict([row["physics"]], [row["err_mps"]], [judged], nan, nan)[0]
+    held = Held(reference=Reference.SEGMENTED, v1_mps=ref.v1_mps, tol_mps=np.array([judged]))
+    row["status"] = held_to([row["physics"]], [row["v1_mps"]], [held]).status[0]
     return row
 
 

@@ -413,26 +413,6 @@ def soft_judgement(
     return ref.v1_mps, LAW_SAFETY * v_c / (1 + r) * de + rounding
 
 
-def verdict(physics, err_mps, tol_mps, law_err_mps, law_tol_mps, within=True) -> np.ndarray:
-    """The verdict (``Status`` values) on each fired impact from its physical outcome
-    (``Physics`` values; arrays, one value per impact): a failure stays what it is; a sound
-    impact is ``ok`` within the tolerance of the answer that applies (rigid theory where
-    ``tol_mps`` is finite, else the engine's own contact law where ``law_tol_mps`` is) and its
-    other judged outputs within theirs (``within``), ``inaccurate`` outside, and ``unjudged``
-    where neither answer applies."""
-    out = np.array(physics, dtype=object)  # a failure stays what it is
-    with np.errstate(invalid="ignore"):
-        rigid, law = ~np.isnan(tol_mps), ~np.isnan(law_tol_mps)
-        fits = np.where(rigid, err_mps <= tol_mps, law_err_mps <= law_tol_mps) & within
-    judged = _JUDGED[np.where(rigid | law, np.where(fits, 0, 1), 2)]
-    np.copyto(out, judged, where=out == Physics.SOUND.value)
-    return out
-
-
-#: ``verdict``'s judgements by code, as Python strings (pandas reads numpy's own slowly).
-_JUDGED = np.array([Status.OK.value, Status.INACCURATE.value, Status.UNJUDGED.value], dtype=object)
-
-
 def phases(k: int) -> np.ndarray:
     """Contact phases (k + 1/2)/K, k = 0..K-1: an even sample of where in a step contact falls."""
     return (np.arange(k) + 0.5) / k

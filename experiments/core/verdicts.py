@@ -3,7 +3,9 @@ verdict, the answer it was held to, its error and its tolerance, as arrays, in o
 called where a firing ends, before any table (``tables.table`` lays its columns out).
 ``judge(case, outcome, error_model)`` is the same function on columns of length one.
 
-The answer an impact is held to, the first that applies:
+The answer an impact is held to, the first that applies, each kind through the one protocol
+of ``answers`` (``Held``: its v1 and tolerance, NaN where it does not apply), the verdict from
+``answers.held_to``:
 
 - ``rigid theory``: an engine whose contact is the rigid impulse, frictionless and in the
   swing plane: ``analytic.collide``'s whole episode, tolerance ``judging.tolerances``;
@@ -24,7 +26,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from enum import StrEnum
 
 import numpy as np
 
@@ -33,6 +34,7 @@ from analytic import CollisionEpisode, ImpactCase
 
 from . import friction_judge
 from . import judge as judging
+from .answers import Held, Reference, held_to
 from .episode import SimOutcome
 from .fire import Fired
 from .fired import Gathered, gather
@@ -40,15 +42,6 @@ from .judge import Status
 
 #: Engine name -> the error model its impacts are judged with, in place of its record's.
 ErrorModels = Mapping[str, adapters.ErrorModel]
-
-
-class Reference(StrEnum):
-    """The answer an impact was held to (module docstring)."""
-
-    RIGID = "rigid theory"
-    LAW = "its own contact law"
-    FRICTIONAL = "frictional impulse"
-    NONE = "none"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -130,9 +123,25 @@ def judge_columns(
     }
     v1 = c["v1_mps"]
     err, law_err = np.abs(v1 - ref["v1_mps"]), np.abs(v1 - law[:, 0])
-    status = judging.verdict(c["physics"], err, tol, law_err, law[:, 1], within)
-    on_rigid, on_law = ~np.isnan(tol), ~np.isnan(law[:, 1])
-    reference = _REFERENCES[np.where(on_rigid, 0, np.where(on_law, np.where(frictional, 2, 1), 3))]
+    nan = np.full(len(v1), math.nan)
+    held = held_to(
+        c["physics"],
+        v1,
+        (
+            Held(reference=Reference.RIGID, v1_mps=ref["v1_mps"], tol_mps=tol),
+            Held(
+                reference=Reference.LAW,
+                v1_mps=law[:, 0],
+                tol_mps=np.where(frictional, nan, law[:, 1]),
+            ),
+            Held(
+                reference=Reference.FRICTIONAL,
+                v1_mps=law[:, 0],
+                tol_mps=np.where(frictional, law[:, 1], nan),
+                within=within,
+            ),
+        ),
+    )
     answers = {
         "v1_analytic_mps": ref["v1_mps"],
         "v1_abs_err_mps": err,
@@ -149,19 +158,12 @@ def judge_columns(
         **extra,
     }
     return Verdicts(
-        status=status,
-        reference=reference,
-        err_mps=np.where(on_rigid, err, np.where(on_law, law_err, math.nan)),
-        tol_mps=np.where(on_rigid, tol, law[:, 1]),
+        status=held.status,
+        reference=held.reference,
+        err_mps=held.err_mps,
+        tol_mps=held.tol_mps,
         answers=answers,
     )
-
-
-#: ``Reference`` values by code, as Python strings (pandas reads numpy's own slowly).
-_REFERENCES = np.array(
-    [r.value for r in (Reference.RIGID, Reference.LAW, Reference.FRICTIONAL, Reference.NONE)],
-    dtype=object,
-)
 
 
 def _with_friction(

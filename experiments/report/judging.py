@@ -24,7 +24,7 @@ def section(res: Results) -> str:
             ),
             "The tolerance is built from the engine's error model (its float precision, its "
             "contact's declared biases: `adapters/errors.py`) and the terms below; one function "
-            "turns it into the status (`judge.verdict`).",
+            "turns it into the status (`answers.held_to`).",
             f"Statuses: {', '.join(f'`{s.value}`' for s in Status)}.",
             "| term | value | why |\n|---|---|---|\n" + rows,
         ]
