@@ -123,8 +123,9 @@ def test_the_node_moves_with_the_profile_not_with_a_scale_of_e():
     sp = R.node_spread()
     assert sp.high - sp.low > 0.1
     assert 13.0 <= sp.low < sp.central < sp.high <= 18.0
+    # its central profile is the flex command's, on 60 elements instead of 160 (0.02 mm apart)
     assert sp.central == pytest.approx(
-        100 * B.r161_beam(1.0).modes(1).barrel_node_from_tip_m(0), abs=1e-3
+        100 * B.r161_beam(1.0).modes(1).barrel_node_from_tip_m(0), abs=5e-3
     )
 
 
