@@ -291,12 +291,12 @@ def _figure(
         )
     for p in (q for q in ball.COR_DATA if q.qualitative):
         lo, hi = p.speed_mps - p.speed_half_width_mps, p.speed_mps + p.speed_half_width_mps
-        ax.plot([lo, hi], [p.cor, p.cor], ":", color="k", lw=2.5)
+        ax.plot([lo, hi], [p.cor, p.cor], ":", color="k", lw=2.5, label="qualitative statement")
         ax.annotate(
             f"'about {p.cor:g}' at {lo:g}-{hi:g} m/s [{p.source}]:\nqualitative, not a "
             "measurement;\nthe central law is chosen through it",
-            (hi, p.cor),
-            xytext=(hi + 2, p.cor + 0.06),
+            (p.speed_mps, p.cor),
+            xytext=(lo - 8, p.cor + 0.13),
             fontsize=7.5,
             arrowprops={"arrowstyle": "-", "color": "0.4"},
         )
