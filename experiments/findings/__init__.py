@@ -10,6 +10,8 @@ COR law and its range); ``questions`` (sections 1-2), ``metal_text`` (3), ``carr
 ``flex_text`` (3c), ``ball`` (4) and ``report`` (the head, sections 5-6, the references) write
 them up. ``referee`` collects every quoted number as a claim with its command, dependence and
 source: the short answers quote claims only, and tests/test_findings_claims.py traces them.
+``inputs`` declares the uncertain inputs with their ranges and sources, and ``ranges`` carries
+them into every headline number (central, low-high, the input that moves it most).
 Numbers from the literature carry their reference.
 """
 
@@ -44,7 +46,7 @@ __all__ = ["COMMAND", "REFS", "main", "produce"]
 
 #: The sections that fire no engine, as measured on 2 cores (s): the carry's frictional impacts
 #: and flights, the flexible bat's beam, the ball's fit, the rest.
-MODEL_S = {"cork, metal": 1.0, "carry": 31.0, "flex": 8.0, "ball": 3.0}
+MODEL_S = {"cork, metal": 3.0, "carry": 45.0, "flex": 15.0, "ball": 3.0}
 #: The J fit's descent through one differentiable engine, its compile included (s).
 FIT_S = 20.0
 

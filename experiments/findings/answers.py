@@ -20,7 +20,6 @@ from scipy import optimize
 import adapters
 from analytic import (
     MEASURED_EXPONENT,
-    WOOD_DENSITY_KGM3,
     Bat,
     ImpactCase,
     Swing,
@@ -52,6 +51,9 @@ PLATE_TO_RUBBER_M = 18.44  # 60 ft 6 in
 PITCHER_AFTER_FOLLOW_THROUGH_M = 16.5  # where the pitcher releases the ball [mlbrelease]
 REACTION_S = 0.4  # an assumed reaction time (a round figure, no source)
 FILLS = {"cork": 200.0, "rubber": 1100.0, "hollow": 0.0}
+#: The density of the wood a hole removes (kg/m^3): a 1 x 10 in hole took 2.9 oz (82 g) from
+#: a wood bat [nathancork] (its range: ``inputs.INPUTS["wood_density_kgm3"]``)
+HOLE_WOOD_KGM3 = 640.0
 DEPTHS_IN = (6, 8, 10)
 SWEET_ZONE_WITHIN = 0.01  # the sweet zone: v1 within 1% of the swing's best
 NATHAN_Q_FROM_END_M = 6 * IN  # Nathan et al. measured q 6 in from the barrel end
@@ -242,8 +244,8 @@ def sweet_spot_table() -> pd.DataFrame:
 
 
 def corked_bats() -> dict[tuple[str, int], tuple[Bat, Bat]]:
-    """(fill, depth in inches) -> (exact corked R161, the paper's), 1 in holes in the R161's
-    wood (``WOOD_DENSITY_KGM3``)."""
+    """(fill, depth in inches) -> (exact corked R161, the paper's), 1 in holes in wood of
+    HOLE_WOOD_KGM3."""
     out = {}
     for fill, rho in FILLS.items():
         for depth in DEPTHS_IN:
@@ -251,13 +253,13 @@ def corked_bats() -> dict[tuple[str, int], tuple[Bat, Bat]]:
                 hole_radius_m=0.5 * IN,
                 hole_depth_m=depth * IN,
                 fill_density_kgm3=rho,
-                wood_density_kgm3=WOOD_DENSITY_KGM3,
+                wood_density_kgm3=HOLE_WOOD_KGM3,
             )
             out[(fill, depth)] = (corked_bat(R161, **kw), corked_bat_paper(R161, **kw))
     return out
 
 
-CORK_1x10 = corked_bat(R161)  # the default: a 1 x 10 in cork fill
+CORK_1x10 = corked_bat(R161, wood_density_kgm3=HOLE_WOOD_KGM3)  # a 1 x 10 in cork fill
 
 
 def cork_properties() -> pd.DataFrame:
@@ -279,17 +281,17 @@ def cork_properties() -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def cork_gain(corked: Bat, sc: Scenario, exponent: float) -> float:
+def cork_gain(corked: Bat, sc: Scenario, exponent: float, e: float = E) -> float:
     """v1 at the corked bat's best point minus the solid bat's (m/s) when swing speed scales as
-    omega0 ~ I_knob^-exponent (the batter's effort carried over from the R161)."""
+    omega0 ~ I_knob^-exponent (the batter's effort carried over from the R161), both at e."""
     sw = carried_swing(corked, sc, SwingModel.MEASURED, exponent)
-    return best_v1(corked, sc, sw)[1] - best_v1(R161, sc)[1]
+    return best_v1(corked, sc, sw, e)[1] - best_v1(R161, sc, e=e)[1]
 
 
-def break_even_exponent(corked: Bat, sc: Scenario) -> float:
+def break_even_exponent(corked: Bat, sc: Scenario, e: float = E) -> float:
     """The exponent n of omega0 ~ I_knob^-n at which corking neither gains nor loses v1 (a
     lighter bat must be swung that much faster to make up for its lost mass)."""
-    return float(optimize.brentq(lambda n: cork_gain(corked, sc, n), 0.0, 2.0, xtol=1e-10))
+    return float(optimize.brentq(lambda n: cork_gain(corked, sc, n, e), 0.0, 2.0, xtol=1e-10))
 
 
 def cork_verdicts(corked: Bat = CORK_1x10) -> pd.DataFrame:

@@ -48,8 +48,9 @@ def cor_data_table() -> pd.DataFrame:
             {
                 "impact speed (m/s)": p.speed_mps,
                 "COR": p.cor,
-                "+-": p.half_width,
+                "+-": p.half_width if not p.qualitative else float("nan"),
                 "kind": p.kind,
+                "qualitative": p.qualitative,
                 "source": f"[{p.source}]",
                 "what it is": p.note,
                 "central law": law.cor(p.speed_mps),
@@ -186,7 +187,7 @@ instantaneous. A baseball's COR falls as the impact speed rises [sawicki2003] [s
 the contact lasts about 0.6-1 ms [nathan2000], during which the bat turns. What is published
 about a major-league ball's COR is one test speed and one qualitative statement:
 
-{md_table(data, "{:.4g}")}
+{md_table(data.drop(columns="qualitative"), "{:.4g}")}
 
 No table of the COR against speed could be read, so **the speed dependence is an assumption**:
 a power law e(v) = e_ref (v / 25.9 m/s)^-p through MLB's centre and Nathan's 0.5 at 50 m/s,
@@ -278,7 +279,7 @@ def _figure(
         label="old Hertz law (superseded)",
     )
     for kind, marker, color in (("ball-wall", "o", "k"), ("ball-bat", "D", "tab:red")):
-        d = data[data.kind == kind]
+        d = data[(data.kind == kind) & ~data.qualitative]
         ax.errorbar(
             d["impact speed (m/s)"],
             d["COR"],
@@ -286,7 +287,18 @@ def _figure(
             fmt=marker,
             color=color,
             capsize=4,
-            label=f"published, {kind}" + (" (not used)" if kind == "ball-bat" else ""),
+            label=f"measured / specified, {kind}" + (" (not used)" if kind == "ball-bat" else ""),
+        )
+    for p in (q for q in ball.COR_DATA if q.qualitative):
+        lo, hi = p.speed_mps - p.speed_half_width_mps, p.speed_mps + p.speed_half_width_mps
+        ax.plot([lo, hi], [p.cor, p.cor], ":", color="k", lw=2.5, label="qualitative statement")
+        ax.annotate(
+            f"'about {p.cor:g}' at {lo:g}-{hi:g} m/s [{p.source}]:\nqualitative, not a "
+            "measurement;\nthe central law is chosen through it",
+            (p.speed_mps, p.cor),
+            xytext=(lo - 8, p.cor + 0.13),
+            fontsize=7.5,
+            arrowprops={"arrowstyle": "-", "color": "0.4"},
         )
     ax.set_xlabel("impact speed (m/s)")
     ax.set_ylabel("coefficient of restitution")

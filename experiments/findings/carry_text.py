@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 import pandas as pd
 
+from analytic.ball import COR_LAW
 from analytic.flight import (
     DRAG_SPREAD,
     FT_M,
@@ -22,6 +23,7 @@ from analytic.flight import (
 
 from . import carry as C
 from . import metal as M
+from . import ranges as R
 from .answers import (
     MLB,
     PAPER,
@@ -33,7 +35,7 @@ from .answers import (
     Scenario,
     from_end_cm,
 )
-from .report import Section, md_table, pyplot, ranged
+from .report import Section, md_table, pyplot
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -94,12 +96,14 @@ def mu_spread(sc: Scenario) -> dict[str, float]:
     scan = C.mu_scan(sc)
     grip = scan[scan["slip stops"]]
     at_mu = float(scan.loc[scan.mu == C.MU_BALL_BAT, "carry (m)"].iloc[0])
+    slide = float(scan.mu.iloc[0])
     return {
         "mu_lo": float(grip.mu.min()),
         "mu_hi": float(grip.mu.max()),
         "spread_m": float(grip["carry (m)"].max() - grip["carry (m)"].min()),
-        "mu_slide": float(scan.mu.iloc[0]),
+        "mu_slide": slide,
         "slide_loss_m": at_mu - float(scan["carry (m)"].iloc[0]),
+        "slide_best_change_m": C.best_point(C.hit_of(sc, mu=slide)).carry_m - at_mu,
     }
 
 
@@ -113,9 +117,12 @@ bat's axis at contact, and flown: Routh's frictional impact in 3-D (`analytic.pr
 e = {E}, ball-bat friction mu = {C.MU_BALL_BAT}, an assumption that hardly matters: see below)
 on a pitch arriving with a four-seam fastball's **backspin of {C.FASTBALL_SPIN_RPM:.0f} rpm**
 (the 2016 MLB average [statcast]), then Nathan's drag and lift from 0.9 m up (`analytic.flight`
-[nathancalc], still air at 1.194 kg/m^3). Carry is the distance to the landing point; its range
-is over C_D +-{DRAG_SPREAD:.0%} [adair] and C_L +-{LIFT_SPREAD:.0%} (assumed, the scatter of the
-lift data) (`flight.carry_range_m`).
+[nathancalc], still air at 1.194 kg/m^3). Carry is the distance to the landing point. A
+headline carry is quoted over the joint range of the inputs it depends on (the referee
+section's table: e, the share of the pitch's spin the impact hands on, the batted spin over
+rigid rolling's, C_D +-{DRAG_SPREAD:.0%} [adair], C_L +-{LIFT_SPREAD:.0%}), its best point
+re-optimised at every point of that range (`ranges.carry_spread`); the tables' "carry range"
+columns are over drag and lift alone (`flight.carry_range_m`), to compare rows.
 """
 
 
@@ -168,6 +175,8 @@ def _sweet_text() -> str:
     span = [(max(r) - min(r)) * 100 for r in rows.values()]
     level = p.rows[0]
     mp, mm = mu_spread(PAPER), mu_spread(MLB)
+    sp = {sc.key: R.carry_spread(sc) for sc in SCENARIOS}
+    at_law = {sc.key: central_law_carry(sc) for sc in SCENARIOS}
     wides = [C.wide_barrel_best(sc) for sc in (PAPER, MLB)]
     wide = [100 * w.undercut_m for w in wides]
     carry = [(w.carry_m, b.best.carry_m) for w, b in zip(wides, (p, m), strict=True)]
@@ -175,10 +184,13 @@ def _sweet_text() -> str:
 the same point of the barrel as the fastest ball, to within {shift[0]:.1f} mm (paper's swing) and
 {shift[1]:.1f} mm (MLB-like): hitting the speed sweet spot with the best undercut loses
 {lost[0]:.1f} cm and {lost[1]:.1f} cm of carry. What decides the distance is the undercut. The
-best ball flies **{ranged(p.best.carry_m, *C.best_carry_range_m(PAPER))} m** off the paper's swing
-and **{ranged(m.best.carry_m, *C.best_carry_range_m(MLB))} m** off the MLB-like one (the range: drag
-and lift at the corners of their spread, C_D +-{DRAG_SPREAD:.0%} and C_L +-{LIFT_SPREAD:.0%}; the
-table's figures are the central model's, kept to compare rows):
+best ball flies **{sp["paper"].text()} m** off the paper's swing and **{sp["mlb"].text()} m** off
+the MLB-like one, over e, the spin handed on and its boost, drag and lift, moved most by the
+{sp["mlb"].driver} (e at its ends alone: {_ends(sp["paper"], "e")} m and {_ends(sp["mlb"], "e")}
+m). At e = {E} (the central value, the rigid model's); at the central COR law's e at the
+closing speed ({at_law["paper"][0]:.3f} and {at_law["mlb"][0]:.3f}, section 4) the best balls
+fly {at_law["paper"][1]:.1f} m and {at_law["mlb"][1]:.1f} m. The table's figures are the
+central model's:
 
 {md_table(_sweet_rows(), "{:.4g}")}
 
@@ -206,9 +218,25 @@ Friction: from mu = {mp["mu_lo"]:g} to {mp["mu_hi"]:g} the best carry changes by
 {mp["spread_m"] * 1e3:.1f} mm (paper's swing) and {mm["spread_m"] * 1e3:.1f} mm (MLB-like), for
 the slip stops within the impact and the ball leaves rolling on the bat, as Sawicki et al. found
 ("post-impact conditions ... independent of the ball-bat coefficient of friction"
-[sawicki2003]); only a ball that slides throughout (mu = {mp["mu_slide"]:g}) loses
-{mp["slide_loss_m"]:.2f} m and {mm["slide_loss_m"]:.2f} m.
+[sawicki2003]). A ball that slides throughout (mu = {mp["mu_slide"]:g}) is another ball: hit
+at mu = {C.MU_BALL_BAT}'s best point it loses {mp["slide_loss_m"]:.2f} m and
+{mm["slide_loss_m"]:.2f} m, but with its own best point and undercut re-optimised its carry
+changes by {mp["slide_best_change_m"]:+.2f} m and {mm["slide_best_change_m"]:+.2f} m (paper's,
+MLB-like swing).
 """
+
+
+def _ends(sp, key: str) -> str:
+    """A spread's value at one input's two ends, the others central (m)."""
+    lo, hi = next((lo, hi) for k, lo, hi in sp.ends if k == key)
+    return f"{lo:.1f}-{hi:.1f}"
+
+
+def central_law_carry(sc: Scenario) -> tuple[float, float]:
+    """(e, the longest carry in m) at the central COR law's e at the closing speed of the
+    R161's speed sweet spot."""
+    e = COR_LAW.cor(sc.v0_mps + sc.bat_speed_mps)
+    return e, C.best_point(C.hit_of(sc, e=e)).carry_m
 
 
 def _pitch_rows() -> pd.DataFrame:
@@ -237,6 +265,7 @@ def _pitch_text() -> str:
     """Hubbard's curveball argument on a level swing, beside Sawicki et al.'s result."""
     p, m = C.pitch_optima(PAPER), C.pitch_optima(MLB)
     gain = [po.curveball.carry_m - po.fastball.carry_m for po in (p, m)]
+    cu = {sc.key: R.curve_spread(sc) for sc in SCENARIOS}
     theirs = (C.SAWICKI_CURVEBALL_FT - C.SAWICKI_FASTBALL_FT) * FT_M
     return f"""**Fastball or curveball.** A curveball arrives with topspin
 ({C.CURVEBALL_SPIN_RPM:.0f} rpm, the 2024 Statcast mean [statcast]; here at the same pitch speed
@@ -249,10 +278,15 @@ That ball climbs too steeply, so the curveball's best undercut is smaller,
 **{p.curveball.undercut_m * 100:.2f} cm against {p.fastball.undercut_m * 100:.2f} cm**
 (MLB-like: {m.curveball.undercut_m * 100:.2f} against {m.fastball.undercut_m * 100:.2f} cm), and
 in this model it carries {gain[0]:+.1f} m ({C.feet(gain[0]):+.0f} ft) and {gain[1]:+.1f} m
-({C.feet(gain[1]):+.0f} ft) farther. That is the upper bound: rigid rolling hands the incoming
-topspin on in full. Measured outgoing spin is nearly independent of the incoming spin
-[nathan2012] [crossnathan2006]; at the same pitch speed a curveball then leaves like the
-fastball and carries the same. **The curveball's gain lies between 0 and {max(gain):+.1f} m**:
+({C.feet(gain[1]):+.0f} ft) farther (the table). That rests on rigid rolling, which hands the
+incoming topspin on in full; it is neither bound. Measured outgoing spin is nearly independent
+of the incoming spin [nathan2012]: then the two pitches leave alike and carry the same. A real
+ball also grips and stretches on the bat, leaving with up to {C.KENSRUD_EXTRA_SPIN:.0%} more
+spin than rolling gives [kensrud2017], which can push a steep ball's carry either way. Over the
+share of the pitch's spin handed on (0-1), that extra spin (0-{C.KENSRUD_EXTRA_SPIN:.0%}), drag
+and lift, each pitch's best point re-optimised, **the curveball's gain is {cu["paper"].text("+")}
+m (paper's swing) and {cu["mlb"].text("+")} m (MLB-like)**, moved most by the
+{cu["paper"].driver} and the {cu["mlb"].driver} (`ranges.curve_spread`):
 
 {md_table(_pitch_rows(), "{:.4g}")}
 
@@ -265,8 +299,7 @@ Their model differs from this one: the bat swings upward at an angle chosen with
 (here the swing is level, so the undercut alone sets the launch angle), the pitch arrives
 descending at an angle set by its speed (here horizontally), e falls with the closing speed
 (here e = {E} throughout), and their curveball is slower than their fastball (here the same
-speed). A real ball also grips and stretches on the bat, leaving with up to
-{C.KENSRUD_EXTRA_SPIN:.0%} more spin than a rigid ball rolling off it [kensrud2017].
+speed).
 """
 
 

@@ -9,6 +9,7 @@ import pandas as pd
 from ..parts import flex_beam as B
 from . import flex_models
 from .answers import MLB, PAPER
+from .ranges import node_spread
 from .report import md_table
 
 Section = tuple[str, dict, dict]
@@ -23,19 +24,20 @@ def flex_section() -> Section:
     fine = [B.impact_row(sw, x) for sw in SWINGS.values() for x in B.ZONE_POINTS_M]
     zones = {key: B.sweet_zone(fine, key) for key in SWINGS}
     models_text, models = flex_models.section(SWINGS)
+    node = node_spread()
     text = "\n".join(
         [
-            _modes_text(modes),
+            _modes_text(modes, node),
             _spots_text(spots, zones, modes, rows),
             models_text,
             _efficiency_text(rows),
         ]
     )
-    stats = {"spots": spots.to_dict("records"), "zones": zones, "models": models}
+    stats = {"spots": spots.to_dict("records"), "zones": zones, "models": models, "node": node}
     return text, {}, stats
 
 
-def _modes_text(modes: pd.DataFrame) -> str:
+def _modes_text(modes: pd.DataFrame, node) -> str:
     ti = modes[(modes.theory == "Timoshenko") & (modes.modulus_scale == 1.0)].iloc[0]
     eb = modes[(modes.theory == "Euler-Bernoulli") & (modes.modulus_scale == 1.0)].iloc[0]
     lo = modes[(modes.theory == "Timoshenko") & (modes.modulus_scale == 0.8)].iloc[0]
@@ -53,9 +55,14 @@ Timoshenko (shear included) beside Euler-Bernoulli: **{ti.f1_hz:.0f} and {ti.f2_
 third's {ti.f3_hz:.0f} Hz); the first mode's barrel node lies **{100 * ti.node1_from_tip_m:.1f} cm
 from the end**, its handle node {100 * ti.node1_handle_from_knob_m:.1f} cm from the knob. Wood
 bats measure about 170 Hz with the barrel node 5-7 in (13-18 cm) from the end [russellmodes].
-With E 20% lower or higher the first mode moves to {lo.f1_hz:.0f} or {hi.f1_hz:.0f} Hz; its
-node barely moves ({100 * lo.node1_from_tip_m:.1f} and {100 * hi.node1_from_tip_m:.1f} cm): a
-node is set by how mass and stiffness are distributed, not by their scale.
+With E 20% lower or higher the first mode moves to {lo.f1_hz:.0f} or {hi.f1_hz:.0f} Hz. A
+scale of E and G together cannot move a node (K - w^2 M keeps its mode shapes when K is
+scaled), so it is no test of the node; what can move it is the profile, which is assumed (the
+R161's is not published). Over the assumed knob radius, handle length, barrel radius and
+taper shape (`inputs.INPUTS`; each profile refitted to the R161's mass, balance and J_cm) the
+node lies **{node.text()} cm** from the end, moved most by the {node.driver}
+(`ranges.node_spread`). Chart of v1 and the energy left in bending along the barrel, the
+Hunt-Crossley ball on the beam: [flex.png](flex.png) (`python -m experiments.flex`).
 """
 
 
@@ -90,8 +97,9 @@ integrated until the ball leaves), for the paper's swing and the MLB-like one:
 
 {md_table(table, floatfmt="{:.1f}")}
 
-**On the beam the two sweet spots lie {apart.max():.1f} cm apart at most**, while the rigid bat
-under the same ball peaks {shift.min():.1f}-{shift.max():.1f} cm farther from the end. Where the
+**Under this ball the two sweet spots lie {apart.min():.1f}-{apart.max():.1f} cm apart** (under
+a hysteretic ball farther, below), while the rigid bat under the same ball peaks
+{shift.min():.1f}-{shift.max():.1f} cm farther from the end. Where the
 first mode is not excited, nothing is lost to it, and the second and third modes
 ({ti.f2_hz:.0f} Hz and {ti.f3_hz:.0f} Hz, periods comparable to the
 {contact.min():.2f}-{contact.max():.2f} ms contact) give back part of what they take while the

@@ -143,17 +143,26 @@ def fraction_matching_wood_sweet_spot(
     return float(optimize.brentq(gap, 0.2, 2.0))
 
 
-def bbcor_bat(length_in: float, drop_oz: float = BBCOR_DROP_OZ) -> Bat:
-    """A metal bat ``length_in`` long weighing length - drop oz, with the paper's aluminium
-    bat's proportions (COM at 60% of the length, J_cm 50% of a uniform rod: both unsourced)."""
+def bbcor_bat(
+    length_in: float,
+    drop_oz: float = BBCOR_DROP_OZ,
+    *,
+    com_fraction: float | None = None,
+    rod_fraction: float | None = None,
+) -> Bat:
+    """A metal bat ``length_in`` long weighing length - drop oz, its COM at ``com_fraction`` of
+    its length and J_cm ``rod_fraction`` of a uniform rod's; by default the paper's aluminium
+    bat's proportions (60% and 50%: both unsourced, ``inputs.INPUTS`` gives their ranges)."""
     length, mass = length_in * IN_M, (length_in - drop_oz) * OZ_KG
+    com = AL.com_from_knob_m / AL.length_m if com_fraction is None else com_fraction
+    rod = uniform_rod_fraction(AL) if rod_fraction is None else rod_fraction
     return replace(
         AL,
         name=f"metal{length_in:g}",
         length_m=length,
         mass_kg=mass,
-        com_from_knob_m=AL.com_from_knob_m / AL.length_m * length,
-        inertia_cm_kgm2=uniform_rod_fraction(AL) * mass * length**2 / 12,
+        com_from_knob_m=com * length,
+        inertia_cm_kgm2=rod * mass * length**2 / 12,
     )
 
 

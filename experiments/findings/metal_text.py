@@ -13,6 +13,8 @@ from analytic import SwingModel, batted_ball_speed
 
 from . import answers as A
 from . import metal as M
+from . import ranges as R
+from .inputs import INPUTS, Spread
 from .report import Section, along_the_barrel, md_table, pyplot
 
 if TYPE_CHECKING:
@@ -115,17 +117,25 @@ def _metal_findings_text(
         k: " / ".join(f"{same[k][f'gain over wood, {m} (m/s)']:+.2f}" for m in MODELS) for k in same
     }
     e55, e60 = ("{:.1f}-{:.1f}".format(*lively[e]) for e in (0.55, 0.60))
+    rng = {sc.key: R.metal_spreads(sc) for sc in A.SCENARIOS}
+    share = {k: r["length027"] for k, r in rng.items()}
     below = _below(tables["paper"])
     paper_below = ", ".join(below) or "no case"
     mlb_below, cells = len(_below(tables["mlb"])), M.aluminium_times(tables["mlb"])
     wood_t = tables["mlb"].iloc[0]["t to 16.5 m, e=0.50 (s)"]
     return f"""\
-- **At equal e = 0.5 the paper's comparison is mostly one of length**: its 31 in aluminium bat
-  minus the 33 in R161 is {paper} m/s (paper's swing; u0 ~ 1/M, constant torque, measured
+- **At equal e = 0.5 the paper's comparison is partly one of length**: its 31 in aluminium
+  bat minus the 33 in R161 is {paper} m/s (paper's swing; u0 ~ 1/M, constant torque, measured
   n = 0.27) and {mlb} m/s (MLB-like swing). A metal bat of the R161's length at BBCOR's
   drop -3 (33 in, 30 oz, the same proportions) gives {eq["paper"]} m/s (paper's swing) and
-  {eq["mlb"]} m/s (MLB-like): lightness alone loses under the measured scaling and is about even
-  at constant torque.
+  {eq["mlb"]} m/s (MLB-like). So at n = 0.27 the shorter length explains
+  {_percent(share["paper"])} / {_percent(share["mlb"])} of the 31 in bat's loss (as a share, 1 minus
+  the 33 in bat's loss over the 31 in bat's; over the unsourced COM, J_cm and e, moved most by
+  the {share["paper"].driver}): under the measured scaling most of it is lightness; "mostly
+  length" holds only at constant torque, where the loss is small. Over the metal bat's COM
+  ({_com}) and J_cm ({_rod}) and e, the 33 in bat's change is {rng["paper"]["equal027"].text("+")}
+  / {rng["mlb"]["equal027"].text("+")} m/s at n = 0.27 and {rng["paper"]["equal05"].text("+")} /
+  {rng["mlb"]["equal05"].text("+")} m/s at constant torque (`ranges.metal_spreads`).
 - A livelier collision gains more: e = 0.55 adds {e55} m/s and e = 0.60
   {e60} m/s over the aluminium bat at e = 0.50 (every model, both swings).
 - Reaction time, an assumed 0.4 s (a round figure, not a sourced threshold; the times are in
@@ -134,6 +144,16 @@ def _metal_findings_text(
   swing {mlb_below} of the {cells} aluminium cases (3 models x 3 e) do, and so does the wood
   bat's ball ({wood_t:.3f} s): at these speeds the threshold separates swings, not bats.
 """
+
+
+_COM, _ROD = INPUTS["metal_com_fraction"], INPUTS["metal_rod_fraction"]
+_com = f"{_COM.low:.0%}-{_COM.high:.0%} of its length"
+_rod = f"{_ROD.low:.0%}-{_ROD.high:.0%} of a rod's"
+
+
+def _percent(sp: Spread) -> str:
+    """A share's spread quoted in percent: ``central% (low%-high%)``."""
+    return f"{sp.central:.0%} ({sp.low:.0%}-{sp.high:.0%})"
 
 
 def _metal_inertia_text(match: dict[tuple[str, str], float]) -> str:

@@ -11,9 +11,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pandas as pd
 
-from analytic import MEASURED_EXPONENT, WOOD_DENSITY_KGM3, center_of_percussion
+from analytic import MEASURED_EXPONENT, center_of_percussion
 
 from . import answers as A
+from .inputs import INPUTS
 from .located import sweet_engines_text
 from .report import Section, md_table, pyplot
 
@@ -22,6 +23,7 @@ if TYPE_CHECKING:
 
 RUSSELL_CM = A.RUSSELL_CM
 CORK_EXPONENTS = np.linspace(0.0, 1.0, 41)  # the cork chart's swing-speed exponents
+_WOOD = INPUTS["wood_density_kgm3"]  # the hole's wood, its range quoted in section 2
 
 
 # -- 1. sweet spot -------------------------------------------------------------------------------
@@ -188,10 +190,11 @@ def _cork_bats_text(verdicts: pd.DataFrame) -> str:
     return f"""## 2. Does corking help?
 
 A 1 in (25.4 mm) hole 6, 8 or 10 in deep drilled into the barrel end and filled with cork
-(200 kg/m^3), rubber (1100 kg/m^3) or left hollow, in the R161's wood,
-{WOOD_DENSITY_KGM3:.0f} kg/m^3 (the density at which its beam profile has its mass, balance and
-J_cm, section 3c; `analytic.corked_bat`: the hole's own r^2/4 + h^2/12 and parallel axes
-about the new COM):
+(200 kg/m^3), rubber (1100 kg/m^3) or left hollow, in wood of {A.HOLE_WOOD_KGM3:.0f} kg/m^3
+(a 1 x 10 in hole took 2.9 oz, 82 g, from a wood bat [nathancork]; its range,
+{_WOOD.low:.0f}-{_WOOD.high:.0f} kg/m^3, runs from the R161's beam fit, section 3c, to ash at 12%
+moisture [woodhandbook]; `analytic.corked_bat`: the hole's own r^2/4 + h^2/12 and parallel
+axes about the new COM):
 
 {md_table(A.cork_properties(), "{:.4g}")}
 

@@ -22,7 +22,9 @@ REFS = {
     "the barrel end.",
     "woodhandbook": "USDA Forest Products Laboratory, Wood Handbook, FPL-GTR-190 (2010), "
     "tables 5-1 and 5-3a: white ash E_L = 12.0 GPa at 12% moisture, specific "
-    "gravity 0.60, G_LR/E_L = 0.080.",
+    "gravity 0.60 (oven-dry mass over volume at 12% moisture; 0.55 is its basic specific gravity, "
+    "over green volume, not a density), G_LR/E_L = 0.080; table 5-6: E's coefficient of "
+    "variation between pieces 22%.",
     "crossbower": 'R. Cross and R. Bower, "Effects of swing-weight on swing speed and racket '
     'power", J. Sports Sci. 24, 23 (2006): swing speed ~ I^-n, n = 0.27 (0.25 '
     "for softball bats).",
@@ -75,6 +77,10 @@ REFS = {
     "curveballs 2,569 rpm at 79.4 mph (statcast_2024_grouped.csv, TJStats).",
     "nathancalc": "A. M. Nathan's trajectory calculator (drag and lift fitted to Statcast fly "
     "balls) and Am. J. Phys. 76, 119 (2008), as in `analytic.flight`.",
+    "nathancork": 'A. M. Nathan, "What about filling the cavity with superballs?", corked-bat '
+    "notes (2003, reproduced at xbats.com): measured with D. A. Russell and L. V. Smith, a "
+    "34 in, 30.5 oz wood bat drilled 1 in across and 10 in deep weighed 27.6 oz (2.9 oz, "
+    "82 g, removed).",
     "adair": "R. K. Adair, The Physics of Baseball, 3rd ed. (2002), ch. 2: C_D uncertain by 10%.",
     "mlbrelease": "MLB.com, 3 Jun 2023: release 6.4 ft before the rubber, 16.5 m from the plate.",
 }

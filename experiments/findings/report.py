@@ -54,18 +54,17 @@ def pyplot() -> ModuleType:
 
 
 def ranged(value: float, lo: float, hi: float, fmt: str = "") -> str:
-    """``value (lo-hi)`` rounded to the decade of the range's half-width, the figures the range
-    allows (half-width 12 -> tens, 0.08 -> hundredths); ``fmt`` a sign, e.g. '+'."""
+    """``value (lo-hi)`` rounded as the range's half-width allows: to its leading figure, or
+    to two figures when that figure is 1 or 2 (half-width 12 -> units, 0.3 -> tenths,
+    0.08 -> hundredths); ``fmt`` a sign, e.g. '+'."""
     half = max(abs(hi - lo) / 2, 1e-12)
     digits = -math.floor(math.log10(half))
+    if round(half * 10.0**digits) < 3:
+        digits += 1
 
     def cut(x: float) -> str:
-        x = round(x, digits)
-        return (
-            f"{x:{fmt if x else ''}.{max(digits, 0)}f}".replace("-0.", "0.")
-            if not x
-            else f"{x:{fmt}.{max(digits, 0)}f}"
-        )
+        x = round(x, digits) + 0.0  # + 0.0: no "-0"
+        return f"{x:{fmt if x else ''}.{max(digits, 0)}f}"
 
     sep = " to " if fmt or lo < 0 else "-"
     return f"{cut(value)} ({cut(lo)}{sep}{cut(hi)})"
