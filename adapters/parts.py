@@ -2,8 +2,8 @@
 reader: where the engine comes from (``Install``) and what it can do (``Capabilities``), what
 an adapter author declares; what it gets wrong and in which float type (``ErrorModel``, in
 ``adapters.errors``), what the judge reads; what a step costs (``Cost``), for the estimates;
-how it is shown (``Presentation``), for charts and the report; and what the studies vary
-(``Studies``)."""
+how it is shown (``Presentation``), for charts and the report; what the studies vary
+(``Studies``); and what its library offers to step many worlds at once (``Batching``)."""
 
 from __future__ import annotations
 
@@ -133,6 +133,36 @@ class Capabilities:
             raise ValueError(
                 "soft_contact and stiffness_setting go together; allowed: both or neither"
             )
+
+
+@dataclass(frozen=True, kw_only=True)
+class Batching:
+    """What the engine's library offers to step many worlds at once, and whether the harness
+    steps through it (issue 60: no silent gap). ``call``: the library's batched or threaded
+    step as "module:attribute.path", "" where it has none; ``worlds``: whether that call steps
+    many worlds in one call (``mujoco.rollout``, a batched engine's step) rather than spreading
+    one world's step over threads (which a two-body world has nothing to give); ``used``:
+    whether the harness steps through it (the engine's batched adapter, or its pool adapter);
+    ``why``: what it is, and why it is used or not; ``not_it``: the names in the library's own
+    namespace that sound like such a step and are not (a batch of ray casts, a GUI thread), as
+    "module:attribute.path". Every name is read back from the installed library, and its
+    namespace holds no other such name (``tests/test_library_batching.py``)."""
+
+    call: str = ""
+    worlds: bool = False
+    used: bool = False
+    why: str
+    not_it: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.call and (self.used or self.worlds):
+            raise ValueError(
+                "Batching: used or worlds without a call; allowed: a call ('module:name') "
+                "for a step the library offers"
+            )
+        for target in (self.call, *self.not_it):
+            if target and ":" not in target:
+                raise ValueError(f"Batching: {target!r} is not 'module:attribute.path'")
 
 
 @dataclass(frozen=True, kw_only=True)

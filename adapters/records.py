@@ -22,6 +22,7 @@ from analytic import checks
 
 from .errors import ContactReference, ErrorModel
 from .parts import (
+    Batching,
     Capabilities,
     Cost,
     Install,
@@ -37,6 +38,7 @@ from .rules import FrictionRule, RestitutionRule
 #: The record's vocabulary, for the engines' record modules: this module and ``parts``.
 __all__ = [
     "PROFILES",
+    "Batching",
     "Capabilities",
     "ContactReference",
     "Cost",
@@ -116,7 +118,9 @@ class EngineRecord:
     ``engine_defaults``: the engine's own out-of-the-box values of settings fields (what the
     README quotes), each read back (``read_back_defaults``) or measured: a test pins both.
     ``cost``: what a step costs, for estimates. ``look``: how charts and the report show it.
-    ``studies``: what the studies vary in it.
+    ``studies``: what the studies vary in it. ``batching``: what its library offers to step
+    many worlds at once and whether the harness uses it (None: the record does not say; every
+    built-in engine says).
     """
 
     name: str
@@ -129,6 +133,7 @@ class EngineRecord:
     cost: Cost = Cost()
     look: Presentation = Presentation()
     studies: Studies = Studies()
+    batching: Batching | None = None
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

@@ -25,6 +25,7 @@ from analytic import checks
 from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
 from ..records import (
+    Batching,
     Capabilities,
     ContactReference,
     Cost,
@@ -269,6 +270,15 @@ RECORD = EngineRecord(
         speed_accuracy=_speed_accuracy(),
         friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
         friction_rule_overrides=NATIVE_FRICTION,
+    ),
+    batching=Batching(
+        call="mujoco.rollout:Rollout",
+        worlds=True,
+        used=True,
+        why="MuJoCo's rollout: many worlds' mj_step in one C call on a persistent thread "
+        "pool; a long run's pool adapter (MujocoWorlds) steps its worlds through it, bit for "
+        "bit as alone",
+        not_it=("mujoco:mju_threadpool",),  # one MjData's own pool: one world's work
     ),
 )
 
