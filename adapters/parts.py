@@ -177,13 +177,19 @@ class Cost:
     where it costs much less than a contact step (None: ``step_cost_s``).
     ``impact_limit_s``: the longest one impact may take on the wall clock before it is a
     ``timeout`` (s; a batch of a batched engine's worlds, stepped together, as long, plus
-    ``start_s``); None: derived from the costs above (``experiments.core.watchdog``)."""
+    ``start_s``); None: derived from the costs above (``experiments.core.watchdog``).
+    ``pool_world_make_s``: what one more world of the pool adapter (``Capabilities.pool_adapter``)
+    costs to make (s), where that is a fixed figure far below what a pooled impact saves (worlds
+    that are rows of arrays on one model): a long run's pool is then sized from it alone, the
+    same on a loaded machine (``experiments.core.hosting``); None: timed, as the pool's first
+    build's share a world."""
 
     step_cost_s: float = 1e-5
     world_step_cost_s: float | None = None
     start_s: float = 0.0
     coast_step_cost_s: float | None = None
     impact_limit_s: float | None = None
+    pool_world_make_s: float | None = None
 
     @property
     def coast_s(self) -> float:
@@ -199,6 +205,8 @@ class Cost:
         checks.non_negative("start_s", self.start_s)
         if self.impact_limit_s is not None:
             checks.positive("impact_limit_s", self.impact_limit_s)
+        if self.pool_world_make_s is not None:
+            checks.positive("pool_world_make_s", self.pool_world_make_s)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -147,6 +147,11 @@ class EngineRecord:
                 f"adapter={self.adapter!r} is not 'module:Class'; allowed: the "
                 "adapter class's module and name, joined by ':'"
             )
+        if self.cost.pool_world_make_s is not None and self.can.pool_adapter is None:
+            raise ValueError(
+                f"engine {self.name!r}: cost.pool_world_make_s without can.pool_adapter; "
+                "allowed: a pool world's cost for an engine that has a pool adapter"
+            )
         object.__setattr__(self, "profiles", MappingProxyType(dict(self.profiles)))
         object.__setattr__(self, "engine_defaults", MappingProxyType(dict(self.engine_defaults)))
 
