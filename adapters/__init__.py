@@ -48,6 +48,7 @@ from .interface import (
 from .loading import engine_threads, import_engine, set_engine_threads
 from .records import (
     PROFILES,
+    Batching,
     Capabilities,
     ContactReference,
     Cost,
@@ -330,6 +331,7 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
 
 __all__ = [
     "BatchedEngine",
+    "Batching",
     "Capabilities",
     "ContactReference",
     "Cost",

@@ -2,8 +2,8 @@
 reader: where the engine comes from (``Install``) and what it can do (``Capabilities``), what
 an adapter author declares; what it gets wrong and in which float type (``ErrorModel``, in
 ``adapters.errors``), what the judge reads; what a step costs (``Cost``), for the estimates;
-how it is shown (``Presentation``), for charts and the report; and what the studies vary
-(``Studies``)."""
+how it is shown (``Presentation``), for charts and the report; what the studies vary
+(``Studies``); and what its library offers to step many worlds at once (``Batching``)."""
 
 from __future__ import annotations
 
@@ -136,6 +136,36 @@ class Capabilities:
 
 
 @dataclass(frozen=True, kw_only=True)
+class Batching:
+    """What the engine's library offers to step many worlds at once, and whether the harness
+    steps through it (issue 60: no silent gap). ``call``: the library's batched or threaded
+    step as "module:attribute.path", "" where it has none; ``worlds``: whether that call steps
+    many worlds in one call (``mujoco.rollout``, a batched engine's step) rather than spreading
+    one world's step over threads (which a two-body world has nothing to give); ``used``:
+    whether the harness steps through it (the engine's batched adapter, or its pool adapter);
+    ``why``: what it is, and why it is used or not; ``not_it``: the names in the library's own
+    namespace that sound like such a step and are not (a batch of ray casts, a GUI thread), as
+    "module:attribute.path". Every name is read back from the installed library, and its
+    namespace holds no other such name (``tests/test_library_batching.py``)."""
+
+    call: str = ""
+    worlds: bool = False
+    used: bool = False
+    why: str
+    not_it: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.call and (self.used or self.worlds):
+            raise ValueError(
+                "Batching: used or worlds without a call; allowed: a call ('module:name') "
+                "for a step the library offers"
+            )
+        for target in (self.call, *self.not_it):
+            if target and ":" not in target:
+                raise ValueError(f"Batching: {target!r} is not 'module:attribute.path'")
+
+
+@dataclass(frozen=True, kw_only=True)
 class Cost:
     """For run-time estimates only. ``step_cost_s``: one reference step of one world (s,
     ``experiments.bench_engines``' one-world step, every engine measured in the same run on one
@@ -147,13 +177,19 @@ class Cost:
     where it costs much less than a contact step (None: ``step_cost_s``).
     ``impact_limit_s``: the longest one impact may take on the wall clock before it is a
     ``timeout`` (s; a batch of a batched engine's worlds, stepped together, as long, plus
-    ``start_s``); None: derived from the costs above (``experiments.core.watchdog``)."""
+    ``start_s``); None: derived from the costs above (``experiments.core.watchdog``).
+    ``pool_world_make_s``: what one more world of the pool adapter (``Capabilities.pool_adapter``)
+    costs to make (s), where that is a fixed figure far below what a pooled impact saves (worlds
+    that are rows of arrays on one model): a long run's pool is then sized from it alone, the
+    same on a loaded machine (``experiments.core.hosting``); None: timed, as the pool's first
+    build's share a world."""
 
     step_cost_s: float = 1e-5
     world_step_cost_s: float | None = None
     start_s: float = 0.0
     coast_step_cost_s: float | None = None
     impact_limit_s: float | None = None
+    pool_world_make_s: float | None = None
 
     @property
     def coast_s(self) -> float:
@@ -169,6 +205,8 @@ class Cost:
         checks.non_negative("start_s", self.start_s)
         if self.impact_limit_s is not None:
             checks.positive("impact_limit_s", self.impact_limit_s)
+        if self.pool_world_make_s is not None:
+            checks.positive("pool_world_make_s", self.pool_world_make_s)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -22,6 +22,7 @@ from analytic import checks
 
 from .errors import ContactReference, ErrorModel
 from .parts import (
+    Batching,
     Capabilities,
     Cost,
     Install,
@@ -37,6 +38,7 @@ from .rules import FrictionRule, RestitutionRule
 #: The record's vocabulary, for the engines' record modules: this module and ``parts``.
 __all__ = [
     "PROFILES",
+    "Batching",
     "Capabilities",
     "ContactReference",
     "Cost",
@@ -116,7 +118,9 @@ class EngineRecord:
     ``engine_defaults``: the engine's own out-of-the-box values of settings fields (what the
     README quotes), each read back (``read_back_defaults``) or measured: a test pins both.
     ``cost``: what a step costs, for estimates. ``look``: how charts and the report show it.
-    ``studies``: what the studies vary in it.
+    ``studies``: what the studies vary in it. ``batching``: what its library offers to step
+    many worlds at once and whether the harness uses it (None: the record does not say; every
+    built-in engine says).
     """
 
     name: str
@@ -129,6 +133,7 @@ class EngineRecord:
     cost: Cost = Cost()
     look: Presentation = Presentation()
     studies: Studies = Studies()
+    batching: Batching | None = None
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]
@@ -141,6 +146,11 @@ class EngineRecord:
             raise ValueError(
                 f"adapter={self.adapter!r} is not 'module:Class'; allowed: the "
                 "adapter class's module and name, joined by ':'"
+            )
+        if self.cost.pool_world_make_s is not None and self.can.pool_adapter is None:
+            raise ValueError(
+                f"engine {self.name!r}: cost.pool_world_make_s without can.pool_adapter; "
+                "allowed: a pool world's cost for an engine that has a pool adapter"
             )
         object.__setattr__(self, "profiles", MappingProxyType(dict(self.profiles)))
         object.__setattr__(self, "engine_defaults", MappingProxyType(dict(self.engine_defaults)))

@@ -17,8 +17,10 @@ For each engine (reference profile, R161, the paper's swing, N impact points):
   --batches size, with the largest error against theory and the harness's own share, on the
   device each engine computes on. --batches-only measures this part alone (a batched engine
   on a GPU machine: BATSIM_WARP_DEVICE=cuda:0 for the engines on Warp, JAX's default device
-  for those on JAX). Rows measured on the other kind of device (CPU or GPU) are kept from
-  --keep-rows (default: the committed results/bench_batches.csv), so that one table holds both.
+  for those on JAX). Every row this run did not measure again (another engine's, one on the
+  other kind of device, CPU or GPU, or at a batch size not asked for) is kept from --keep-rows
+  (default: the committed results/bench_batches.csv), so that one table holds them all and a
+  run of one engine replaces only its own rows (``throughput.merged``).
 Writes bench_engines.csv, .json and .png (not with --batches-only), and bench_batches.csv and
 .png into the run directory.
 """
@@ -51,7 +53,7 @@ from .core.runner import MIN_PARALLEL_S, Runner
 from .errors import BadInput
 from .parts import throughput
 
-#: The table whose rows of the other kind of device are kept by default (committed).
+#: The table whose rows a run does not measure again are kept by default (committed).
 KEEP_ROWS = ROOT / "results" / "bench_batches.csv"
 
 
@@ -269,9 +271,9 @@ def _options(p: argparse.ArgumentParser) -> None:
         type=Path,
         default=None,
         metavar="CSV",
-        help="throughput rows whose device kind (CPU, GPU) this run did not measure "
-        "are kept from this table (default: the committed one, "
-        "results/bench_batches.csv)",
+        help="throughput rows this run does not measure again (another engine's, another "
+        "kind of device's, another batch size's) are kept from this table (default: the "
+        "committed one, results/bench_batches.csv)",
     )
 
 
@@ -282,8 +284,8 @@ def _check(p: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     if args.keep_rows is None:
         if not KEEP_ROWS.exists():
             print(
-                f"bench_engines: {KEEP_ROWS.relative_to(ROOT)} is absent: no rows of another "
-                "kind of device are kept",
+                f"bench_engines: {KEEP_ROWS.relative_to(ROOT)} is absent: no rows of other "
+                "engines, devices or batch sizes are kept",
                 file=sys.stderr,
             )
             return

@@ -89,7 +89,8 @@ def _gpu(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def batches(runs: list[Path], committed: pd.DataFrame | None) -> pd.DataFrame:
-    """The committed CPU rows, then every run's GPU rows (the latest per engine and batch)."""
+    """The committed CPU rows and every run's GPU rows (the latest per engine and batch), in
+    the table's order (``throughput.merged``)."""
     parts = [
         _gpu(pd.read_csv(d / "bench_batches.csv"))
         for d in runs

@@ -157,3 +157,30 @@ def test_help_in_a_fresh_interpreter(command, tmp_path):
         ["-m", f"experiments.{command}", "--help"], cwd=tmp_path, env={"PYTHONPATH": str(ROOT)}
     )
     assert res.stdout.startswith("usage: python -m experiments.") and not any(tmp_path.iterdir())
+
+
+def test_benchmarking_one_engine_keeps_every_row_it_did_not_measure_again(tmp_path):
+    # bench_engines --batches-only for one engine at two batch sizes, as a user runs it, keeping
+    # the committed table's rows: its CPU rows at those sizes are this run's (--quick: one
+    # repeat), and every other row (other engines', other devices', other sizes') is kept as
+    # committed, byte for byte (the table is written at the precision it was read at)
+    committed = ROOT / "results" / "bench_batches.csv"
+    argv = ["--quick", "--batches-only", "--engine", SINGLE, "--batches", "1,10"]
+    run_command(["-m", "experiments.bench_engines", *argv, "--out", str(tmp_path)])
+    (run,) = [tmp_path / name for name in runs_in(tmp_path)]
+    written = (run / "bench_batches.csv").read_text().splitlines()
+    old = committed.read_text().splitlines()
+    table = pd.read_csv(run / "bench_batches.csv")
+    again = (table.engine == SINGLE) & table.batch.isin([1, 10]) & (table.device == "cpu")
+    assert sorted(table[again].batch) == [1, 10] and set(table[again].repeats) == {1}
+    head = old[0].split(",")
+    measured = {
+        line
+        for line in old[1:]
+        if (r := dict(zip(head, line.split(","))))["engine"] == SINGLE
+        and r["batch"] in ("1", "10")
+        and r["device"] == "cpu"
+    }
+    kept = [line for line in old[1:] if line not in measured]
+    assert written[0] == old[0] and set(kept) <= set(written[1:])
+    assert len(written) == len(old) - len(measured) + 2

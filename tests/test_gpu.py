@@ -39,22 +39,31 @@ def test_kind_reads_each_device_name():
     ] == ["CPU", "CPU", "GPU", "GPU"]
 
 
-def test_merged_keeps_only_the_other_kind():
-    measured = pd.DataFrame({"engine": ["a"], "device": ["cpu"], "batch": [1]})
+def test_merged_replaces_only_the_rows_measured_again():
+    # engine a's CPU row at batch 1 measured again: it replaces that row alone; a's GPU row,
+    # a's CPU row at batch 10 and engine b's CPU row are kept; the table's order is by engine,
+    # batch, CPU before GPU
+    measured = pd.DataFrame({"engine": ["a"], "device": ["cpu"], "batch": [1], "run": ["new"]})
     kept = pd.DataFrame(
-        {"engine": ["a", "b", "a"], "device": ["cpu", "cpu", "cuda:0: X"], "batch": [1, 1, 10]}
+        {
+            "engine": ["a", "b", "a", "a"],
+            "device": ["cpu", "cpu", "cuda:0: X", "cpu"],
+            "batch": [1, 1, 1, 10],
+            "run": ["old"] * 4,
+        }
     )
     out = throughput.merged(measured, kept)
     assert out.to_dict("list") == {
-        "engine": ["a", "a"],
-        "device": ["cpu", "cuda:0: X"],
-        "batch": [1, 10],
+        "engine": ["a", "a", "a", "b"],
+        "device": ["cpu", "cuda:0: X", "cpu", "cpu"],
+        "batch": [1, 1, 10, 1],
+        "run": ["new", "old", "old", "old"],
     }
 
 
 @pytest.mark.xdist_group(BATCHED)
 def test_a_cpu_benchmark_keeps_the_committed_gpu_rows(tmp_path):
-    """bench_engines --batches-only on this CPU: its rows, then the committed GPU rows as they
+    """bench_engines --batches-only on this CPU: its rows, and the committed GPU rows as they
     were (no GPU needed to keep them); the table is one that --keep-rows accepts."""
     name = BATCHED
     assert (
@@ -75,7 +84,8 @@ def test_a_cpu_benchmark_keeps_the_committed_gpu_rows(tmp_path):
     written = next(tmp_path.rglob("bench_batches.csv"))
     table = inputs.table(written, inputs.THROUGHPUT)  # what --keep-rows and gpu accept
     committed = pd.read_csv(COMMITTED)
-    assert set(_kind(table, "CPU").engine) == {name}
+    mine = (table.engine == name) & (table.batch == 1)
+    assert list(_kind(table[mine], "CPU").repeats) == [1]  # this run's (--quick), not committed
     pd.testing.assert_frame_equal(
         _kind(table, "GPU")[list(committed.columns)], _kind(committed, "GPU"), check_dtype=False
     )

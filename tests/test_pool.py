@@ -131,10 +131,50 @@ def test_a_run_fired_again_finds_its_engines_made(name, monkeypatch):
     assert held[0] >= hosting.POOL_MIN and held == [held[0]] * 3
 
 
+#: Single-world engines whose record declares what a pool world costs to make.
+DECLARED = [n for n in SINGLE if adapters.record(n).cost.pool_world_make_s is not None]
+
+
+class _LoadedClock:
+    """``time`` as hosting reads it, on a machine so loaded that every reading is 1 s on."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def perf_counter(self) -> float:
+        self.now += 1.0
+        return self.now
+
+
+@pytest.mark.parametrize("name", DECLARED)
+def test_a_pool_of_declared_world_cost_is_sized_without_the_clock(name, monkeypatch):
+    # Pool worlds that cost a declared trifle (Cost.pool_world_make_s): a run's pools follow
+    # from its size alone, from its first batch, however slow the makings were timed: 200
+    # impacts within POOL_MAX = 64 are 4 batches of 50 (ceil(200 / ceil(200 / 64))), on any
+    # machine, and no engine was built alone first to time it.
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 64)
+    monkeypatch.setattr(hosting, "time", _LoadedClock())
+    hosting.close_engines()
+    settings = adapters.settings_for(name)
+    jobs = [Job(engine=name, settings=settings, case=_jobs(name)[0].case)] * 200
+    sizes = []
+    sizing = hosting.Hosted.pool_size
+    monkeypatch.setattr(
+        hosting.Hosted, "pool_size", lambda h, *a: sizes.append(sizing(h, *a)) or sizes[-1]
+    )
+    try:
+        fire_jobs(jobs)
+        host = hosting.hosted(name, settings)
+        assert sizes == [50] * 4 and host.held() == 50 and host.scenes == [None]
+    finally:
+        hosting.close_engines()
+
+
 #: Single-world engines with a pool adapter (records only: collecting the tests imports no
-#: engine). A pool may step through its library's own batched call, its worlds coming back in
-#: chunks between the harness's reads (MuJoCo's ``rollout``), so every kind of sweep the engine
-#: runs is checked against alone.
+#: engine). A pool may step through its library's own batched call (its record's
+#: ``batching.used``), its worlds coming back in chunks between the harness's reads, so every
+#: kind of sweep the engine runs is checked against alone.
 POOLED = [n for n in SINGLE if adapters.record(n).can.pool_adapter is not None]
 
 

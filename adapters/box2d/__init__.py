@@ -92,6 +92,7 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..records import (
+    Batching,
     Capabilities,
     Cost,
     EngineRecord,
@@ -300,5 +301,12 @@ RECORD = EngineRecord(
         # The rule pinned with the restitution pass off (threshold above every approach speed):
         # that pass is frictionless, so with it an impact's friction is a share of mu (docstring).
         friction_rule_overrides={"restitution_threshold_mps": 1e4},
+    ),
+    batching=Batching(
+        call="pyb2d3:ThreadPool",
+        why="Box2D v3's task system spreads one world's step over workers "
+        "(World(thread_pool=...)); a world of two bodies is one island with nothing to "
+        "spread, and each of a run's worlds is a b2World of its own, stepped one after another",
+        not_it=("pyb2d3:WITH_THREADING",),  # whether the binding was built with that pool
     ),
 )

@@ -85,6 +85,7 @@ from analytic.compliant import (
 )
 
 from ..records import (
+    Batching,
     Capabilities,
     ContactReference,
     Cost,
@@ -362,5 +363,13 @@ RECORD = EngineRecord(
     ),
     studies=Studies(
         speed_accuracy=_speed_accuracy(),
+    ),
+    batching=Batching(
+        call="pydrake.systems.analysis:BatchEvalUniquePeriodicDiscreteUpdate",
+        worlds=True,
+        why="Drake evaluates a discrete system's update at many states in one call, on "
+        "threads (Parallelism); it takes a discrete plant and gives back the next states "
+        "alone, while the reference profile is the continuous plant under an error-controlled "
+        "integrator: not used, Drake has no pool adapter yet",
     ),
 )

@@ -54,6 +54,7 @@ from dataclasses import dataclass
 
 from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings
 from ..records import (
+    Batching,
     Capabilities,
     Cost,
     EngineRecord,
@@ -213,5 +214,12 @@ RECORD = EngineRecord(
         friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
         friction_rule_overrides=NATIVE_FRICTION,
         twin_steps=TWIN_STEPS,
+    ),
+    batching=Batching(
+        call="mujoco_warp:step",
+        worlds=True,
+        used=True,
+        why="one Data holds every world (nworld) and each step is one captured call of "
+        "mujoco_warp.step: batched by design",
     ),
 )

@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings
 from ..records import (
+    Batching,
     Capabilities,
     Cost,
     EngineRecord,
@@ -209,6 +210,13 @@ RECORD = EngineRecord(
         friction_families=(KnobFamily(label="pyramidal cone", overrides=(("cone", "pyramidal"),)),),
         friction_rule_overrides=NATIVE_FRICTION,
         twin_steps=TWIN_STEPS,
+    ),
+    batching=Batching(
+        call="mujoco.mjx:step",
+        worlds=True,
+        used=True,
+        why="the adapter steps every world in one jitted call of mjx.step vmapped over the "
+        "worlds (jax.vmap): batched by design",
     ),
 )
 

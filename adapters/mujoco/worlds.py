@@ -3,31 +3,28 @@ a persistent pool of ``adapters.engine_threads()`` threads, the same ``mj_step``
 run (``Capabilities.pool_adapter``): every world ends bit for bit as it does alone
 (``tests/test_pool.py``).
 
-``rollout`` takes physics rows (time, qpos, qvel: ``rows``) and a warm start in, and gives the
-state and sensor data of every step out; the contact flag of a step is the model's contact
-sensor (``model.CONTACT_SENSOR``: the contacts at the step's start, which ``ncon`` is after
-``mj_step``). The harness observes every step, so the pool steps in chunks: ``step`` only
-counts; a read (``in_contact``, ``read``, ``failed``) steps, in one call for all worlds, up to
-the step asked and on to the chunk's end, whose later steps the next reads take. The first
-chunk of an episode ends ``approach_steps`` + 2 steps in, where most impacts are over (the
-paper's swing: 4 steps); each further chunk is twice as long (a long contact costs a few calls,
-at most twice its steps). A drive (the hands) is stepped without looking ahead.
+How a world is stepped (a ``rollout`` call, or alone on data of its own) is ``stepping``'s;
+which worlds, from where and how far, is this module's. The harness observes every step, so
+the pool steps in chunks: ``step`` only counts; a read (``in_contact``, ``read``, ``failed``)
+steps, in one call for all worlds, up to the step asked and on to the chunk's end, whose
+later steps the next reads take. The first chunk of an episode ends ``approach_steps`` + 2
+steps in, where most impacts are over (the paper's swing: 4 steps); each further chunk is
+twice as long (a long contact costs a few calls, at most twice its steps). A drive (the
+hands) is stepped without looking ahead.
 
 What ``rollout`` does not give back is the warm start (the last step's accelerations, which
 seed the solver's next one): a world goes on from a step whose state is exact with any warm
 start, its *rest point*: the start (warm start 0, as ``set_state`` sets it), or the state
 before a step without constraints (no contact, hands off), whose solver does not run. A chunk
 starts at each world's rest point (the steps since are stepped again, the same bits). Kept
-apart, stepped one ``mj_step`` at a time on data of their own as alone (``_Own``): worlds under
-RK4 (whose ``ncon`` after a step is its last stage's contacts, not its start's), worlds whose
+apart, stepped one ``mj_step`` at a time on data of their own as alone (``OwnWorld``): worlds
+under RK4 (whose ``ncon`` after a step is its last stage's contacts, not its start's), worlds whose
 chunk met a warning (``rollout`` stops there; MuJoCo reset the state and goes on), worlds too
 long without a rest point for a call's memory, and worlds left mid-episode by a drive change.
 """
 
 from __future__ import annotations
 
-import contextlib
-import importlib
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -35,23 +32,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..interface import BatchedEngine, Hands, MassProperties, Scene
-from ..loading import engine_threads, import_engine
+from ..loading import engine_threads
 from . import RECORD
-from .adapter import BLOW_UPS, MujocoEngine
-from .rows import QVEL, TIME, WIDTH, physics_rows, state_rows
+from .adapter import MujocoEngine
+from .rows import WIDTH, physics_rows, state_rows
+from .stepping import (
+    CONTROL,
+    ROLLOUT,
+    OwnWorld,
+    any_warning,
+    clear_warnings,
+    mujoco,
+    roll,
+    warned,
+)
 
-mujoco = import_engine(RECORD)
-#: MuJoCo's batched call, where the release has it with its contact sensor (else every world
-#: is stepped on its own, as alone).
-ROLLOUT = None
-with contextlib.suppress(ImportError):
-    ROLLOUT = getattr(importlib.import_module("mujoco.rollout"), "Rollout", None)
-if not hasattr(mujoco.mjtSensor, "mjSENS_CONTACT"):
-    ROLLOUT = None
-
-FULL = int(mujoco.mjtState.mjSTATE_FULLPHYSICS)
-#: What a chunk's controls set at every step: the motors and the hands' constraint.
-CONTROL = int(mujoco.mjtState.mjSTATE_CTRL) | int(mujoco.mjtState.mjSTATE_EQ_ACTIVE)
 #: The most numbers one ``rollout`` call writes (states and sensor data: 8e6, 64 MB); more
 #: worlds go in further calls, and a world that alone needs more is stepped on its own.
 CALL_NUMBERS = 8_000_000
@@ -74,37 +69,6 @@ class _Chunk:
     start_rows: np.ndarray
     control: np.ndarray
     start_warm: np.ndarray | None = None  # (worlds, nv)
-
-
-class _Own:
-    """A world stepped on data of its own, one ``mj_step`` at a time, as alone."""
-
-    def __init__(
-        self, data, model, row: np.ndarray, step: int, control: np.ndarray, warm=None
-    ) -> None:
-        self.data, self.step = data, step
-        mujoco.mj_setState(model, data, row, FULL)
-        data.qacc_warmstart[:] = 0.0 if warm is None else warm  # any at a rest point
-        for w in BLOW_UPS:
-            data.warning[w].number = 0
-        self.set_control(model, control)
-
-    def set_control(self, model, control: np.ndarray) -> None:
-        mujoco.mj_setState(model, self.data, control, CONTROL)
-
-    def advance(self, model, to_step: int) -> None:
-        for _ in range(to_step - self.step):
-            mujoco.mj_step(model, self.data)
-        self.step = max(self.step, to_step)
-
-    def row(self, model, out: np.ndarray) -> None:
-        mujoco.mj_getState(model, self.data, out, FULL)
-
-    def touching(self) -> bool:
-        return self.data.ncon > 0
-
-    def failed(self) -> bool:
-        return any(self.data.warning[w].number for w in BLOW_UPS)
 
 
 class MujocoWorlds(BatchedEngine):
@@ -165,7 +129,7 @@ class MujocoWorlds(BatchedEngine):
         self._switched = 0  # the step the drive last changed at
         self._window = self.settings.approach_steps + 2  # the first chunk's end (docstring)
         self._first = True
-        self._own: dict[int, _Own] = {}
+        self._own: dict[int, OwnWorld] = {}
         self._is_own = np.zeros(n, dtype=bool)
         self._carried = np.zeros(n, dtype=bool)  # its warm start in its own data (``_carry``)
         if not self._batched:
@@ -179,9 +143,9 @@ class MujocoWorlds(BatchedEngine):
         return self._datas[w]
 
     def _make_own(self, w: int, row: np.ndarray, step: int, control: np.ndarray, warm=None):
-        """World ``w`` stepped on its own (``_Own``) from ``row`` at ``step``."""
+        """World ``w`` stepped on its own (``OwnWorld``) from ``row`` at ``step``."""
         m = self._engine.model
-        own = self._own[w] = _Own(self._data(w), m, row, step, control, warm)
+        own = self._own[w] = OwnWorld(self._data(w), m, row, step, control, warm)
         self._members = None
         self._slot[w], self._is_own[w], self._stale[w] = -1, True, False
         return own
@@ -273,36 +237,13 @@ class MujocoWorlds(BatchedEngine):
 
     def _call(self, ws: np.ndarray, steps: int, bound: bool) -> None:
         """One ``rollout`` call: worlds ``ws`` from their rest points, ``steps`` steps each."""
-        m, k = self._engine.model, ws.size
-        start = self._rest_rows[ws]
-        base = self._rest_step[ws].copy()
-        rows = np.empty((k, steps, WIDTH))
-        sensors = np.empty((k, steps, m.nsensordata))
-        control = np.empty((k, steps, self._control.size))
-        control[:] = self._control
-        self._pool.rollout(
-            [m] * k,
-            self._scratch,
-            start,
-            control,
-            control_spec=CONTROL,
-            skip_checks=True,
-            nstep=steps,
-            state=rows,
-            sensordata=sensors,
-        )
-        # a warning stops rollout's steps (the rest repeat the last state, its time too) where
-        # MuJoCo had reset the state (time 0, at rest) and gone on: such worlds go on their own
-        clock = np.cumsum(
-            np.hstack([start[:, TIME : TIME + 1], np.full((k, steps), m.opt.timestep)]), axis=1
-        )
-        warned = np.any(rows[:, :, TIME] != clock[:, 1:], axis=1) | (
-            (start[:, TIME] == 0.0) & np.all(rows[:, 0, QVEL] == 0.0, axis=1)
-        )
-        for i in np.flatnonzero(warned):
+        m = self._engine.model
+        start, base = self._rest_rows[ws], self._rest_step[ws].copy()
+        rows, touching = roll(self._pool, m, self._scratch, start, self._control, steps)
+        bad = warned(start, rows, m.opt.timestep)  # such worlds go on their own
+        for i in np.flatnonzero(bad):
             self._make_own(int(ws[i]), start[i], int(base[i]), self._control)
-        ok = np.flatnonzero(~warned)
-        touching = sensors[:, :, 0] > 0.0
+        ok = np.flatnonzero(~bad)
         self._chunks.append(
             _Chunk(
                 worlds=ws,
@@ -337,9 +278,7 @@ class MujocoWorlds(BatchedEngine):
                 self._make_own(int(w), self._rest_rows[w], int(self._rest_step[w]), self._control)
             return
         rows = np.empty((k, most, WIDTH))
-        sensors = np.zeros((k, most, m.nsensordata))
-        control = np.empty((1, most, self._control.size))
-        control[:] = self._control
+        touching = np.zeros((k, most), dtype=bool)
         warm = np.zeros((k, m.nv))
         kept = []
         for i, w in enumerate(ws.tolist()):
@@ -347,21 +286,12 @@ class MujocoWorlds(BatchedEngine):
             if self._carried[w]:
                 warm[i] = d.qacc_warmstart
             self._carried[w] = True
-            for n in range(len(d.warning)):
-                d.warning[n].number = 0
-            self._alone.rollout(
-                [m],
-                [d],
-                start[i : i + 1],
-                control[:, :steps],
-                control_spec=CONTROL,
-                skip_checks=True,
-                nstep=steps,
-                initial_warmstart=warm[i : i + 1],
-                state=rows[i : i + 1, :steps],
-                sensordata=sensors[i : i + 1, :steps],
+            clear_warnings(d)
+            got, hit = roll(
+                self._alone, m, [d], start[i : i + 1], self._control, steps, warm[i : i + 1]
             )
-            if any(d.warning[n].number for n in range(len(d.warning))):  # (module docstring)
+            rows[i, :steps], touching[i, :steps] = got[0], hit[0]
+            if any_warning(d):  # (module docstring)
                 self._make_own(w, start[i], int(base[i]), self._control, warm[i])
             else:
                 kept.append(i)
@@ -370,7 +300,7 @@ class MujocoWorlds(BatchedEngine):
                 worlds=ws,
                 base_step=base,
                 rows=rows,
-                touching=sensors[:, :, 0] > 0.0,
+                touching=touching,
                 start_rows=start,
                 control=self._control.copy(),
                 start_warm=warm,
@@ -408,26 +338,9 @@ class MujocoWorlds(BatchedEngine):
         """``rollout`` alone, on these states' physics rows, with this pool's threads."""
         if not self._batched:
             return None
-        m = self._engine.model
         start, _ = physics_rows(states)
-        k = len(start)
-        rows = np.empty((k, steps, WIDTH))
-        sensors = np.empty((k, steps, m.nsensordata))
-        control = np.empty((k, steps, self._control.size))
-        control[:] = self._control
-        models = [m] * k
         t0 = time.perf_counter()
-        self._pool.rollout(
-            models,
-            self._scratch,
-            start,
-            control,
-            control_spec=CONTROL,
-            skip_checks=True,
-            nstep=steps,
-            state=rows,
-            sensordata=sensors,
-        )
+        roll(self._pool, self._engine.model, self._scratch, start, self._control, steps)
         return time.perf_counter() - t0
 
     def close(self) -> None:

@@ -96,6 +96,7 @@ from analytic import checks
 from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
 from ..records import (
+    Batching,
     Capabilities,
     ContactReference,
     Cost,
@@ -435,5 +436,12 @@ RECORD = EngineRecord(
                 overrides=(("solver", "semi_implicit"),),
             ),
         ),
+    ),
+    batching=Batching(
+        call="newton.solvers:SolverBase.step",
+        worlds=True,
+        used=True,
+        why="one model holds every world (replicated) and each step is one solver call "
+        "over all of them: batched by design",
     ),
 )

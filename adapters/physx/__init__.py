@@ -75,6 +75,7 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..records import (
+    Batching,
     Capabilities,
     Cost,
     EngineRecord,
@@ -279,5 +280,12 @@ RECORD = EngineRecord(
             KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),
         ),
         friction_families=(KnobFamily(label="PGS", overrides=(("solver", "PGS"),)),),
+    ),
+    batching=Batching(
+        call="sapien.physx:PhysxGpuSystem",
+        worlds=True,
+        why="PhysX's GPU pipeline steps many scenes in one call, on CUDA only, with the GPU's "
+        "own solver; the adapter steps a PhysxCpuSystem a world (the CPU solvers the profiles "
+        "tune), so the GPU system would not give the same bits: not used",
     ),
 )

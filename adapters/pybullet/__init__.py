@@ -46,6 +46,7 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..records import (
+    Batching,
     Capabilities,
     Cost,
     EngineRecord,
@@ -220,6 +221,17 @@ RECORD = EngineRecord(
         ),
         friction_families=(
             KnobFamily(label="box friction (cone off)", overrides=(("cone_friction", False),)),
+        ),
+    ),
+    batching=Batching(
+        why="none: a physics client steps the bodies it holds, one client per call; a long "
+        "run's pool adapter (PybulletWorlds) puts many worlds' pairs in each client, each pair "
+        "its own island, stepped by that client's one stepSimulation",
+        not_it=(
+            "pybullet:rayTestBatch",  # ray casts, not a step
+            "pybullet:MAX_RAY_INTERSECTION_BATCH_SIZE",
+            "pybullet:GUI_MAIN_THREAD",  # connection modes of the GUI
+            "pybullet:GRAPHICS_SERVER_MAIN_THREAD",
         ),
     ),
 )

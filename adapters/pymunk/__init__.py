@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..records import (
+    Batching,
     Capabilities,
     Cost,
     EngineRecord,
@@ -135,5 +136,12 @@ RECORD = EngineRecord(
             KnobFamily(label="iterations 10", overrides=(("iterations", 10),), quick=True),
             KnobFamily(label="iterations 100", overrides=(("iterations", 100),)),
         ),
+    ),
+    batching=Batching(
+        call="pymunk:Space.threads",
+        why="Chipmunk's threaded solver spreads one space's step over threads "
+        "(Space(threaded=True)), off by default to keep the simulation deterministic; a "
+        "two-body space has nothing to spread, so each world steps on one thread and the "
+        "runner's processes spread the worlds",
     ),
 )

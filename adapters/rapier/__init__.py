@@ -77,6 +77,7 @@ from dataclasses import dataclass
 from analytic import checks
 
 from ..records import (
+    Batching,
     Capabilities,
     Cost,
     EngineRecord,
@@ -319,5 +320,12 @@ RECORD = EngineRecord(
                 label="friction in the bias pass", overrides=(("friction_in_bias_pass", True),)
             ),
         ),
+    ),
+    batching=Batching(
+        call="rapier3d:PhysicsWorld.set_num_threads",
+        why="rayon workers for one world's parallel stages; the adapter runs each world on "
+        "its calling thread (set_num_threads(1)): a two-body world has no parallel work. A "
+        "world's step releases the GIL, so several worlds could be stepped from Python "
+        "threads at once: not used, Rapier has no pool adapter yet",
     ),
 )

@@ -47,7 +47,9 @@ class Hosted:
         self.name, self.settings = name, settings
         self.record = adapters.record(name)
         self.adapter = adapters.create(name, settings)
-        self.make_s: float | None = None  # what one more world costs (``pool_size``)
+        # what one more world costs (``pool_size``): declared for a pool whose worlds cost a
+        # fixed trifle (``Cost.pool_world_make_s``), else timed on the first build
+        self.make_s: float | None = self.record.cost.pool_world_make_s
         self.batched = isinstance(self.adapter, BatchedEngine)
         self.engines, self.scenes = [self.adapter], [None]
         self.scene: Scene | None = None
@@ -90,7 +92,10 @@ class Hosted:
         then, with a pool adapter, a world's share of the pool's first build), if at least
         ``POOL_MIN``, shared out evenly. Every batch of a run asks of the whole run, and the
         cost of making is measured once, so a run fired again finds its engines made: a
-        firing makes what it repays itself, in a run's first firing, not a few each time."""
+        firing makes what it repays itself, in a run's first firing, not a few each time.
+        Where the record declares what a pool world costs (``Cost.pool_world_make_s``), nothing
+        is timed: a run is pooled from its first batch, the same whatever the machine's load
+        (timed, a loaded machine's slow first build left a run of 200 impacts unpooled)."""
         if self.make_s is None:
             return 1
         repaid = int(impacts * POOLED_SAVING_S / self.make_s)
@@ -145,7 +150,8 @@ class Hosted:
             self.pool_scene = None
             t0 = time.perf_counter()
             self.pool.build(scene, n)
-            if self.pool_worlds == 0:  # what a world costs in the pool, as first built
+            if self.pool_worlds == 0 and self.record.cost.pool_world_make_s is None:
+                # what a world costs in the pool, as first built
                 self.make_s = (time.perf_counter() - t0) / n
             self._check(self.pool, scene)
             self.pool_scene, self.pool_n = scene, n

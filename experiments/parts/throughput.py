@@ -290,14 +290,26 @@ def kind(device: str) -> str:
     return inputs.device_kind(device) or "GPU"
 
 
-def merged(measured: pd.DataFrame, kept: pd.DataFrame | None) -> pd.DataFrame:
-    """``measured`` and, after it, the rows of ``kept`` measured on a kind of device that
-    ``measured`` has none of (the CPU rows of one machine beside the GPU rows of another)."""
-    if kept is None or kept.empty:
-        return measured
-    mine = {kind(d) for d in measured.device}
-    other = kept[[kind(d) not in mine for d in kept.device]]
-    return pd.concat([measured, other], ignore_index=True) if len(other) else measured
+#: What a throughput row measures: a row kept from another table (``merged``) gives way only
+#: to one this run measured for the same engine, kind of device and batch size.
+ROW_KEY = ("engine", "kind", "batch")
+
+
+def merged(measured: pd.DataFrame | None, kept: pd.DataFrame | None) -> pd.DataFrame:
+    """``measured`` and every row of ``kept`` that it did not measure again (``ROW_KEY``): one
+    engine's CPU rows measured anew keep every other engine's rows, its own rows on the other
+    kind of device (the CPU rows of one machine beside the GPU rows of another) and at the batch
+    sizes this run did not ask for. In the table's order: by engine, batch, CPU before GPU."""
+    parts = [t for t in (measured, kept) if t is not None and not t.empty]
+    if not parts:
+        return measured if measured is not None else kept
+    keyed = [t.assign(kind=[kind(d) for d in t.device]) for t in parts]
+    both = pd.concat(keyed, ignore_index=True).drop_duplicates(list(ROW_KEY), keep="first")
+    return (
+        both.sort_values(["engine", "batch", "kind"], kind="stable")
+        .drop(columns="kind")
+        .reset_index(drop=True)
+    )
 
 
 def chart(table: pd.DataFrame):

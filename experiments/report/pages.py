@@ -1,7 +1,8 @@
 """One short page per engine, as its users read it, and their index (``engines.md``).
 
 Each page says, from the files in results/ and the engine's record: how to install it, what it
-computes in, how close its reference profile comes to theory, what its out-of-the-box settings
+computes in, what its library offers to step many worlds at once (and whether the harness uses
+it), how close its reference profile comes to theory, what its out-of-the-box settings
 do, the cheapest setting within PAGE_TARGET of rigid theory (``pareto_cheapest.csv``), the
 defects its record declares (measured failures no setting removes), what an impact costs
 through the harness, alone and in its best batch, on each device ``bench_batches.csv`` has, and
@@ -106,6 +107,19 @@ def _releases(results: Path, name: str) -> str:
     )
 
 
+def _batching(rec) -> str:
+    """What the engine's library offers to step many worlds at once (``EngineRecord.batching``),
+    and whether the harness steps through it."""
+    said = rec.batching
+    if said is None:
+        return "not stated by its record"
+    if not said.call:
+        return said.why
+    kind = "many worlds a call" if said.worlds else "one world's step on threads"
+    use = "used" if said.used else "not used"
+    return f"`{said.call.replace(':', '.')}` ({kind}; {use}): {said.why}"
+
+
 def page(results: Path, name: str) -> str:
     """The engine's page (module docstring)."""
     rec = adapters.record(name)
@@ -120,6 +134,7 @@ def page(results: Path, name: str) -> str:
         "",
         f"- **Install**: {_install(rec)}.",
         f"- **Computes** in {rec.errors.precision}, {kind}.",
+        f"- **Many worlds at once** (its library's own call): {_batching(rec)}.",
         f"- **Reference profile** (the paper's swing, R161, 41 points): "
         f"{readme.accuracy(rows, name) if len(rows) else 'not in results/ yet'}.",
         f"- **Out of the box** (its own dt): "

@@ -1,0 +1,118 @@
+"""How MuJoCo's worlds pool (``worlds``) steps its worlds: many at once in one call of MuJoCo's
+``mujoco.rollout`` (``roll``, with the worlds whose call met a warning found in its output,
+``warned``), or one alone on data of its own, one ``mj_step`` at a time (``OwnWorld``). The
+pool decides which worlds go where and from which step; this module only steps.
+
+``rollout`` takes physics rows (time, qpos, qvel: ``rows``) and a warm start in, and gives the
+state and sensor data of every step out; the contact flag of a step is the model's contact
+sensor (``model.CONTACT_SENSOR``: the contacts at the step's start, which ``ncon`` is after
+``mj_step``), the first sensor datum.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+
+import numpy as np
+
+from ..loading import import_engine
+from . import RECORD
+from .adapter import BLOW_UPS
+from .rows import QVEL, TIME, WIDTH
+
+mujoco = import_engine(RECORD)
+#: MuJoCo's batched call, where the release has it with its contact sensor (else every world
+#: is stepped on its own, as alone).
+ROLLOUT = None
+with contextlib.suppress(ImportError):
+    ROLLOUT = getattr(importlib.import_module("mujoco.rollout"), "Rollout", None)
+if not hasattr(mujoco.mjtSensor, "mjSENS_CONTACT"):
+    ROLLOUT = None
+
+FULL = int(mujoco.mjtState.mjSTATE_FULLPHYSICS)
+#: What a chunk's controls set at every step: the motors and the hands' constraint.
+CONTROL = int(mujoco.mjtState.mjSTATE_CTRL) | int(mujoco.mjtState.mjSTATE_EQ_ACTIVE)
+
+
+def roll(
+    pool, model, datas: list, start: np.ndarray, control: np.ndarray, steps: int, warm=None
+) -> tuple[np.ndarray, np.ndarray]:
+    """One ``rollout`` call on ``pool`` (a ``Rollout``) with its threads' ``datas``: the
+    worlds whose physics rows are ``start`` (k, 27), ``steps`` steps under the control row
+    ``control``, from the warm start ``warm`` (k, nv; None: zero). The states (k, steps, 27)
+    and the contact flags (k, steps) of every step."""
+    k = len(start)
+    rows = np.empty((k, steps, WIDTH))
+    sensors = np.empty((k, steps, model.nsensordata))
+    controls = np.empty((k, steps, control.size))
+    controls[:] = control
+    pool.rollout(
+        [model] * k,
+        datas,
+        start,
+        controls,
+        control_spec=CONTROL,
+        skip_checks=True,
+        nstep=steps,
+        initial_warmstart=warm,
+        state=rows,
+        sensordata=sensors,
+    )
+    return rows, sensors[:, :, 0] > 0.0
+
+
+def warned(start: np.ndarray, rows: np.ndarray, dt_s: float) -> np.ndarray:
+    """Per world of a ``roll``, whether its call met a warning: ``rollout`` stops stepping it
+    there (the later steps repeat the last state, its time too), where MuJoCo had reset the
+    state (time 0, at rest) and gone on, as a world alone would."""
+    k, steps = rows.shape[:2]
+    clock = np.cumsum(np.hstack([start[:, TIME : TIME + 1], np.full((k, steps), dt_s)]), axis=1)
+    return np.any(rows[:, :, TIME] != clock[:, 1:], axis=1) | (
+        (start[:, TIME] == 0.0) & np.all(rows[:, 0, QVEL] == 0.0, axis=1)
+    )
+
+
+def clear_warnings(data, which=None) -> None:
+    """Zero ``data``'s warning counters (``which``: their indices; None: every one)."""
+    for w in range(len(data.warning)) if which is None else which:
+        data.warning[w].number = 0
+
+
+def any_warning(data, which=None) -> bool:
+    """Whether ``data`` counts a warning (``which``: among these indices; None: any)."""
+    return any(
+        data.warning[w].number for w in (range(len(data.warning)) if which is None else which)
+    )
+
+
+class OwnWorld:
+    """A world stepped on data of its own, one ``mj_step`` at a time, as alone: from the
+    physics row ``row`` at ``step``, under the control row ``control``, from the warm start
+    ``warm`` (None: zero; any at a rest point)."""
+
+    def __init__(
+        self, data, model, row: np.ndarray, step: int, control: np.ndarray, warm=None
+    ) -> None:
+        self.data, self.step = data, step
+        mujoco.mj_setState(model, data, row, FULL)
+        data.qacc_warmstart[:] = 0.0 if warm is None else warm
+        clear_warnings(data, BLOW_UPS)
+        self.set_control(model, control)
+
+    def set_control(self, model, control: np.ndarray) -> None:
+        mujoco.mj_setState(model, self.data, control, CONTROL)
+
+    def advance(self, model, to_step: int) -> None:
+        for _ in range(to_step - self.step):
+            mujoco.mj_step(model, self.data)
+        self.step = max(self.step, to_step)
+
+    def row(self, model, out: np.ndarray) -> None:
+        mujoco.mj_getState(model, self.data, out, FULL)
+
+    def touching(self) -> bool:
+        return self.data.ncon > 0
+
+    def failed(self) -> bool:
+        return any_warning(self.data, BLOW_UPS)
