@@ -91,7 +91,6 @@ THROUGHPUT = Schema(
     maybe_numbers=(
         "step_us_per_impact",
         "read_us_per_impact",
-        "table_us_per_impact",
         "steps_median",
         "repeats",
         "ok",
