@@ -94,12 +94,13 @@ class ArrayDevice:
 
 
 class DeviceEpisode(Protocol):
-    """The adapter's own kernels observing every world's episode after each step (``adapters.
-    device``'s docstring). The harness steps the engine and calls these in this order: ``start``
-    once, after ``set_state``; ``observe`` after each step (``approach_steps`` and the skip of
-    free flight included: the rules of ``experiments.core.episode``); ``searching`` and
-    ``resolve`` when ``observe`` says a search is due; ``budget`` if the steps run out;
-    ``result`` at the end."""
+    """The adapter's own kernels observing every world's episode after each step
+    (``adapters.device``'s docstring). The harness sets the worlds' states, asks for it
+    (``device_episode``: it lasts until the next ``set_state``), steps the engine and calls
+    these in this order: ``start`` once; ``observe`` after each step (``approach_steps`` and
+    the skip of free flight included: the rules of ``experiments.core.episode``);
+    ``searching`` and ``resolve`` when ``observe`` says a search is due; ``budget`` if the
+    steps run out; ``result`` at the end."""
 
     def start(self, starts: np.ndarray, came_from: np.ndarray, ball_v0: np.ndarray) -> None:
         """Begin: the start states (n, 20), the side each ball came from (+-1), and each
@@ -112,10 +113,11 @@ class DeviceEpisode(Protocol):
         """The worlds due a free-flight search: their indices (sorted) and state rows (k, 20)."""
 
     def resolve(
-        self, step: int, idx: np.ndarray, t_s: np.ndarray, ahead: np.ndarray, left: np.ndarray
+        self, step: int, idx: np.ndarray, left: np.ndarray, ahead: np.ndarray, check_at
     ) -> bool:
-        """The searches' answers for worlds ``idx``: time, contact ahead, off the span first.
-        Returns whether any world is still going."""
+        """The searches' answers for worlds ``idx``: off the span first, contact ahead, and the
+        step to look at it again (the harness's reckoning). Returns whether any world is still
+        going."""
 
     def budget(self) -> None:
         """The steps ran out: end every world still going with the last reading."""

@@ -85,6 +85,7 @@ def observed_episodes(
     wanted there (``wanted``), else in numpy (or Python floats) on the host."""
     if isinstance(batch, ManyWorlds) and wanted(batch.engine):
         k = constants(bat, ball, settings, spatial, rigid)
+        batch.set_state(starts)  # (asked after it: a device episode lasts until the next)
         device = batch.engine.device_episode(k)
         if isinstance(device, ArrayDevice):
             device = ArrayEpisode(device, k, batch.n)
@@ -94,13 +95,12 @@ def observed_episodes(
 
 
 def on_device(batch, device, k: EpisodeConstants, starts: np.ndarray) -> Episodes:
-    """Step ``batch`` from ``starts`` (n, 20) through its episodes, each step observed by
+    """Step ``batch``, set to ``starts`` (n, 20), through its episodes, each step observed by
     ``device`` (an ``adapters.device.DeviceEpisode``)."""
     cols = np.ascontiguousarray(starts.T)
     came_from = np.where(g.side_of_axis(g.ARRAYS, cols) < 0.0, -1.0, 1.0)
     vx0, vy0 = cols[g.BALL_VX], cols[g.BALL_VY]
     ball_v0 = np.stack([vx0, vy0, k.deflected**2 * (vx0 * vx0 + vy0 * vy0)], axis=1)
-    batch.set_state(starts)
     device.start(starts, came_from, ball_v0)
     run_episode(batch, _Watch(device, k), k.max_steps)
     r = device.result()
@@ -127,7 +127,7 @@ class _Watch:
         if search:
             idx, rows = self.device.searching()
             t, ahead, left = _search(self.k, step, rows)
-            going = self.device.resolve(step, idx, t, ahead, left)
+            going = self.device.resolve(step, idx, left, ahead, check_at(self.k, step, t))
         return not going
 
     def budget_spent(self, batch) -> None:
@@ -198,11 +198,11 @@ class ArrayEpisode:
         at = np.resize(idx, 1 << max(0, len(idx) - 1).bit_length())
         return idx, np.asarray(S[:, at], dtype=float).T[: len(idx)]
 
-    def resolve(self, step: int, idx, t_s, ahead, left) -> bool:
+    def resolve(self, step: int, idx, left, ahead, check_at) -> bool:
         S, _ = self.dev.columns()
         rows = self.dev.rows
         full = [np.zeros(rows, dtype=bool), np.zeros(rows, dtype=bool), np.zeros(rows, np.int32)]
-        for a, values in zip(full, (left, ahead, check_at(self.k, step, t_s))):
+        for a, values in zip(full, (left, ahead, check_at)):
             a[idx] = values
         self.c, going = self.dev.call(self.fns[1], self.c, step, S, *full)
         return bool(going)
