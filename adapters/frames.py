@@ -104,14 +104,15 @@ def bat_quaternions(angle_rad: np.ndarray, tilt_rad: np.ndarray) -> np.ndarray:
     )
 
 
-def rotate_many(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarray:
+def rotate_many(q, v, inverse: bool = False, xp=np):
     """(n, 3) vectors v turned by the unit quaternions q (n, 4: w, x, y, z), or by their
-    inverses; rows turned about z alone with v along z come back unchanged."""
+    inverses; rows turned about z alone with v along z come back unchanged. ``xp``: the
+    arrays' numpy-like module (``jax.numpy`` on an engine's device)."""
     w, x, y, z = (q[:, i] for i in range(4))
     if inverse:
         x, y, z = -x, -y, -z
     cx, cy, cz = y * v[:, 2] - z * v[:, 1], z * v[:, 0] - x * v[:, 2], x * v[:, 1] - y * v[:, 0]
-    out = np.stack(
+    out = xp.stack(
         [
             v[:, 0] + 2.0 * (w * cx + y * cz - z * cy),
             v[:, 1] + 2.0 * (w * cy + z * cx - x * cz),
@@ -120,16 +121,16 @@ def rotate_many(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarr
         axis=1,
     )
     keep = (q[:, 1] == 0.0) & (q[:, 2] == 0.0) & (v[:, 0] == 0.0) & (v[:, 1] == 0.0)
-    return np.where(keep[:, None], v, out)
+    return xp.where(keep[:, None], v, out)
 
 
-def angles_and_tilts(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def angles_and_tilts(q, xp=np):
     """The bat's yaw and tilt (rad) from its quaternions (n, 4: w, x, y, z), any roll about
     its axis: the axis R e_x in its homogeneous form (w^2 + x^2 - y^2 - z^2, 2 (xy + wz),
     2 (xz - wy)), blind to a float32 quaternion's norm error."""
     w, x, y, z = (q[:, i] for i in range(4))
     ax, ay, az = w * w + x * x - y * y - z * z, 2.0 * (x * y + w * z), 2.0 * (x * z - w * y)
-    return np.arctan2(ay, ax), np.arctan2(az, np.hypot(ax, ay))
+    return xp.arctan2(ay, ax), xp.arctan2(az, xp.hypot(ax, ay))
 
 
 def in_plane(states: np.ndarray) -> np.ndarray:
@@ -162,39 +163,43 @@ def mujoco_rows(
     frame angular velocities turned into the world's; the rows ``planar`` (set in the plane)
     read as before (module docstring), their yaw ``angle_rad`` where the engine computed it
     itself (MJX, in its own precision), else 2 atan2(qz, qw) here."""
-    q, v = qpos, qvel
-    bat_w = rotate_many(q[:, BAT_Q], v[:, BAT_W])
-    ball_w = rotate_many(q[:, BALL_Q], v[:, BALL_W])
-    yaw, tilt = angles_and_tilts(q[:, BAT_Q])
-    flat_yaw = 2.0 * np.arctan2(q[:, 6], q[:, 3]) if angle_rad is None else angle_rad
-    yaw = np.where(planar, flat_yaw, yaw)
-    ball_wz, bat_wz = (
-        np.where(planar, v[:, 11], ball_w[:, 2]),
-        np.where(planar, v[:, 5], bat_w[:, 2]),
-    )
     # stacked as 20 rows of n, handed over transposed: its columns contiguous (no copy in the
     # harness, which reads a batch by columns)
-    return np.stack(
-        [
-            q[:, 7],
-            q[:, 8],
-            v[:, 6],
-            v[:, 7],
-            ball_wz,
-            q[:, 0],
-            q[:, 1],
-            yaw,
-            v[:, 0],
-            v[:, 1],
-            bat_wz,
-            q[:, 9],
-            v[:, 8],
-            ball_w[:, 0],
-            ball_w[:, 1],
-            q[:, 2],
-            tilt,
-            v[:, 2],
-            bat_w[:, 0],
-            bat_w[:, 1],
-        ]
-    ).T
+    return np.stack(mujoco_columns(np, qpos, qvel, planar, angle_rad)).T
+
+
+def mujoco_columns(xp, qpos, qvel, planar, angle_rad=None) -> list:
+    """``mujoco_rows``' 20 columns (arrays of n) in the numpy-like module ``xp``: the same
+    operations on the engine's own device (MJX's episode there, ``adapters.device``)."""
+    q, v = qpos, qvel
+    bat_w = rotate_many(q[:, BAT_Q], v[:, BAT_W], xp=xp)
+    ball_w = rotate_many(q[:, BALL_Q], v[:, BALL_W], xp=xp)
+    yaw, tilt = angles_and_tilts(q[:, BAT_Q], xp=xp)
+    flat_yaw = 2.0 * xp.arctan2(q[:, 6], q[:, 3]) if angle_rad is None else angle_rad
+    yaw = xp.where(planar, flat_yaw, yaw)
+    ball_wz, bat_wz = (
+        xp.where(planar, v[:, 11], ball_w[:, 2]),
+        xp.where(planar, v[:, 5], bat_w[:, 2]),
+    )
+    return [
+        q[:, 7],
+        q[:, 8],
+        v[:, 6],
+        v[:, 7],
+        ball_wz,
+        q[:, 0],
+        q[:, 1],
+        yaw,
+        v[:, 0],
+        v[:, 1],
+        bat_wz,
+        q[:, 9],
+        v[:, 8],
+        ball_w[:, 0],
+        ball_w[:, 1],
+        q[:, 2],
+        tilt,
+        v[:, 2],
+        bat_w[:, 0],
+        bat_w[:, 1],
+    ]

@@ -23,9 +23,10 @@ hands: without it the engine sits out the swing studies), ``failed``, ``set_body
 
 **Batched form** (``BatchedEngine``): the same members over ``n`` independent worlds at once,
 arrays of floats in and out, one row per world in ``STATE_FIELDS`` order (a planar engine may
-leave the out-of-plane columns out), but ``set_body_restitution``; three optional more:
+leave the out-of-plane columns out), but ``set_body_restitution``; four optional more:
 ``derivative``, the engine's own automatic differentiation through an impact, ``device``,
-where its worlds live, and ``anchor_s``, its library's own batched call timed bare.
+where its worlds live, ``anchor_s``, its library's own batched call timed bare, and
+``device_episode``, the episode observed where the worlds live (``adapters.device``).
 
 What the harness holds an adapter to, whatever it does (``experiments.core.fire.guarded``): a
 read of the wrong shape or kind, a contact flag its own state denies, an exception, an exit or
@@ -57,6 +58,7 @@ if TYPE_CHECKING:
 
     from analytic import Ball, Bat
 
+    from .device import ArrayDevice, DeviceEpisode, EpisodeConstants
     from .records import EngineRecord, Settings
 
 
@@ -281,6 +283,13 @@ class BatchedEngine(abc.ABC):
     def device(self) -> str:
         """Where the worlds are computed, in words (benchmarks record it). Optional."""
         return "cpu"
+
+    def device_episode(self, constants: EpisodeConstants) -> ArrayDevice | DeviceEpisode | None:
+        """The worlds' episode observed on their device (``adapters.device``): their state as an
+        array library holds it (``ArrayDevice``), or the adapter's own kernels observing it
+        (``DeviceEpisode``) with ``constants``. Optional: None, the harness reads every step's
+        state into numpy (its reference path, and the faster one on a CPU)."""
+        return None
 
     def anchor_s(self, states: np.ndarray, steps: int) -> float | None:
         """Seconds the engine's library takes, in its own batched call and nothing else, to

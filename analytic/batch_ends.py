@@ -20,23 +20,31 @@ def separates_for_good_many(
 ) -> np.ndarray:
     """``separates_for_good`` for many states at once: ``x`` holds arrays (ball x, y, vx, vy,
     bat x, y, vx, vy, angle, omega), in PlanarState's order; one bool per state."""
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return separates_for_good_xp(
+            np, x, reach_m=reach_m, ball_radius_m=ball_radius_m, t_max_s=t_max_s
+        )
+
+
+def separates_for_good_xp(xp, x, *, reach_m: float, ball_radius_m: float, t_max_s):
+    """``separates_for_good_many`` in any numpy-like module ``xp`` (numpy, ``jax.numpy``:
+    the harness's episode on a device), the same operations in the same order."""
     bx, by, bvx, bvy, cx, cy, cvx, cvy, angle, w = x
-    c, s = np.cos(angle), np.sin(angle)
+    c, s = xp.cos(angle), xp.sin(angle)
     dx, dy = bx - cx, by - cy
     rvx, rvy = bvx - cvx, bvy - cvy
     opening = rvy * c - rvx * s - w * (dx * c + dy * s)
     gap = dy * c - dx * s - reach_m
     end = EPISODE_GAP_RADII * ball_radius_m
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        horizon = 2.0 * end / opening
-        v_rel = np.hypot(rvx, rvy)
-        bound = 2.0 * np.abs(w) * v_rel + w * w * (np.hypot(dx, dy) + v_rel * horizon)
-        return (
-            (opening > 0.0)
-            & (gap >= 0.0)
-            & (horizon <= t_max_s)
-            & (0.5 * bound * horizon * horizon <= end + gap)
-        )
+    horizon = 2.0 * end / opening
+    v_rel = xp.hypot(rvx, rvy)
+    bound = 2.0 * xp.abs(w) * v_rel + w * w * (xp.hypot(dx, dy) + v_rel * horizon)
+    return (
+        (opening > 0.0)
+        & (gap >= 0.0)
+        & (horizon <= t_max_s)
+        & (0.5 * bound * horizon * horizon <= end + gap)
+    )
 
 
 #: How ``free_flight_many``'s searches end, by code (Python strings: numpy's are slow to pick).

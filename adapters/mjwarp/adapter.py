@@ -24,6 +24,8 @@ from . import INTEGRATORS, RECORD
 mjw = import_engine(RECORD)
 import warp as wp  # noqa: E402  (mujoco_warp brings Warp; imported after the install check)
 
+from . import device as on_device  # noqa: E402  (Warp's kernels: after the check too)
+
 wp.config.log_level = wp.LOG_WARNING  # no banner, no line per loaded module on stdout
 with stdout_silenced():  # Warp's native init warns on stderr where no CUDA driver is found
     wp.init()
@@ -94,6 +96,10 @@ class MjwarpEngine(BatchedEngine):
 
     def derivative(self, states, tangents, steps: int, inertia_tangent_kgm2: float = 0.0):
         raise NotImplementedError(no_adjoints())
+
+    def device_episode(self, constants):
+        """The episode observed in Warp kernels where the worlds live (``adapters.device``)."""
+        return on_device.episode(self, constants)
 
     def build(self, scene: Scene, worlds: int) -> None:
         st = self.settings

@@ -17,7 +17,8 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
-from ..frames import in_plane, mujoco_coordinates, mujoco_rows
+from ..device import ArrayDevice, EpisodeConstants
+from ..frames import in_plane, mujoco_columns, mujoco_coordinates, mujoco_rows
 from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene
 from ..mujoco.model import port_model
 from . import INTEGRATORS, RECORD, RECORD_64
@@ -52,6 +53,14 @@ def _traced(model_def, data_def):
         return jax.tree_util.tree_leaves(d), row, touching, bad
 
     return jax.jit(advance)
+
+
+@jax.jit
+def _columns(qpos, qvel, planar, angle):
+    """Every world's state as (20, rows) columns on the device, as ``read`` makes its rows
+    (``frames.mujoco_rows``, the planar yaw as the step computed it), in the engine's
+    precision: the same numbers ``read`` casts to float64."""
+    return jnp.stack(mujoco_columns(jnp, qpos, qvel, planar, angle))
 
 
 #: The x64 mode of the last JAX call made here (``MjxEngine._scope``), None before the first.
@@ -135,7 +144,7 @@ class MjxEngine(BatchedEngine):
             self._bad = jnp.zeros(self.rows, dtype=bool)
         self._row, self._shift = np.zeros((self.rows, len(STATE_FIELDS))), np.zeros((self.rows, 2))
         self._stepped, self._touching = False, np.zeros(self.rows, dtype=bool)
-        self._planar = np.ones(self.rows, dtype=bool)
+        self._planar, self._planar_on = np.ones(self.rows, dtype=bool), None
 
     def set_body_friction(self, *, bat: float, ball: float) -> None:
         """Each geom's own sliding friction (MuJoCo combines them by max); as in MuJoCo C, an
@@ -172,7 +181,7 @@ class MjxEngine(BatchedEngine):
         s = np.pad(s, ((0, self.rows - len(s)), (0, len(STATE_FIELDS) - s.shape[1])))
         s[len(states) :] = s[0]
         qpos, qvel = mujoco_coordinates(s)
-        self._planar = in_plane(s)
+        self._planar, self._planar_on = in_plane(s), None
         with self._scope():
             d = self.data
             self.data = d.replace(
@@ -252,6 +261,28 @@ class MjxEngine(BatchedEngine):
         return derivative(  # JAX's jvp through mjx.step (its docstring)
             self, states, tangents, steps, inertia_tangent_kgm2
         )
+
+    def device_episode(self, constants: EpisodeConstants) -> ArrayDevice:
+        """The worlds' columns as JAX holds them (``adapters.device``); the episode starts
+        from ``set_state``, so no hands' shift is ever added (``_move_pivots_to``)."""
+        return ArrayDevice(
+            xp=jnp, jit=jax.jit, columns=self._device_columns, rows=self.rows, call=self._call
+        )
+
+    def _call(self, fn, *args):
+        with self._scope():
+            return fn(*args)
+
+    def _device_columns(self):
+        with self._scope():
+            f = self._flat
+            if f is not None and f.d_leaves is not None:
+                qpos, qvel = f.d_leaves[f.qpos_at], f.d_leaves[f.qvel_at]
+            else:
+                qpos, qvel = self._data.qpos, self._data.qvel
+            if self._planar_on is None:
+                self._planar_on = jnp.asarray(self._planar)
+            return _columns(qpos, qvel, self._planar_on, self._row[:, 7]), self._touching
 
     def device(self) -> str:
         d = jax.devices()[0]

@@ -7,6 +7,7 @@ import numpy as np
 from ..frames import angles_and_tilts, bat_quaternions, in_plane
 from ..interface import STATE_FIELDS, BatchedEngine, MassProperties, Scene
 from . import RECORD, NewtonSettings
+from . import device as on_device
 from . import scene as sc
 from .defaults import read_back
 from .gradients import derivative
@@ -51,7 +52,9 @@ class NewtonEngine(BatchedEngine):
         self.contacts = self.pipeline.contacts() if self.pipeline is not None else None
         self.control = self.model.control()
         self.states = [self.model.state(), self.model.state()]
-        self.shape_world = self.model.shape_world.numpy()
+        self.shape_world_on = self.model.shape_world
+        self.shape_world = self.shape_world_on.numpy()
+        self.watched = False
         self.touching, self.planar = np.zeros(worlds, dtype=bool), np.ones(worlds, dtype=bool)
         self.ball_v = np.zeros((worlds, 2), dtype=np.float32)
 
@@ -103,6 +106,7 @@ class NewtonEngine(BatchedEngine):
         self.touching[:] = False
         self.ball_v = qd.reshape(n, 2, 6)[:, sc.BALL, :3].copy()
         self.planar = in_plane(s)
+        self.watched = False  # (a device episode lasts until the next set_state)
 
     def step(self) -> None:
         s0, s1 = self.states
@@ -110,6 +114,8 @@ class NewtonEngine(BatchedEngine):
             self.pipeline.collide(s0, self.contacts)
         self.solver.step(s0, s1, self.control, self.contacts, self.settings.dt_s)
         self.states = [s1, s0]
+        if self.watched:  # the contact flags are the device episode's (``device_episode``)
+            return
         v = s1.body_qd.numpy().reshape(self.n, 2, 6)[:, sc.BALL, :3]
         # only a contact changes the ball's velocity: no gravity, no damping on it (its vz
         # counts only out of the plane: in it, it is float32 rounding, never read before)
@@ -149,7 +155,15 @@ class NewtonEngine(BatchedEngine):
         return out.view(StateRows)
 
     def in_contact(self) -> np.ndarray:
+        """Per world, the contact flag of the last step (in a device episode, its kernels
+        compute it on the device instead: ``device_episode``)."""
         return self.touching.copy()
+
+    def device_episode(self, constants):
+        """The episode observed in Warp kernels where the worlds live (``adapters.device``),
+        the contact flags computed there too until the next ``set_state``."""
+        self.watched = True
+        return on_device.episode(self, constants, sc.DEVICE)
 
     def derivative(self, states, tangents, steps: int, inertia_tangent_kgm2: float = 0.0):
         return derivative(  # wp.Tape through XPBD (its docstring)

@@ -30,9 +30,9 @@ from analytic.dynamics import HingedSwing
 from . import geometry as g
 from . import watchdog
 from .boundary import STOP
+from .device_episode import observed_episodes
 from .drive import swing_into_place
 from .endings import LABELS, Physics, classify
-from .episode import step_episodes
 from .fired import (
     Fired,
     FiredBlock,
@@ -365,7 +365,7 @@ def fire_group(host: Hosted, jobs: Sequence[Job], placed: Placed | None = None) 
         if plans is not None:
             starts, release = swing_into_place(batch, plans, starts, bat)
         rigid = host.record.errors.contact_reference(st) is ContactReference.RIGID_IMPULSE
-        episodes = step_episodes(batch, bat, ball, st, starts, spatial, rigid)
+        episodes = observed_episodes(batch, bat, ball, st, starts, spatial, rigid)
     except NotImplementedError:  # an engine that cannot drive the bat
         raise NotFired(Physics.UNSUPPORTED, "no set_drive", cases, plans) from None
     except Exception as err:  # the engine raised while stepping: a failure, not a crash
