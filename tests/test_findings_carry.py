@@ -20,7 +20,7 @@ from experiments.findings import REFS
 from experiments.findings import answers as A
 from experiments.findings import carry as C
 from experiments.findings import carry_text as T
-from experiments.findings.report import ranged
+from experiments.findings import ranges as R
 
 #: In the full tier (a minute of flights and frictional impulses; the fast tier checks the
 #: numbers the findings quote, test_findings_claims), on one worker: they share the carries the
@@ -170,8 +170,14 @@ def test_section_quotes_the_computed_numbers(section):
     assert list(figs) == [T.CHART] and f"]({T.CHART})" in text
     for sc in A.SCENARIOS:
         b = C.sweet_spots(sc).best
-        # the longest carry with its least and most over the drag and lift corners
-        assert f"**{ranged(b.carry_m, *carry_range_m(b.launch))} m**" in text
+        # the longest carry over the joint range of its inputs (e, the spin handed on and its
+        # boost, drag, lift: ``ranges.carry_spread``): central at the central model's best ball
+        # (every input central is that model), and wider than drag and lift's corners alone
+        # (a joint range holds every single-input corner)
+        spread = R.carry_spread(sc)
+        low, high = carry_range_m(b.launch)
+        assert spread.central == b.carry_m and spread.low <= low and high <= spread.high
+        assert f"**{spread.text()} m**" in text
         assert f"{abs(b.s_m - C.sweet_spots(sc).speed_s_m) * 1e3:.1f} mm" in text
     p, m = C.pitch_optima(A.PAPER), C.pitch_optima(A.MLB)
     assert (
@@ -182,9 +188,17 @@ def test_section_quotes_the_computed_numbers(section):
     ) in text
     gain = p.curveball.carry_m - p.fastball.carry_m
     assert f"{gain:+.1f} m ({C.feet(gain):+.0f} ft)" in text
-    # the bracket: measured spin independence (no gain) to rigid rolling (the larger gain)
-    best = max(po.curveball.carry_m - po.fastball.carry_m for po in (p, m))
-    assert f"**The curveball's gain lies between 0 and {best:+.1f} m**" in text
+    # the gain over the joint range of the spin handed on, its boost, drag and lift
+    # (``ranges.curve_spread``): central at rigid rolling (the whole spin handed on, no boost),
+    # and holding none (no spin handed on: the two pitches leave alike and carry the same)
+    spreads = [R.curve_spread(sc) for sc in (A.PAPER, A.MLB)]
+    for po, cs in zip((p, m), spreads):
+        assert cs.central == pytest.approx(po.curveball.carry_m - po.fastball.carry_m, abs=1e-9)
+        assert cs.low <= 0.0 <= cs.high
+    assert (
+        f"**the curveball's gain is {spreads[0].text('+')} m (paper's swing) and "
+        f"{spreads[1].text('+')} m (MLB-like)**"
+    ) in " ".join(text.split())
     cork = C.bat_table(A.PAPER)
     row = cork[(cork["swing model"] == "measured") & (cork.bat == "R161, 1 x 10 in cork")]
     change = row["change (m)"].iloc[0]

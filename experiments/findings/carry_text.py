@@ -280,9 +280,10 @@ That ball climbs too steeply, so the curveball's best undercut is smaller,
 in this model it carries {gain[0]:+.1f} m ({C.feet(gain[0]):+.0f} ft) and {gain[1]:+.1f} m
 ({C.feet(gain[1]):+.0f} ft) farther (the table). That rests on rigid rolling, which hands the
 incoming topspin on in full; it is neither bound. Measured outgoing spin is nearly independent
-of the incoming spin [nathan2012]: then the two pitches leave alike and carry the same. A real
-ball also grips and stretches on the bat, leaving with up to {C.KENSRUD_EXTRA_SPIN:.0%} more
-spin than rolling gives [kensrud2017], which can push a steep ball's carry either way. Over the
+of the incoming spin [nathan2012] [crossnathan2006]: then the two pitches leave alike and carry
+the same. A real ball also grips and stretches on the bat, leaving with up to
+{C.KENSRUD_EXTRA_SPIN:.0%} more spin than rolling gives [kensrud2017], which can push a steep
+ball's carry either way. Over the
 share of the pitch's spin handed on (0-1), that extra spin (0-{C.KENSRUD_EXTRA_SPIN:.0%}), drag
 and lift, each pitch's best point re-optimised, **the curveball's gain is {cu["paper"].text("+")}
 m (paper's swing) and {cu["mlb"].text("+")} m (MLB-like)**, moved most by the
