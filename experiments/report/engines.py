@@ -14,7 +14,8 @@ import pandas as pd
 import adapters
 from analytic import presets
 
-from ..core import judge, terms
+from ..core import terms
+from ..core.endings import Physics
 from .base import (
     Results,
     alike,
@@ -166,7 +167,7 @@ def soft(res: Results) -> str:
         by_dt = half.groupby("dt_s").residual.mean().sort_index(ascending=False)
         order = np.polyfit(np.log10(by_dt.index), np.log10(by_dt.abs().to_numpy()), 1)[0]
         spread = c.groupby(["dt_s", "e_target"]).residual.agg(lambda r: r.max() - r.min()).max()
-        gained = int((c.status == judge.Status.ENERGY_GAINED).sum())
+        gained = int((c.physics == Physics.ENERGY_GAINED).sum())
         softs = conv[(conv.engine == e) & conv.family.str.startswith("soft")]
         rows.append(
             f"| {label(e)} | {float((c.w_dt / c.dt_s).median()):g} | "
