@@ -69,12 +69,15 @@ def held_to(physics, v1_mps, kinds: Sequence[Held]) -> Judged:
     v1 = np.asarray(v1_mps, dtype=float)
     n = len(v1)
     which = np.full(n, len(kinds), dtype=np.intp)
-    for k in range(len(kinds) - 1, -1, -1):
-        which = np.where(np.isnan(kinds[k].tol_mps), which, k)
-    nan = np.full(n, np.nan)
-    value = np.choose(which, [*(np.broadcast_to(h.v1_mps, n) for h in kinds), nan])
-    tol = np.choose(which, [*(np.broadcast_to(h.tol_mps, n) for h in kinds), nan])
-    within = np.choose(which, [*(np.broadcast_to(h.within, n) for h in kinds), np.ones(n, bool)])
+    value, tol, within = np.full(n, np.nan), np.full(n, np.nan), np.ones(n, dtype=bool)
+    for k in range(len(kinds) - 1, -1, -1):  # (the first kind that applies is written last)
+        h = kinds[k]
+        on = ~np.isnan(h.tol_mps)
+        if not on.any():
+            continue
+        which = np.where(on, k, which)
+        value, tol = np.where(on, h.v1_mps, value), np.where(on, h.tol_mps, tol)
+        within = np.where(on, h.within, within)
     err = np.abs(v1 - value)
     with np.errstate(invalid="ignore"):
         fits = (err <= tol) & within
