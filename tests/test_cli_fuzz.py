@@ -316,6 +316,7 @@ ENVIRONMENT = {
     "MPLBACKEND": ["agg", "Agg", "tkagg", "nope", "", "module://nowhere"],
     "PYTHONIOENCODING": ["ascii", "utf-8", "latin-1"],
     "BATSIM_WARP_DEVICE": ["cpu", "cuda:0", "bogus", "cuda:x", ""],
+    "BATSIM_DEVICE_EPISODE": ["auto", "1", "0", "", "yes", "gpu"],
 }
 
 

@@ -41,6 +41,7 @@ from ..errors import (
     report,
     report_stop,
 )
+from . import device_episode
 
 #: What BATSIM_WARP_DEVICE may name (the engines on Warp read it): Warp's device names.
 WARP_DEVICE = re.compile(r"^(cpu|cuda(:[0-9]+)?)$")
@@ -197,8 +198,9 @@ def _drop_stdout(stream) -> None:
 
 def environment_error() -> str | None:
     """The one-line complaint about the environment's settings, or None: BATSIM_DEBUG's value,
-    and MPLBACKEND's (a name matplotlib does not know; any known one is replaced by Agg, since
-    every chart goes to a file)."""
+    BATSIM_WARP_DEVICE's and BATSIM_DEVICE_EPISODE's (``device_episode``), and MPLBACKEND's (a
+    name matplotlib does not know; any known one is replaced by Agg, since every chart goes to a
+    file)."""
     raw = os.environ.get("BATSIM_DEBUG", "")
     if raw.strip().lower() not in DEBUG_VALUES:
         return (
@@ -210,6 +212,12 @@ def environment_error() -> str | None:
         return (
             f"BATSIM_WARP_DEVICE={device!r} is not a Warp device; allowed: cpu, cuda or "
             "cuda:N (N a GPU's number), or unset (the CPU)"
+        )
+    episode = os.environ.get(device_episode.ENV, "")
+    if episode and episode not in device_episode.CHOICES:
+        return (
+            f"{device_episode.ENV}={episode!r} is not allowed; allowed: "
+            f"{', '.join(device_episode.CHOICES)}, or unset (auto)"
         )
     backend = os.environ.pop("MPLBACKEND", None)
     # what matplotlib says of its own cache (unwritable: it makes a temporary one) is not the
