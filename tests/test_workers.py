@@ -18,7 +18,9 @@ from pathlib import Path
 import psutil
 import pytest
 
-from experiments.core import Physics
+import adapters
+from analytic import presets
+from experiments.core import Physics, fire_jobs, firings, hosting
 from experiments.core.boundary import STOP, stopping
 from experiments.core.runner import Runner
 from experiments.core.workers import pool_results
@@ -26,6 +28,16 @@ from experiments.core.workers import pool_results
 from .conftest import ROOT, cheapest
 
 ENGINE = cheapest(batched=False)
+#: Single-world engines whose pool steps through their library's own threaded call (records
+#: only: collecting the tests imports no engine).
+THREADED = [
+    n
+    for n in adapters.names()
+    if not adapters.record(n).batched
+    and adapters.record(n).can.pool_adapter is not None
+    and (said := adapters.record(n).batching) is not None
+    and said.used
+]
 
 
 def _die_once(marker: str) -> str:
@@ -166,3 +178,31 @@ def test_a_stopped_sweep_leaves_no_worker_behind(sig, code, tmp_path):
     gone, alive = psutil.wait_procs(workers, timeout=10)
     assert not alive, [p.pid for p in alive]
     assert not (tmp_path / "r").exists()
+
+
+def _answer(_: str) -> str:
+    return "done"
+
+
+@pytest.mark.parametrize("name", THREADED)
+def test_workers_forked_from_a_process_holding_a_threaded_pool_answer(name):
+    # A pool's library threads stay in the parent when a worker is forked: the worker drops its
+    # copies of the parent's engines without freeing that pool (freeing it joins threads the
+    # child does not have: the workers hung, or died of SIGSEGV, and their items were lost).
+    settings = adapters.settings_for(name)
+    grid = firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, 41),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=presets.E_WOOD,
+    )
+    try:
+        fire_jobs(grid.jobs(name, settings))  # (41 impacts: on the pool, its threads alive here)
+        assert hosting.hosted(name, settings).held() > 1
+        with Runner(workers=2) as runner:
+            got = list(pool_results(runner, _answer, ["a", "b", "c"], _lost, lambda _: 60.0))
+        assert got == ["done"] * 3
+    finally:
+        hosting.close_engines()

@@ -25,7 +25,9 @@ long without a rest point for a call's memory, and worlds left mid-episode by a 
 
 from __future__ import annotations
 
+import os
 import time
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -71,6 +73,25 @@ class _Chunk:
     start_warm: np.ndarray | None = None  # (worlds, nv)
 
 
+#: The pools whose ``Rollout`` threads run in this process, and, in a forked child, the copies
+#: of its parent's ``Rollout`` objects, kept and never freed: their threads stayed in the
+#: parent, and freeing one joins threads the child does not have (a worker forked from a
+#: process holding a pool hung or died of SIGSEGV when it dropped its parent's engines).
+_THREADED: weakref.WeakSet = weakref.WeakSet()
+_INHERITED: list = []
+
+
+def _after_fork_in_child() -> None:
+    for worlds in list(_THREADED):
+        _INHERITED.extend(r for r in (worlds._pool, worlds._alone) if r is not None)
+        worlds._pool = worlds._alone = None
+        worlds._scene = None  # (made anew, with a pool of this process's, if used again)
+    _THREADED.clear()
+
+
+os.register_at_fork(after_in_child=_after_fork_in_child)
+
+
 class MujocoWorlds(BatchedEngine):
     """``n`` MuJoCo worlds on one model, stepped through ``mujoco.rollout`` (module docstring).
     The model's drive (the hands' anchor, the load's site) is shared: every world takes the
@@ -99,6 +120,7 @@ class MujocoWorlds(BatchedEngine):
                 self._pool = ROLLOUT(nthread=threads if threads > 1 else 0)
                 self._alone = ROLLOUT(nthread=0)  # a carried world's calls (``_carry``)
                 self._threads = threads
+                _THREADED.add(self)
             if self._batched:
                 self._scratch = [mujoco.MjData(engine.model) for _ in range(self._threads)]
             self._control = self._control_row()
