@@ -264,7 +264,9 @@ def _block_columns(part: Sequence[Fired]) -> tuple[list, list, list, dict]:
         cols["wall_s"] = np.full(n, part.wall_s)
         return part.cases, list(part.settings), [part.engine] * n, cols
     outs = [f.outcome for f in part]
-    cols = {k: np.array([getattr(o, k) for o in outs], dtype=float) for k in FLOAT_FIELDS}
+    # one array for every float field (a view per field): one conversion, not one a field
+    table = np.array([[getattr(o, k) for k in FLOAT_FIELDS] for o in outs], dtype=float)
+    cols = dict(zip(FLOAT_FIELDS, table.reshape(-1, len(FLOAT_FIELDS)).T))
     cols.update(
         physics=np.array([o.physics.value for o in outs]),
         steps=np.array([o.steps for o in outs]),

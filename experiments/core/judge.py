@@ -120,11 +120,31 @@ def energy_allowance(errors: adapters.ErrorModel, settings: adapters.Settings) -
     )
 
 
+#: ``derivatives``' answers by (case, field), as ``rigid``'s: studies fire the same case at
+#: many settings. Emptied when it holds CACHED_CASES.
+_DERIVED: dict[tuple[ImpactCase, str], tuple[float, float, float]] = {}
+CACHED_CASES = 1 << 16
+
+
 def derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The single impulse's ``field`` at each case's s, its |d/ds| (central difference over
-    FD_STEP_M, kept on the cylinder) and |d2/ds2| (over CURVATURE_STEP_M): one vectorized
-    prediction per bat and ball for all rows and all five points (``normal_fields``: the
-    formulas without their checks, a third of the cost on one impact)."""
+    FD_STEP_M, kept on the cylinder) and |d2/ds2| (over CURVATURE_STEP_M), each case's worked
+    out once (``_DERIVED``)."""
+    new = [c for c in dict.fromkeys(cases) if (c, field) not in _DERIVED]
+    if new:
+        if len(_DERIVED) + len(new) > CACHED_CASES:
+            _DERIVED.clear()
+        _DERIVED.update(zip(((c, field) for c in new), zip(*_derived(new, field))))
+    if len(cases) == 1:  # (one impact: no table of one row to build)
+        return tuple(np.array([x]) for x in _DERIVED[cases[0], field])
+    value, slope, curvature = np.array([_DERIVED[c, field] for c in cases]).reshape(-1, 3).T
+    return value, slope, curvature
+
+
+def _derived(cases, field: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``derivatives`` worked out: one vectorized prediction per bat and ball for all rows and
+    all five points (``normal_fields``: the formulas without their checks, a third of the cost
+    on one impact)."""
     n = len(cases)
     value, slope, curvature = np.empty(n), np.empty(n), np.empty(n)
     groups: dict[tuple, list[int]] = {}
@@ -142,14 +162,14 @@ def derivatives(cases, field: str = "v1_mps") -> tuple[np.ndarray, np.ndarray, n
             bat.s_barrel_end_m,
         )
         points = np.column_stack([lo, hi, s3])  # rows x 5
-        kw = {
-            f: np.repeat([getattr(c, f) for c in cs], 5).reshape(-1, 5)
-            for f in ("v0_mps", "u0_mps", "omega0_radps", "e", "theta_rad", "phi_rad")
-        }
+        # one column per input, broadcast over the five points (rows x 1)
+        v0, u0, w0, e, theta, phi = np.array(
+            [(c.v0_mps, c.u0_mps, c.omega0_radps, c.e, c.theta_rad, c.phi_rad) for c in cs]
+        ).T[:, :, None]
         # the cases' values were checked when they were made, the points are kept on the bat
-        v0n, u0n = kw["v0_mps"] * np.cos(kw["theta_rad"]), kw["u0_mps"] * np.cos(kw["phi_rad"])
+        v0n, u0n = v0 * np.cos(theta), u0 * np.cos(phi)
         m, M, J = ball.mass_kg, bat.mass_kg, bat.inertia_cm_kgm2
-        v = normal_fields(m, M, J, points, v0n, u0n, kw["omega0_radps"], kw["e"])[field]
+        v = normal_fields(m, M, J, points, v0n, u0n, w0, e)[field]
         value[idx] = v[:, 3]
         slope[idx] = np.abs(v[:, 1] - v[:, 0]) / (hi - lo)
         curvature[idx] = np.abs(v[:, 2] - 2 * v[:, 3] + v[:, 4]) / h**2
