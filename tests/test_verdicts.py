@@ -118,3 +118,37 @@ def test_two_words_for_two_things_a_verdict_is_the_outcome_when_it_was_not_sound
     # and the table lays both out, each in its own column
     row = tables.table([fired], "").iloc[0]
     assert (row.physics, row.status) == (Physics.SOUND.value, Status.OK.value)
+
+
+def test_single_impulse_derivatives_are_each_cases_own(monkeypatch):
+    # v1(s) = -v0n + (1 + e) v_c / (m (1/m + 1/M + s^2/J)), v_c = v0n + u0n + omega0 s
+    # (``impact.predict``): the judge's single impulse is it at s, and its slope a central
+    # difference over FD_STEP_M = 1 um, off |dv1/ds| (``analytic.gradients``) by its
+    # rounding, eps |v1| / h ~ 1e-8 1/s against slopes of 10-100 1/s (truncation,
+    # h^2/6 |v1'''|, is far below): 1e-7 relative. Kept per case (``judge._DERIVED``): any
+    # order, any repeat and a full cache emptied give each case the same bits as alone.
+    from analytic import ImpactCase, gradients, impact
+    from experiments.core import judge as judging
+
+    bat, ball = presets.R161, presets.BASEBALL
+    cases = [
+        ImpactCase(bat=bat, ball=ball, s_m=s, v0_mps=v0, u0_mps=u0, omega0_radps=w, e=e)
+        for s, v0, u0, w, e in [(0.1, 40.0, 27.0, 50.0, 0.5), (-0.2, 30.0, 0.0, 0.0, 0.3)]
+    ]
+    alone = [judging.derivatives([c]) for c in cases]
+    for c, (v1, slope, _) in zip(cases, alone):
+        assert v1[0] == pytest.approx(impact.predict(c).v1_mps, rel=1e-14)
+        exact = gradients.derivatives(
+            bat,
+            ball,
+            s_m=c.s_m,
+            v0_mps=c.v0_mps,
+            u0_mps=c.u0_mps,
+            omega0_radps=c.omega0_radps,
+            e=c.e,
+        )["v1_mps"]["s_m"]
+        assert slope[0] == pytest.approx(abs(float(exact)), rel=1e-7)
+    monkeypatch.setattr(judging, "CACHED_CASES", 3)  # the next call empties the cache
+    mixed = judging.derivatives([cases[1], cases[0], cases[1], cases[1]])
+    for got, k in zip(np.array(mixed).T, (1, 0, 1, 1)):
+        assert list(got) == [float(a[0]) for a in alone[k]]
