@@ -275,9 +275,9 @@ class ContactKnob:
 class BallContact:
     """The contact model a real ball is fitted in (``experiments.realball``): the settings
     ``overrides`` that switch the engine to it (applied to its reference profile; ``dt_s``
-    the fit's step, None: the profile's), the ``knobs`` fitted and ``start`` their first guess (one per
-    knob, a sound contact), whether its COR depends on impact speed (``speed_dependent``,
-    checked by a test), whether the knobs set how long the contact lasts (``lasts``: a
+    the fit's step, None: the profile's), the ``knobs`` fitted and ``start`` their first
+    guess (one per knob, a sound contact), whether its COR depends on impact speed
+    (``speed_dependent``, checked by a test), whether the knobs set how long the contact lasts (``lasts``: a
     soft contact, fitted to the ball's contact time too) and ``why``, in words. The default:
     one restitution e, the same at every speed (a rigid impulse)."""
 

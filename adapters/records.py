@@ -125,9 +125,9 @@ class EngineRecord:
     README quotes), each read back (``read_back_defaults``) or measured: a test pins both.
     ``cost``: what a step costs, for estimates. ``look``: how charts and the report show it.
     ``studies``: what the studies vary in it. ``ball``: the contact model a real ball is
-    fitted in and its knobs (``experiments.realball``). ``batching``: what its library offers to step
-    many worlds at once and whether the harness uses it (None: the record does not say; every
-    built-in engine says).
+    fitted in and its knobs (``experiments.realball``). ``batching``: what its library
+    offers to step many worlds at once and whether the harness uses it (None: the record
+    does not say; every built-in engine says).
     """
 
     name: str

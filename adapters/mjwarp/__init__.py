@@ -221,6 +221,6 @@ RECORD = EngineRecord(
         used=True,
         why="one Data holds every world (nworld) and each step is one captured call of "
         "mujoco_warp.step: batched by design",
-    ),    # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
+    ),  # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
     ball=native_ball(invweight_scale=1.0),
 )

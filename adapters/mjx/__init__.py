@@ -217,7 +217,7 @@ RECORD = EngineRecord(
         used=True,
         why="the adapter steps every world in one jitted call of mjx.step vmapped over the "
         "worlds (jax.vmap): batched by design",
-    ),    # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
+    ),  # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
     ball=native_ball(invweight_scale=1.0),
 )
 

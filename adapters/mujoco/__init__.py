@@ -172,7 +172,7 @@ def native_ball(**overrides) -> BallContact:
     return BallContact(
         overrides={"contact_model": "native", **overrides},
         knobs=NATIVE_KNOBS,
-        start=(5e-4, 0.3, 0.9, 0.5, 0.01),
+        start=(1e-3, 0.2, 0.95, 0.4, 0.003),
         speed_dependent=True,
         lasts=True,
         dt_s=1e-5,

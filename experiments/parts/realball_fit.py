@@ -27,11 +27,11 @@ from scipy.optimize import least_squares
 import adapters
 from adapters import RESTITUTION_KNOB, STATE_FIELDS, ContactKnob, Scene
 from analytic import ImpactCase, presets
-from analytic.ball import COR_LAW, CONTACT_S, CONTACT_SPEED_MPS, WALL, CorLaw, cor_range
+from analytic.ball import CONTACT_S, CONTACT_SPEED_MPS, COR_LAW, WALL, CorLaw, cor_range
 
+from ..core.endings import Physics
 from ..core.fire import Job, fire_jobs
 from ..core.hosting import hosted
-from ..core.endings import Physics
 from ..core.placement import start_state
 
 #: Speeds the fit holds the COR at (m/s): the range a game has, 10-60 m/s.
@@ -176,9 +176,7 @@ def from_unit(knobs: Sequence[ContactKnob], u: Sequence[float]) -> np.ndarray:
 
 def dx_du(knobs: Sequence[ContactKnob], x: Sequence[float]) -> np.ndarray:
     """d(knob value)/d(unit coordinate) at ``x``."""
-    return np.array(
-        [v * math.log(k.hi / k.lo) if k.log else k.hi - k.lo for k, v in zip(knobs, x)]
-    )
+    return np.array([v * math.log(k.hi / k.lo) if k.log else k.hi - k.lo for k, v in zip(knobs, x)])
 
 
 def half_band(speed_mps: float) -> float:
