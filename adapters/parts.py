@@ -277,8 +277,9 @@ class BallContact:
     ``overrides`` that switch the engine to it (applied to its reference profile; ``dt_s``
     the fit's step, None: the profile's), the ``knobs`` fitted and ``start`` their first
     guess (one per knob, a sound contact), whether its COR depends on impact speed
-    (``speed_dependent``, checked by a test), whether the knobs set how long the contact lasts (``lasts``: a
-    soft contact, fitted to the ball's contact time too) and ``why``, in words. The default:
+    (``speed_dependent``, checked by a test), whether the knobs set how long the contact
+    lasts (``lasts``: a soft contact, fitted to the ball's contact time too) and ``why``, in
+    words. The default:
     one restitution e, the same at every speed (a rigid impulse)."""
 
     overrides: Mapping[str, Any] = field(default_factory=dict)
