@@ -48,8 +48,11 @@ from .interface import (
 from .loading import engine_threads, import_engine, set_engine_threads
 from .records import (
     PROFILES,
+    RESTITUTION_KNOB,
+    BallContact,
     Batching,
     Capabilities,
+    ContactKnob,
     ContactReference,
     Cost,
     EngineNotInstalled,
@@ -330,9 +333,11 @@ def load(name: str, profile: str = "reference", **overrides) -> Engine | Batched
 
 
 __all__ = [
+    "BallContact",
     "BatchedEngine",
     "Batching",
     "Capabilities",
+    "ContactKnob",
     "ContactReference",
     "Cost",
     "ENTRY_POINT_GROUP",
@@ -351,6 +356,7 @@ __all__ = [
     "PLANAR_FIELDS",
     "PROFILES",
     "PluginConflict",
+    "RESTITUTION_KNOB",
     "Presentation",
     "ReportNotes",
     "RestitutionRule",

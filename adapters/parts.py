@@ -238,3 +238,66 @@ class Studies:
         object.__setattr__(
             self, "friction_rule_overrides", MappingProxyType(dict(self.friction_rule_overrides))
         )
+
+
+#: The pseudo-setting of a ``ContactKnob`` that is the impact's restitution e (it lives on the
+#: ``ImpactCase``, not the settings).
+RESTITUTION_KNOB = "e"
+
+
+@dataclass(frozen=True, kw_only=True)
+class ContactKnob:
+    """One contact parameter a ball's fit may move: the settings field ``setting`` (or, with
+    ``element``, one element of a tuple field such as MuJoCo's ``solref``; ``setting`` "e":
+    the impact's restitution, RESTITUTION_KNOB), allowed from ``lo`` to ``hi`` (in ``unit``),
+    searched on a log scale where ``log``."""
+
+    setting: str
+    lo: float
+    hi: float
+    unit: str
+    element: int | None = None
+    log: bool = False
+
+    def __post_init__(self) -> None:
+        if not self.lo < self.hi:
+            raise ValueError(f"ContactKnob {self.label}: lo={self.lo!r}; allowed: below hi")
+        if self.log:
+            checks.positive("lo", self.lo)
+
+    @property
+    def label(self) -> str:
+        """The knob as a column name: ``solref[0]``, ``point_stiffness_npm``."""
+        return self.setting if self.element is None else f"{self.setting}[{self.element}]"
+
+
+@dataclass(frozen=True, kw_only=True)
+class BallContact:
+    """The contact model a real ball is fitted in (``experiments.realball``): the settings
+    ``overrides`` that switch the engine to it (applied to its reference profile; ``dt_s``
+    the fit's step, None: the profile's), the ``knobs`` fitted and ``start`` their first
+    guess (one per knob, a sound contact), whether its COR depends on impact speed
+    (``speed_dependent``, checked by a test), whether the knobs set how long the contact
+    lasts (``lasts``: a soft contact, fitted to the ball's contact time too) and ``why``, in
+    words. The default:
+    one restitution e, the same at every speed (a rigid impulse)."""
+
+    overrides: Mapping[str, Any] = field(default_factory=dict)
+    knobs: tuple[ContactKnob, ...] = (
+        ContactKnob(setting=RESTITUTION_KNOB, lo=0.05, hi=1.0, unit="1"),
+    )
+    start: tuple[float, ...] = (0.5,)
+    speed_dependent: bool = False
+    lasts: bool = False
+    dt_s: float | None = None
+    why: str = "one restitution e applied as a rigid impulse: the same COR at every speed"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "overrides", MappingProxyType(dict(self.overrides)))
+        if len(self.start) != len(self.knobs) or not self.knobs:
+            raise ValueError(
+                f"BallContact: {len(self.start)} start values for {len(self.knobs)} knobs; "
+                "allowed: one per knob, at least one knob"
+            )
+        for k, x in zip(self.knobs, self.start):
+            checks.in_range(k.label, x, k.lo, k.hi)

@@ -22,8 +22,11 @@ from analytic import checks
 
 from .errors import ContactReference, ErrorModel
 from .parts import (
+    RESTITUTION_KNOB,
+    BallContact,
     Batching,
     Capabilities,
+    ContactKnob,
     Cost,
     Install,
     Integrator,
@@ -38,8 +41,11 @@ from .rules import FrictionRule, RestitutionRule
 #: The record's vocabulary, for the engines' record modules: this module and ``parts``.
 __all__ = [
     "PROFILES",
+    "RESTITUTION_KNOB",
+    "BallContact",
     "Batching",
     "Capabilities",
+    "ContactKnob",
     "ContactReference",
     "Cost",
     "EngineNotInstalled",
@@ -118,9 +124,10 @@ class EngineRecord:
     ``engine_defaults``: the engine's own out-of-the-box values of settings fields (what the
     README quotes), each read back (``read_back_defaults``) or measured: a test pins both.
     ``cost``: what a step costs, for estimates. ``look``: how charts and the report show it.
-    ``studies``: what the studies vary in it. ``batching``: what its library offers to step
-    many worlds at once and whether the harness uses it (None: the record does not say; every
-    built-in engine says).
+    ``studies``: what the studies vary in it. ``ball``: the contact model a real ball is
+    fitted in and its knobs (``experiments.realball``). ``batching``: what its library
+    offers to step many worlds at once and whether the harness uses it (None: the record
+    does not say; every built-in engine says).
     """
 
     name: str
@@ -134,6 +141,7 @@ class EngineRecord:
     look: Presentation = Presentation()
     studies: Studies = Studies()
     batching: Batching | None = None
+    ball: BallContact = BallContact()
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]

@@ -5,8 +5,8 @@
 - sweeps: the sweeps listed in BASELINES (R161, 41 points), each as <stem>.csv/.json/.png, then
   thresholds.json (what the regression test allows) and summary.md;
 - the studies, each into its usual file names: pareto, stability, swing, defaults,
-  calibrate_soft, twins, friction, flex, findings, gradients, bench_analytic, gpu (the runs a
-  GPU machine made, in results/gpu_runs/), bench_engines (run the benchmarks on a quiet
+  calibrate_soft, twins, friction, flex, findings, gradients, realball, bench_analytic, gpu
+  (the runs a GPU machine made, in results/gpu_runs/), bench_engines (run the benchmarks on a quiet
   machine; it keeps gpu's rows), history (each engine's releases, installed: needs
   the package index);
 - report: results/report.md and the engine pages (engines.md, engine_<name>.md), written from
@@ -35,6 +35,7 @@ from . import (
     gradients,
     history,
     pareto,
+    realball,
     report,
     stability,
     swing,
@@ -67,6 +68,7 @@ STUDIES = {
     "flex": flex,
     "findings": findings,
     "gradients": gradients,
+    "realball": realball,
     "bench_analytic": bench_analytic,
     "gpu": gpu,
     "bench_engines": bench_engines,

@@ -57,6 +57,7 @@ SMALL = {
     "report": [],
     "twins": ["--points", "2", "--engine", TWIN, *WORKERS],
     "gradients": ["--quick", "--engine", SINGLE],
+    "realball": ["--quick", "--engine", SINGLE],
     "gpu": [],
 }
 WRITES_NOTHING = {"compare", "check_engine"}

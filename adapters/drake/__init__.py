@@ -85,8 +85,10 @@ from analytic.compliant import (
 )
 
 from ..records import (
+    BallContact,
     Batching,
     Capabilities,
+    ContactKnob,
     ContactReference,
     Cost,
     EngineRecord,
@@ -371,5 +373,19 @@ RECORD = EngineRecord(
         "threads (Parallelism); it takes a discrete plant and gives back the next states "
         "alone, while the reference profile is the continuous plant under an error-controlled "
         "integrator: not used, Drake has no pool adapter yet",
+    ),
+    # the reference's point contact: e sets d at restitution_speed_mps (E_FLOOR and up), k
+    # the contact time (linear: t ~ pi sqrt(m/k), 0.7 ms for a baseball near 3e6 N/m)
+    ball=BallContact(
+        knobs=(
+            ContactKnob(setting="e", lo=E_FLOOR, hi=0.95, unit="1"),
+            ContactKnob(setting="point_stiffness_npm", lo=1e5, hi=1e8, unit="N/m", log=True),
+        ),
+        start=(0.5, 1e6),
+        speed_dependent=True,
+        lasts=True,
+        why="Hunt-Crossley point contact: its e depends on d v alone (d from e at "
+        "restitution_speed_mps), falling with speed; k sets the contact time. SAP's linear "
+        "damper (solver sap) would give one e at every speed",
     ),
 )

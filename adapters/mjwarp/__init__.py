@@ -52,7 +52,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings
+from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings, native_ball
 from ..records import (
     Batching,
     Capabilities,
@@ -221,5 +221,6 @@ RECORD = EngineRecord(
         used=True,
         why="one Data holds every world (nworld) and each step is one captured call of "
         "mujoco_warp.step: batched by design",
-    ),
+    ),  # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
+    ball=native_ball(invweight_scale=1.0),
 )

@@ -40,7 +40,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings
+from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings, native_ball
 from ..records import (
     Batching,
     Capabilities,
@@ -217,7 +217,8 @@ RECORD = EngineRecord(
         used=True,
         why="the adapter steps every world in one jitted call of mjx.step vmapped over the "
         "worlds (jax.vmap): batched by design",
-    ),
+    ),  # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
+    ball=native_ball(invweight_scale=1.0),
 )
 
 #: The same engine in float64, its regulariser made negligible, as diagexact does in C (package

@@ -25,8 +25,10 @@ from analytic import checks
 from analytic.compliant import ContactSpaceSpringDamper, damping_ratio_for
 
 from ..records import (
+    BallContact,
     Batching,
     Capabilities,
+    ContactKnob,
     ContactReference,
     Cost,
     EngineRecord,
@@ -147,6 +149,36 @@ class MujocoErrors(ErrorModel):
         return ContactSpaceSpringDamper(
             omega_radps=s.soft_omega_radps, damping_ratio=damping_ratio_for(max(e, 1e-9))
         )
+
+
+#: The soft constraint a real ball is fitted in: solref (time constant, damping ratio) and
+#: solimp's impedance d0 at zero depth, d_width at depth ``width`` and that width, as given
+#: (``native``). MuJoCo's reference acceleration is d (-b v - k d x) with k, b fixed by solref:
+#: at constant impedance a scaled spring-damper, whose e is the same at every speed; an
+#: impedance that changes with depth makes e change with speed (a deeper, faster impact meets
+#: another d). The time constant is at least 2 dt (MuJoCo raises it to that).
+NATIVE_KNOBS = (
+    ContactKnob(setting="solref", element=0, lo=2e-5, hi=2e-2, unit="s", log=True),
+    ContactKnob(setting="solref", element=1, lo=0.05, hi=2.0, unit="1"),
+    ContactKnob(setting="solimp", element=0, lo=0.01, hi=0.99, unit="1"),
+    ContactKnob(setting="solimp", element=1, lo=0.01, hi=0.99, unit="1"),
+    ContactKnob(setting="solimp", element=2, lo=1e-4, hi=0.05, unit="m", log=True),
+)
+
+
+def native_ball(**overrides) -> BallContact:
+    """MuJoCo's soft constraint as the ball's contact (NATIVE_KNOBS), with ``overrides`` to
+    the reference profile besides ``contact_model="native"`` (a port's own regulariser)."""
+    return BallContact(
+        overrides={"contact_model": "native", **overrides},
+        knobs=NATIVE_KNOBS,
+        start=(1e-3, 0.2, 0.95, 0.4, 0.003),
+        speed_dependent=True,
+        lasts=True,
+        dt_s=1e-5,
+        why="solref/solimp as given: an impedance that changes with depth makes e change "
+        "with speed; solref's time constant sets the contact time",
+    )
 
 
 SOFT_OMEGAS_RADPS = (1000.0, 3000.0, 10000.0)  # soft-contact stiffnesses of the speed study
@@ -284,6 +316,7 @@ RECORD = EngineRecord(
         "bit as alone",
         not_it=("mujoco:mju_threadpool",),  # one MjData's own pool: one world's work
     ),
+    ball=native_ball(),
 )
 
 

@@ -1,0 +1,164 @@
+"""The real-ball fit (``experiments.realball``, ``experiments.parts.realball_fit``): a fit
+recovers known parameters from synthetic targets, by finite differences and by a Jacobian;
+through the harness a constant-e engine recovers the e of a flat law; a held-out check fails
+when the fitted knobs are perturbed; each engine's declared speed dependence is measured."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pytest
+
+import adapters
+from adapters import ContactKnob
+from analytic.ball import SPEED_REF_MPS, CorLaw, cor_range
+from experiments import realball
+from experiments.parts import realball_fit as rf
+
+#: The synthetic ball: COR = a (v / v_ref)^-p, contact time t (s), as three knobs.
+SYNTHETIC_KNOBS = (
+    ContactKnob(setting="a", lo=0.3, hi=0.9, unit="1"),
+    ContactKnob(setting="p", lo=0.0, hi=0.5, unit="1"),
+    ContactKnob(setting="t", lo=1e-4, hi=1e-2, unit="s", log=True),
+)
+TRUE_X = (0.56, 0.18, 8e-4)
+TARGET = CorLaw(cor_ref=TRUE_X[0], speed_ref_mps=SPEED_REF_MPS, exponent=TRUE_X[1])
+#: A smooth closed-form model meets its target exactly at TRUE_X: the fit stops at
+#: least_squares' default xtol (1e-8 relative in unit coordinates), which a 2-point
+#: difference of step FD_STEP on a power law leaves near 1e-6; 1e-5 relative bounds it.
+RECOVER_REL = 1e-5
+
+
+class Synthetic:
+    """A closed-form probe: COR = a (v/v_ref)^-p, contact t, its Jacobian exact."""
+
+    knobs = SYNTHETIC_KNOBS
+
+    def __init__(self, exact_jacobian: bool) -> None:
+        self.impacts, self.exact = 0, exact_jacobian
+
+    def measure(self, x: np.ndarray, speeds: Sequence[float]) -> rf.Measured:
+        a, p, t = x
+        v = np.asarray(speeds) / SPEED_REF_MPS
+        self.impacts += len(speeds)
+        return rf.Measured(cor=a * v**-p, contact_s=np.full(len(v), t), sound=np.ones(len(v), bool))
+
+    def derivative(self, x: np.ndarray, speeds: Sequence[float]) -> np.ndarray | None:
+        # d/da a v^-p = v^-p; d/dp = -a v^-p ln v; the COR does not depend on t
+        a, p, _ = x
+        v = np.asarray(speeds) / SPEED_REF_MPS
+        self.impacts += len(speeds)
+        return np.stack([v**-p, -a * v**-p * np.log(v), 0.0 * v], axis=1)
+
+
+@pytest.mark.parametrize("gradient", [False, True], ids=["finite_differences", "gradient"])
+def test_fit_recovers_known_parameters_from_synthetic_targets(gradient):
+    probe = Synthetic(exact_jacobian=gradient)
+    got = rf.fit(
+        probe,
+        rf.FIT_SPEEDS_MPS,
+        (0.45, 0.05, 3e-4),
+        lasts=True,
+        law=TARGET,
+        contact_s=TRUE_X[2],
+        gradient=gradient,
+    )
+    np.testing.assert_allclose(got.x, TRUE_X, rtol=RECOVER_REL)
+    assert got.cost < 1e-12, got
+
+
+def test_gradient_fit_agrees_with_fd_and_fires_fewer_impacts():
+    # the same optimum (within RECOVER_REL of each other) and, with the COR rows' Jacobian
+    # from the derivative, fewer impacts: each iteration fires every speed once and the
+    # contact time's row at one speed per knob, not every speed per knob
+    fd, grad = (
+        rf.fit(
+            Synthetic(g),
+            rf.FIT_SPEEDS_MPS,
+            (0.45, 0.05, 3e-4),
+            lasts=True,
+            law=TARGET,
+            contact_s=TRUE_X[2],
+            gradient=g,
+        )
+        for g in (False, True)
+    )
+    np.testing.assert_allclose(grad.x, fd.x, rtol=2 * RECOVER_REL)
+    assert grad.impacts < fd.impacts, (grad, fd)
+
+
+def test_unit_coordinates_round_trip_and_bounds():
+    # u = 1 + (x - lo)/(hi - lo), or 1 + ln(x/lo)/ln(hi/lo): x -> u -> x to float precision
+    x = np.array(TRUE_X)
+    np.testing.assert_allclose(rf.from_unit(SYNTHETIC_KNOBS, rf.to_unit(SYNTHETIC_KNOBS, x)), x)
+    np.testing.assert_allclose(rf.to_unit(SYNTHETIC_KNOBS, [k.lo for k in SYNTHETIC_KNOBS]), 1.0)
+    np.testing.assert_allclose(rf.to_unit(SYNTHETIC_KNOBS, [k.hi for k in SYNTHETIC_KNOBS]), 2.0)
+
+
+def _constant_e_engine() -> str:
+    """The cheapest installed engine whose ball is one restitution e (records only)."""
+    return min(
+        (n for n in adapters.available() if not adapters.record(n).ball.speed_dependent),
+        key=lambda n: adapters.record(n).cost.step_cost_s,
+    )
+
+
+#: A rigid impulse delivers e to roundoff: 1e-6 covers float32 engines (unit roundoff 6e-8
+#: times the few operations of an impulse) and the optimiser's xtol.
+E_TOL = 1e-6
+
+
+def test_a_constant_e_engine_recovers_a_flat_laws_e_through_the_harness():
+    # a flat law (exponent 0) is one e at every speed: COR = (v1 - u1)/v0 = e on a wall
+    engine = _constant_e_engine()
+    flat = CorLaw(cor_ref=0.6, speed_ref_mps=SPEED_REF_MPS, exponent=0.0)
+    got = rf.fit(rf.EngineProbe(engine), (10.0, 40.0), (0.5,), lasts=False, law=flat)
+    assert abs(got.x[0] - 0.6) < E_TOL, got
+
+
+def test_a_held_out_check_fails_when_the_knobs_are_perturbed():
+    # fitted to COR_LAW, e lies within COR_LAWS' range at every held-out speed; 0.1 higher
+    # it leaves the range at 85 ft/s, whose half width is MLB's 0.032
+    engine = _constant_e_engine()
+    best = rf.fit(rf.EngineProbe(engine), (10.0, 40.0, 60.0), (0.5,), lasts=False)
+    held = realball.speed_rows(engine, best.x, (), rf.HELD_OUT_SPEEDS_MPS)
+    assert all(r["in_range"] for r in held), held
+    moved = realball.speed_rows(engine, (best.x[0] + 0.1,), (), rf.HELD_OUT_SPEEDS_MPS)
+    out = [r["speed_mps"] for r in moved if not r["in_range"]]
+    assert SPEED_REF_MPS in out, moved
+    lo, hi = cor_range(SPEED_REF_MPS)
+    assert hi - lo == pytest.approx(0.064)
+
+
+#: The declared speed dependence, measured: a speed-dependent contact's COR at its start
+#: moves by more than SPEED_DEPENDENT_MIN between 10 and 60 m/s; a constant one by less than
+#: CONSTANT_MAX (float32 roundoff and a solver's tolerance on a rigid e, 1e-6 measured).
+SPEED_DEPENDENT_MIN, CONSTANT_MAX = 5e-3, 1e-4
+
+
+def _engines_slow_ones_full():
+    out = []
+    for n in adapters.available():
+        rec = adapters.record(n)
+        slow = rec.batched or rec.cost.step_cost_s > 1e-4
+        out.append(pytest.param(n, marks=[pytest.mark.full] if slow else [], id=n))
+    return out
+
+
+@pytest.mark.parametrize("engine", _engines_slow_ones_full())
+def test_declared_speed_dependence_is_measured(engine):
+    ball = adapters.record(engine).ball
+    m = rf.EngineProbe(engine).measure(np.array(ball.start), (10.0, 60.0))
+    assert m.sound.all(), m
+    moved = abs(m.cor[1] - m.cor[0])
+    if ball.speed_dependent:
+        assert moved > SPEED_DEPENDENT_MIN, (engine, m.cor)
+    else:
+        assert moved < CONSTANT_MAX, (engine, m.cor)
+
+
+def test_sweet_spot_is_the_parabolas_vertex():
+    # v1 = -(s - 0.07)^2 sampled on a grid: the vertex is 0.07 exactly (a parabola)
+    s = np.linspace(-0.2, 0.3, 11)
+    assert realball.sweet_spot_m(s, -((s - 0.07) ** 2)) == pytest.approx(0.07, abs=1e-12)
