@@ -34,6 +34,8 @@ from ..core.fire import Job, fire_jobs
 from ..core.hosting import hosted
 from ..core.placement import start_state
 
+#: How a fit is made: by finite differences (every engine), by the engine's own derivative.
+METHODS = ("finite differences", "gradient")
 #: Speeds the fit holds the COR at (m/s): the range a game has, 10-60 m/s.
 FIT_SPEEDS_MPS = (10.0, 20.0, 30.0, 40.0, 50.0, 60.0)
 #: Speeds kept out of the fit and fired again (m/s): MLB's 85 ft/s [mlbcor] among them.
@@ -274,6 +276,6 @@ def fit(
         impacts=probe.impacts - n0,
         evaluations=int(res.nfev + (res.njev or 0)),
         wall_s=time.perf_counter() - t0,
-        method="gradient" if gradient else "finite differences",
+        method=METHODS[1] if gradient else METHODS[0],
         message=str(res.message),
     )
