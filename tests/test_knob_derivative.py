@@ -12,7 +12,7 @@ moves of 1e-13, whose true effect is far below it) and h^2 f''' / 6 estimated by
 |D(2h) - D(h)| / 3. The noise is not eps |v1|: a float64 MJX step solves its contact with a
 Newton search and line search whose last bits jump (1.5e-9 m/s at 20 m/s, 7e-9 at 50,
 measured); at h = 1e-3 of the knob the two terms are of one size for solref[0]
-(truncation ~ 4e-2 (m/s)/s against ~ 1e-2 of rounding), and the sum stays below 1e-4 of
+(truncation ~ 5e-2 (m/s)/s against ~ 6e-3 of rounding, at 20 m/s), and the sum stays below 1e-4 of
 each derivative.
 
 The mapping from settings to the model's arrays (``mujoco.model.contact_tangents``) is
