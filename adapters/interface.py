@@ -23,10 +23,12 @@ hands: without it the engine sits out the swing studies), ``failed``, ``set_body
 
 **Batched form** (``BatchedEngine``): the same members over ``n`` independent worlds at once,
 arrays of floats in and out, one row per world in ``STATE_FIELDS`` order (a planar engine may
-leave the out-of-plane columns out), but ``set_body_restitution``; four optional more:
-``derivative``, the engine's own automatic differentiation through an impact, ``device``,
-where its worlds live, ``anchor_s``, its library's own batched call timed bare, and
-``device_episode``, the episode observed where the worlds live (``adapters.device``).
+leave the out-of-plane columns out), but ``set_body_restitution``; five optional more:
+``derivative``, the engine's own automatic differentiation through an impact (by its start
+state and the bat's inertia), ``knob_derivative``, the same by its settings' contact knobs
+(a fit of the contact to a measured law), ``device``, where its worlds live, ``anchor_s``,
+its library's own batched call timed bare, and ``device_episode``, the episode observed
+where the worlds live (``adapters.device``).
 
 What the harness holds an adapter to, whatever it does (``experiments.core.fire.guarded``): a
 read of the wrong shape or kind, a contact flag its own state denies, an exception, an exit or
@@ -272,6 +274,18 @@ class BatchedEngine(abc.ABC):
         inertia about its COM moving at ``inertia_tangent_kgm2`` along it. Optional: an
         engine without it is judged by finite differences alone (the error says why)."""
         raise NotImplementedError(f"{type(self).__name__} has no automatic differentiation")
+
+    def knob_derivative(
+        self, states: np.ndarray, steps: int, knobs: Sequence[tuple[str, int | None]]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The engine's own automatic differentiation through ``steps`` steps from ``states``
+        (n, 20), the worlds built with these settings, by each of ``knobs``: a settings field
+        and its element's index (None: a scalar field), the derivative by the SETTINGS value
+        (chained through however the adapter maps it onto the engine). The end states (n, 11:
+        the ``PLANAR_FIELDS``) and their derivatives (n, 11, k), one column per knob, all in
+        one call. A knob the engine cannot differentiate, or one its contact ignores, is a
+        ValueError naming the ones it can, before any work. Optional."""
+        raise NotImplementedError(f"{type(self).__name__} has no derivative by its settings")
 
     def set_body_friction(self, *, bat: float, ball: float) -> None:
         """As ``Engine.set_body_friction``, in every world. Optional."""

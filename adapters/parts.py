@@ -111,7 +111,9 @@ class Capabilities:
     most of its worlds the harness holds in one process (a hard limit of the engine, or its
     memory), None for no limit: a long run's batch of engines (``experiments.core.hosting``)
     stays within it. ``autodiff``: how its adapter's ``derivative`` differentiates an impact
-    ("" for none: the harness takes finite differences). ``pool_adapter``: "module:Class" of
+    ("" for none: the harness takes finite differences); ``knob_autodiff``: how its adapter's
+    ``knob_derivative`` differentiates one by the settings' contact knobs ("" for none: the
+    member refuses, saying why). ``pool_adapter``: "module:Class" of
     a ``BatchedEngine`` that holds many of a single-world engine's worlds in one instance, each
     bit for bit as alone (a long run's pool is stepped on it, not on one adapter a world)."""
 
@@ -126,6 +128,7 @@ class Capabilities:
     twin_of: str | None = None
     max_worlds: int | None = None
     autodiff: str = ""
+    knob_autodiff: str = ""
     pool_adapter: str | None = None
 
     def __post_init__(self) -> None:

@@ -21,8 +21,8 @@ from ..device import ArrayDevice, EpisodeConstants
 from ..frames import in_plane, mujoco_columns, mujoco_coordinates, mujoco_rows
 from ..interface import STATE_FIELDS, BatchedEngine, Hands, MassProperties, Scene
 from ..mujoco.model import port_model
-from . import INTEGRATORS, RECORD, RECORD_64
-from .gradients import derivative
+from . import INTEGRATORS, KNOB_FLOAT32, RECORD, RECORD_64
+from .gradients import derivative, knob_derivative
 from .runtime import bucket, jax, jnp, mjx
 
 
@@ -124,6 +124,7 @@ class MjxEngine(BatchedEngine):
     def build(self, scene: Scene, worlds: int) -> None:
         st = self.settings
         m = _host_model(scene, st)
+        self._e = scene.e  # what the tuned contacts' solref maps (``knob_derivative``)
         self._site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, "load")
         self._ids = {
             kind: mujoco.mj_name2id(m, obj, "bat")
@@ -260,6 +261,13 @@ class MjxEngine(BatchedEngine):
     def derivative(self, states, tangents, steps: int, inertia_tangent_kgm2: float = 0.0):
         return derivative(  # JAX's jvp through mjx.step (its docstring)
             self, states, tangents, steps, inertia_tangent_kgm2
+        )
+
+    def knob_derivative(self, states, steps: int, knobs):
+        if not self.record.can.knob_autodiff:  # float32 (KNOB_FLOAT32)
+            raise NotImplementedError(f"{self.record.name} has no knob_derivative: {KNOB_FLOAT32}")
+        return knob_derivative(  # jvp along the contact arrays each knob moves (its docstring)
+            self, states, steps, knobs
         )
 
     def device_episode(self, constants: EpisodeConstants) -> ArrayDevice:

@@ -124,3 +124,48 @@ def carried(solref: tuple, d: float, st) -> tuple:
     """A direct-form solref times d + (1 - d) invweight_scale: 1 for a port's own regulariser
     (MuJoCo C's values), d once the regulariser is scaled away (the ports' docstrings)."""
     return tuple(x * (d + (1.0 - d) * st.invweight_scale) for x in solref)
+
+
+#: The settings knobs a port's contact model turns into its contact arrays (the others it
+#: ignores), each (settings field, element index or None for a scalar): what
+#: ``contact_tangents`` differentiates.
+CONTACT_KNOBS = {
+    "native": (("solref", 0), ("solref", 1), *(("solimp", i) for i in range(5))),
+    "soft": (("soft_omega_radps", None), ("impedance", None)),
+    "impulse": (("impedance", None),),
+}
+#: The contact arrays of a port's model (one row per geom or pair, every row alike).
+CONTACT_ARRAYS = {"geom_solref": 2, "geom_solimp": 5, "pair_solref": 2, "pair_solimp": 5}
+
+
+def contact_tangents(st, e: float, knob: tuple) -> dict[str, tuple[float, ...]]:
+    """The derivative of one row of each of ``port_model``'s contact arrays (CONTACT_ARRAYS)
+    with respect to a settings knob, chained through ``contact_parameters`` and ``carried``:
+    native, solref and solimp as given (the identity); soft, solref = c (-w^2, -2 zeta w)
+    with zeta fixed by e and c = d + (1-d) s (s = ``invweight_scale``), a pair's with c at
+    ``friction_impedance``; impulse, solref = c (0, -(1+e)/dt); both with solimp (d, d, ...).
+    A knob not in CONTACT_KNOBS for the settings' contact model: ValueError."""
+    supported = CONTACT_KNOBS[st.contact_model]
+    if knob not in supported:
+        raise ValueError(
+            f"knob {knob!r} does not act on the {st.contact_model} contact; supported: "
+            f"{', '.join(map(repr, supported))}"
+        )
+    out = {name: (0.0,) * size for name, size in CONTACT_ARRAYS.items()}
+    field, index = knob
+    if st.contact_model == "native":  # port_model writes solref and solimp as given
+        out[f"geom_{field}"] = tuple(
+            float(j == index) for j in range(CONTACT_ARRAYS[f"geom_{field}"])
+        )
+        return out
+    s = st.invweight_scale
+    solref, _ = contact_parameters(st, e)
+    if field == "impedance":  # dc/dd = 1 - s; the pair's c is friction_impedance's
+        out["geom_solref"] = tuple((1.0 - s) * x for x in solref)
+        out["geom_solimp"] = (1.0, 1.0, 0.0, 0.0, 0.0)
+        return out
+    w = st.soft_omega_radps  # d(-w^2, -2 zeta w)/dw = (2 solref0 / w, solref1 / w)
+    slope = (2.0 * solref[0] / w, solref[1] / w)
+    out["geom_solref"] = carried(slope, st.impedance, st)
+    out["pair_solref"] = carried(slope, st.friction_impedance, st)
+    return out
