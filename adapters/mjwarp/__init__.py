@@ -52,7 +52,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings, native_ball
+from ..mujoco import NATIVE_FRICTION, PORT_BALL, RegularisedErrors, RegularisedSettings
 from ..records import (
     Batching,
     Capabilities,
@@ -222,5 +222,5 @@ RECORD = EngineRecord(
         why="one Data holds every world (nworld) and each step is one captured call of "
         "mujoco_warp.step: batched by design",
     ),  # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
-    ball=native_ball(invweight_scale=1.0),
+    ball=PORT_BALL,
 )

@@ -40,7 +40,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from ..mujoco import NATIVE_FRICTION, RegularisedErrors, RegularisedSettings, native_ball
+from ..mujoco import NATIVE_FRICTION, PORT_BALL, RegularisedErrors, RegularisedSettings
 from ..records import (
     Batching,
     Capabilities,
@@ -229,7 +229,7 @@ RECORD = EngineRecord(
         why="the adapter steps every world in one jitted call of mjx.step vmapped over the "
         "worlds (jax.vmap): batched by design",
     ),  # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
-    ball=native_ball(invweight_scale=1.0),
+    ball=PORT_BALL,
 )
 
 #: The same engine in float64, its regulariser made negligible, as diagexact does in C (package

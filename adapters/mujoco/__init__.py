@@ -166,19 +166,39 @@ NATIVE_KNOBS = (
 )
 
 
-def native_ball(**overrides) -> BallContact:
-    """MuJoCo's soft constraint as the ball's contact (NATIVE_KNOBS), with ``overrides`` to
-    the reference profile besides ``contact_model="native"`` (a port's own regulariser)."""
+#: Where a fit of NATIVE_KNOBS starts: an impedance rising with depth (d0 < d_width), which
+#: MuJoCo C and its ports compute alike; MJX and MuJoCo Warp clip the impedance into
+#: [d0, d_width], so a falling one (d0 > d_width) is d_width at every depth there.
+NATIVE_START = (1e-3, 0.2, 0.4, 0.95, 0.003)
+
+
+def native_ball(why: str = "", **overrides) -> BallContact:
+    """MuJoCo's soft constraint as the ball's contact (NATIVE_KNOBS, from NATIVE_START), with
+    ``overrides`` to the reference profile besides ``contact_model="native"`` (a port's own
+    regulariser and solver) and what they are for (``why``)."""
     return BallContact(
         overrides={"contact_model": "native", **overrides},
         knobs=NATIVE_KNOBS,
-        start=(1e-3, 0.2, 0.95, 0.4, 0.003),
+        start=NATIVE_START,
         speed_dependent=True,
         lasts=True,
         dt_s=1e-5,
         why="solref/solimp as given: an impedance that changes with depth makes e change "
-        "with speed; solref's time constant sets the contact time",
+        "with speed; solref's time constant sets the contact time" + why,
     )
+
+
+#: A port's ball on the wall: MJX and MuJoCo Warp stop their solver when its improvement,
+#: divided by the mass matrix's trace (4e12 with the wall's 1e12 kg), is under ``tolerance``:
+#: at 1e-8 before its first iteration, so the ball's velocity moved in flat steps through
+#: the contact. Four iterations, no early stop (eight give the same bits).
+PORT_BALL = native_ball(
+    ". The port's own regulariser (invweight_scale 1); tolerance 0 and 4 iterations, "
+    "the solver's early stop being scaled by the wall's mass",
+    invweight_scale=1.0,
+    tolerance=0.0,
+    iterations=4,
+)
 
 
 SOFT_OMEGAS_RADPS = (1000.0, 3000.0, 10000.0)  # soft-contact stiffnesses of the speed study

@@ -134,7 +134,7 @@ class EngineProbe:
         """Whether the engine's adapter differentiates its end states along these knobs."""
         if any(k.setting == RESTITUTION_KNOB for k in self.knobs):
             return False
-        return hasattr(adapters.engine_class(self.engine), "knob_derivative")
+        return bool(adapters.record(self.engine).can.knob_autodiff)
 
     def derivative(self, x: np.ndarray, speeds: Sequence[float]) -> np.ndarray | None:
         """dCOR/dx (n, k): (d ball_vy - d bat_vy)/v0 from the adapter's ``knob_derivative``
