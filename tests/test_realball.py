@@ -13,6 +13,7 @@ import pytest
 import adapters
 from adapters import ContactKnob
 from analytic.ball import SPEED_REF_MPS, CorLaw, cor_range
+from analytic.compliant import hunt_crossley_restitution
 from experiments import realball
 from experiments.parts import realball_fit as rf
 
@@ -162,3 +163,44 @@ def test_sweet_spot_is_the_parabolas_vertex():
     # v1 = -(s - 0.07)^2 sampled on a grid: the vertex is 0.07 exactly (a parabola)
     s = np.linspace(-0.2, 0.3, 11)
     assert realball.sweet_spot_m(s, -((s - 0.07) ** 2)) == pytest.approx(0.07, abs=1e-12)
+
+
+def _differentiating():
+    return [n for n in adapters.available() if adapters.record(n).can.knob_autodiff]
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("engine", _differentiating())
+def test_the_probes_cor_derivative_is_the_finite_difference_of_its_cor(engine):
+    # dCOR/dx = (d ball_vy - d bat_vy)/v0 from the adapter's knob_derivative against a
+    # central difference of the fired COR at +-1e-3 of each knob: truncation h^2 COR'''/6
+    # and the engine's noise (solver bits, ~1e-8 m/s over v0 / h ~ 1e-6) are under 1e-4 of
+    # the derivatives here (``test_knob_derivative``); 1e-3 relative, or 1e-3 of the largest
+    # where one is near zero, with margin.
+    probe = rf.EngineProbe(engine)
+    x, speeds = np.array(adapters.record(engine).ball.start), (20.0, 50.0)
+    probe.measure(x, speeds)  # (the episode's steps, which the derivative follows)
+    d = probe.derivative(x, speeds)
+    for j, knob in enumerate(probe.knobs):
+        h = 1e-3 * x[j]
+        up, down = x.copy(), x.copy()
+        up[j], down[j] = x[j] + h, x[j] - h
+        fd = (probe.measure(up, speeds).cor - probe.measure(down, speeds).cor) / (2 * h)
+        scale = np.abs(d).max(axis=1)
+        assert np.all(np.abs(d[:, j] - fd) <= 1e-3 * np.maximum(np.abs(fd), scale)), (knob, d, fd)
+
+
+def test_no_hunt_crossley_dissipation_keeps_a_ball_in_range_at_five_speeds():
+    # Hunt-Crossley (Drake's point contact, any exponent): a - ln(1 + a) = -e a - ln(1 - e a)
+    # with a = d v (``compliant.hunt_crossley_restitution``), so e falls with d v alone,
+    # faster than COR_LAWS' steepest (v^-1/4): over every d that keeps 85 ft/s within
+    # MLB's band, at most 4 of the study's 9 speeds from 15 to 55 m/s lie within the range,
+    # under the bar's 5. Why Drake's fit cannot reach it.
+    speeds = (15.0, 20.0, SPEED_REF_MPS, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0)
+    best = 0
+    for d in np.geomspace(1e-4, 1.0, 2000):
+        e = [hunt_crossley_restitution(d, v) for v in speeds]
+        if abs(e[2] - 0.546) > 0.032:
+            continue
+        best = max(best, sum(lo <= c <= hi for c, (lo, hi) in zip(e, map(cor_range, speeds))))
+    assert best == 4
