@@ -5,9 +5,12 @@ when the fitted knobs are perturbed; each engine's declared speed dependence is 
 
 from __future__ import annotations
 
+import json
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import adapters
@@ -204,3 +207,22 @@ def test_no_hunt_crossley_dissipation_keeps_a_ball_in_range_at_five_speeds():
             continue
         best = max(best, sum(lo <= c <= hi for c, (lo, hi) in zip(e, map(cor_range, speeds))))
     assert best == 4
+
+
+def test_the_readmes_baseball_numbers_are_the_committed_results():
+    # every number the README's "A baseball in your engine" quotes, read from the table the
+    # command wrote (results/realball_fits.csv), rounded as quoted
+    root = Path(__file__).resolve().parents[1]
+    text = (root / "README.md").read_text()
+    section = text[text.index("## A baseball in your engine") : text.index("## What the findings")]
+    fits = pd.read_csv(root / "results" / "realball_fits.csv")
+    fd = fits[fits.method == rf.METHODS[0]].set_index("engine")
+    grad = fits[fits.method == rf.METHODS[1]].set_index("engine")
+    soft = fd[fd.speed_dependent & fd.in_mlb_band]
+    flat = fd[~fd.speed_dependent]
+    assert f"{soft.speeds_in_range.min()}/{soft.speeds_checked.max()} speeds" in section
+    assert f"sweet spot {100 * soft.sweet_spot_m.mean():.1f} cm" in section
+    assert f"the ball's {100 * soft.sweet_spot_ball_m.mean():.1f}" in section
+    (engine,) = grad.index
+    assert f"in {grad.impacts[engine]} impacts, not {fd.impacts[engine]}" in section
+    assert f"constant e ({json.loads(flat.knobs.iloc[0])['e']:.3f})" in section
