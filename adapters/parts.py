@@ -276,7 +276,8 @@ class ContactKnob:
 
 @dataclass(frozen=True, kw_only=True)
 class BallContact:
-    """The contact model a real ball is fitted in (``experiments.realball``): the settings
+    """A contact model a real ball is fitted in (``experiments.realball``), named by ``label``
+    (a few words, unique within its record: a table's ``model`` column): the settings
     ``overrides`` that switch the engine to it (applied to its reference profile; ``dt_s``
     the fit's step, None: the profile's), the ``knobs`` fitted and ``start`` their first
     guess (one per knob, a sound contact), whether its COR depends on impact speed
@@ -285,6 +286,7 @@ class BallContact:
     words. The default:
     one restitution e, the same at every speed (a rigid impulse)."""
 
+    label: str = "restitution e"
     overrides: Mapping[str, Any] = field(default_factory=dict)
     knobs: tuple[ContactKnob, ...] = (
         ContactKnob(setting=RESTITUTION_KNOB, lo=0.05, hi=1.0, unit="1"),
@@ -297,6 +299,8 @@ class BallContact:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "overrides", MappingProxyType(dict(self.overrides)))
+        if not self.label:
+            raise ValueError("BallContact: label=''; allowed: a few words naming the model")
         if len(self.start) != len(self.knobs) or not self.knobs:
             raise ValueError(
                 f"BallContact: {len(self.start)} start values for {len(self.knobs)} knobs; "

@@ -124,8 +124,9 @@ class EngineRecord:
     ``engine_defaults``: the engine's own out-of-the-box values of settings fields (what the
     README quotes), each read back (``read_back_defaults``) or measured: a test pins both.
     ``cost``: what a step costs, for estimates. ``look``: how charts and the report show it.
-    ``studies``: what the studies vary in it. ``ball``: the contact model a real ball is
-    fitted in and its knobs (``experiments.realball``). ``batching``: what its library
+    ``studies``: what the studies vary in it. ``balls``: the contact models a real ball is
+    fitted in, each with its knobs (``experiments.realball`` fits every one and names the
+    best; one or more, labels unique). ``batching``: what its library
     offers to step many worlds at once and whether the harness uses it (None: the record
     does not say; every built-in engine says).
     """
@@ -141,7 +142,7 @@ class EngineRecord:
     look: Presentation = Presentation()
     studies: Studies = Studies()
     batching: Batching | None = None
-    ball: BallContact = BallContact()
+    balls: tuple[BallContact, ...] = (BallContact(),)
 
     def __post_init__(self) -> None:
         missing = [p for p in PROFILES if p not in self.profiles]
@@ -159,6 +160,12 @@ class EngineRecord:
             raise ValueError(
                 f"engine {self.name!r}: cost.pool_world_make_s without can.pool_adapter; "
                 "allowed: a pool world's cost for an engine that has a pool adapter"
+            )
+        labels = [b.label for b in self.balls]
+        if not labels or len(set(labels)) != len(labels):
+            raise ValueError(
+                f"engine {self.name!r}: balls labelled {labels}; allowed: one or more ball "
+                "models, each label once"
             )
         object.__setattr__(self, "profiles", MappingProxyType(dict(self.profiles)))
         object.__setattr__(self, "engine_defaults", MappingProxyType(dict(self.engine_defaults)))

@@ -2,18 +2,20 @@
 
     python -m experiments.realball [--engine NAME[,NAME...]|all] [--quick]
 
-For each engine, the knobs its record declares (``EngineRecord.ball``: a restitution e, or a
-soft contact's stiffness, damping and impedance, each with its range) are fitted by least
+For each engine and each ball model its record declares (``EngineRecord.balls``: a
+restitution e, or a soft contact's stiffness, damping and impedance, each knob with its
+range), the knobs are fitted by least
 squares so that the baseball fired centrally at a rigid wall bounces with COR_LAW's COR at 10
 to 60 m/s (each residual in units of COR_LAWS' half range, MLB's +-0.032 at 85 ft/s [mlbcor])
 and, where its contact lasts, stays 0.7 ms in contact at 40 m/s ([nathan2000], the force's
 duration: CONTACT_DEFINITIONS "force"); by finite differences, and also with the engine's own
-derivative where its adapter has ``knob_derivative``. Then, with the fitted knobs, fired
+derivative where its adapter has ``knob_derivative``; an engine's best model is the one
+whose finite-difference fit costs least (``best``). Then, with each model's fitted knobs, fired
 again: speeds the fit did not use, a still R161 (against the realistic ball and the band), and
 the paper's swing along the bat against the realistic-ball reference (RealisticBall through
 ``analytic.compliant``), whose sweet spot each engine's ball moves. Writes realball.csv (per
-engine and speed), realball_fits.csv (per engine and fit), realball_sweet.csv (per engine and
-impact point) and realball.png.
+engine, model and speed), realball_fits.csv (per engine, model and fit), realball_sweet.csv
+(per engine, model and impact point), realball.md and realball.png.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ import numpy as np
 import pandas as pd
 
 import adapters
+from adapters import BallContact
 from analytic import ImpactCase, compliant, predict, presets
 from analytic.ball import COR_LAW, REALISTIC_BALL, SPEED_REF_MPS, cor_range
 
@@ -34,7 +37,7 @@ from .core import firings
 from .core.cli import Command
 from .core.endings import Physics
 from .core.fire import Job, fire_jobs
-from .parts import realball_chart
+from .parts import realball_chart, realball_report
 from .parts import realball_fit as rf
 
 #: The bars (issue 59): the speeds the range is checked at lie in 15-55 m/s, at five or more.
@@ -51,15 +54,15 @@ AGREE_COR_BANDS, AGREE_COST_REL = 0.1, 0.1
 QUICK_EVALUATIONS = 12
 
 
-def _fired_cor(engine: str, x, speeds) -> rf.Measured:
+def _fired_cor(engine: str, ball: BallContact, x, speeds) -> rf.Measured:
     """The fitted knobs fired at ``speeds`` through the harness."""
-    return rf.EngineProbe(engine).measure(np.asarray(x), speeds)
+    return rf.EngineProbe(engine, ball).measure(np.asarray(x), speeds)
 
 
-def speed_rows(engine: str, x, fit_speeds, held_speeds) -> list[dict]:
-    """One row per speed: the engine's COR and contact time against the law and its range."""
+def speed_rows(engine: str, ball: BallContact, x, fit_speeds, held_speeds) -> list[dict]:
+    """One row per speed: the model's COR and contact time against the law and its range."""
     speeds = (*fit_speeds, *held_speeds)
-    m = _fired_cor(engine, x, speeds)
+    m = _fired_cor(engine, ball, x, speeds)
     rows = []
     for i, v in enumerate(speeds):
         lo, hi = cor_range(v)
@@ -67,6 +70,7 @@ def speed_rows(engine: str, x, fit_speeds, held_speeds) -> list[dict]:
         rows.append(
             {
                 "engine": engine,
+                "model": ball.label,
                 "speed_mps": v,
                 "role": "fit" if i < len(fit_speeds) else "held_out",
                 "cor_engine": c,
@@ -81,10 +85,10 @@ def speed_rows(engine: str, x, fit_speeds, held_speeds) -> list[dict]:
     return rows
 
 
-def bat_rows(engine: str, x) -> list[dict]:
+def bat_rows(engine: str, ball: BallContact, x) -> list[dict]:
     """The still R161 hit at BAT_POINTS_M: v1 against the realistic ball and impulse theory's
     v1 at COR_LAWS' extremes (the band the engine's v1 should fall in)."""
-    settings, e = rf.settings_at(engine, x)
+    settings, e = rf.settings_at(engine, ball, x)
     cases = [
         ImpactCase(bat=presets.R161, ball=presets.BASEBALL, s_m=s, v0_mps=BAT_SPEED_MPS, e=e)
         for s in BAT_POINTS_M
@@ -107,9 +111,9 @@ def bat_rows(engine: str, x) -> list[dict]:
     return rows
 
 
-def sweet_rows(engine: str, x, points: int) -> pd.DataFrame:
+def sweet_rows(engine: str, ball: BallContact, x, points: int) -> pd.DataFrame:
     """The paper's swing along the R161 with the fitted ball against the realistic ball."""
-    settings, e = rf.settings_at(engine, x)
+    settings, e = rf.settings_at(engine, ball, x)
     swing = presets.PAPER_SWING
     firing = firings.Firing(
         bat=presets.R161,
@@ -128,6 +132,7 @@ def sweet_rows(engine: str, x, points: int) -> pd.DataFrame:
     return pd.DataFrame(
         {
             "engine": engine,
+            "model": ball.label,
             "s_m": firing.s_m,
             "physics": [f.outcome.physics.value for f in fired],
             "ended": [f.outcome.ended for f in fired],
@@ -150,12 +155,11 @@ def sweet_spot_m(s: np.ndarray, v1: np.ndarray) -> float:
     return float(-b / (2 * a)) if a < 0 else float(s[i])
 
 
-def fits(engine: str, quick: bool) -> list[rf.Fit]:
-    """The engine's fits: finite differences, and with its derivative where it has one."""
-    ball = adapters.record(engine).ball
+def fits(engine: str, ball: BallContact, quick: bool) -> list[rf.Fit]:
+    """A model's fits: finite differences, and with the engine's derivative where it has one."""
     speeds = rf.QUICK_FIT_SPEEDS_MPS if quick else rf.FIT_SPEEDS_MPS
     cap = QUICK_EVALUATIONS if quick else rf.MAX_EVALUATIONS
-    probe = rf.EngineProbe(engine)
+    probe = rf.EngineProbe(engine, ball)
     out = [rf.fit(probe, speeds, ball.start, lasts=ball.lasts, max_evaluations=cap)]
     if probe.has_derivative():
         out.append(
@@ -164,25 +168,28 @@ def fits(engine: str, quick: bool) -> list[rf.Fit]:
     return out
 
 
-def study(engine: str, quick: bool) -> tuple[list[dict], list[dict], pd.DataFrame]:
-    """One engine: its fits, its speeds (fitted and held out), bat and sweet-spot rows."""
-    rec = adapters.record(engine)
+def study(
+    engine: str, ball: BallContact, quick: bool
+) -> tuple[list[dict], list[dict], pd.DataFrame]:
+    """One model of an engine: its fits, its speeds (fitted and held out), bat and sweet-spot
+    rows."""
     fit_speeds = rf.QUICK_FIT_SPEEDS_MPS if quick else rf.FIT_SPEEDS_MPS
     held = rf.QUICK_HELD_OUT_SPEEDS_MPS if quick else rf.HELD_OUT_SPEEDS_MPS
-    done = fits(engine, quick)
+    done = fits(engine, ball, quick)
     best = done[0]
-    speeds = speed_rows(engine, best.x, fit_speeds, held)
-    sweet = sweet_rows(engine, best.x, QUICK_SWEET_POINTS if quick else SWEET_POINTS)
-    bat = bat_rows(engine, best.x)
+    speeds = speed_rows(engine, ball, best.x, fit_speeds, held)
+    sweet = sweet_rows(engine, ball, best.x, QUICK_SWEET_POINTS if quick else SWEET_POINTS)
+    bat = bat_rows(engine, ball, best.x)
     ref_spot = sweet_spot_m(sweet.s_m.to_numpy(), sweet.v1_ball_mps.to_numpy())
     ranged = [r for r in speeds if BAR_LO_MPS <= r["speed_mps"] <= BAR_HI_MPS]
     mlb = next(r for r in speeds if r["speed_mps"] == SPEED_REF_MPS)
     summary = {
         "engine": engine,
-        "speed_dependent": rec.ball.speed_dependent,
-        "knobs": json.dumps(dict(zip((k.label for k in rec.ball.knobs), best.x))),
-        "settings": to_copy(engine, best.x),
-        "overrides": json.dumps(dict(rec.ball.overrides)),
+        "model": ball.label,
+        "speed_dependent": ball.speed_dependent,
+        "knobs": json.dumps(dict(zip((k.label for k in ball.knobs), best.x))),
+        "settings": realball_report.to_copy(engine, ball, best.x),
+        "overrides": json.dumps(dict(ball.overrides)),
         "cor_85fps": mlb["cor_engine"],
         "in_mlb_band": abs(mlb["cor_engine"] - 0.546) <= 0.032 and mlb["sound"],
         "speeds_in_range": sum(r["in_range"] for r in ranged),
@@ -198,13 +205,13 @@ def study(engine: str, quick: bool) -> tuple[list[dict], list[dict], pd.DataFram
         "sweet_points_apart": int(np.isfinite(sweet.error_mps).sum()),
         "sweet_points": len(sweet),
     }
-    if not rec.ball.speed_dependent:
-        summary |= single_speed(engine)
+    if not ball.speed_dependent:
+        summary |= single_speed(engine, ball)
     fit_rows = [
         summary
         | {
             "method": f.method,
-            "fitted": json.dumps(dict(zip((k.label for k in rec.ball.knobs), f.x))),
+            "fitted": json.dumps(dict(zip((k.label for k in ball.knobs), f.x))),
             "cost": f.cost,
             "impacts": f.impacts,
             "evaluations": f.evaluations,
@@ -214,24 +221,24 @@ def study(engine: str, quick: bool) -> tuple[list[dict], list[dict], pd.DataFram
         for f in done
     ]
     if len(done) > 1:
-        fit_rows[1] |= agreement(engine, done, fit_speeds)
+        fit_rows[1] |= agreement(engine, ball, done, fit_speeds)
     return speeds, fit_rows, sweet
 
 
-def single_speed(engine: str) -> dict:
+def single_speed(engine: str, ball: BallContact) -> dict:
     """A constant-e engine's best single-speed setting (COR_LAW's e at 85 ft/s) and how far
     it lands from the law at the other speeds, fired."""
     speeds = (*rf.FIT_SPEEDS_MPS,)
     e = COR_LAW.cor(SPEED_REF_MPS)
-    m = _fired_cor(engine, [e], speeds)
+    m = _fired_cor(engine, ball, [e], speeds)
     err = m.cor - np.array([COR_LAW.cor(v) for v in speeds])
     return {"single_speed_e": e, "single_speed_max_error": float(np.max(np.abs(err)))}
 
 
-def agreement(engine: str, done: list[rf.Fit], speeds) -> dict:
+def agreement(engine: str, ball: BallContact, done: list[rf.Fit], speeds) -> dict:
     """The gradient fit against the finite-difference one: largest COR difference in half
     bands over the fit speeds, and whether they agree (AGREE_COR_BANDS, AGREE_COST_REL)."""
-    fd, grad = (_fired_cor(engine, f.x, speeds).cor for f in done[:2])
+    fd, grad = (_fired_cor(engine, ball, f.x, speeds).cor for f in done[:2])
     bands = np.array([rf.half_band(v) for v in speeds])
     gap = float(np.max(np.abs(fd - grad) / bands))
     cost_gap = abs(done[1].cost - done[0].cost) / max(done[0].cost, 1e-12)
@@ -241,109 +248,59 @@ def agreement(engine: str, done: list[rf.Fit], speeds) -> dict:
     }
 
 
-def failed_rows(engine: str, err: BaseException) -> list[dict]:
-    """An engine whose study raised: one row that says so."""
+def failed_rows(engine: str, ball: BallContact, err: BaseException) -> list[dict]:
+    """A model whose study raised: one row that says so."""
     why = "".join(traceback.format_exception_only(err)).strip().splitlines()[-1][:200]
-    return [{"engine": engine, "method": "error", "message": why}]
+    return [{"engine": engine, "model": ball.label, "method": "error", "message": why}]
+
+
+def best_models(table: pd.DataFrame) -> dict[str, str]:
+    """Per engine, the model whose finite-difference fit has the lowest cost."""
+    fd = table[table.method == rf.METHODS[0]]
+    return {e: t.model[t.cost.idxmin()] for e, t in fd.groupby("engine", sort=False)}
+
+
+def with_best(df: pd.DataFrame, best: dict[str, str]) -> pd.DataFrame:
+    """``df`` with a ``best`` column after ``model``: whether the row is its engine's best."""
+    if df.empty:
+        return df
+    out = df.copy()
+    flags = [best.get(e) == m for e, m in zip(out.engine, out.model)]
+    out.insert(out.columns.get_loc("model") + 1, "best", flags)
+    return out
 
 
 def produce(args) -> tuple[dict[str, bytes], str]:
-    """Every chosen engine's study: the tables, the chart and a summary."""
+    """Every model of every chosen engine: the tables, the chart and a summary."""
     speed_all, fit_all, sweet_all = [], [], []
     for name in args.engine:
-        try:
-            speeds, fit_rows, sweet = study(name, args.quick)
-        except Exception as err:  # noqa: BLE001 - an engine's failure is a row, not a crash
-            fit_all += failed_rows(name, err)
-            continue
-        speed_all += speeds
-        fit_all += fit_rows
-        sweet_all.append(sweet)
-    speeds = pd.DataFrame(speed_all)
+        for ball in adapters.record(name).balls:
+            try:
+                speeds, fit_rows, sweet = study(name, ball, args.quick)
+            except Exception as err:  # noqa: BLE001 - a model's failure is a row, not a crash
+                fit_all += failed_rows(name, ball, err)
+                continue
+            speed_all += speeds
+            fit_all += fit_rows
+            sweet_all.append(sweet)
     table = pd.DataFrame(fit_all)
-    sweet = pd.concat(sweet_all) if sweet_all else pd.DataFrame()
+    best = best_models(table) if "cost" in table else {}
+    speeds = with_best(pd.DataFrame(speed_all), best)
+    table = with_best(table, best)
+    sweet = with_best(pd.concat(sweet_all), best) if sweet_all else pd.DataFrame()
     files = {
         "realball.csv": _csv(speeds),
         "realball_fits.csv": _csv(table),
         "realball_sweet.csv": _csv(sweet),
-        "realball.md": markdown(table).encode(),
+        "realball.md": realball_report.markdown(table).encode(),
     }
     if len(speeds):
         files["realball.png"] = realball_chart.render(speeds)
-    return files, summary_text(table)
-
-
-def to_copy(engine: str, x) -> str:
-    """The fitted ball as the settings a user writes (``adapters.settings_for`` keywords, the
-    impact's ``e`` beside them), three significant digits: the overrides, the step and every
-    field a knob moved."""
-    ball = adapters.record(engine).ball
-    settings, e = rf.settings_at(engine, x)
-    fields = dict.fromkeys([*dict(ball.overrides), "dt_s"])
-    fields.update(dict.fromkeys(k.setting for k in ball.knobs if k.setting != rf.RESTITUTION_KNOB))
-    parts = [f"{f}={_short(getattr(settings, f))}" for f in fields]
-    if any(k.setting == rf.RESTITUTION_KNOB for k in ball.knobs):
-        parts.append(f"e={_short(e)}")
-    return ", ".join(parts)
-
-
-def _short(v) -> str:
-    if isinstance(v, tuple):
-        return "(" + ", ".join(_short(a) for a in v) + ")"
-    return f"{v:.3g}" if isinstance(v, float) else repr(v)
-
-
-def markdown(table: pd.DataFrame) -> str:
-    """The settings to copy per engine, with how close each gets (realball.md)."""
-    lines = [
-        "# A baseball in your engine",
-        "",
-        "Written by `python -m experiments.realball`. Each engine's ball contact fitted to a "
-        "wall's COR_LAW at 10-60 m/s and 0.7 ms at 40 m/s (`analytic.ball`); in range: within "
-        "COR_LAWS' range at the speeds from 15 to 55 m/s (held out: speeds the fit did not "
-        "use); sweet spot of the paper's swing, cm from the COM (the realistic ball's beside).",
-        "",
-        "| engine | settings to copy | COR at 85 ft/s | in range (held out) | contact at "
-        "40 m/s | sweet spot (ball) |",
-        "|---|---|---|---|---|---|",
-    ]
-    for r in table.to_dict("records"):
-        if r.get("method") == "error":
-            lines.append(f"| {r['engine']} | error: {r['message']} | | | | |")
-            continue
-        if r["method"] != rf.METHODS[0]:
-            continue
-        band = "" if r["in_mlb_band"] else " (out of MLB's band)"
-        lines.append(
-            f"| {r['engine']} | `{r['settings']}` | {r['cor_85fps']:.3f}{band} | "
-            f"{r['speeds_in_range']}/{r['speeds_checked']} ({r['held_out_in_range']}/"
-            f"{r['held_out']}) | {1e3 * r['contact_40_s']:.2f} ms | "
-            f"{100 * r['sweet_spot_m']:.1f} ({100 * r['sweet_spot_ball_m']:.1f}) |"
-        )
-    return "\n".join(lines) + "\n"
+    return files, realball_report.summary_text(table)
 
 
 def _csv(df: pd.DataFrame) -> bytes:
     return df.to_csv(index=False, float_format="%.6g", lineterminator="\n").encode()
-
-
-def summary_text(table: pd.DataFrame) -> str:
-    """One line per engine and fit."""
-    lines = []
-    for r in table.to_dict("records"):
-        if r.get("method") == "error":
-            lines.append(f"{r['engine']}: error: {r['message']}")
-            continue
-        lines.append(
-            f"{r['engine']} ({r['method']}): {r['fitted']}; COR at 85 ft/s "
-            f"{r['cor_85fps']:.3f} ({'in' if r['in_mlb_band'] else 'OUT of'} MLB's band), "
-            f"in range at {r['speeds_in_range']}/{r['speeds_checked']} speeds "
-            f"(held out {r['held_out_in_range']}/{r['held_out']}), contact "
-            f"{1e3 * r['contact_40_s']:.2f} ms at 40 m/s, cost {r['cost']:.3g} "
-            f"({r['impacts']} impacts), sweet spot {100 * r['sweet_spot_m']:.1f} cm "
-            f"(ball {100 * r['sweet_spot_ball_m']:.1f})"
-        )
-    return "\n".join(lines)
 
 
 COMMAND = Command(

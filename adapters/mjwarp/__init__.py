@@ -222,5 +222,5 @@ RECORD = EngineRecord(
         why="one Data holds every world (nworld) and each step is one captured call of "
         "mujoco_warp.step: batched by design",
     ),  # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
-    ball=PORT_BALL,
+    balls=(PORT_BALL,),
 )

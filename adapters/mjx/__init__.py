@@ -229,7 +229,7 @@ RECORD = EngineRecord(
         why="the adapter steps every world in one jitted call of mjx.step vmapped over the "
         "worlds (jax.vmap): batched by design",
     ),  # MJX's own regulariser (its reference's, 1e-7, would make the soft constraint rigid)
-    ball=PORT_BALL,
+    balls=(PORT_BALL,),
 )
 
 #: The same engine in float64, its regulariser made negligible, as diagexact does in C (package

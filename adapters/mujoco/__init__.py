@@ -177,6 +177,7 @@ def native_ball(why: str = "", **overrides) -> BallContact:
     ``overrides`` to the reference profile besides ``contact_model="native"`` (a port's own
     regulariser and solver) and what they are for (``why``)."""
     return BallContact(
+        label="native soft constraint",
         overrides={"contact_model": "native", **overrides},
         knobs=NATIVE_KNOBS,
         start=NATIVE_START,
@@ -336,7 +337,7 @@ RECORD = EngineRecord(
         "bit as alone",
         not_it=("mujoco:mju_threadpool",),  # one MjData's own pool: one world's work
     ),
-    ball=native_ball(),
+    balls=(native_ball(),),
 )
 
 

@@ -1,5 +1,6 @@
-"""The chart of ``experiments.realball``: each engine's fitted ball's COR against impact speed
-over the declared ball's range (COR_LAWS), its central law (COR_LAW) and MLB's specification."""
+"""The chart of ``experiments.realball``: each engine's fitted ball models' COR against impact
+speed over the declared ball's range (COR_LAWS), its central law (COR_LAW) and MLB's
+specification; an engine's best model drawn solid, its others dotted and named."""
 
 from __future__ import annotations
 
@@ -23,8 +24,8 @@ def _pyplot():
 
 def render(rows: pd.DataFrame) -> bytes:
     """COR (1) against speed (m/s): the band shaded, the law as a line, MLB's point with its
-    error bar, each engine's measured CORs (filled: fitted speeds, open: held out) joined by
-    a line."""
+    error bar, each engine's and model's measured CORs (filled: fitted speeds, open: held out)
+    joined by a line (solid: the engine's best model; dotted: another, its label naming it)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8.0, 5.2))
     v = np.linspace(8.0, 62.0, 200)
@@ -36,20 +37,27 @@ def render(rows: pd.DataFrame) -> bytes:
         [mlb.speed_mps], [mlb.cor], yerr=[mlb.half_width], fmt="ks", capsize=4, zorder=5,
         label="MLB specification at 85 ft/s",
     )  # fmt: skip
-    for name, t in rows.groupby("engine", sort=False):
+    for (name, model), t in rows.groupby(["engine", "model"], sort=False):
         look = adapters.record(name).look
         t = t.sort_values("speed_mps")
-        ax.plot(t.speed_mps, t.cor_engine, "-", color=look.color, lw=1.0, alpha=0.8)
+        best = bool(t.best.iloc[0])
+        line = "-" if best else ":"
+        ax.plot(t.speed_mps, t.cor_engine, line, color=look.color, lw=1.0, alpha=0.8)
         for role, face in (("fit", look.color), ("held_out", "none")):
             s = t[t.role == role]
             ax.plot(
                 s.speed_mps, s.cor_engine, look.marker, color=look.color, mfc=face,
-                label=name if role == "fit" else None,
+                alpha=1.0 if best else 0.6,
+                label=(name if best else f"{name}: {model}") if role == "fit" else None,
             )  # fmt: skip
     ax.set_xlabel("impact speed on a rigid wall (m/s)")
     ax.set_ylabel("COR (v1 - u1)/v0 (1)")
     ax.set_ylim(0.2, 0.9)
-    ax.set_title("A baseball in each engine: fitted COR against speed (open: held out)")
+    ax.set_title(
+        "A baseball in each engine: fitted COR against speed (open: held out; dotted: not "
+        "the engine's best model)",
+        fontsize=10,
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=2, loc="upper right")
     fig.tight_layout()

@@ -25,7 +25,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 import adapters
-from adapters import RESTITUTION_KNOB, STATE_FIELDS, ContactKnob, Scene
+from adapters import RESTITUTION_KNOB, STATE_FIELDS, BallContact, ContactKnob, Scene
 from analytic import ImpactCase, presets
 from analytic.ball import CONTACT_S, CONTACT_SPEED_MPS, COR_LAW, WALL, CorLaw, cor_range
 
@@ -80,10 +80,11 @@ class Measured:
     sound: np.ndarray
 
 
-def settings_at(engine: str, x: Sequence[float]) -> tuple[adapters.Settings, float]:
-    """The engine's settings for knob values ``x`` (its record's ``ball``: the reference
-    profile, the ball's overrides and step) and the e its impacts are fired with."""
-    ball = adapters.record(engine).ball
+def settings_at(
+    engine: str, ball: BallContact, x: Sequence[float]
+) -> tuple[adapters.Settings, float]:
+    """The engine's settings for knob values ``x`` of one of its ball models (the reference
+    profile, the model's overrides and step) and the e its impacts are fired with."""
     step = {} if ball.dt_s is None else {"dt_s": ball.dt_s}
     base = adapters.settings_for(engine, **step, **ball.overrides)
     fields: dict = {}
@@ -107,17 +108,17 @@ def wall_case(speed_mps: float, e: float) -> ImpactCase:
 
 
 class EngineProbe:
-    """An engine's ball contact (its record's ``ball``) fired through the harness; its own
-    ``knob_derivative`` where its adapter has one and every knob is a settings field."""
+    """One of an engine's ball models (its record's ``balls``) fired through the harness; its
+    own ``knob_derivative`` where its adapter has one and every knob is a settings field."""
 
-    def __init__(self, engine: str) -> None:
-        self.engine = engine
-        self.knobs = adapters.record(engine).ball.knobs
+    def __init__(self, engine: str, ball: BallContact) -> None:
+        self.engine, self.ball = engine, ball
+        self.knobs = ball.knobs
         self.impacts = 0  # impacts fired (and worlds differentiated) so far
         self._steps: dict[float, int] = {}
 
     def measure(self, x: np.ndarray, speeds: Sequence[float]) -> Measured:
-        settings, e = settings_at(self.engine, x)
+        settings, e = settings_at(self.engine, self.ball, x)
         jobs = [Job(engine=self.engine, settings=settings, case=wall_case(v, e)) for v in speeds]
         fired = fire_jobs(jobs)
         self.impacts += len(jobs)
@@ -142,7 +143,7 @@ class EngineProbe:
         again (after the bounce the bodies fly apart at constant velocity)."""
         if not self.has_derivative():
             return None
-        settings, e = settings_at(self.engine, x)
+        settings, e = settings_at(self.engine, self.ball, x)
         cases = [wall_case(v, e) for v in speeds]
         host = hosted(self.engine, settings)
         host.batch(Scene(bat=WALL, ball=presets.BASEBALL, e=e), len(cases))
