@@ -25,7 +25,8 @@ def _pyplot():
 def render(rows: pd.DataFrame) -> bytes:
     """COR (1) against speed (m/s): the band shaded, the law as a line, MLB's point with its
     error bar, each engine's and model's measured CORs (filled: fitted speeds, open: held out)
-    joined by a line (solid: the engine's best model; dotted: another, its label naming it)."""
+    joined by a line (solid: the engine's best model; dotted: another; the model named where
+    an engine has several)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8.0, 5.2))
     v = np.linspace(8.0, 62.0, 200)
@@ -37,10 +38,12 @@ def render(rows: pd.DataFrame) -> bytes:
         [mlb.speed_mps], [mlb.cor], yerr=[mlb.half_width], fmt="ks", capsize=4, zorder=5,
         label="MLB specification at 85 ft/s",
     )  # fmt: skip
+    several = rows.groupby("engine").model.nunique() > 1
     for (name, model), t in rows.groupby(["engine", "model"], sort=False):
         look = adapters.record(name).look
         t = t.sort_values("speed_mps")
         best = bool(t.best.iloc[0])
+        label = f"{name}: {model}{' (best)' if best else ''}" if several[name] else name
         line = "-" if best else ":"
         ax.plot(t.speed_mps, t.cor_engine, line, color=look.color, lw=1.0, alpha=0.8)
         for role, face in (("fit", look.color), ("held_out", "none")):
@@ -48,7 +51,7 @@ def render(rows: pd.DataFrame) -> bytes:
             ax.plot(
                 s.speed_mps, s.cor_engine, look.marker, color=look.color, mfc=face,
                 alpha=1.0 if best else 0.6,
-                label=(name if best else f"{name}: {model}") if role == "fit" else None,
+                label=label if role == "fit" else None,
             )  # fmt: skip
     ax.set_xlabel("impact speed on a rigid wall (m/s)")
     ax.set_ylabel("COR (v1 - u1)/v0 (1)")
