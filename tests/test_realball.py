@@ -308,3 +308,13 @@ def test_the_readmes_baseball_numbers_are_the_committed_results():
     (engine,) = grad.index
     assert f"in {grad.impacts[engine]} impacts, not {fd.impacts[engine]}" in section
     assert f"constant e ({json.loads(flat.knobs.iloc[0])['e']:.3f})" in section
+    # an engine with several models: its best one's e and speeds, its others' speeds
+    every = fits[fits.method == rf.METHODS[0]]
+    several = every[every.groupby("engine").model.transform("nunique") > 1]
+    for r in several.itertuples():
+        n = f"{r.speeds_in_range}/{r.speeds_checked}"
+        if r.best:
+            e = json.loads(r.knobs)["e"]
+            assert f"best, its {r.model} (e {e:.3f}, {n} speeds)" in section, r
+        else:
+            assert f"{r.model} falls too fast ({n})" in section, r
