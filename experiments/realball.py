@@ -251,7 +251,7 @@ def agreement(engine: str, ball: BallContact, done: list[rf.Fit], speeds) -> dic
 def failed_rows(engine: str, ball: BallContact, err: BaseException) -> list[dict]:
     """A model whose study raised: one row that says so."""
     why = "".join(traceback.format_exception_only(err)).strip().splitlines()[-1][:200]
-    return [{"engine": engine, "model": ball.label, "method": "error", "message": why}]
+    return [{"engine": engine, "model": ball.label, "method": rf.FAILED, "message": why}]
 
 
 def best_models(table: pd.DataFrame) -> dict[str, str]:

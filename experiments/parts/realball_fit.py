@@ -36,6 +36,8 @@ from ..core.placement import start_state
 
 #: How a fit is made: by finite differences (every engine), by the engine's own derivative.
 METHODS = ("finite differences", "gradient")
+#: The method of a model's row whose study raised (the row says why in ``message``).
+FAILED = Physics.ERROR.value
 #: Speeds the fit holds the COR at (m/s): the range a game has, 10-60 m/s.
 FIT_SPEEDS_MPS = (10.0, 20.0, 30.0, 40.0, 50.0, 60.0)
 #: Speeds kept out of the fit and fired again (m/s): MLB's 85 ft/s [mlbcor] among them.

@@ -55,7 +55,7 @@ def markdown(table: pd.DataFrame) -> str:
     rows = table.to_dict("records")
     fd = [r for r in rows if r.get("method") == rf.METHODS[0]]
     for r in rows:
-        if r.get("method") == "error":
+        if r.get("method") == rf.FAILED:
             lines.append(f"| {r['engine']} | {r['model']} | error: {r['message']} | | | | | |")
     for r in (r for r in fd if r["best"]):
         band = "" if r["in_mlb_band"] else " (out of MLB's band)"
@@ -86,7 +86,7 @@ def summary_text(table: pd.DataFrame) -> str:
     """One line per engine, model and fit."""
     lines = []
     for r in table.to_dict("records"):
-        if r.get("method") == "error":
+        if r.get("method") == rf.FAILED:
             lines.append(f"{r['engine']} ({r['model']}): error: {r['message']}")
             continue
         lines.append(
