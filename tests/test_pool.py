@@ -7,9 +7,11 @@ from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
 import pytest
 
 import adapters
+from adapters import Scene
 from analytic import ImpactCase, presets
 from experiments.core import Job, fire_jobs, firings, hosting, tables
 
@@ -193,28 +195,89 @@ def _variants(name: str) -> list[tuple[str, adapters.Settings, dict]]:
     return out
 
 
+def _alone_and_pooled(name: str, settings, e: float, extra: dict, monkeypatch):
+    """The paper's swing over 21 points fired alone and in pools of 11 and 10: the outcomes."""
+    firing = firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, 21),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=e,
+    )
+    jobs = [
+        dataclasses.replace(j, case=dataclasses.replace(j.case, **extra))
+        for j in firing.jobs(name, settings)
+    ]
+    monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
+    alone = _outcomes(fire_jobs(jobs))
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 16)
+    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
+    pooled = _outcomes(fire_jobs(jobs))
+    assert hosting.hosted(name, settings).held() == 11
+    return alone, pooled
+
+
 @pytest.mark.parametrize("name", POOLED)
 def test_a_pool_ends_every_kind_of_sweep_as_alone(name, monkeypatch):
     # Each variant over 21 points (e = 0.5) fired alone and in pools of 11 and 10: the same
     # outcomes, bit for bit (repr: NaN != NaN), whatever the contact, integrator or friction.
     for label, settings, extra in _variants(name):
-        firing = firings.Firing(
-            bat=presets.R161,
-            s_m=firings.grid(presets.R161, 21),
-            v0_mps=presets.PAPER_PITCH_MPS,
-            u0_mps=presets.PAPER_SWING.u0_mps,
-            omega0_radps=presets.PAPER_SWING.omega0_radps,
-            e=0.5,
-        )
-        jobs = [
-            dataclasses.replace(j, case=dataclasses.replace(j.case, **extra))
-            for j in firing.jobs(name, settings)
-        ]
-        monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
-        alone = _outcomes(fire_jobs(jobs))
-        monkeypatch.setattr(hosting, "POOL_MIN", 2)
-        monkeypatch.setattr(hosting, "POOL_MAX", 16)
-        monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
-        pooled = _outcomes(fire_jobs(jobs))
-        assert hosting.hosted(name, settings).held() == 11, label
+        alone, pooled = _alone_and_pooled(name, settings, 0.5, extra, monkeypatch)
         assert [repr(o) for o in pooled] == [repr(o) for o in alone], label
+
+
+#: Pools known to end a sustained contact otherwise than alone, with what was seen.
+SUSTAINED_KNOWN = {
+    "pybullet": "PyBullet's pool: at e = 0 one world of 21 (s = 0.18 m) ends 2e-14 m/s off "
+    "alone, two more in their last bit (seen before worlds were retired: on main as found)",
+}
+
+
+@pytest.mark.full  # (the fast tier's batch-of-engines test has e = 0 over 3 points)
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=SUSTAINED_KNOWN[n]))
+        if n in SUSTAINED_KNOWN
+        else n
+        for n in POOLED
+    ],
+)
+def test_a_pool_ends_sustained_contacts_as_alone(name, monkeypatch):
+    # e = 0 over 21 points: contacts that end hundreds of steps apart (the longest at the
+    # budget), the worlds done first retired (``BatchedEngine.retire``) while the rest go on,
+    # each then reading and failing as at its end: the same outcomes as alone, bit for bit.
+    alone, pooled = _alone_and_pooled(name, adapters.settings_for(name), 0.0, {}, monkeypatch)
+    assert [repr(o) for o in pooled] == [repr(o) for o in alone]
+
+
+@pytest.mark.parametrize("name", POOLED)
+def test_a_retired_world_is_stepped_no_further(name):
+    # Half the worlds retired after a step (their episode over), the batch stepped on: a
+    # retired ball, in free flight at 40 m/s, reads where it was and says what it said of
+    # failure then, while the others fly on (a long contact elsewhere costs it nothing).
+    settings = adapters.settings_for(name)
+    case = _jobs(name)[0].case
+    pool = adapters.pool_class(name)(settings)
+    if type(pool).retire is adapters.BatchedEngine.retire:
+        pytest.skip("the pool steps its retired worlds on (retire is optional)")
+    try:
+        pool.build(Scene(bat=case.bat, ball=case.ball, e=case.e, mu=case.mu), 8)
+        states = np.zeros((8, len(adapters.STATE_FIELDS)))
+        states[:, 1] = 1.0 + 0.01 * np.arange(8)  # the ball a metre off the bat, coming in
+        states[:, 3] = -40.0
+        pool.set_state(states)
+        pool.step()
+        then, failed_then = pool.read(), pool.failed()
+        done = np.arange(8) % 2 == 0
+        pool.retire(done)
+        for _ in range(5):
+            pool.step()
+        now = pool.read()
+        assert np.array_equal(now[done], then[done])
+        assert np.array_equal(pool.failed(), failed_then)
+        assert np.all(now[~done, 1] < then[~done, 1])  # the others flew on
+    finally:
+        pool.close()

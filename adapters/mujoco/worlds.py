@@ -10,7 +10,8 @@ steps, in one call for all worlds, up to the step asked and on to the chunk's en
 later steps the next reads take. The first chunk of an episode ends ``approach_steps`` + 2
 steps in, where most impacts are over (the paper's swing: 4 steps); each further chunk is
 twice as long (a long contact costs a few calls, at most twice its steps). A drive (the
-hands) is stepped without looking ahead.
+hands) is stepped without looking ahead. A world whose episode is over (``retire``) is in no
+further call: a long contact elsewhere (e = 0: hundreds of steps) no longer steps them all.
 
 What ``rollout`` does not give back is the warm start (the last step's accelerations, which
 seed the solver's next one): a world goes on from a step whose state is exact with any warm
@@ -154,6 +155,7 @@ class MujocoWorlds(BatchedEngine):
         self._own: dict[int, OwnWorld] = {}
         self._is_own = np.zeros(n, dtype=bool)
         self._carried = np.zeros(n, dtype=bool)  # its warm start in its own data (``_carry``)
+        self._retired = np.zeros(n, dtype=bool)  # its episode over: stepped no further
         if not self._batched:
             for w in range(n):
                 self._make_own(w, rows[w], 0, self._control)
@@ -177,7 +179,12 @@ class MujocoWorlds(BatchedEngine):
 
     def read(self) -> np.ndarray:
         self._sync()
-        return state_rows(self._now, self._planar)
+        if not self._retired.any():
+            return state_rows(self._now, self._planar)
+        out = self._ended_rows.copy(order="F")  # (the retired worlds' rows as they ended)
+        live = ~self._retired
+        out[live] = state_rows(self._now[live], self._planar[live])
+        return out
 
     def in_contact(self) -> np.ndarray:
         self._sync()
@@ -187,12 +194,29 @@ class MujocoWorlds(BatchedEngine):
         self._sync()
         return self._failed.copy()
 
+    def retire(self, worlds: np.ndarray) -> None:
+        """Step the worlds ``worlds`` no further: their row, contact flag and failure stay as
+        at the step read last (``BatchedEngine.retire``), their chunk's memory freed once no
+        world reads it."""
+        self._sync()
+        done = np.asarray(worlds, dtype=bool) & ~self._retired
+        if not done.any():
+            return
+        if not self._retired.any():
+            self._ended_rows = np.zeros((self._n, 20), order="F")
+        self._ended_rows[done] = state_rows(self._now[done], self._planar[done])
+        self._retired |= done
+        self._slot[done] = -1
+        self._members = None
+        for w in np.flatnonzero(done & self._is_own).tolist():
+            del self._own[w]
+
     def _sync(self) -> None:
         """Every world's row, contact flag and failure at the step asked (``_t``)."""
         t, m = self._t, self._engine.model
         if self._at == t:
             return
-        due = np.flatnonzero((self._end < t) & ~self._is_own)
+        due = np.flatnonzero((self._end < t) & ~self._is_own & ~self._retired)
         if due.size:
             self._refill(due, t)
             self._members = None
