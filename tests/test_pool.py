@@ -13,6 +13,7 @@ import pytest
 import adapters
 from adapters import Scene
 from analytic import ImpactCase, presets
+from analytic.dynamics import HingedSwing
 from experiments.core import Job, fire_jobs, firings, hosting, tables
 
 SINGLE = [n for n in adapters.names() if not adapters.record(n).batched]
@@ -281,3 +282,52 @@ def test_a_retired_world_is_stepped_no_further(name):
         assert np.all(now[~done, 1] < then[~done, 1])  # the others flew on
     finally:
         pool.close()
+
+
+def _swing_jobs(name: str, points: int, angle_rad: float) -> list[Job]:
+    """The paper's pitch at ``points`` points on a bat swung in the engine about the hands
+    to 32 rad/s over ``angle_rad`` (e = 0.5): each case re-planned, each world about hands of
+    its own (the pivot follows the point)."""
+    swing = HingedSwing.for_omega(presets.R161, 32.0, angle_rad=angle_rad)
+    firing = firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, points),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=32.0 * swing.arm_m(presets.R161),
+        omega0_radps=32.0,
+        e=0.5,
+        swing=swing,
+    )
+    return list(firing.jobs(name, adapters.settings_for(name)))
+
+
+def _swung(fired) -> list[tuple]:
+    """Each fired swing's case as re-planned, its analytic release and its outcome (less the
+    timing)."""
+    outcomes = _outcomes(fired)
+    return [
+        (f.case, f.release_omega_radps, f.release_angle_rad, o) for f, o in zip(fired, outcomes)
+    ]
+
+
+def _swung_alone_and_batched(name: str, jobs: list[Job], monkeypatch):
+    hosting.close_engines()  # (a pool held from before keeps its size)
+    monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
+    alone = fire_jobs(jobs)
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 6)
+    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
+    batched = fire_jobs(jobs)
+    assert hosting.hosted(name, jobs[0].settings).held() == 6  # 11 = 6 + 5
+    return alone, batched
+
+
+@pytest.mark.parametrize("name", SINGLE)
+def test_a_swing_fired_in_a_batch_ends_as_it_does_alone(name, monkeypatch):
+    # A run under a swing is fired in batches (each world swung about its own hands: on
+    # MuJoCo's pool a model copy each, stepped in one rollout call): every case, swing plan,
+    # release and outcome as alone, bit for bit. A short swing (0.05 rad, some 300 steps at
+    # the reference step) keeps it cheap.
+    jobs = _swing_jobs(name, 11, 0.05)
+    alone, batched = _swung_alone_and_batched(name, jobs, monkeypatch)
+    assert [repr(o) for o in _swung(batched)] == [repr(o) for o in _swung(alone)]

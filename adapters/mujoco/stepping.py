@@ -36,19 +36,20 @@ CONTROL = int(mujoco.mjtState.mjSTATE_CTRL) | int(mujoco.mjtState.mjSTATE_EQ_ACT
 
 
 def roll(
-    pool, model, datas: list, start: np.ndarray, control: np.ndarray, steps: int, warm=None
+    pool, models: list, datas: list, start: np.ndarray, control: np.ndarray, steps: int, warm=None
 ) -> tuple[np.ndarray, np.ndarray]:
     """One ``rollout`` call on ``pool`` (a ``Rollout``) with its threads' ``datas``: the
-    worlds whose physics rows are ``start`` (k, 27), ``steps`` steps under the control row
-    ``control``, from the warm start ``warm`` (k, nv; None: zero). The states (k, steps, 27)
-    and the contact flags (k, steps) of every step."""
+    worlds whose physics rows are ``start`` (k, 27) on their ``models`` (k, of one
+    structure), ``steps`` steps under their control rows ``control`` (k, nc; or one row for
+    all), from the warm start ``warm`` (k, nv; None: zero). The states (k, steps, 27) and the
+    contact flags (k, steps) of every step."""
     k = len(start)
     rows = np.empty((k, steps, WIDTH))
-    sensors = np.empty((k, steps, model.nsensordata))
-    controls = np.empty((k, steps, control.size))
-    controls[:] = control
+    sensors = np.empty((k, steps, models[0].nsensordata))
+    controls = np.empty((k, steps, control.shape[-1]))
+    controls[:] = control if control.ndim == 1 else control[:, None, :]
     pool.rollout(
-        [model] * k,
+        models,
         datas,
         start,
         controls,
@@ -88,28 +89,30 @@ def any_warning(data, which=None) -> bool:
 
 class OwnWorld:
     """A world stepped on data of its own, one ``mj_step`` at a time, as alone: from the
-    physics row ``row`` at ``step``, under the control row ``control``, from the warm start
-    ``warm`` (None: zero; any at a rest point)."""
+    physics row ``row`` at ``step``, on ``model`` under the control row ``control``, from the
+    warm start ``warm`` (None: zero; any at a rest point)."""
 
     def __init__(
         self, data, model, row: np.ndarray, step: int, control: np.ndarray, warm=None
     ) -> None:
-        self.data, self.step = data, step
+        self.data, self.model, self.step = data, model, step
         mujoco.mj_setState(model, data, row, FULL)
         data.qacc_warmstart[:] = 0.0 if warm is None else warm
         clear_warnings(data, BLOW_UPS)
         self.set_control(model, control)
 
     def set_control(self, model, control: np.ndarray) -> None:
+        """Step on under ``control`` on ``model`` (a drive changed)."""
+        self.model = model
         mujoco.mj_setState(model, self.data, control, CONTROL)
 
-    def advance(self, model, to_step: int) -> None:
+    def advance(self, to_step: int) -> None:
         for _ in range(to_step - self.step):
-            mujoco.mj_step(model, self.data)
+            mujoco.mj_step(self.model, self.data)
         self.step = max(self.step, to_step)
 
-    def row(self, model, out: np.ndarray) -> None:
-        mujoco.mj_getState(model, self.data, out, FULL)
+    def row(self, out: np.ndarray) -> None:
+        mujoco.mj_getState(self.model, self.data, out, FULL)
 
     def touching(self) -> bool:
         return self.data.ncon > 0
