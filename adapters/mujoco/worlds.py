@@ -196,7 +196,11 @@ class MujocoWorlds(BatchedEngine):
         self._sync()
         if not self._retired.any():
             return state_rows(self._now, self._planar)
-        out = self._ended_rows.copy(order="F")  # (the retired worlds' rows as they ended)
+        if self._unread.any():  # (converted once, at the first read after they ended)
+            fresh = self._unread
+            self._ended_rows[fresh] = state_rows(self._now[fresh], self._planar[fresh])
+            self._unread = np.zeros(self._n, dtype=bool)
+        out = self._ended_rows.copy(order="F")
         live = ~self._retired
         out[live] = state_rows(self._now[live], self._planar[live])
         return out
@@ -218,8 +222,9 @@ class MujocoWorlds(BatchedEngine):
         if not done.any():
             return
         if not self._retired.any():
-            self._ended_rows = np.zeros((self._n, 20), order="F")
-        self._ended_rows[done] = state_rows(self._now[done], self._planar[done])
+            self._ended_rows = np.zeros((self._n, 20), order="F")  # (their rows as they ended)
+            self._unread = np.zeros(self._n, dtype=bool)
+        self._unread |= done
         self._retired |= done
         self._slot[done] = -1
         self._members = None
