@@ -6,6 +6,7 @@ turn, their worlds judged together in numpy) give each impact the outcome it get
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -331,3 +332,21 @@ def test_a_swing_fired_in_a_batch_ends_as_it_does_alone(name, monkeypatch):
     jobs = _swing_jobs(name, 11, 0.05)
     alone, batched = _swung_alone_and_batched(name, jobs, monkeypatch)
     assert [repr(o) for o in _swung(batched)] == [repr(o) for o in _swung(alone)]
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("name", POOLED)
+def test_the_hinged_sweep_fired_in_pools_ends_as_alone(name, monkeypatch):
+    # The baselines' hinged sweep (41 points, a quarter turn to 32 rad/s: some 1e4 steps at
+    # the reference step) in one pool: a swing of more worlds than one call holds (MuJoCo's:
+    # 29 worlds a call, each world's row at the release kept alone) ends as alone.
+    jobs = _swing_jobs(name, 41, math.pi / 2)
+    hosting.close_engines()
+    monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
+    alone = fire_jobs(jobs)
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 41)
+    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
+    pooled = fire_jobs(jobs)
+    assert hosting.hosted(name, jobs[0].settings).held() == 41
+    assert [repr(o) for o in _swung(pooled)] == [repr(o) for o in _swung(alone)]

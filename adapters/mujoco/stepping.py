@@ -1,7 +1,8 @@
 """How MuJoCo's worlds pool (``worlds``) steps its worlds: many at once in one call of MuJoCo's
 ``mujoco.rollout`` (``roll``, with the worlds whose call met a warning found in its output,
 ``warned``), or one alone on data of its own, one ``mj_step`` at a time (``OwnWorld``). The
-pool decides which worlds go where and from which step; this module only steps.
+pool decides which worlds go where and from which step; this module only steps (and says
+what a call gave, ``Chunk``, and what a drive is stepped under, ``driven``).
 
 ``rollout`` takes physics rows (time, qpos, qvel: ``rows``) and a warm start in, and gives the
 state and sensor data of every step out; the contact flag of a step is the model's contact
@@ -13,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import importlib
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -33,6 +35,25 @@ if not hasattr(mujoco.mjtSensor, "mjSENS_CONTACT"):
 FULL = int(mujoco.mjtState.mjSTATE_FULLPHYSICS)
 #: What a chunk's controls set at every step: the motors and the hands' constraint.
 CONTROL = int(mujoco.mjtState.mjSTATE_CTRL) | int(mujoco.mjtState.mjSTATE_EQ_ACTIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Chunk:
+    """One call's steps, as the pool keeps them (``worlds``): its worlds, the step before each
+    one's first (its rest point), the states (worlds, steps, 27) and contact flags (worlds,
+    steps) it gave, the rows it started from and the models and control rows it ran under (and
+    a carried world's warm start then)."""
+
+    worlds: np.ndarray
+    base_step: np.ndarray
+    rows: np.ndarray
+    touching: np.ndarray
+    start_rows: np.ndarray
+    models: list
+    control: np.ndarray  # (worlds, nc)
+    start_warm: np.ndarray | None = None  # (worlds, nv)
+    #: (worlds,) the rows dropped before the first kept (a drive's call keeps one)
+    dropped: np.ndarray | None = None
 
 
 def roll(
@@ -85,6 +106,23 @@ def any_warning(data, which=None) -> bool:
     return any(
         data.warning[w].number for w in (range(len(data.warning)) if which is None else which)
     )
+
+
+def control_row(engine) -> np.ndarray:
+    """The control row (``CONTROL``) ``engine`` (a ``MujocoEngine``) steps under."""
+    out = np.empty(mujoco.mj_stateSize(engine.model, CONTROL))
+    mujoco.mj_getState(engine.model, engine.data, out, CONTROL)
+    return out
+
+
+def driven(engine, hands) -> tuple[list, np.ndarray]:
+    """Per world, a model driven by its ``hands`` (a copy of ``engine``'s holding their pivot
+    and load site, one for equal hands: ``MujocoEngine.driven_twin``) and its control row."""
+    twins = {}
+    for h in hands:
+        if h not in twins:
+            twins[h] = engine.driven_twin(h)
+    return [twins[h].model for h in hands], np.stack([control_row(twins[h]) for h in hands])
 
 
 class OwnWorld:

@@ -30,7 +30,6 @@ import os
 import time
 import weakref
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -40,11 +39,13 @@ from . import RECORD
 from .adapter import MujocoEngine
 from .rows import WIDTH, physics_rows, state_rows
 from .stepping import (
-    CONTROL,
     ROLLOUT,
+    Chunk,
     OwnWorld,
     any_warning,
     clear_warnings,
+    control_row,
+    driven,
     mujoco,
     roll,
     warned,
@@ -58,25 +59,6 @@ CALL_NUMBERS = 8_000_000
 #: chunk would step it again from its rest point; a drive's first call, a swing's thousands of
 #: steps, goes with the others on every thread).
 CARRY_AFTER = 64
-
-
-@dataclass(frozen=True, kw_only=True)
-class _Chunk:
-    """One call's steps: its worlds, the step before each one's first (its rest point), the states
-    (worlds, steps, 27) and contact flags (worlds, steps) it gave, the rows it started from and
-    the models and control rows it ran under (and a carried world's warm start then,
-    ``_carry``)."""
-
-    worlds: np.ndarray
-    base_step: np.ndarray
-    rows: np.ndarray
-    touching: np.ndarray
-    start_rows: np.ndarray
-    models: list
-    control: np.ndarray  # (worlds, nc)
-    start_warm: np.ndarray | None = None  # (worlds, nv)
-    #: (worlds,) the rows dropped before the first kept (a bound call keeps one: ``_call``)
-    dropped: np.ndarray | None = None
 
 
 #: The pools whose ``Rollout`` threads run in this process, and, in a forked child, the copies
@@ -131,16 +113,9 @@ class MujocoWorlds(BatchedEngine):
             if self._batched:
                 self._scratch = [mujoco.MjData(engine.model) for _ in range(self._threads)]
             self._models = []
-            self._undriven = self._control_row()  # the hands off
+            self._undriven = control_row(engine)  # the hands off
         self._n = worlds
         self.set_state(np.zeros((worlds, 20)))
-
-    def _control_row(self, engine: MujocoEngine | None = None) -> np.ndarray:
-        """The control row ``engine`` (None: the scene's) steps under."""
-        engine = self._engine if engine is None else engine
-        out = np.empty(mujoco.mj_stateSize(engine.model, CONTROL))
-        mujoco.mj_getState(engine.model, engine.data, out, CONTROL)
-        return out
 
     def mass_properties(self) -> MassProperties:
         return self._engine.mass_properties()
@@ -155,7 +130,7 @@ class MujocoWorlds(BatchedEngine):
         self._rest_rows, self._rest_step = rows, np.zeros(n, dtype=int)
         self._now, self._touching = rows.copy(), np.zeros(n, dtype=bool)
         self._failed = np.zeros(n, dtype=bool)
-        self._chunks: list[_Chunk | None] = []
+        self._chunks: list[Chunk | None] = []
         self._members: list[np.ndarray] | None = None
         self._slot, self._pos = np.full(n, -1), np.zeros(n, dtype=int)
         self._end = np.zeros(n, dtype=int)  # the last step each world's chunk reaches
@@ -326,7 +301,7 @@ class MujocoWorlds(BatchedEngine):
             rows, touching = rows[keep][:, None], touching[keep][:, None]
             reach = np.full(ws.size, end)
         self._chunks.append(
-            _Chunk(
+            Chunk(
                 worlds=ws,
                 base_step=base,
                 rows=rows,
@@ -387,7 +362,7 @@ class MujocoWorlds(BatchedEngine):
             else:
                 kept.append(i)
         self._chunks.append(
-            _Chunk(
+            Chunk(
                 worlds=ws,
                 base_step=base,
                 rows=rows,
@@ -412,12 +387,7 @@ class MujocoWorlds(BatchedEngine):
         if hands is None:
             models, control = self._models, np.tile(self._undriven, (self._n, 1))
         else:
-            twins = {}
-            for h in hands:
-                if h not in twins:
-                    twins[h] = self._engine.driven_twin(h)
-            models = [twins[h].model for h in hands]
-            control = np.stack([self._control_row(twins[h]) for h in hands])
+            models, control = driven(self._engine, hands)
         if np.array_equal(control, self._control) and all(
             a is b for a, b in zip(models, self._models, strict=True)
         ):
