@@ -261,6 +261,12 @@ class BatchedEngine(abc.ABC):
         """Per world, a numerical failure since the last ``set_state`` (bool (n,)), or None."""
         return None
 
+    def retire(self, worlds: np.ndarray) -> None:
+        """The worlds (bool (n,)) whose episode is over at the step read last: until the next
+        ``set_state`` the harness asks nothing of them but ``failed``, which must say what it
+        said then; the adapter may stop stepping them (a long contact elsewhere in the batch
+        then costs them nothing). Optional: by default they go on being stepped."""
+
     def derivative(
         self,
         states: np.ndarray,

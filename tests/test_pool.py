@@ -6,11 +6,15 @@ turn, their worlds judged together in numpy) give each impact the outcome it get
 from __future__ import annotations
 
 import dataclasses
+import math
 
+import numpy as np
 import pytest
 
 import adapters
+from adapters import Scene
 from analytic import ImpactCase, presets
+from analytic.dynamics import HingedSwing
 from experiments.core import Job, fire_jobs, firings, hosting, tables
 
 SINGLE = [n for n in adapters.names() if not adapters.record(n).batched]
@@ -193,28 +197,156 @@ def _variants(name: str) -> list[tuple[str, adapters.Settings, dict]]:
     return out
 
 
+def _alone_and_pooled(name: str, settings, e: float, extra: dict, monkeypatch):
+    """The paper's swing over 21 points fired alone and in pools of 11 and 10: the outcomes."""
+    firing = firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, 21),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=presets.PAPER_SWING.u0_mps,
+        omega0_radps=presets.PAPER_SWING.omega0_radps,
+        e=e,
+    )
+    jobs = [
+        dataclasses.replace(j, case=dataclasses.replace(j.case, **extra))
+        for j in firing.jobs(name, settings)
+    ]
+    monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
+    alone = _outcomes(fire_jobs(jobs))
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 16)
+    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
+    pooled = _outcomes(fire_jobs(jobs))
+    assert hosting.hosted(name, settings).held() == 11
+    return alone, pooled
+
+
 @pytest.mark.parametrize("name", POOLED)
 def test_a_pool_ends_every_kind_of_sweep_as_alone(name, monkeypatch):
     # Each variant over 21 points (e = 0.5) fired alone and in pools of 11 and 10: the same
     # outcomes, bit for bit (repr: NaN != NaN), whatever the contact, integrator or friction.
     for label, settings, extra in _variants(name):
-        firing = firings.Firing(
-            bat=presets.R161,
-            s_m=firings.grid(presets.R161, 21),
-            v0_mps=presets.PAPER_PITCH_MPS,
-            u0_mps=presets.PAPER_SWING.u0_mps,
-            omega0_radps=presets.PAPER_SWING.omega0_radps,
-            e=0.5,
-        )
-        jobs = [
-            dataclasses.replace(j, case=dataclasses.replace(j.case, **extra))
-            for j in firing.jobs(name, settings)
-        ]
-        monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
-        alone = _outcomes(fire_jobs(jobs))
-        monkeypatch.setattr(hosting, "POOL_MIN", 2)
-        monkeypatch.setattr(hosting, "POOL_MAX", 16)
-        monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
-        pooled = _outcomes(fire_jobs(jobs))
-        assert hosting.hosted(name, settings).held() == 11, label
+        alone, pooled = _alone_and_pooled(name, settings, 0.5, extra, monkeypatch)
         assert [repr(o) for o in pooled] == [repr(o) for o in alone], label
+
+
+#: Pools known to end a sustained contact otherwise than alone, with what was seen.
+SUSTAINED_KNOWN = {
+    "pybullet": "PyBullet's pool: at e = 0 one world of 21 (s = 0.18 m) ends 2e-14 m/s off "
+    "alone, two more in their last bit (seen before worlds were retired: on main as found)",
+}
+
+
+@pytest.mark.full  # (the fast tier's batch-of-engines test has e = 0 over 3 points)
+@pytest.mark.parametrize(
+    "name",
+    [
+        pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=SUSTAINED_KNOWN[n]))
+        if n in SUSTAINED_KNOWN
+        else n
+        for n in POOLED
+    ],
+)
+def test_a_pool_ends_sustained_contacts_as_alone(name, monkeypatch):
+    # e = 0 over 21 points: contacts that end hundreds of steps apart (the longest at the
+    # budget), the worlds done first retired (``BatchedEngine.retire``) while the rest go on,
+    # each then reading and failing as at its end: the same outcomes as alone, bit for bit.
+    alone, pooled = _alone_and_pooled(name, adapters.settings_for(name), 0.0, {}, monkeypatch)
+    assert [repr(o) for o in pooled] == [repr(o) for o in alone]
+
+
+@pytest.mark.parametrize("name", POOLED)
+def test_a_retired_world_is_stepped_no_further(name):
+    # Half the worlds retired after a step (their episode over), the batch stepped on: a
+    # retired ball, in free flight at 40 m/s, reads where it was and says what it said of
+    # failure then, while the others fly on (a long contact elsewhere costs it nothing).
+    settings = adapters.settings_for(name)
+    case = _jobs(name)[0].case
+    pool = adapters.pool_class(name)(settings)
+    if type(pool).retire is adapters.BatchedEngine.retire:
+        pytest.skip("the pool steps its retired worlds on (retire is optional)")
+    try:
+        pool.build(Scene(bat=case.bat, ball=case.ball, e=case.e, mu=case.mu), 8)
+        states = np.zeros((8, len(adapters.STATE_FIELDS)))
+        states[:, 1] = 1.0 + 0.01 * np.arange(8)  # the ball a metre off the bat, coming in
+        states[:, 3] = -40.0
+        pool.set_state(states)
+        pool.step()
+        then, failed_then = pool.read(), pool.failed()
+        done = np.arange(8) % 2 == 0
+        pool.retire(done)
+        for _ in range(5):
+            pool.step()
+        now = pool.read()
+        assert np.array_equal(now[done], then[done])
+        assert np.array_equal(pool.failed(), failed_then)
+        assert np.all(now[~done, 1] < then[~done, 1])  # the others flew on
+    finally:
+        pool.close()
+
+
+def _swing_jobs(name: str, points: int, angle_rad: float) -> list[Job]:
+    """The paper's pitch at ``points`` points on a bat swung in the engine about the hands
+    to 32 rad/s over ``angle_rad`` (e = 0.5): each case re-planned, each world about hands of
+    its own (the pivot follows the point)."""
+    swing = HingedSwing.for_omega(presets.R161, 32.0, angle_rad=angle_rad)
+    firing = firings.Firing(
+        bat=presets.R161,
+        s_m=firings.grid(presets.R161, points),
+        v0_mps=presets.PAPER_PITCH_MPS,
+        u0_mps=32.0 * swing.arm_m(presets.R161),
+        omega0_radps=32.0,
+        e=0.5,
+        swing=swing,
+    )
+    return list(firing.jobs(name, adapters.settings_for(name)))
+
+
+def _swung(fired) -> list[tuple]:
+    """Each fired swing's case as re-planned, its analytic release and its outcome (less the
+    timing)."""
+    outcomes = _outcomes(fired)
+    return [
+        (f.case, f.release_omega_radps, f.release_angle_rad, o) for f, o in zip(fired, outcomes)
+    ]
+
+
+def _swung_alone_and_batched(name: str, jobs: list[Job], monkeypatch):
+    hosting.close_engines()  # (a pool held from before keeps its size)
+    monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
+    alone = fire_jobs(jobs)
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 6)
+    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
+    batched = fire_jobs(jobs)
+    assert hosting.hosted(name, jobs[0].settings).held() == 6  # 11 = 6 + 5
+    return alone, batched
+
+
+@pytest.mark.parametrize("name", SINGLE)
+def test_a_swing_fired_in_a_batch_ends_as_it_does_alone(name, monkeypatch):
+    # A run under a swing is fired in batches (each world swung about its own hands: on
+    # MuJoCo's pool a model copy each, stepped in one rollout call): every case, swing plan,
+    # release and outcome as alone, bit for bit. A short swing (0.05 rad, some 300 steps at
+    # the reference step) keeps it cheap.
+    jobs = _swing_jobs(name, 11, 0.05)
+    alone, batched = _swung_alone_and_batched(name, jobs, monkeypatch)
+    assert [repr(o) for o in _swung(batched)] == [repr(o) for o in _swung(alone)]
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("name", POOLED)
+def test_the_hinged_sweep_fired_in_pools_ends_as_alone(name, monkeypatch):
+    # The baselines' hinged sweep (41 points, a quarter turn to 32 rad/s: some 1e4 steps at
+    # the reference step) in one pool: a swing of more worlds than one call holds (MuJoCo's:
+    # 29 worlds a call, each world's row at the release kept alone) ends as alone.
+    jobs = _swing_jobs(name, 41, math.pi / 2)
+    hosting.close_engines()
+    monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
+    alone = fire_jobs(jobs)
+    monkeypatch.setattr(hosting, "POOL_MIN", 2)
+    monkeypatch.setattr(hosting, "POOL_MAX", 41)
+    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
+    pooled = fire_jobs(jobs)
+    assert hosting.hosted(name, jobs[0].settings).held() == 41
+    assert [repr(o) for o in _swung(pooled)] == [repr(o) for o in _swung(alone)]

@@ -108,6 +108,17 @@ class MujocoEngine(Engine):
         twin._qpos, twin._qvel = twin.data.qpos, twin.data.qvel
         return twin
 
+    def driven_twin(self, hands: Hands) -> MujocoEngine:
+        """Another world on a copy of this one's model, driven by ``hands`` (their pivot and
+        load site are the model's): a pool world's drive where the worlds' hands differ
+        (``worlds.MujocoWorlds.set_drive``)."""
+        twin = copy.copy(self)
+        twin.model = copy.copy(self.model)
+        twin.data = mujoco.MjData(twin.model)
+        twin._qpos, twin._qvel = twin.data.qpos, twin.data.qvel
+        twin.set_drive(hands)
+        return twin
+
     def set_body_friction(self, *, bat: float, ball: float) -> None:
         self.model.geom_friction[self._bat_geom][0] = bat
         self.model.geom_friction[self._ball_geom][0] = ball

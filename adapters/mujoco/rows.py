@@ -28,6 +28,15 @@ def _each(fn, *columns: np.ndarray) -> np.ndarray:
     return np.fromiter(map(fn, *(c.tolist() for c in columns)), float, n)
 
 
+def _turned(q: np.ndarray, v: np.ndarray, inverse: bool = False) -> np.ndarray:
+    """``frames.rotate_many``, whose rows turned about z alone with v along z come back
+    unchanged: where every row is one (a batch in the swing plane) that is a copy, its
+    arithmetic skipped (a third of the pool's conversions at 1e3 worlds)."""
+    if not (np.any(q[:, 1:3]) or np.any(v[:, 0:2])):  # (-0.0 counts as 0, as there)
+        return v.copy()
+    return rotate_many(q, v, inverse=inverse)
+
+
 def physics_rows(states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Physics rows (n, 27) at time 0 from state rows (n, 20, or the 11 planar columns) as
     ``MujocoEngine.set_state`` puts one world, and whether each was set in the swing plane
@@ -47,7 +56,7 @@ def physics_rows(states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         cb, sb = _each(math.cos, hb), _each(math.sin, hb)
         ct, st = ca[tilted], sa[tilted]
         q[tilted] = np.stack([ct * cb, st * sb, -ct * sb, st * cb], axis=1)
-    w = rotate_many(q, s[:, [18, 19, 10]], inverse=True)  # the bat's spin in its own frame
+    w = _turned(q, s[:, [18, 19, 10]], inverse=True)  # the bat's spin in its own frame
     rows = np.empty((n, WIDTH))
     rows[:, TIME] = 0.0
     rows[:, 1:4] = s[:, [5, 6, 15]]
@@ -65,18 +74,22 @@ def state_rows(rows: np.ndarray, planar: np.ndarray) -> np.ndarray:
     """State rows (n, 20, each column contiguous) from physics rows, as ``MujocoEngine.read``
     reads one world (``frames.rotate``, ``frames.angle_and_tilt``)."""
     q, v = rows[:, QPOS], rows[:, QVEL]
-    bat_w = rotate_many(q[:, 3:7], v[:, 3:6])
-    ball_w = rotate_many(q[:, 10:14], v[:, 9:12])
+    n = len(rows)
+    # both bodies' spins turned in one call (row by row, the same arithmetic: half the calls)
+    both_w = _turned(np.vstack([q[:, 3:7], q[:, 10:14]]), np.vstack([v[:, 3:6], v[:, 9:12]]))
+    bat_w, ball_w = both_w[:n], both_w[n:]
     w, x, y, z = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
     yaw = 2.0 * _each(math.atan2, z, w)
-    tilt = np.zeros(len(rows))
+    tilt = np.zeros(n)
     off = (x != 0.0) | (y != 0.0)  # out of the plane, or drifted off it by rounding
     if off.any():
         wo, xo, yo, zo = w[off], x[off], y[off], z[off]
         ax = 1.0 - 2.0 * (yo * yo + zo * zo)
         ay = 2.0 * (xo * yo + wo * zo)
         az = 2.0 * (xo * zo - wo * yo)
-        yaw[off] = np.where(planar[off], yaw[off], _each(math.atan2, ay, ax))
+        set_off = ~planar[off]  # (a world set in the plane keeps the yaw above)
+        if set_off.any():
+            yaw[np.flatnonzero(off)[set_off]] = _each(math.atan2, ay[set_off], ax[set_off])
         tilt[off] = _each(math.atan2, az, _each(math.hypot, ax, ay))
     return np.stack(
         [

@@ -10,7 +10,8 @@ steps, in one call for all worlds, up to the step asked and on to the chunk's en
 later steps the next reads take. The first chunk of an episode ends ``approach_steps`` + 2
 steps in, where most impacts are over (the paper's swing: 4 steps); each further chunk is
 twice as long (a long contact costs a few calls, at most twice its steps). A drive (the
-hands) is stepped without looking ahead.
+hands) is stepped without looking ahead. A world whose episode is over (``retire``) is in no
+further call: a long contact elsewhere (e = 0: hundreds of steps) no longer steps them all.
 
 What ``rollout`` does not give back is the warm start (the last step's accelerations, which
 seed the solver's next one): a world goes on from a step whose state is exact with any warm
@@ -29,7 +30,6 @@ import os
 import time
 import weakref
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -39,11 +39,13 @@ from . import RECORD
 from .adapter import MujocoEngine
 from .rows import WIDTH, physics_rows, state_rows
 from .stepping import (
-    CONTROL,
     ROLLOUT,
+    Chunk,
     OwnWorld,
     any_warning,
     clear_warnings,
+    control_row,
+    driven,
     mujoco,
     roll,
     warned,
@@ -52,25 +54,11 @@ from .stepping import (
 #: The most numbers one ``rollout`` call writes (states and sensor data: 8e6, 64 MB); more
 #: worlds go in further calls, and a world that alone needs more is stepped on its own.
 CALL_NUMBERS = 8_000_000
-#: Steps a world may go without a rest point before it is stepped on data of its own, its warm
-#: start carried from call to call (a long contact: each chunk would step it again from its
-#: rest point).
+#: Steps a world may go without a rest point, stepped from it once already, before it is
+#: stepped on data of its own, its warm start carried from call to call (a long contact: each
+#: chunk would step it again from its rest point; a drive's first call, a swing's thousands of
+#: steps, goes with the others on every thread).
 CARRY_AFTER = 64
-
-
-@dataclass(frozen=True, kw_only=True)
-class _Chunk:
-    """One call's steps: its worlds, the step before each one's first (its rest point), the states
-    (worlds, steps, 27) and contact flags (worlds, steps) it gave, the rows it started from and
-    the controls it ran under (and a carried world's warm start then, ``_carry``)."""
-
-    worlds: np.ndarray
-    base_step: np.ndarray
-    rows: np.ndarray
-    touching: np.ndarray
-    start_rows: np.ndarray
-    control: np.ndarray
-    start_warm: np.ndarray | None = None  # (worlds, nv)
 
 
 #: The pools whose ``Rollout`` threads run in this process, and, in a forked child, the copies
@@ -94,8 +82,8 @@ os.register_at_fork(after_in_child=_after_fork_in_child)
 
 class MujocoWorlds(BatchedEngine):
     """``n`` MuJoCo worlds on one model, stepped through ``mujoco.rollout`` (module docstring).
-    The model's drive (the hands' anchor, the load's site) is shared: every world takes the
-    same hands, as the swing's batches (of one world) do."""
+    The hands' pivot and load site are the model's: worlds driven by hands of their own (a
+    swing's batch: each swing's pivot is its own) each step on a copy of it."""
 
     record = RECORD
 
@@ -106,6 +94,7 @@ class MujocoWorlds(BatchedEngine):
         self._pool = None  # the persistent rollout.Rollout
         self._scratch: list = []  # its threads' data
         self._datas: list = []  # data for the worlds stepped on their own, kept for reuse
+        self._models: list = []  # each world's model (the scene's, or a copy driven its way)
         self._n = 0
 
     def build(self, scene: Scene, worlds: int) -> None:
@@ -123,15 +112,10 @@ class MujocoWorlds(BatchedEngine):
                 _THREADED.add(self)
             if self._batched:
                 self._scratch = [mujoco.MjData(engine.model) for _ in range(self._threads)]
-            self._control = self._control_row()
+            self._models = []
+            self._undriven = control_row(engine)  # the hands off
         self._n = worlds
         self.set_state(np.zeros((worlds, 20)))
-
-    def _control_row(self) -> np.ndarray:
-        m = self._engine.model
-        out = np.empty(mujoco.mj_stateSize(m, CONTROL))
-        mujoco.mj_getState(m, self._engine.data, out, CONTROL)
-        return out
 
     def mass_properties(self) -> MassProperties:
         return self._engine.mass_properties()
@@ -139,11 +123,14 @@ class MujocoWorlds(BatchedEngine):
     def set_state(self, states: np.ndarray) -> None:
         rows, self._planar = physics_rows(states)
         n = self._n = len(rows)
+        if len(self._models) != n:  # (a drive of hands per world holds for as many worlds)
+            self._models = [self._engine.model] * n
+            self._control = np.tile(self._undriven, (n, 1))  # each world's control row
         self._t, self._at = 0, 0
         self._rest_rows, self._rest_step = rows, np.zeros(n, dtype=int)
         self._now, self._touching = rows.copy(), np.zeros(n, dtype=bool)
         self._failed = np.zeros(n, dtype=bool)
-        self._chunks: list[_Chunk | None] = []
+        self._chunks: list[Chunk | None] = []
         self._members: list[np.ndarray] | None = None
         self._slot, self._pos = np.full(n, -1), np.zeros(n, dtype=int)
         self._end = np.zeros(n, dtype=int)  # the last step each world's chunk reaches
@@ -154,9 +141,11 @@ class MujocoWorlds(BatchedEngine):
         self._own: dict[int, OwnWorld] = {}
         self._is_own = np.zeros(n, dtype=bool)
         self._carried = np.zeros(n, dtype=bool)  # its warm start in its own data (``_carry``)
+        self._retired = np.zeros(n, dtype=bool)  # its episode over: stepped no further
+        self._again = np.zeros(n, dtype=bool)  # stepped from its rest point once already
         if not self._batched:
             for w in range(n):
-                self._make_own(w, rows[w], 0, self._control)
+                self._make_own(w, rows[w], 0, self._control[w])
 
     def _data(self, w: int):
         """World ``w``'s data of its own (made once, kept for the next episodes)."""
@@ -164,10 +153,13 @@ class MujocoWorlds(BatchedEngine):
             self._datas.append(mujoco.MjData(self._engine.model))
         return self._datas[w]
 
-    def _make_own(self, w: int, row: np.ndarray, step: int, control: np.ndarray, warm=None):
-        """World ``w`` stepped on its own (``OwnWorld``) from ``row`` at ``step``."""
-        m = self._engine.model
-        own = self._own[w] = OwnWorld(self._data(w), m, row, step, control, warm)
+    def _make_own(
+        self, w: int, row: np.ndarray, step: int, control: np.ndarray, warm=None, model=None
+    ):
+        """World ``w`` stepped on its own (``OwnWorld``) from ``row`` at ``step``, on ``model``
+        (None: its own now)."""
+        model = self._models[w] if model is None else model
+        own = self._own[w] = OwnWorld(self._data(w), model, row, step, control, warm)
         self._members = None
         self._slot[w], self._is_own[w], self._stale[w] = -1, True, False
         return own
@@ -177,7 +169,16 @@ class MujocoWorlds(BatchedEngine):
 
     def read(self) -> np.ndarray:
         self._sync()
-        return state_rows(self._now, self._planar)
+        if not self._retired.any():
+            return state_rows(self._now, self._planar)
+        if self._unread.any():  # (converted once, at the first read after they ended)
+            fresh = self._unread
+            self._ended_rows[fresh] = state_rows(self._now[fresh], self._planar[fresh])
+            self._unread = np.zeros(self._n, dtype=bool)
+        out = self._ended_rows.copy(order="F")
+        live = ~self._retired
+        out[live] = state_rows(self._now[live], self._planar[live])
+        return out
 
     def in_contact(self) -> np.ndarray:
         self._sync()
@@ -187,12 +188,30 @@ class MujocoWorlds(BatchedEngine):
         self._sync()
         return self._failed.copy()
 
+    def retire(self, worlds: np.ndarray) -> None:
+        """Step the worlds ``worlds`` no further: their row, contact flag and failure stay as
+        at the step read last (``BatchedEngine.retire``), their chunk's memory freed once no
+        world reads it."""
+        self._sync()
+        done = np.asarray(worlds, dtype=bool) & ~self._retired
+        if not done.any():
+            return
+        if not self._retired.any():
+            self._ended_rows = np.zeros((self._n, 20), order="F")  # (their rows as they ended)
+            self._unread = np.zeros(self._n, dtype=bool)
+        self._unread |= done
+        self._retired |= done
+        self._slot[done] = -1
+        self._members = None
+        for w in np.flatnonzero(done & self._is_own).tolist():
+            del self._own[w]
+
     def _sync(self) -> None:
         """Every world's row, contact flag and failure at the step asked (``_t``)."""
-        t, m = self._t, self._engine.model
+        t = self._t
         if self._at == t:
             return
-        due = np.flatnonzero((self._end < t) & ~self._is_own)
+        due = np.flatnonzero((self._end < t) & ~self._is_own & ~self._retired)
         if due.size:
             self._refill(due, t)
             self._members = None
@@ -207,11 +226,13 @@ class MujocoWorlds(BatchedEngine):
             if mine.size:
                 pos = self._pos[mine]
                 k = t - chunk.base_step[pos] - 1
+                if chunk.dropped is not None:
+                    k = k - chunk.dropped[pos]
                 self._now[mine] = chunk.rows[pos, k]
                 self._touching[mine] = chunk.touching[pos, k]
         for w, own in self._own.items():
-            own.advance(m, t)
-            own.row(m, self._now[w])
+            own.advance(t)
+            own.row(self._now[w])
             self._touching[w], self._failed[w] = own.touching(), own.failed()
         self._at = t
 
@@ -225,13 +246,15 @@ class MujocoWorlds(BatchedEngine):
                 w,
                 chunk.start_rows[i],
                 int(chunk.base_step[i]),
-                chunk.control,
+                chunk.control[i],
                 None if chunk.start_warm is None else chunk.start_warm[i],
+                chunk.models[i],
             )
-            own.advance(m, self._switched)
-            own.set_control(m, self._control)
+            own.advance(self._switched)
+            own.set_control(self._models[w], self._control[w])
         due = due[~self._is_own[due]]
-        bound = bool(self._control[-1])  # the hands hold the bat: no step is free of constraints
+        # the hands hold a bat: no step of its is free of constraints
+        bound = bool(self._control[:, -1].any())
         if bound:
             end = t
         elif self._first:
@@ -241,7 +264,8 @@ class MujocoWorlds(BatchedEngine):
             self._window *= 2
         self._first = False
         per_step = WIDTH + m.nsensordata
-        carried = self._carried[due] | (t - self._rest_step[due] > CARRY_AFTER)
+        long = self._again[due] & (t - self._rest_step[due] > CARRY_AFTER)
+        carried = self._carried[due] | long
         if carried.any():
             self._carry(due[carried], end)
         due = due[~carried]
@@ -250,34 +274,46 @@ class MujocoWorlds(BatchedEngine):
         steps = end - int(self._rest_step[due].min())
         if steps * per_step > CALL_NUMBERS:  # too long for one call's memory: on their own
             for w in due:
-                self._make_own(w, self._rest_rows[w], int(self._rest_step[w]), self._control)
+                self._make_own(w, self._rest_rows[w], int(self._rest_step[w]), self._control[w])
             return
         group = max(1, CALL_NUMBERS // (steps * per_step))
         for first in range(0, due.size, group):
             ws = due[first : first + group]
-            self._call(ws, end - int(self._rest_step[ws].min()), bound)
+            self._call(ws, end - int(self._rest_step[ws].min()), end, bound)
 
-    def _call(self, ws: np.ndarray, steps: int, bound: bool) -> None:
-        """One ``rollout`` call: worlds ``ws`` from their rest points, ``steps`` steps each."""
-        m = self._engine.model
-        start, base = self._rest_rows[ws], self._rest_step[ws].copy()
-        rows, touching = roll(self._pool, m, self._scratch, start, self._control, steps)
-        bad = warned(start, rows, m.opt.timestep)  # such worlds go on their own
+    def _call(self, ws: np.ndarray, steps: int, end: int, bound: bool) -> None:
+        """One ``rollout`` call: worlds ``ws`` from their rest points, ``steps`` steps each,
+        reaching ``end`` at least. Bound (a drive's: no reads come before ``end``, and its rest
+        points stay), each world's row at ``end`` alone is kept: a swing's 1e4 steps of 256
+        worlds held to the next ``set_state`` were 560 MB."""
+        start, base, control = self._rest_rows[ws], self._rest_step[ws].copy(), self._control[ws]
+        models = [self._models[w] for w in ws.tolist()]
+        rows, touching = roll(self._pool, models, self._scratch, start, control, steps)
+        bad = warned(start, rows, self._engine.model.opt.timestep)  # such worlds go on their own
         for i in np.flatnonzero(bad):
-            self._make_own(int(ws[i]), start[i], int(base[i]), self._control)
+            self._make_own(int(ws[i]), start[i], int(base[i]), control[i])
         ok = np.flatnonzero(~bad)
+        self._again[ws[ok]] = True
+        reach, dropped = base + steps, None
+        if bound:
+            dropped = end - base - 1
+            keep = np.arange(ws.size), dropped
+            rows, touching = rows[keep][:, None], touching[keep][:, None]
+            reach = np.full(ws.size, end)
         self._chunks.append(
-            _Chunk(
+            Chunk(
                 worlds=ws,
                 base_step=base,
                 rows=rows,
                 touching=touching,
                 start_rows=start,
-                control=self._control.copy(),
+                models=models,
+                control=control,
+                dropped=dropped,
             )
         )
         w = ws[ok]
-        self._slot[w], self._pos[w], self._end[w] = len(self._chunks) - 1, ok, base[ok] + steps
+        self._slot[w], self._pos[w], self._end[w] = len(self._chunks) - 1, ok, reach[ok]
         if bound:
             return
         # each world's rest point moves to the state before its chunk's last free step
@@ -287,17 +323,19 @@ class MujocoWorlds(BatchedEngine):
         idx = ok[moves]
         self._rest_step[ws[idx]] = base[idx] + last[moves]
         self._rest_rows[ws[idx]] = rows[idx, last[moves] - 1]
+        self._again[ws[idx]] = False
 
     def _carry(self, ws: np.ndarray, end: int) -> None:
         """Worlds ``ws`` stepped to ``end``, each in a call of its own on its own data, which
         keeps the last step's warm start for the next (from its rest point the first time);
         their states in one chunk."""
         m, k = self._engine.model, ws.size
-        start, base = self._rest_rows[ws], self._rest_step[ws].copy()
+        start, base, control = self._rest_rows[ws], self._rest_step[ws].copy(), self._control[ws]
+        models = [self._models[w] for w in ws.tolist()]
         most = end - int(base.min())
         if most * (WIDTH + m.nsensordata) > CALL_NUMBERS:  # too long for a call's memory
-            for w in ws:
-                self._make_own(int(w), self._rest_rows[w], int(self._rest_step[w]), self._control)
+            for i, w in enumerate(ws.tolist()):
+                self._make_own(w, start[i], int(base[i]), control[i])
             return
         rows = np.empty((k, most, WIDTH))
         touching = np.zeros((k, most), dtype=bool)
@@ -310,21 +348,28 @@ class MujocoWorlds(BatchedEngine):
             self._carried[w] = True
             clear_warnings(d)
             got, hit = roll(
-                self._alone, m, [d], start[i : i + 1], self._control, steps, warm[i : i + 1]
+                self._alone,
+                models[i : i + 1],
+                [d],
+                start[i : i + 1],
+                control[i],
+                steps,
+                warm[i : i + 1],
             )
             rows[i, :steps], touching[i, :steps] = got[0], hit[0]
             if any_warning(d):  # (module docstring)
-                self._make_own(w, start[i], int(base[i]), self._control, warm[i])
+                self._make_own(w, start[i], int(base[i]), control[i], warm[i])
             else:
                 kept.append(i)
         self._chunks.append(
-            _Chunk(
+            Chunk(
                 worlds=ws,
                 base_step=base,
                 rows=rows,
                 touching=touching,
                 start_rows=start,
-                control=self._control.copy(),
+                models=models,
+                control=control,
                 start_warm=warm,
             )
         )
@@ -334,19 +379,22 @@ class MujocoWorlds(BatchedEngine):
         self._rest_step[w], self._rest_rows[w] = end, rows[ok, end - base[ok] - 1]
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
-        if hands is not None and any(h != hands[0] for h in hands):
-            raise ValueError(
-                "hands: one model holds one drive; allowed: the same hands in every world"
-            )
+        """Each world driven by its ``hands`` on a copy of the model holding their pivot and
+        load site (one copy for equal hands); None: the hands let go, each world on the model
+        it was driven on, as a world alone keeps its last hands' (the drive off, they act on
+        nothing)."""
         self._sync()  # the steps asked so far, under the drive they were asked under
-        self._engine.set_drive(None if hands is None else hands[0])
-        control = self._control_row()
-        if np.array_equal(control, self._control):
+        if hands is None:
+            models, control = self._models, np.tile(self._undriven, (self._n, 1))
+        else:
+            models, control = driven(self._engine, hands)
+        if np.array_equal(control, self._control) and all(
+            a is b for a, b in zip(models, self._models, strict=True)
+        ):
             return
-        self._control = control
-        m = self._engine.model
-        for own in self._own.values():
-            own.set_control(m, control)
+        self._models, self._control = models, control
+        for w, own in self._own.items():
+            own.set_control(models[w], control[w])
         if self._t > 0:  # the chunks' later steps, and rest points, are the old drive's
             shared = ~self._is_own
             self._stale |= shared
@@ -362,7 +410,8 @@ class MujocoWorlds(BatchedEngine):
             return None
         start, _ = physics_rows(states)
         t0 = time.perf_counter()
-        roll(self._pool, self._engine.model, self._scratch, start, self._control, steps)
+        models = [self._engine.model] * len(start)
+        roll(self._pool, models, self._scratch, start, self._undriven, steps)
         return time.perf_counter() - t0
 
     def close(self) -> None:

@@ -160,6 +160,7 @@ class _Stepper:
         self.peak, self.off_steps = xp.full(n, -math.inf), xp.full(n, 0)
         self.active, self.prev_step = xp.full(n, True), xp.full(n, 0)
         self.check_at, self.ends = xp.full(n, 0), []  # ends: (mask, reading) per finish
+        self.ended_now = False  # whether a world's episode ended at this step's reading
 
     def run(self, starts) -> Episodes:
         """Step from ``starts`` until every world's episode is over (module docstring)."""
@@ -197,6 +198,9 @@ class _Stepper:
         ):
             return False
         self.observe(step, batch.in_contact(), self.xp.columns(batch.read()))
+        if self.ended_now:  # stepped no further (``BatchedEngine.retire``): read as they end
+            batch.retire(xp.not_(self.active))
+            self.ended_now = False
         return not xp.any(self.active)
 
     def budget_spent(self, batch) -> None:
@@ -228,6 +232,7 @@ class _Stepper:
         if side is not None:
             o.side_m = xp.where(m, side, o.side_m)
         self.active = self.active & xp.not_(m)
+        self.ended_now = True
         if why in (Ending.NON_FINITE, Ending.JUMPED):
             self.peak = xp.where(m, math.nan, self.peak)
 

@@ -126,7 +126,7 @@ class Jobs(Sequence):
 def fire_jobs(jobs: Sequence[Job], tick: Callable[[int], None] | None = None) -> FiredSeq:
     """Fire jobs in this process, in order: each run of consecutive jobs sharing engine,
     settings, scene and swing as one batch on a batched engine, and on a single-world one in
-    batches of as many engines as the run repays (``Hosted.pool_size``; one under a swing).
+    batches of as many engines as the run repays (``Hosted.pool_size``).
     An engine that fails (raises, exits, hangs, holds another scene) fails its batch's rows,
     not the run (``guarded``)."""
     parts: list[Sequence[Fired]] = []
@@ -232,15 +232,16 @@ def _unmeasured(jobs: Sequence[Job], failure: NotFired, wall_s: float) -> list[F
 def _groups(host: Hosted, run: Sequence[Job]):
     """The batches a run is fired in, each with its rows of the run's ``Placed`` (or None):
     one on a batched engine; on a single-world one, as many engines at a time as the rest of
-    the run repays (one under a swing, whose worlds may swing for different times), the run
-    placed once for all its batches of several worlds."""
+    the run repays, the run placed once for all its batches of several worlds (but under a
+    swing, which re-plans each case: its batches place theirs). A run's swings last alike
+    (one swing, bat and step), each world's about hands of its own."""
     if host.batched:
         yield run, None
         return
     at, placed = 0, None
     while at < len(run):
-        size = 1 if run[0].swing is not None else host.pool_size(len(run), len(run) - at)
-        if size > 1 and placed is None:
+        size = host.pool_size(len(run), len(run) - at)
+        if size > 1 and placed is None and run[0].swing is None:
             placed = Placed.of(host, run)
         yield run[at : at + size], placed and placed.rows(at, size)
         at += size

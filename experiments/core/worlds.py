@@ -53,6 +53,9 @@ class OneWorld:
     def failed(self) -> bool:
         return self.engine.failed()
 
+    def retire(self, done) -> None:
+        pass  # (its episode is over: nothing steps it)
+
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
         self.engine.set_drive(None if hands is None else hands[0])
 
@@ -65,13 +68,15 @@ class EngineWorlds:
 
     def __init__(self, engines: Sequence) -> None:
         self.engines, self.n, self.checked = engines, len(engines), False
+        self.live = engines  # those stepped: the worlds whose episode goes on (``retire``)
 
     def set_state(self, states: np.ndarray) -> None:
         for engine, row in zip(self.engines, states.tolist()):
             engine.set_state(State(*row))
+        self.live = self.engines
 
     def step(self) -> None:
-        for engine in self.engines:
+        for engine in self.live:
             engine.step()
 
     def any_contact(self) -> bool:
@@ -90,6 +95,11 @@ class EngineWorlds:
 
     def failed(self) -> np.ndarray:
         return np.array([engine.failed() for engine in self.engines], dtype=bool)
+
+    def retire(self, done: np.ndarray) -> None:
+        """Stop stepping the worlds ``done`` (their episode is over; what they read stays as
+        it was then, their failure with it)."""
+        self.live = [e for e, over in zip(self.engines, done.tolist()) if not over]
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
         for i, engine in enumerate(self.engines):
@@ -134,6 +144,9 @@ class ManyWorlds:
     def failed(self) -> np.ndarray:
         got = self.engine.failed()
         return np.zeros(self.n, dtype=bool) if got is None else np.asarray(got, dtype=bool)
+
+    def retire(self, done: np.ndarray) -> None:
+        self.engine.retire(done)
 
     def set_drive(self, hands: Sequence[Hands] | None) -> None:
         self.engine.set_drive(hands)
