@@ -23,11 +23,12 @@ hands: without it the engine sits out the swing studies), ``failed``, ``set_body
 
 **Batched form** (``BatchedEngine``): the same members over ``n`` independent worlds at once,
 arrays of floats in and out, one row per world in ``STATE_FIELDS`` order (a planar engine may
-leave the out-of-plane columns out), but ``set_body_restitution``; five optional more:
-``derivative``, the engine's own automatic differentiation through an impact (by its start
-state and the bat's inertia), ``knob_derivative``, the same by its settings' contact knobs
-(a fit of the contact to a measured law), ``device``, where its worlds live, ``anchor_s``,
-its library's own batched call timed bare, and ``device_episode``, the episode observed
+leave the out-of-plane columns out), but ``set_body_restitution``; six optional more:
+``retire``, the worlds whose episode is over (it may stop stepping them), ``derivative``,
+the engine's own automatic differentiation through an impact (by its start state and the
+bat's inertia), ``knob_derivative``, the same by its settings' contact knobs (a fit of the
+contact to a measured law), ``device``, where its worlds live, ``anchor_s``, its library's
+own batched call timed bare, and ``device_episode``, the episode observed
 where the worlds live (``adapters.device``).
 
 What the harness holds an adapter to, whatever it does (``experiments.core.fire.guarded``): a
