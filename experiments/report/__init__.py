@@ -5,8 +5,8 @@
 Reads the baseline sweeps (sweep_*.csv/.json, summary.md), the benchmarks (bench_*.json/.csv),
 the speed-accuracy study (pareto*.csv, convergence.csv), the stability maps (stability*.csv),
 the swing study (swing*.csv), the out-of-the-box study (defaults*.csv/.json), the soft-contact
-calibration (soft_calibration.csv), the friction study (friction.csv/.json) and the findings
-(findings.md) from DIR (default results/),
+calibration (soft_calibration.csv), the friction study (friction.csv/.json), the real-ball
+fits (realball_fits.csv) and the findings (findings.md) from DIR (default results/),
 and writes report.md: one section per study, its charts linked beside it, its narrative with
 every number formatted from those files (the model's inputs from ``analytic.presets``, engine
 defaults from the engines' records); and one short page per engine with their index
@@ -34,6 +34,7 @@ from . import (
     pages,
     performance,
     questions,
+    realball,
     sweeps,
 )
 from .base import Damaged, Missing, Results
@@ -49,6 +50,7 @@ SECTIONS = (
     ("Where methods fail", failures.section),
     ("Swing dynamics", dynamics.section),
     ("Friction at impact", friction.section),
+    ("A real baseball in each engine", realball.section),
     ("Findings: the paper's questions", questions.section),
     ("Sources", questions.sources),
 )
