@@ -45,14 +45,14 @@ def section(res: Results) -> str:
         f"differences, its CORs within {num(r.cor_gap_bands)} half bands of theirs"
         for r in grad.itertuples()
     ]
-    ball = bool(len(best)) and float(best.sweet_spot_ball_m.iloc[0])
+    ball_m = float(best.sweet_spot_ball_m.iloc[0])  # (the same reference for every engine)
     head = lead(
         "`python -m experiments.realball` fits each ball model a record declares to the ball "
         f"fired at a rigid wall: COR_LAW's COR ({COR_LAW.cor(SPEED_REF_MPS):.3f} at 85 ft/s, "
         f"falling as v^-{COR_LAW.exponent:.3f}) at 10-60 m/s in units of COR_LAWS' half range, "
         f"and {1e3 * CONTACT_S:.1f} ms of contact at 40 m/s where the contact lasts. Each "
         "engine's lowest-cost model ([settings to copy](realball.md), "
-        f"[chart](realball.png)); the realistic ball puts the sweet spot at {100 * ball:.1f} cm:",
+        f"[chart](realball.png)); the realistic ball puts the sweet spot at {100 * ball_m:.1f} cm:",
         [],
     )
     return "\n\n".join(
