@@ -58,6 +58,12 @@ def _outcomes(fired) -> list[tuple]:
     ]
 
 
+def _cap(monkeypatch, worlds: int) -> None:
+    """At most ``worlds`` worlds a batch, in engines apart or in a pool adapter."""
+    monkeypatch.setattr(hosting, "POOL_MAX", worlds)
+    monkeypatch.setattr(hosting, "POOL_ADAPTER_MAX", worlds)
+
+
 @pytest.mark.parametrize("name", SINGLE)
 def test_a_world_fired_in_a_batch_of_engines_ends_as_it_does_alone(name, monkeypatch):
     jobs = _jobs(name)
@@ -65,7 +71,7 @@ def test_a_world_fired_in_a_batch_of_engines_ends_as_it_does_alone(name, monkeyp
     fired_alone = fire_jobs(jobs)
     alone = _outcomes(fired_alone)
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    monkeypatch.setattr(hosting, "POOL_MAX", 16)  # 21 = 11 + 10: batches of unequal size
+    _cap(monkeypatch, 16)  # 21 = 11 + 10: batches of unequal size
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)  # any run repays its engines
     fired_batched = fire_jobs(jobs)
     batched = _outcomes(fired_batched)
@@ -90,7 +96,7 @@ def test_a_batch_of_engines_stays_within_what_the_engine_can_hold(name, monkeypa
     # max_worlds: the process never holds more (Box2D v3 crashes at its 129th world), and
     # holds that many (the limit is one the engine bears).
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    monkeypatch.setattr(hosting, "POOL_MAX", 10**6)
+    _cap(monkeypatch, 10**6)
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
     limit = adapters.record(name).can.max_worlds
     first = adapters.settings_for(name)
@@ -121,7 +127,7 @@ def test_a_run_fired_again_finds_its_engines_made(name, monkeypatch):
     # makes none, however the timings of the makings fell (a benchmark's timed firings after
     # its warm one time the harness, not the engine's making).
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    monkeypatch.setattr(hosting, "POOL_MAX", 64)  # (within any engine's max_worlds)
+    _cap(monkeypatch, 64)  # (within any engine's max_worlds)
     hosting.close_engines()  # the engine's first firing in this process
     settings = adapters.settings_for(name)
     jobs = [Job(engine=name, settings=settings, case=_jobs(name)[0].case)] * 200
@@ -157,7 +163,7 @@ def test_a_pool_of_declared_world_cost_is_sized_without_the_clock(name, monkeypa
     # impacts within POOL_MAX = 64 are 4 batches of 50 (ceil(200 / ceil(200 / 64))), on any
     # machine, and no engine was built alone first to time it.
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    monkeypatch.setattr(hosting, "POOL_MAX", 64)
+    _cap(monkeypatch, 64)
     monkeypatch.setattr(hosting, "time", _LoadedClock())
     hosting.close_engines()
     settings = adapters.settings_for(name)
@@ -171,6 +177,23 @@ def test_a_pool_of_declared_world_cost_is_sized_without_the_clock(name, monkeypa
         fire_jobs(jobs)
         host = hosting.hosted(name, settings)
         assert sizes == [50] * 4 and host.held() == 50 and host.scenes == [None]
+    finally:
+        hosting.close_engines()
+
+
+@pytest.mark.parametrize("name", DECLARED)
+def test_a_pool_adapter_holds_more_worlds_than_engines_apart(name, monkeypatch):
+    # A pool adapter's worlds share the harness's work on a step (hosting.POOL_ADAPTER_MAX),
+    # engines apart are at most POOL_MAX a batch: a run of 4 * POOL_MAX impacts on a pool of
+    # declared world cost is as few even batches as POOL_ADAPTER_MAX allows,
+    # ceil(n / ceil(n / POOL_ADAPTER_MAX)) worlds each, not batches of POOL_MAX.
+    hosting.close_engines()
+    host = hosting.hosted(name, adapters.settings_for(name))
+    n = 4 * hosting.POOL_MAX
+    want = math.ceil(n / math.ceil(n / hosting.POOL_ADAPTER_MAX))
+    try:
+        assert hosting.POOL_ADAPTER_MAX > hosting.POOL_MAX
+        assert host.pool_size(n, n) == min(want, host.record.can.max_worlds or want)
     finally:
         hosting.close_engines()
 
@@ -214,7 +237,7 @@ def _alone_and_pooled(name: str, settings, e: float, extra: dict, monkeypatch):
     monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
     alone = _outcomes(fire_jobs(jobs))
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    monkeypatch.setattr(hosting, "POOL_MAX", 16)
+    _cap(monkeypatch, 16)
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
     pooled = _outcomes(fire_jobs(jobs))
     assert hosting.hosted(name, settings).held() == 11
@@ -321,7 +344,7 @@ def _swung_alone_and_batched(name: str, jobs: list[Job], monkeypatch):
     monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
     alone = fire_jobs(jobs)
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    monkeypatch.setattr(hosting, "POOL_MAX", 6)
+    _cap(monkeypatch, 6)
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
     batched = fire_jobs(jobs)
     assert hosting.hosted(name, jobs[0].settings).held() == 6  # 11 = 6 + 5
@@ -350,7 +373,7 @@ def test_the_hinged_sweep_fired_in_pools_ends_as_alone(name, monkeypatch):
     monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
     alone = fire_jobs(jobs)
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    monkeypatch.setattr(hosting, "POOL_MAX", 41)
+    _cap(monkeypatch, 41)
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
     pooled = fire_jobs(jobs)
     assert hosting.hosted(name, jobs[0].settings).held() == 41

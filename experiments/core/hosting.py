@@ -32,6 +32,12 @@ class SceneMismatch(RuntimeError):
 #: and the fewest worth it: the batch's numpy work on a step (about 0.3 ms here) must be shared
 #: by enough worlds to cost less than a world alone does in Python floats.
 POOL_MAX, POOL_MIN = 256, 16
+#: The most worlds of a pool adapter (``Capabilities.pool_adapter``: worlds on one model, the
+#: harness's work on a step shared by them all) one batch holds, within the record's
+#: ``max_worlds``: MuJoCo's judged impact cost 13.3 / 12.0 us at 1e3 / 1e4 in pools of 256,
+#: 9.3 / 8.3 in pools of 1000 (7.1 in one of 1e4), and an e = 0 run of 2048 impacts peaked at
+#: 0.29 GB in pools of 256, 0.72 GB in pools of 1024 (each world's long contact held; measured).
+POOL_ADAPTER_MAX = 1024
 #: What an impact costs the harness less when fired in a batch of single-world engines than
 #: alone (s): 93-118 us alone against 8-16 us in a batch of 90-250 (MuJoCo, PyBullet, pymunk in
 #: a run of 1e3, ``bench_engines``' harness share on a 2-core host). More engines are made only
@@ -99,7 +105,8 @@ class Hosted:
         if self.make_s is None:
             return 1
         repaid = int(impacts * POOLED_SAVING_S / self.make_s)
-        size = min(POOL_MAX, impacts, max(self.held(), repaid))
+        most = POOL_MAX if self.record.can.pool_adapter is None else POOL_ADAPTER_MAX
+        size = min(most, impacts, max(self.held(), repaid))
         if size > self.held() and self.record.can.max_worlds is not None:
             size = min(size, _room(self))
         # the run in batches of even size (no last one of a few impacts, fired alone)

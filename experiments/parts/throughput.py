@@ -19,7 +19,8 @@ library's own batched call on the same states and threads (``anchor_us_per_impac
 ``BatchedEngine.anchor_s``; NaN without one): a pool that steps only when read (MuJoCo's,
 through ``mujoco.rollout``) shows its steps under the reads. Each size is fired once untimed
 first (compiles, caches); the numbers are medians of the repeats (below LOOPED_IMPACTS impacts,
-each repeat the mean over that many impacts' worth of firings). Sizes grow while the next one's
+each repeat the mean over that many impacts' worth of firings; the bare run and its anchor
+timed up to BARE_TIMINGS times a repeat). Sizes grow while the next one's
 firing, priced at this one's cost per impact, fits in the budget. Every adapter made before, of
 any engine, is closed first: each engine is measured alone in the process (another engine's
 hundreds of adapters left alive slowed the next: PyBullet at 1e3 measured 12-14 us alone, 17
@@ -53,6 +54,12 @@ SIZES = (1, 10, 100, 1_000, 10_000, 100_000)
 #: which the machine's other work and a cold cache moved a single timing by 2-3x (measured:
 #: batch 1's bare 42-62 us a timing, 19-26 us at best over 2000).
 LOOPED_IMPACTS = 100
+#: The bare run (and its library's batched call beside it) is timed up to this many times in
+#: each repeat, taking turns, the medians kept, while those timings last at most BARE_BUDGET_S
+#: in all: one timing each of 1e3 MuJoCo worlds (7 ms) put the bare pool at 1.20-1.37x
+#: ``rollout``'s own over four runs, five each at 1.19-1.20x in isolation (measured).
+BARE_TIMINGS = 5
+BARE_BUDGET_S = 0.5
 
 
 def _firing() -> firings.Firing:
@@ -243,8 +250,11 @@ def measure(name: str, sizes=SIZES, budget_s: float = 30.0, repeats: int = 3) ->
             layouts.append(layout)
             inside.append(wall - engine)
             stepping.append(step)
-            bare = [bare_s(name, settings, cases, steps, reads, anchors) for _ in range(loops)]
-            bares.append(sum(bare) / loops)
+            for _ in range(
+                max(1, min(BARE_TIMINGS, int(BARE_BUDGET_S / max(engine * loops, 1e-6))))
+            ):
+                bare = [bare_s(name, settings, cases, steps, reads, anchors) for _ in range(loops)]
+                bares.append(sum(bare) / loops)
         anchored = [a for a in anchors if a is not None]
         wall, bare = float(np.median(walls)), float(np.median(bares))
         rows.append(
