@@ -16,6 +16,7 @@ from adapters import Scene
 from analytic import ImpactCase, presets
 from analytic.dynamics import HingedSwing
 from experiments.core import Job, fire_jobs, firings, hosting, tables
+from experiments.core.placement import start_state
 
 SINGLE = [n for n in adapters.names() if not adapters.record(n).batched]
 
@@ -254,10 +255,7 @@ def test_a_pool_ends_every_kind_of_sweep_as_alone(name, monkeypatch):
 
 
 #: Pools known to end a sustained contact otherwise than alone, with what was seen.
-SUSTAINED_KNOWN = {
-    "pybullet": "PyBullet's pool: at e = 0 one world of 21 (s = 0.18 m) ends 2e-14 m/s off "
-    "alone, two more in their last bit (seen before worlds were retired: on main as found)",
-}
+SUSTAINED_KNOWN: dict[str, str] = {}
 
 
 @pytest.mark.full  # (the fast tier's batch-of-engines test has e = 0 over 3 points)
@@ -276,6 +274,57 @@ def test_a_pool_ends_sustained_contacts_as_alone(name, monkeypatch):
     # each then reading and failing as at its end: the same outcomes as alone, bit for bit.
     alone, pooled = _alone_and_pooled(name, adapters.settings_for(name), 0.0, {}, monkeypatch)
     assert [repr(o) for o in pooled] == [repr(o) for o in alone]
+
+
+#: Steps two worlds are stepped together (their contacts share 48 of them).
+STEPS_TOGETHER = 50
+
+
+def _stepped(step, read):
+    """One step, then the state read."""
+    step()
+    return read()
+
+
+@pytest.mark.parametrize("name", POOLED)
+def test_worlds_in_contact_together_step_as_alone(name):
+    # Two of the e = 0 sweep's impacts (s indices 16 and 11 of 21) in one pool, both in
+    # contact from the third step: every step's state as each world's alone, bit for bit. (A
+    # solver that takes the two contacts as one problem stops iterating on their summed
+    # residual: PyBullet's pool did so at minimumSolverIslandSize 1 and parted at step 10.)
+    settings = adapters.settings_for(name)
+    s_m = firings.grid(presets.R161, 21)
+    cases = [
+        ImpactCase(
+            bat=presets.R161,
+            ball=presets.BASEBALL,
+            s_m=s_m[i],
+            v0_mps=presets.PAPER_PITCH_MPS,
+            u0_mps=presets.PAPER_SWING.u0_mps,
+            omega0_radps=presets.PAPER_SWING.omega0_radps,
+            e=0.0,
+        )
+        for i in (16, 11)
+    ]
+    starts = [start_state(case, settings)[0] for case in cases]
+    scene = Scene(bat=presets.R161, ball=presets.BASEBALL, e=0.0, mu=0.0)
+    pool = adapters.pool_class(name)(settings)
+    try:
+        pool.build(scene, 2)
+        pool.set_state(np.array([list(start) for start in starts]))
+        pooled = [_stepped(pool.step, pool.read) for _ in range(STEPS_TOGETHER)]
+        assert np.all(pool.in_contact())
+    finally:
+        pool.close()
+    for w, start in enumerate(starts):
+        engine = adapters.create(name, settings)
+        try:
+            engine.build(scene)
+            engine.set_state(start)
+            alone = [_stepped(engine.step, engine.read) for _ in range(STEPS_TOGETHER)]
+        finally:
+            engine.close()
+        assert [list(p[w]) for p in pooled] == [list(a) for a in alone], w
 
 
 @pytest.mark.parametrize("name", POOLED)
