@@ -302,7 +302,7 @@ RECORD = EngineRecord(
         step_cost_s=5.3e-6,
         # a pool world is a row of rollout's arrays: 0.2-0.9 us each growing a pool to 256-4096
         # worlds (its model, 1.3 ms, made once per process as one engine's); 2 us is 1/50 of
-        # what a pooled impact saves (hosting.POOLED_SAVING_S): any long run repays POOL_MAX
+        # what a pooled impact saves (hosting.POOLED_SAVING_S): any long run repays a full pool
         pool_world_make_s=2e-6,
     ),
     look=Presentation(

@@ -6,10 +6,11 @@ A client costs 21 ms to connect and 27 MB; a pair in a client about 1 ms. The pa
 lie in the same place, each pair's two bodies in a collision group of their own (filter group
 = mask = one bit), so no pair touches another; the solver takes each pair's island alone, so
 every world ends bit for bit as it does in a client of its own (``tests/test_pool.py``).
-Alone means ``minimumSolverIslandSize`` 0 (PyBullet's own): Bullet's island callback holds an
+Alone means ``minimumSolverIslandSize`` 0 (``getPhysicsEngineParameters`` does not read it
+back; a world alone is one island whatever it is): Bullet's island callback holds an
 island back until its contacts and constraints exceed that size, so at 1 two one-contact
 islands were solved as one, and the solver's early stop on their summed residual
-(``solverResidualThreshold``, 1e-7) stepped them otherwise than alone: two worlds in contact
+(``solverResidualThreshold``, 1e-7 by the PyBullet Quickstart Guide) stepped them otherwise than alone: two worlds in contact
 together parted in a last bit 7 steps in, and 3 of 21 sustained contacts (e = 0) ended off
 (measured; with the threshold at 0 the joint solve matched alone).
 Stepping PAIRS_PER_CLIENT pairs together costs less per pair than one (1.8-2.5 us a step
