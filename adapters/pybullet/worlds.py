@@ -10,9 +10,10 @@ Alone means ``minimumSolverIslandSize`` 0 (``getPhysicsEngineParameters`` does n
 back; a world alone is one island whatever it is): Bullet's island callback holds an
 island back until its contacts and constraints exceed that size, so at 1 two one-contact
 islands were solved as one, and the solver's early stop on their summed residual
-(``solverResidualThreshold``, 1e-7 by the PyBullet Quickstart Guide) stepped them otherwise than alone: two worlds in contact
-together parted in a last bit 7 steps in, and 3 of 21 sustained contacts (e = 0) ended off
-(measured; with the threshold at 0 the joint solve matched alone).
+(``solverResidualThreshold``, 1e-7 by the PyBullet Quickstart Guide) stepped them otherwise
+than alone: two worlds in contact together parted in a last bit 7 steps in, and 3 of 21
+sustained contacts (e = 0) ended off (measured; with the threshold at 0 the joint solve
+matched alone).
 Stepping PAIRS_PER_CLIENT pairs together costs less per pair than one (1.8-2.5 us a step
 against 3.9, 4-16 pairs, measured); 30 cost 3.5: the broadphase pairs every overlapping box.
 """
