@@ -75,6 +75,8 @@ CASE_FIELDS = (
 def distinct_cases(cases: Sequence[ImpactCase]) -> tuple[np.ndarray, np.ndarray]:
     """The distinct case objects of ``cases`` (by identity), ordered by it: the row where each
     first appears, and each row's index into them."""
+    if len(cases) <= 1:  # (one case is its own: no sort to make)
+        return np.arange(len(cases)), np.arange(len(cases))
     ids = np.fromiter(map(id, cases), dtype=np.int64, count=len(cases))
     _, first, inv = np.unique(ids, return_index=True, return_inverse=True)
     return first, inv.reshape(-1)

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -70,6 +71,14 @@ class Verdict:
     v1_tol_mps: float
 
 
+class FiredBy(NamedTuple):
+    """Who fired an impact (its engine, with which settings): all of its outcome that the
+    answers for its v1 and their tolerances read (``judge.errors_of``, ``judge.rigid``, ...)."""
+
+    engine: str
+    settings: adapters.Settings
+
+
 def judge(
     case: ImpactCase, outcome: SimOutcome, error_model: adapters.ErrorModel | None = None
 ) -> Verdict:
@@ -96,8 +105,8 @@ def judge_columns(
     c = g.cols
     rep, inv = _distinct(g)
     cases = [g.cases[i] for i in rep]
-    # (a list of Fired holds its outcomes; a batch's block makes them from its columns)
-    outs = [fired[i].outcome for i in rep] if type(fired) is list else g.outcomes(rep)
+    # of an outcome, v1's answers read only who fired it: no outcome made from the columns
+    outs = [FiredBy(engine=g.engines[i], settings=g.settings[i]) for i in rep]
     errors = [judging.errors_of(o, error_models) for o in outs]
     rigid = [judging.rigid(k, o.settings.max_contact_s) for k, o in zip(cases, outs)]
     law = np.array(
