@@ -87,8 +87,28 @@ def _costs(results: Path, name: str) -> list[str]:
         out.append(
             f"{device}: {alone}; {best.us_per_impact:,.1f} us in a batch of "
             f"{best.batch:,} (the harness's share {best.harness_us_per_impact:,.1f} us)"
+            + _anchored(on)
         )
     return out
+
+
+def _anchored(rows: pd.DataFrame) -> str:
+    """Where a pool adapter was timed beside its library's own batched call on the same
+    states (``anchor_us_per_impact``): the bare pool against it at each batch of 1,000 and
+    more."""
+    if "anchor_us_per_impact" not in rows:
+        return ""
+    on = rows[(rows.batch >= 1000) & rows.anchor_us_per_impact.notna()]
+    each = [
+        f"{r.bare_us_per_impact:.1f} against {r.anchor_us_per_impact:.1f} us at {r.batch:,} "
+        f"({r.bare_us_per_impact / r.anchor_us_per_impact:.2f}x)"
+        for r in on.itertuples()
+    ]
+    return (
+        "; bare, its pool against its library's own batched call: " + ", ".join(each)
+        if each
+        else ""
+    )
 
 
 def _releases(results: Path, name: str) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 
 import pandas as pd
@@ -79,7 +80,8 @@ def batches(res: Results) -> str:
     each = [
         f"{label(r.engine)} {sci(r.impacts_per_s)}/s at {r.batch:,} "
         f"(harness {num(r.harness_us_per_impact, 2)} us, bare engine "
-        f"{num(r.bare_us_per_impact, 2)} us an impact; error {num(r.max_abs_err_mps)} m/s)"
+        f"{num(r.bare_us_per_impact, 2)} us an impact{_anchor(r)}; "
+        f"error {num(r.max_abs_err_mps)} m/s)"
         for r in best.sort_values("impacts_per_s", ascending=False).itertuples()
     ]
     return "\n\n".join(
@@ -96,6 +98,15 @@ def batches(res: Results) -> str:
             "share is the wall time less the time inside the engine's calls, reads included.",
         ]
     )
+
+
+def _anchor(r) -> str:
+    """A pool adapter's bare cost beside its library's own batched call on the same states
+    (``anchor_us_per_impact``), where measured."""
+    a = getattr(r, "anchor_us_per_impact", math.nan)
+    if not a == a:  # (NaN: no such call)
+        return ""
+    return f", its library's own batched call {num(a, 2)} ({r.bare_us_per_impact / a:.2f}x)"
 
 
 def twins(res: Results) -> str:
