@@ -6,8 +6,8 @@ and a few more until free flight proves the bodies apart; a hinged swing adds it
 The step cost is the engine record's ``step_cost_s`` (measured by ``experiments.bench_engines``),
 a step with the bodies apart its ``Cost.coast_s`` (a contact solver's step can cost ten of them);
 each step adds the harness's own ``STEP_OVERHEAD_S`` (``COAST_OVERHEAD_S`` with the bodies
-apart), each step it reads (the contact's and those after it) ``OBSERVED_STEP_S``, and each
-impact its ``OVERHEAD_S``. A
+apart), each step it reads (the contact's and those after it) ``OBSERVED_STEP_S``, shared by the
+impacts of a single-world engine's pool (read together), and each impact its ``OVERHEAD_S``. A
 batched engine steps each run of jobs that share a scene together, for as many steps as the
 longest of them takes, each step costing ``step_cost_s`` plus ``world_step_cost_s`` per world, and
 each new batch size its ``start_s`` (compiling). An impact the engine cannot fire (a swing on an
@@ -24,7 +24,7 @@ from collections.abc import Sequence
 import adapters
 from analytic import ImpactCase
 
-from . import judge
+from . import hosting, judge
 from .fire import Job, runs
 
 #: The harness's own cost per impact (s): placement, classification, the table's row.
@@ -96,10 +96,11 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
             out[name] = len(mine) * OVERHEAD_S
         elif rec.cost.world_step_cost_s is None:
             out[name] = sum(
-                coast_steps(j) * coast
-                + observed_steps(j, contact) * (cost + OBSERVED_STEP_S)
-                + OVERHEAD_S
+                coast_steps(j) * coast + observed_steps(j, contact) * cost + OVERHEAD_S
                 for j in mine
+            ) + sum(
+                max(observed_steps(j, contact) for j in batch) * OBSERVED_STEP_S
+                for batch in _pooled(rec, mine)
             )
         else:
             batches = runs(mine)
@@ -113,6 +114,20 @@ def run_s(jobs: Sequence[Job]) -> dict[str, float]:
                 + len(run) * OVERHEAD_S
                 for run in batches
             )
+    return out
+
+
+def _pooled(rec: adapters.EngineRecord, jobs: Sequence[Job]) -> list[Sequence[Job]]:
+    """The batches a single-world engine's jobs are read in: each run of POOL_MIN impacts or
+    more in batches of up to POOL_MAX (a pool adapter's POOL_ADAPTER_MAX, within the record's
+    ``max_worlds``), read together a step at a time (``hosting.pool_size``); a shorter run's
+    impacts one by one."""
+    most = hosting.POOL_MAX if rec.can.pool_adapter is None else hosting.POOL_ADAPTER_MAX
+    most = min(most, rec.can.max_worlds or most)
+    out: list[Sequence[Job]] = []
+    for run in runs(jobs):
+        size = most if len(run) >= hosting.POOL_MIN else 1
+        out += [run[i : i + size] for i in range(0, len(run), size)]
     return out
 
 
