@@ -388,15 +388,16 @@ def _swung(fired) -> list[tuple]:
     ]
 
 
-def _swung_alone_and_batched(name: str, jobs: list[Job], monkeypatch):
+def _swung_alone_and_batched(name: str, jobs: list[Job], monkeypatch, worlds: int = 6):
+    """The jobs fired one by one, then in batches of at most ``worlds`` (11 = 6 + 5)."""
     hosting.close_engines()  # (a pool held from before keeps its size)
     monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
     alone = fire_jobs(jobs)
     monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    _cap(monkeypatch, 6)
+    _cap(monkeypatch, worlds)
     monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
     batched = fire_jobs(jobs)
-    assert hosting.hosted(name, jobs[0].settings).held() == 6  # 11 = 6 + 5
+    assert hosting.hosted(name, jobs[0].settings).held() == worlds
     return alone, batched
 
 
@@ -418,12 +419,5 @@ def test_the_hinged_sweep_fired_in_pools_ends_as_alone(name, monkeypatch):
     # the reference step) in one pool: a swing of more worlds than one call holds (MuJoCo's:
     # 29 worlds a call, each world's row at the release kept alone) ends as alone.
     jobs = _swing_jobs(name, 41, math.pi / 2)
-    hosting.close_engines()
-    monkeypatch.setattr(hosting, "POOL_MIN", 10**9)
-    alone = fire_jobs(jobs)
-    monkeypatch.setattr(hosting, "POOL_MIN", 2)
-    _cap(monkeypatch, 41)
-    monkeypatch.setattr(hosting, "POOLED_SAVING_S", 1.0)
-    pooled = fire_jobs(jobs)
-    assert hosting.hosted(name, jobs[0].settings).held() == 41
+    alone, pooled = _swung_alone_and_batched(name, jobs, monkeypatch, worlds=41)
     assert [repr(o) for o in _swung(pooled)] == [repr(o) for o in _swung(alone)]

@@ -57,11 +57,10 @@ class Synthetic:
         return np.stack([v**-p, -a * v**-p * np.log(v), 0.0 * v], axis=1)
 
 
-@pytest.mark.parametrize("gradient", [False, True], ids=["finite_differences", "gradient"])
-def test_fit_recovers_known_parameters_from_synthetic_targets(gradient):
-    probe = Synthetic(exact_jacobian=gradient)
-    got = rf.fit(
-        probe,
+def _synthetic_fit(gradient: bool):
+    """The fit of the synthetic probe to TARGET and TRUE_X's contact time, from one start."""
+    return rf.fit(
+        Synthetic(exact_jacobian=gradient),
         rf.FIT_SPEEDS_MPS,
         (0.45, 0.05, 3e-4),
         lasts=True,
@@ -69,6 +68,11 @@ def test_fit_recovers_known_parameters_from_synthetic_targets(gradient):
         contact_s=TRUE_X[2],
         gradient=gradient,
     )
+
+
+@pytest.mark.parametrize("gradient", [False, True], ids=["finite_differences", "gradient"])
+def test_fit_recovers_known_parameters_from_synthetic_targets(gradient):
+    got = _synthetic_fit(gradient)
     np.testing.assert_allclose(got.x, TRUE_X, rtol=RECOVER_REL)
     assert got.cost < 1e-12, got
 
@@ -77,18 +81,7 @@ def test_gradient_fit_agrees_with_fd_and_fires_fewer_impacts():
     # the same optimum (within RECOVER_REL of each other) and, with the COR rows' Jacobian
     # from the derivative, fewer impacts: each iteration fires every speed once and the
     # contact time's row at one speed per knob, not every speed per knob
-    fd, grad = (
-        rf.fit(
-            Synthetic(g),
-            rf.FIT_SPEEDS_MPS,
-            (0.45, 0.05, 3e-4),
-            lasts=True,
-            law=TARGET,
-            contact_s=TRUE_X[2],
-            gradient=g,
-        )
-        for g in (False, True)
-    )
+    fd, grad = (_synthetic_fit(g) for g in (False, True))
     np.testing.assert_allclose(grad.x, fd.x, rtol=2 * RECOVER_REL)
     assert grad.impacts < fd.impacts, (grad, fd)
 
