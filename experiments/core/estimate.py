@@ -122,7 +122,7 @@ def _pooled(rec: adapters.EngineRecord, jobs: Sequence[Job]) -> list[Sequence[Jo
     more in batches of up to POOL_MAX (a pool adapter's POOL_ADAPTER_MAX, within the record's
     ``max_worlds``), read together a step at a time (``hosting.pool_size``); a shorter run's
     impacts one by one."""
-    most = hosting.POOL_MAX if rec.can.pool_adapter is None else hosting.POOL_ADAPTER_MAX
+    most = hosting.batch_cap(rec)
     most = min(most, rec.can.max_worlds or most)
     out: list[Sequence[Job]] = []
     for run in runs(jobs):

@@ -45,6 +45,12 @@ POOL_ADAPTER_MAX = 1024
 POOLED_SAVING_S = 1e-4
 
 
+def batch_cap(record: adapters.EngineRecord) -> int:
+    """The most worlds one batch of a single-world engine holds before its ``max_worlds``:
+    POOL_MAX engines apart, POOL_ADAPTER_MAX in its pool adapter."""
+    return POOL_MAX if record.can.pool_adapter is None else POOL_ADAPTER_MAX
+
+
 class Hosted:
     """One engine with its settings, and the scene it holds: a batched adapter, or the
     single-world adapters (one, or more for a long run: ``pool_size``) stepped together."""
@@ -105,8 +111,7 @@ class Hosted:
         if self.make_s is None:
             return 1
         repaid = int(impacts * POOLED_SAVING_S / self.make_s)
-        most = POOL_MAX if self.record.can.pool_adapter is None else POOL_ADAPTER_MAX
-        size = min(most, impacts, max(self.held(), repaid))
+        size = min(batch_cap(self.record), impacts, max(self.held(), repaid))
         if size > self.held() and self.record.can.max_worlds is not None:
             size = min(size, _room(self))
         # the run in batches of even size (no last one of a few impacts, fired alone)

@@ -104,7 +104,7 @@ def _anchor(r) -> str:
     """A pool adapter's bare cost beside its library's own batched call on the same states
     (``anchor_us_per_impact``), where measured."""
     a = getattr(r, "anchor_us_per_impact", math.nan)
-    if not a == a:  # (NaN: no such call)
+    if math.isnan(a):  # (no such call)
         return ""
     return f", its library's own batched call {num(a, 2)} ({r.bare_us_per_impact / a:.2f}x)"
 
